@@ -1,0 +1,206 @@
+"""Modes and their contact-point modal parameters.
+
+A :class:`Mode` is what every solver returns: frequency, labels, and the axial
+displacement at the contact point of each mass-normalised member of the mode (one
+member for n = 0, the cos/sin pair for n >= 1). The contact-point modal mass combines
+the pair, ``m = 1 / (phi_a^2 + phi_b^2)``, so it does not depend on how the solver
+rotated a degenerate pair.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Iterable, Sequence
+
+import numpy as np
+
+FAMILIES = ("axial", "radial", "circumferential")
+
+
+@dataclass(frozen=True)
+class Mode:
+    """One natural mode (a degenerate pair is one Mode with two members).
+
+    Attributes
+    ----------
+    index: position in the ascending list of modes (0-based).
+    frequency_hz: natural frequency [Hz].
+    nodal_diameters: n, the circumferential harmonic.
+    nodal_circles: number of nodal circles of the dominant displacement component.
+    family: "axial" (out-of-plane), "radial" or "circumferential" (in-plane).
+    contact_axial: axial displacement at the contact point of each mass-normalised
+        member [m / sqrt(kg)]; its squares sum to 1 / modal mass.
+    """
+
+    index: int
+    frequency_hz: float
+    nodal_diameters: int
+    nodal_circles: int
+    family: str
+    contact_axial: tuple[float, ...]
+
+    @property
+    def omega(self) -> float:
+        """Circular frequency [rad/s]."""
+        return 2.0 * math.pi * self.frequency_hz
+
+    @property
+    def multiplicity(self) -> int:
+        return len(self.contact_axial)
+
+    @property
+    def modal_mass(self) -> float:
+        """Contact-point modal mass in the axial direction [kg] (inf at a node)."""
+        return contact_modal_mass(self.contact_axial)
+
+    @property
+    def modal_stiffness(self) -> float:
+        """k = omega^2 m [N/m]."""
+        return self.omega**2 * self.modal_mass
+
+    def modal_damping(self, damping_ratio: float) -> float:
+        """c = 2 zeta sqrt(k m) [N s/m] for a modal damping ratio zeta [-]."""
+        return modal_damping(self.modal_mass, self.modal_stiffness, damping_ratio)
+
+    def label(self) -> str:
+        return f"({self.nodal_diameters},{self.nodal_circles}) {self.family}"
+
+    def to_dict(self, damping_ratio: float) -> dict:
+        """JSON-ready summary (the keys of ``summary.json``'s ``modes``)."""
+        m = self.modal_mass
+        finite = math.isfinite(m)
+        return {
+            "index": self.index,
+            "frequency_hz": self.frequency_hz,
+            "nodal_diameters": self.nodal_diameters,
+            "nodal_circles": self.nodal_circles,
+            "family": self.family,
+            "modal_mass_kg": m if finite else None,
+            "modal_stiffness_n_m": self.modal_stiffness if finite else None,
+            "modal_damping_ns_m": self.modal_damping(damping_ratio) if finite else None,
+        }
+
+
+def contact_modal_mass(contact_axial: Iterable[float]) -> float:
+    """m = 1 / sum(phi_i^2) over the members of a (possibly degenerate) mode [kg].
+
+    ``phi_i`` are the axial contact displacements of mass-normalised shapes
+    [m / sqrt(kg)]. Returns ``inf`` when the contact point is a node of the mode.
+    """
+    s = float(np.sum(np.square(np.asarray(tuple(contact_axial), dtype=float))))
+    return math.inf if s <= 0.0 else 1.0 / s
+
+
+def modal_damping(mass: float, stiffness: float, damping_ratio: float) -> float:
+    """Viscous modal damping c = 2 zeta sqrt(k m) [N s/m]."""
+    return 2.0 * damping_ratio * math.sqrt(stiffness * mass)
+
+
+@dataclass(frozen=True)
+class ModeSelection:
+    """How to pick the squeal mode. Exactly one criterion is used:
+
+    - ``index``: position in the mode list;
+    - ``nodal_diameters`` (and optionally ``nodal_circles``, ``family``): a label;
+    - ``near_hz``: the axial mode nearest to a frequency.
+
+    The default is the axial mode with 3 nodal diameters and no nodal circle.
+    """
+
+    index: int | None = None
+    nodal_diameters: int | None = 3
+    nodal_circles: int | None = 0
+    family: str | None = "axial"
+    near_hz: float | None = None
+
+    @classmethod
+    def parse(cls, text: str) -> "ModeSelection":
+        """Parse ``auto``, an index ``5``, a label ``n=3`` / ``n=3,c=1`` or ``f=1100``."""
+        t = text.strip().lower().replace(" ", "")
+        if t in ("", "auto", "default"):
+            return cls()
+        if t.isdigit():
+            return cls(index=int(t), nodal_diameters=None, nodal_circles=None, family=None)
+        parts = dict(p.split("=", 1) for p in t.split(",") if "=" in p)
+        if not parts or len(parts) != len(t.split(",")):
+            raise ValueError(
+                f"unknown mode {text!r}: use auto, an index (e.g. 4), n=3[,c=0] or f=1100"
+            )
+        try:
+            if "f" in parts:
+                return cls(nodal_diameters=None, nodal_circles=None, near_hz=float(parts["f"]))
+            n = int(parts["n"])
+            c = int(parts["c"]) if "c" in parts else 0
+        except (KeyError, ValueError):
+            raise ValueError(
+                f"unknown mode {text!r}: use auto, an index (e.g. 4), n=3[,c=0] or f=1100"
+            ) from None
+        return cls(nodal_diameters=n, nodal_circles=c)
+
+
+def select_mode(modes: Sequence[Mode], selection: ModeSelection | None = None) -> tuple[Mode, str]:
+    """Pick the squeal mode; returns the mode and a sentence saying why it was picked.
+
+    Raises ``LookupError`` with a one-line message when nothing matches.
+    """
+    sel = selection or ModeSelection()
+    if not modes:
+        raise LookupError("no modes to select from")
+    if sel.index is not None:
+        if not 0 <= sel.index < len(modes):
+            raise LookupError(f"mode index {sel.index} out of range 0..{len(modes) - 1}")
+        m = modes[sel.index]
+        return m, f"mode {sel.index} requested by index"
+    if sel.near_hz is not None:
+        axial = [m for m in modes if m.family == "axial"] or list(modes)
+        m = min(axial, key=lambda m: abs(m.frequency_hz - sel.near_hz))
+        return m, f"axial mode nearest to {sel.near_hz:g} Hz"
+    cands = [
+        m
+        for m in modes
+        if m.nodal_diameters == sel.nodal_diameters
+        and (sel.nodal_circles is None or m.nodal_circles == sel.nodal_circles)
+        and (sel.family is None or m.family == sel.family)
+    ]
+    if not cands:
+        what = f"n={sel.nodal_diameters}" + (
+            f", {sel.nodal_circles} nodal circles" if sel.nodal_circles is not None else ""
+        )
+        raise LookupError(f"no {sel.family or ''} mode with {what} among the computed modes".replace("  ", " "))
+    m = cands[0]
+    why = (
+        f"lowest {m.family} mode with {m.nodal_diameters} nodal diameters and "
+        f"{m.nodal_circles} nodal circles"
+    )
+    return m, why
+
+
+@dataclass
+class ModeSet:
+    """The result of a modal analysis: modes plus their shapes on a mesh.
+
+    ``shapes[i]`` holds the mass-normalised shapes of ``modes[i]`` with shape
+    ``(members, n_points, 3)``: Cartesian displacement (x, y, z) at ``points`` of the
+    visualisation mesh (for the axisymmetric solver: the shapes expanded onto a
+    revolved mesh). ``cells`` are that mesh's cells as ``{meshio cell type: array}``.
+    """
+
+    modes: list[Mode]
+    points: np.ndarray
+    cells: dict[str, np.ndarray]
+    shapes: list[np.ndarray]
+    solver: str
+    dofs: int
+    timings_s: dict[str, float] = field(default_factory=dict)
+
+
+__all__ = [
+    "FAMILIES",
+    "Mode",
+    "ModeSelection",
+    "ModeSet",
+    "contact_modal_mass",
+    "modal_damping",
+    "select_mode",
+]

@@ -1,0 +1,286 @@
+"""Wheel designs: SI parameters with Table 1 defaults, validation, TOML I/O and hashing.
+
+A design is a flat, frozen dataclass. In TOML the fields are grouped in sections
+(``[wheel]``, ``[material]``, ``[roller]``, ``[contact]``, ``[damping]``) so that a file
+reads like a design card; every key is checked, so a typo cannot pass silently.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import hashlib
+import json
+import math
+import tomllib
+from dataclasses import dataclass, fields
+from pathlib import Path
+from typing import Any
+
+
+class DesignError(ValueError):
+    """An invalid wheel design. The message names the parameter and the allowed range."""
+
+
+#: TOML section of every field (``name`` and ``description`` live at the top level).
+SECTIONS: dict[str, tuple[str, ...]] = {
+    "wheel": (
+        "rolling_radius",
+        "crown_radius",
+        "rim_width",
+        "rim_depth",
+        "web_thickness",
+        "bore_radius",
+        "web_offset",
+    ),
+    "material": ("youngs_modulus", "poissons_ratio", "density"),
+    "roller": ("roller_rolling_radius", "roller_crown_radius"),
+    "contact": ("normal_load", "c22", "friction_coefficient"),
+    "damping": ("modal_damping_ratio",),
+}
+
+#: Fields that determine the mesh and the eigenmodes (geometry and material). The
+#: contact, roller and damping fields only change the reduced model.
+STRUCTURAL_FIELDS: tuple[str, ...] = SECTIONS["wheel"] + SECTIONS["material"]
+
+# In the TOML [roller] section the keys drop the "roller_" prefix.
+_TOML_KEY = {"roller_rolling_radius": "rolling_radius", "roller_crown_radius": "crown_radius"}
+
+
+@dataclass(frozen=True)
+class WheelDesign:
+    """A test-rig lower wheel (the squealing one), its material, the roller it runs on
+    and the contact data of the reduced model. All values in SI units.
+
+    The half-profile (r, z) is a web (plate) from the bore to the rim, and a rim whose
+    outer surface (the tread) is a crown arc of radius ``crown_radius`` with its apex at
+    ``r = rolling_radius, z = 0``. The rim spans ``|z| <= rim_width / 2`` and
+    ``rolling_radius - rim_depth <= r <= tread(z)``; the web spans
+    ``bore_radius <= r <= rolling_radius - rim_depth`` and
+    ``|z - web_offset| <= web_thickness / 2``.
+    """
+
+    name: str = "table1"
+    description: str = ""
+    # wheel geometry [m]
+    rolling_radius: float = 0.213  #: R1, radius at the tread apex (contact point) [m]
+    crown_radius: float = 0.300  #: R1t, transverse radius of the tread [m]
+    rim_width: float = 0.026  #: axial width of the rim [m]
+    rim_depth: float = 0.030  #: radial depth of the rim from the tread apex [m] (not in the paper)
+    web_thickness: float = 0.015  #: axial thickness of the web [m]
+    bore_radius: float = 0.0325  #: R1', inner radius, clamped [m]
+    web_offset: float = 0.0  #: axial offset of the web mid-plane from the rim centre [m]
+    # material
+    youngs_modulus: float = 175e9  #: E [Pa]
+    poissons_ratio: float = 0.28  #: nu [-]
+    density: float = 7800.0  #: rho [kg/m^3]
+    # roller (upper wheel)
+    roller_rolling_radius: float = 0.085  #: R2 [m]
+    roller_crown_radius: float = 0.040  #: R2t [m]
+    # contact and reduced model
+    normal_load: float = 1000.0  #: W [N]
+    c22: float = 3.14  #: Kalker creep coefficient C22 [-]
+    friction_coefficient: float = 0.3  #: mu_s = mu_0 [-]
+    modal_damping_ratio: float = 9.4e-4  #: zeta_d of the squeal mode [-]
+
+    def __post_init__(self) -> None:
+        validate(self)
+
+    # -- derived geometry -------------------------------------------------------------
+    @property
+    def rim_inner_radius(self) -> float:
+        """Radius where the web meets the rim [m]."""
+        return self.rolling_radius - self.rim_depth
+
+    @property
+    def tread_edge_radius(self) -> float:
+        """Radius of the tread at the rim faces ``z = +-rim_width/2`` [m]."""
+        return tread_radius(self, self.rim_width / 2)
+
+    @property
+    def shear_modulus(self) -> float:
+        """G = E / 2(1 + nu) [Pa]."""
+        return self.youngs_modulus / (2.0 * (1.0 + self.poissons_ratio))
+
+    # -- copies and hashes ------------------------------------------------------------
+    def replace(self, **changes: Any) -> "WheelDesign":
+        """A validated copy with some fields changed."""
+        return dataclasses.replace(self, **changes)
+
+    def scaled(self, factor: float) -> "WheelDesign":
+        """The same wheel with every length (wheel and roller) multiplied by ``factor``."""
+        lengths = SECTIONS["wheel"] + SECTIONS["roller"]
+        return self.replace(**{k: getattr(self, k) * factor for k in lengths})
+
+    def to_dict(self) -> dict[str, Any]:
+        return dataclasses.asdict(self)
+
+    def content_hash(self, which: str = "all") -> str:
+        """Stable SHA-256 (hex, 16 chars) of the design's values.
+
+        ``which="all"``: every physical field; ``which="structure"``: only the geometry
+        and material (what mesh and modes depend on). ``name`` and ``description`` are
+        never hashed, so renaming a file does not invalidate a cache.
+        """
+        if which == "structure":
+            keys = STRUCTURAL_FIELDS
+        elif which == "all":
+            keys = tuple(f.name for f in fields(self) if f.name not in ("name", "description"))
+        else:
+            raise ValueError(f"which must be 'all' or 'structure', not {which!r}")
+        # repr(float) is the shortest round-trip form: stable across platforms.
+        payload = json.dumps({k: repr(float(getattr(self, k))) for k in keys}, sort_keys=True)
+        return hashlib.sha256(payload.encode()).hexdigest()[:16]
+
+    # -- TOML -------------------------------------------------------------------------
+    @classmethod
+    def from_toml(cls, path: str | Path) -> "WheelDesign":
+        """Load a design; missing keys take the Table 1 defaults, unknown keys are errors."""
+        path = Path(path)
+        try:
+            text = path.read_text()
+        except FileNotFoundError:
+            raise DesignError(f"design file not found: {path}") from None
+        except OSError as exc:
+            raise DesignError(f"cannot read design file {path}: {exc.strerror}") from None
+        try:
+            data = tomllib.loads(text)
+        except tomllib.TOMLDecodeError as exc:
+            raise DesignError(f"{path}: not valid TOML ({exc})") from None
+        return cls.from_mapping(data, default_name=path.stem, source=str(path))
+
+    @classmethod
+    def from_mapping(
+        cls, data: dict[str, Any], default_name: str = "design", source: str = "design"
+    ) -> "WheelDesign":
+        """Build from a nested mapping shaped like the TOML file."""
+        values: dict[str, Any] = {}
+        for key, value in data.items():
+            if key in ("name", "description"):
+                if not isinstance(value, str):
+                    raise DesignError(f"{source}: '{key}' must be a string")
+                values[key] = value
+            elif key in SECTIONS:
+                if not isinstance(value, dict):
+                    raise DesignError(f"{source}: [{key}] must be a table")
+                allowed = {_TOML_KEY.get(f, f): f for f in SECTIONS[key]}
+                for sub, v in value.items():
+                    if sub not in allowed:
+                        raise DesignError(
+                            f"{source}: unknown key '{sub}' in [{key}]; allowed: "
+                            + ", ".join(sorted(allowed))
+                        )
+                    values[allowed[sub]] = v
+            else:
+                raise DesignError(
+                    f"{source}: unknown key or section '{key}'; allowed: name, description, "
+                    + ", ".join(f"[{s}]" for s in SECTIONS)
+                )
+        values.setdefault("name", default_name)
+        for key, v in values.items():
+            if key in ("name", "description"):
+                continue
+            # bool is an int subclass: reject it explicitly.
+            if isinstance(v, bool) or not isinstance(v, (int, float)):
+                raise DesignError(
+                    f"{source}: '{key}' must be a number, got {type(v).__name__} {v!r}"
+                )
+            values[key] = float(v)
+        return cls(**values)
+
+    def to_toml(self) -> str:
+        """The design as TOML text (round-trips exactly through :meth:`from_toml`)."""
+        lines = [f"name = {json.dumps(self.name)}"]
+        if self.description:
+            lines.append(f"description = {json.dumps(self.description)}")
+        for section, keys in SECTIONS.items():
+            lines.append(f"\n[{section}]")
+            for k in keys:
+                lines.append(f"{_TOML_KEY.get(k, k)} = {_toml_float(getattr(self, k))}")
+        return "\n".join(lines) + "\n"
+
+    def save_toml(self, path: str | Path) -> Path:
+        """Write the design atomically (temporary file, then rename)."""
+        path = Path(path)
+        tmp = path.with_name(path.name + ".tmp")
+        tmp.write_text(self.to_toml())
+        tmp.replace(path)
+        return path
+
+
+def _toml_float(x: float) -> str:
+    text = repr(float(x))
+    return text if ("." in text or "e" in text or "inf" in text or "nan" in text) else text + ".0"
+
+
+def tread_radius(design: WheelDesign, z: float) -> float:
+    """Radius of the crowned tread at axial position ``z`` [m]."""
+    R = design.crown_radius
+    return design.rolling_radius - R + math.sqrt(R * R - z * z)
+
+
+def load_design(path: str | Path | None = None) -> WheelDesign:
+    """Load a design from TOML, or the Table 1 default design when ``path`` is None."""
+    return WheelDesign() if path is None else WheelDesign.from_toml(path)
+
+
+def validate(d: WheelDesign) -> None:
+    """Raise :class:`DesignError` naming the first invalid parameter and its allowed range."""
+    for f in fields(d):
+        v = getattr(d, f.name)
+        if f.name in ("name", "description"):
+            if not isinstance(v, str):
+                raise DesignError(f"{f.name} must be a string")
+            continue
+        if isinstance(v, bool) or not isinstance(v, (int, float)):
+            raise DesignError(f"{f.name} must be a number, got {type(v).__name__} {v!r}")
+        if not math.isfinite(v):
+            raise DesignError(f"{f.name} must be finite, got {v}")
+        if f.name == "web_offset":
+            continue
+        if f.name == "poissons_ratio":
+            if not -1.0 < v < 0.5:
+                raise DesignError(f"poissons_ratio must be in (-1, 0.5), got {v}")
+            continue
+        if v <= 0:
+            raise DesignError(f"{f.name} must be positive, got {v}")
+    if d.rim_depth >= d.rolling_radius:
+        raise DesignError(
+            f"rim_depth must be below rolling_radius ({d.rolling_radius} m), got {d.rim_depth}"
+        )
+    if d.crown_radius < d.rim_width / 2:
+        raise DesignError(
+            f"crown_radius must be at least rim_width/2 = {d.rim_width / 2} m, got {d.crown_radius}"
+        )
+    if d.bore_radius >= d.rim_inner_radius:
+        raise DesignError(
+            "bore_radius must be below the rim inner radius "
+            f"(rolling_radius - rim_depth = {d.rim_inner_radius:.6g} m), got {d.bore_radius}"
+        )
+    if d.web_thickness > d.rim_width:
+        raise DesignError(
+            f"web_thickness must not exceed rim_width ({d.rim_width} m), got {d.web_thickness}"
+        )
+    limit = (d.rim_width - d.web_thickness) / 2
+    if abs(d.web_offset) > limit * (1 + 1e-12):
+        raise DesignError(
+            f"web_offset must be within +-(rim_width - web_thickness)/2 = +-{limit:.6g} m "
+            f"so that the web stays inside the rim, got {d.web_offset}"
+        )
+    # The rim must keep material between its inner radius and the tread at the faces.
+    if tread_radius(d, d.rim_width / 2) <= d.rim_inner_radius:
+        raise DesignError(
+            "rim_depth too small for the crown: the tread at the rim faces "
+            f"(r = {tread_radius(d, d.rim_width / 2):.6g} m) lies inside the rim inner radius "
+            f"({d.rim_inner_radius:.6g} m); increase rim_depth or crown_radius"
+        )
+
+
+__all__ = [
+    "DesignError",
+    "WheelDesign",
+    "SECTIONS",
+    "STRUCTURAL_FIELDS",
+    "load_design",
+    "tread_radius",
+    "validate",
+]
