@@ -1,0 +1,210 @@
+"""Hertz contact ellipse and Kalker's lateral creep coefficient C22.
+
+Geometry convention (Johnson, *Contact Mechanics*, 1985, ch. 4): the gap between
+two convex bodies near the first point of contact is ``h = A x^2 + B y^2`` with
+x the rolling (longitudinal) direction and y the lateral (axial) direction::
+
+    A = (1/R1  + 1/R2 ) / 2      curvatures in the rolling plane
+    B = (1/R1t + 1/R2t) / 2      curvatures in the transverse plane
+
+The contact is an ellipse with semi-axis ``a`` along rolling and ``b`` across.
+The *larger* semi-axis lies along the direction of the *smaller* relative curvature.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.optimize import brentq
+from scipy.special import ellipe, ellipk
+
+__all__ = ["HertzContact", "hertz_contact", "kalker_c22"]
+
+
+@dataclass(frozen=True)
+class HertzContact:
+    """Hertz contact ellipse between two elastic bodies of the same material.
+
+    Attributes
+    ----------
+    semi_axis_a_m : semi-axis along the rolling direction, m.
+    semi_axis_b_m : semi-axis across rolling (lateral / axial), m.
+    max_pressure_pa : peak pressure p0 = 3 W / (2 pi a b), Pa.
+    mean_pressure_pa : W / (pi a b), Pa.
+    eccentricity : e = sqrt(1 - (minor/major)^2), dimensionless.
+    orientation : "major axis along rolling" or "major axis across rolling".
+    orientation_angle_rad : angle of the major axis from the rolling direction, rad
+        (0 or pi/2; the principal curvature planes are assumed aligned).
+    normal_load_n, youngs_modulus_pa, poissons_ratio : the inputs, N, Pa, -.
+    """
+
+    semi_axis_a_m: float
+    semi_axis_b_m: float
+    max_pressure_pa: float
+    mean_pressure_pa: float
+    eccentricity: float
+    orientation: str
+    orientation_angle_rad: float
+    normal_load_n: float
+    youngs_modulus_pa: float
+    poissons_ratio: float
+
+    @property
+    def a_over_b(self) -> float:
+        """Aspect ratio a/b (rolling over lateral semi-axis), dimensionless."""
+        return self.semi_axis_a_m / self.semi_axis_b_m
+
+    @property
+    def area_m2(self) -> float:
+        """Contact area pi a b, m^2."""
+        return math.pi * self.semi_axis_a_m * self.semi_axis_b_m
+
+    @property
+    def shear_modulus_pa(self) -> float:
+        """G = E / 2(1 + nu), Pa."""
+        return self.youngs_modulus_pa / (2.0 * (1.0 + self.poissons_ratio))
+
+
+def _check_positive(name: str, value: float) -> float:
+    value = float(value)
+    if not math.isfinite(value) or value <= 0.0:
+        raise ValueError(f"{name} must be a positive finite number, got {value!r}")
+    return value
+
+
+def hertz_contact(
+    R1: float,
+    R1t: float,
+    R2: float,
+    R2t: float,
+    youngs_modulus: float,
+    poissons_ratio: float,
+    normal_load: float,
+) -> HertzContact:
+    """Hertz elliptical contact of two convex bodies of the same elastic material.
+
+    Parameters
+    ----------
+    R1, R1t : rolling radius and transverse (crown) radius of body 1, m.
+    R2, R2t : rolling radius and transverse radius of body 2, m.
+        Use ``math.inf`` for a flat direction.
+    youngs_modulus : E of both bodies, Pa.
+    poissons_ratio : nu of both bodies, dimensionless (0 <= nu < 0.5).
+    normal_load : W, N.
+
+    Method (Johnson 1985, sec. 4.2, eqs 4.39-4.40): with the major semi-axis
+    ``c1``, minor ``c2``, ``e^2 = 1 - (c2/c1)^2`` and complete elliptic integrals
+    K(e), E(e) (scipy's ``ellipk``/``ellipe`` take the parameter m = e^2)::
+
+        B'/A' = [(c1/c2)^2 E - K] / (K - E)      (A' <= B' the two curvature sums)
+        c1^3  = 3 W (K - E) / (2 pi E* e^2 A')   E* = E / 2(1 - nu^2)
+
+    e is found with brentq. Table 1 of Liu & Meehan gives a = 0.853 mm (rolling),
+    b = 0.594 mm; this returns 0.8534 mm and 0.5945 mm.
+    """
+    E = _check_positive("youngs_modulus", youngs_modulus)
+    W = _check_positive("normal_load", normal_load)
+    nu = float(poissons_ratio)
+    if not (0.0 <= nu < 0.5):
+        raise ValueError(f"poissons_ratio must lie in [0, 0.5), got {nu!r}")
+    radii = {"R1": R1, "R1t": R1t, "R2": R2, "R2t": R2t}
+    for name, r in radii.items():
+        if not (float(r) > 0.0):
+            raise ValueError(f"{name} must be positive (convex body) or inf, got {r!r}")
+    A = 0.5 * (1.0 / R1 + 1.0 / R2)  # rolling plane
+    B = 0.5 * (1.0 / R1t + 1.0 / R2t)  # transverse plane
+    if A <= 0.0 or B <= 0.0:
+        raise ValueError("both relative curvatures must be positive (point contact)")
+    e_star = E / (2.0 * (1.0 - nu * nu))
+    small, large = (A, B) if A <= B else (B, A)
+    ratio = large / small
+    if ratio - 1.0 < 1e-12:
+        m = 0.0
+        major = (3.0 * W / (8.0 * e_star * small)) ** (1.0 / 3.0)  # circle, R = 1/(2A)
+        minor = major
+    else:
+        def residual(m: float) -> float:
+            K, Ee = ellipk(m), ellipe(m)
+            return (Ee / (1.0 - m) - K) / (K - Ee) - ratio
+
+        m = brentq(residual, 1e-14, 1.0 - 1e-15, xtol=1e-15, rtol=1e-14, maxiter=200)
+        K, Ee = ellipk(m), ellipe(m)
+        major = (3.0 * W * (K - Ee) / (2.0 * math.pi * e_star * m * small)) ** (1.0 / 3.0)
+        minor = major * math.sqrt(1.0 - m)
+    # the major axis lies along the direction of the smaller curvature sum
+    if A <= B:
+        a, b, orientation, angle = major, minor, "major axis along rolling", 0.0
+    else:
+        a, b, orientation, angle = minor, major, "major axis across rolling", math.pi / 2
+    area = math.pi * a * b
+    return HertzContact(
+        semi_axis_a_m=float(a),
+        semi_axis_b_m=float(b),
+        max_pressure_pa=float(1.5 * W / area),
+        mean_pressure_pa=float(W / area),
+        eccentricity=float(math.sqrt(m)),
+        orientation=orientation,
+        orientation_angle_rad=angle,
+        normal_load_n=W,
+        youngs_modulus_pa=E,
+        poissons_ratio=nu,
+    )
+
+
+# Kalker's lateral creep coefficient C22 (Kalker 1967 thesis, "On the rolling
+# contact of two elastic bodies in the presence of dry friction"; Kalker 1990,
+# "Three-dimensional elastic bodies in rolling contact", Kluwer; table reproduced
+# in Johnson, Contact Mechanics, 1985, Table 8.1). Columns nu = 0, 0.25, 0.5.
+# a: semi-axis along rolling, b: lateral. Rows first for a/b = 0.1 .. 0.9 (a < b),
+# then the circle, then b/a = 0.9 .. 0.1 (a > b).
+_KALKER_NU = np.array([0.0, 0.25, 0.5])
+_KALKER_C22_A_LT_B = np.array([  # a/b = 0.1, 0.2, ..., 0.9
+    [2.51, 2.52, 2.53], [2.59, 2.63, 2.66], [2.68, 2.75, 2.81], [2.78, 2.88, 2.98],
+    [2.88, 3.01, 3.14], [2.98, 3.14, 3.31], [3.09, 3.28, 3.48], [3.19, 3.41, 3.65],
+    [3.29, 3.54, 3.82],
+])
+_KALKER_C22_CIRCLE = np.array([3.40, 3.67, 3.98])
+_KALKER_C22_A_GT_B = np.array([  # b/a = 0.9, 0.8, ..., 0.1
+    [3.51, 3.81, 4.16], [3.65, 3.99, 4.39], [3.82, 4.21, 4.67], [4.06, 4.50, 5.04],
+    [4.37, 4.90, 5.56], [4.84, 5.48, 6.31], [5.57, 6.40, 7.51], [6.96, 8.14, 9.79],
+    [10.7, 12.8, 16.0],
+])
+# abscissa u: u = a/b - 1 for a <= b (-0.9 .. 0), u = 1 - b/a for a >= b (0 .. 0.9)
+_KALKER_U = np.concatenate([np.arange(1, 10) / 10.0 - 1.0, [0.0], 1.0 - np.arange(9, 0, -1) / 10.0])
+_KALKER_C22 = np.vstack([_KALKER_C22_A_LT_B, _KALKER_C22_CIRCLE, _KALKER_C22_A_GT_B])
+
+
+def kalker_c22(a_over_b: float, poissons_ratio: float) -> float:
+    """Kalker's lateral creep coefficient C22 for an ellipse of aspect a/b.
+
+    Parameters
+    ----------
+    a_over_b : semi-axis along rolling over lateral semi-axis, dimensionless,
+        within [0.1, 10] (Kalker's table range).
+    poissons_ratio : nu, within [0, 0.5].
+
+    Returns
+    -------
+    C22, dimensionless (lateral creep force = G a b C22 * lateral creepage).
+
+    Source: Kalker, J.J. (1967), *On the rolling contact of two elastic bodies in
+    the presence of dry friction*, thesis, TH Delft; Kalker (1990),
+    *Three-dimensional elastic bodies in rolling contact*, Kluwer; tabulated in
+    Johnson, *Contact Mechanics* (1985), Table 8.1, for nu = 0, 0.25, 0.5 against
+    g = min(a/b, b/a). Which axis is the rolling one matters: the table is
+    indexed by a/b on the a < b side and by b/a on the a > b side. Interpolation is
+    linear in g within each side and linear in nu (bilinear). For Table 1
+    (a/b = 1.436, i.e. b/a = 0.696, nu = 0.28) this gives 4.27 (Liu & Meehan use
+    3.14); reading the table on the wrong side (a/b = 0.696) would give 3.30.
+    """
+    g = float(a_over_b)
+    nu = float(poissons_ratio)
+    if not (0.1 - 1e-12 <= g <= 10.0 + 1e-12):
+        raise ValueError(f"a_over_b must lie in [0.1, 10] (Kalker's table), got {g!r}")
+    if not (0.0 <= nu <= 0.5):
+        raise ValueError(f"poissons_ratio must lie in [0, 0.5], got {nu!r}")
+    u = g - 1.0 if g <= 1.0 else 1.0 - 1.0 / g
+    per_nu = np.array([np.interp(u, _KALKER_U, _KALKER_C22[:, j]) for j in range(3)])
+    return float(np.interp(nu, _KALKER_NU, per_nu))

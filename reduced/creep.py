@@ -1,0 +1,169 @@
+"""Lateral creep law of Liu & Meehan (CM2015), Eq. 3 and Eq. 6.
+
+``mu(zeta)`` is the lateral adhesion ratio Q/W as a function of the lateral
+creepage zeta (dimensionless) at rolling speed V0 (m/s)::
+
+    z' = |zeta| G a b C22 / (mu_0 W)                                   (Eq. 6)
+    s  = |zeta| V0      (lateral sliding speed, m/s)
+    F(s) = 1 - 0.5 exp(-0.138/s) - 0.5 exp(-6.9/s)   (falling friction; F(0+) = 1)
+    mu = sign(zeta) mu_s (z' - z'^2/3 + z'^3/27) F(s)   for z' <= 3        (Eq. 3)
+    mu = sign(zeta) mu_s F(s)                            for z' >  3
+
+mu is odd in zeta (friction opposes sliding). The cubic reaches 1 with zero slope at
+z' = 3, so the law is continuous and C1 there. F is evaluated without dividing by
+zero: exp(-0.138/s) -> 0 as s -> 0+.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from .contact import HertzContact, kalker_c22
+
+__all__ = [
+    "ContactLaw",
+    "adhesion_ratio",
+    "adhesion_ratio_slope",
+    "falling_friction_factor",
+]
+
+#: Liu & Meehan's C22 (Table 1)
+TABLE1_C22 = 3.14
+
+
+@dataclass(frozen=True)
+class ContactLaw:
+    """Parameters of the creep law (Eq. 2, 3, 6).
+
+    Attributes
+    ----------
+    normal_load_n : W, N.
+    friction_coefficient : mu_s, saturation adhesion ratio, dimensionless.
+    stationary_friction_coefficient : mu_0 in Eq. 6, dimensionless.
+    shear_modulus_pa : G = E / 2(1 + nu), Pa.
+    semi_axis_a_m, semi_axis_b_m : Hertz semi-axes (rolling, lateral), m.
+    c22 : Kalker's lateral creep coefficient, dimensionless.
+    decay_speed_1_m_s, decay_speed_2_m_s : the sliding speeds 0.138 and 6.9 m/s of
+        the falling-friction factor F(s) of Eq. 3.
+    """
+
+    normal_load_n: float
+    friction_coefficient: float
+    stationary_friction_coefficient: float
+    shear_modulus_pa: float
+    semi_axis_a_m: float
+    semi_axis_b_m: float
+    c22: float = TABLE1_C22
+    decay_speed_1_m_s: float = 0.138
+    decay_speed_2_m_s: float = 6.9
+
+    def __post_init__(self) -> None:
+        for name in ("normal_load_n", "friction_coefficient", "stationary_friction_coefficient",
+                     "shear_modulus_pa", "semi_axis_a_m", "semi_axis_b_m", "c22",
+                     "decay_speed_1_m_s", "decay_speed_2_m_s"):
+            value = getattr(self, name)
+            if not (math.isfinite(value) and value > 0.0):
+                raise ValueError(f"ContactLaw.{name} must be positive and finite, got {value!r}")
+
+    @classmethod
+    def from_hertz(
+        cls,
+        hertz: HertzContact,
+        friction_coefficient: float = 0.3,
+        stationary_friction_coefficient: float | None = None,
+        c22: float | str = TABLE1_C22,
+    ) -> "ContactLaw":
+        """Build from a Hertz contact (which carries W, E, nu, a, b).
+
+        ``c22`` is a number (Table 1: 3.14) or ``"kalker"`` for Kalker's table
+        value at the contact's a/b and nu (4.28 for Table 1). mu_0 defaults to mu_s.
+        """
+        if isinstance(c22, str):
+            if c22.lower() != "kalker":
+                raise ValueError(f"c22 must be a number or 'kalker', got {c22!r}")
+            c22 = kalker_c22(hertz.a_over_b, hertz.poissons_ratio)
+        mu0 = friction_coefficient if stationary_friction_coefficient is None else stationary_friction_coefficient
+        return cls(
+            normal_load_n=hertz.normal_load_n,
+            friction_coefficient=float(friction_coefficient),
+            stationary_friction_coefficient=float(mu0),
+            shear_modulus_pa=hertz.shear_modulus_pa,
+            semi_axis_a_m=hertz.semi_axis_a_m,
+            semi_axis_b_m=hertz.semi_axis_b_m,
+            c22=float(c22),
+        )
+
+    @property
+    def normalised_creepage_per_creepage(self) -> float:
+        """dz'/d|zeta| = G a b C22 / (mu_0 W) of Eq. 6, dimensionless."""
+        return (self.shear_modulus_pa * self.semi_axis_a_m * self.semi_axis_b_m * self.c22
+                / (self.stationary_friction_coefficient * self.normal_load_n))
+
+    @property
+    def saturation_creepage(self) -> float:
+        """Creepage at which z' = 3 (full sliding), dimensionless: 0.0083 for Table 1."""
+        return 3.0 / self.normalised_creepage_per_creepage
+
+
+def falling_friction_factor(sliding_speed_m_s, law: ContactLaw):
+    """F(s) = 1 - 0.5 exp(-s1/s) - 0.5 exp(-s2/s) for sliding speed s >= 0 (m/s).
+
+    Finite and equal to 1 at s = 0 (the limit), without warnings.
+    """
+    s = np.abs(np.asarray(sliding_speed_m_s, dtype=float))
+    inv = np.divide(1.0, s, out=np.full_like(s, np.inf), where=s > 0.0)
+    with np.errstate(over="ignore", under="ignore", invalid="ignore"):
+        f = 1.0 - 0.5 * np.exp(-law.decay_speed_1_m_s * inv) - 0.5 * np.exp(-law.decay_speed_2_m_s * inv)
+    return f
+
+
+def _falling_friction_slope(s: np.ndarray, law: ContactLaw) -> np.ndarray:
+    """dF/ds, 1/(m/s); zero at s = 0 (all derivatives of exp(-c/s) vanish there)."""
+    inv = np.divide(1.0, s, out=np.full_like(s, np.inf), where=s > 0.0)
+    inv2 = np.where(s > 0.0, inv * inv, 0.0)
+    s1, s2 = law.decay_speed_1_m_s, law.decay_speed_2_m_s
+    with np.errstate(over="ignore", under="ignore", invalid="ignore"):
+        d = -0.5 * s1 * inv2 * np.exp(-s1 * inv) - 0.5 * s2 * inv2 * np.exp(-s2 * inv)
+    return np.where(s > 0.0, d, 0.0)
+
+
+def adhesion_ratio(creepage, law: ContactLaw, rolling_speed_m_s: float):
+    """Lateral adhesion ratio mu(zeta) of Eq. 3 (dimensionless, odd in zeta).
+
+    Parameters
+    ----------
+    creepage : lateral creepage zeta = (Vc + y')/V0, dimensionless; scalar or array.
+    law : creep-law parameters.
+    rolling_speed_m_s : V0, m/s (> 0).
+
+    Returns an array (or 0-d array for scalar input) of mu, |mu| <= mu_s.
+    """
+    zeta = np.asarray(creepage, dtype=float)
+    a = np.abs(zeta)
+    zp = a * law.normalised_creepage_per_creepage
+    poly = np.where(zp < 3.0, zp * (1.0 - zp / 3.0 + zp * zp / 27.0), 1.0)
+    f = falling_friction_factor(a * rolling_speed_m_s, law)
+    return np.sign(zeta) * law.friction_coefficient * poly * f
+
+
+def adhesion_ratio_slope(creepage, law: ContactLaw, rolling_speed_m_s: float):
+    """Analytic derivative d mu / d zeta of Eq. 3 (dimensionless), even in zeta.
+
+    d mu/d zeta = mu_s [ P'(z') K F(s) + P(z') F'(s) V0 ] with K = dz'/d|zeta|,
+    P the cubic (P = 1, P' = 0 beyond z' = 3). Used for the linear growth rate
+    sigma = -(c + W/V0 dmu/dzeta) / (2 m).
+    """
+    zeta = np.asarray(creepage, dtype=float)
+    a = np.abs(zeta)
+    K = law.normalised_creepage_per_creepage
+    zp = a * K
+    inside = zp < 3.0
+    poly = np.where(inside, zp * (1.0 - zp / 3.0 + zp * zp / 27.0), 1.0)
+    dpoly = np.where(inside, 1.0 - 2.0 * zp / 3.0 + zp * zp / 9.0, 0.0)
+    s = a * rolling_speed_m_s
+    f = falling_friction_factor(s, law)
+    df = _falling_friction_slope(s, law)
+    return law.friction_coefficient * (dpoly * K * f + poly * df * rolling_speed_m_s)

@@ -1,0 +1,168 @@
+"""Limit-cycle metrics of a squeal time history.
+
+Definitions (all on the contact-point lateral velocity v = sum_i y_i'):
+
+* **cycle**: the interval between two upward zero crossings of v (linearly
+  interpolated). Per cycle: amplitude (max - min)/2 with parabolic refinement of
+  the sampled extrema (m/s), period (s), mean power P of Eq. 7 (W), mean |Q v| (W).
+* **saturated**: over the last ``window_cycles`` cycles (default 50, about 44 ms at
+  1.1 kHz) the envelope varies by less than ``saturation_tolerance`` (default 1 %)
+  of its mean. A decaying oscillation is not "saturated".
+* **velocity amplitude**: mean envelope over that final window. If not saturated
+  it is the value reached at the end of the run (still growing or decaying).
+* **squeal**: the final amplitude exceeds ``squeal_threshold`` * max(|Vc|, 1 mm/s)
+  (default 1e-3) and the oscillation is self-sustained: saturated, or its envelope
+  still grows over the final window.
+* **time to saturation**: start of the first cycle after which every envelope value
+  stays within ``saturation_tolerance`` of the final amplitude (NaN if not saturated).
+* **growth rate (fitted)**: least-squares slope of ln(envelope) against time over
+  the start of the record (from cycle 1 until the envelope first exceeds 30 % of
+  its final value; the whole record if it decays), 1/s.
+* **growth rate (analytic)**: sigma = -(c + W/V0 dmu/dzeta(Vc/V0)) / (2 m) at the
+  quasi-static creepage (the largest over the modes), 1/s.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from . import _kernels
+from .creep import ContactLaw, adhesion_ratio_slope
+from .model import ModalDOF, OperatingPoint, TimeHistory, _as_modes
+
+__all__ = ["Cycles", "LimitCycle", "cycles", "limit_cycle", "analytic_growth_rate"]
+
+WINDOW_CYCLES = 50
+SATURATION_TOLERANCE = 0.01
+SQUEAL_THRESHOLD = 1e-3
+
+
+@dataclass(frozen=True, eq=False)
+class Cycles:
+    """Per-cycle reduction of a time history (arrays of equal length).
+
+    start_s : cycle start time, s. amplitude_m_s : (max v - min v)/2, m/s.
+    period_s : s. mean_power_w : mean of P = Q v - c v^2 over the cycle, W.
+    mean_abs_qv_w : mean of |Q v| over the cycle, W (scale for the power balance).
+    """
+
+    start_s: np.ndarray
+    amplitude_m_s: np.ndarray
+    period_s: np.ndarray
+    mean_power_w: np.ndarray
+    mean_abs_qv_w: np.ndarray
+
+
+@dataclass(frozen=True, eq=False)
+class LimitCycle:
+    """Limit-cycle metrics (see the module docstring for the definitions).
+
+    squeal : bool. saturated : bool.
+    velocity_amplitude_m_s : m/s. frequency_hz : Hz (NaN if fewer than 2 cycles).
+    time_to_saturation_s : s (NaN if not saturated).
+    growth_rate_1_s : fitted from the start envelope, 1/s (NaN if < 3 cycles).
+    growth_rate_analytic_1_s : from the friction slope, 1/s.
+    cycles : per-cycle times, amplitudes and mean power (Cycles).
+    """
+
+    squeal: bool
+    saturated: bool
+    velocity_amplitude_m_s: float
+    frequency_hz: float
+    time_to_saturation_s: float
+    growth_rate_1_s: float
+    growth_rate_analytic_1_s: float
+    cycles: Cycles
+
+
+def analytic_growth_rate(modes, contact: ContactLaw, op: OperatingPoint) -> float:
+    """Linear growth rate at the quasi-static creepage, 1/s.
+
+    sigma_i = -(c_i + W/V0 dmu/dzeta(Vc/V0)) / (2 m_i), maximum over the modes
+    (exact for one mode; for several modes it neglects their coupling through the
+    contact, which is small when their frequencies are well separated).
+    """
+    modes = _as_modes(modes)
+    slope = float(adhesion_ratio_slope(op.creepage, contact, op.rolling_speed_m_s))
+    friction_damping = contact.normal_load_n / op.rolling_speed_m_s * slope
+    return max(-(md.damping_ns_m + friction_damping) / (2.0 * md.mass_kg) for md in modes)
+
+
+def cycles(history: TimeHistory) -> Cycles:
+    """Split a TimeHistory into cycles of the contact velocity (see module docstring)."""
+    t = np.ascontiguousarray(history.t, dtype=float)
+    v = np.ascontiguousarray(history.v, dtype=float)
+    p = np.ascontiguousarray(history.P, dtype=float)
+    qv = np.ascontiguousarray(np.abs(history.Q * history.v), dtype=float)
+    cap = max(1, len(t) // 2 + 1)
+    out = [np.empty(cap) for _ in range(5)]
+    n = _kernels.extract_cycles(t, v, p, qv, *out)
+    return Cycles(*(a[:n].copy() for a in out))
+
+
+def _fit_log_slope(t: np.ndarray, a: np.ndarray) -> float:
+    ok = a > 0.0
+    t, a = t[ok], a[ok]
+    if len(t) < 3:
+        return float("nan")
+    return float(np.polyfit(t, np.log(a), 1)[0])
+
+
+def metrics_from_cycles(
+    cyc: Cycles,
+    crabbing_velocity_m_s: float,
+    growth_rate_analytic_1_s: float,
+    *,
+    window_cycles: int = WINDOW_CYCLES,
+    saturation_tolerance: float = SATURATION_TOLERANCE,
+    squeal_threshold: float = SQUEAL_THRESHOLD,
+) -> LimitCycle:
+    """Compute LimitCycle from per-cycle data (shared by limit_cycle and sweep)."""
+    amp = cyc.amplitude_m_s
+    n = len(amp)
+    nan = float("nan")
+    if n < 2:
+        final = float(amp[-1]) if n else 0.0
+        return LimitCycle(False, False, final, nan, nan, nan, growth_rate_analytic_1_s, cyc)
+    w = min(window_cycles, n)
+    tail = amp[n - w:]
+    final = float(tail.mean())
+    frequency = float(1.0 / cyc.period_s[n - w:].mean())
+    spread = float(tail.max() - tail.min())
+    saturated = bool(n >= window_cycles and final > 0.0 and spread <= saturation_tolerance * final)
+    late_slope = _fit_log_slope(cyc.start_s[n - w:], tail)
+    threshold = squeal_threshold * max(abs(crabbing_velocity_m_s), 1e-3)
+    squeal = bool(final > threshold and (saturated or (math.isfinite(late_slope) and late_slope > 0.0)))
+    t_sat = nan
+    if saturated:
+        outside = np.nonzero(np.abs(amp - final) > saturation_tolerance * final)[0]
+        first_in = 0 if len(outside) == 0 else int(outside[-1]) + 1
+        t_sat = float(cyc.start_s[min(first_in, n - 1)])
+    # growth fitted on the start of the envelope (linear regime)
+    if final > amp[0]:
+        above = np.nonzero(amp >= 0.3 * final)[0]
+        stop = int(above[0]) if len(above) else n
+        lo = 1 if stop - 1 >= 3 else 0
+        growth = _fit_log_slope(cyc.start_s[lo:stop], amp[lo:stop]) if stop - lo >= 3 else \
+            _fit_log_slope(cyc.start_s[: min(n, 10)], amp[: min(n, 10)])
+    else:
+        growth = _fit_log_slope(cyc.start_s, amp)
+    return LimitCycle(squeal, saturated, final, frequency, t_sat, growth, growth_rate_analytic_1_s, cyc)
+
+
+def limit_cycle(
+    history: TimeHistory,
+    *,
+    window_cycles: int = WINDOW_CYCLES,
+    saturation_tolerance: float = SATURATION_TOLERANCE,
+    squeal_threshold: float = SQUEAL_THRESHOLD,
+) -> LimitCycle:
+    """Limit-cycle metrics of a TimeHistory (definitions in the module docstring)."""
+    cyc = cycles(history)
+    sigma = analytic_growth_rate(history.modes, history.contact, history.operating_point)
+    return metrics_from_cycles(cyc, history.operating_point.crabbing_velocity_m_s, sigma,
+                               window_cycles=window_cycles, saturation_tolerance=saturation_tolerance,
+                               squeal_threshold=squeal_threshold)
