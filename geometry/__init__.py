@@ -4,10 +4,28 @@ Knows nothing of finite elements: meshes leave this package as numpy arrays.
 """
 
 from .design import SECTIONS, STRUCTURAL_FIELDS, DesignError, WheelDesign, load_design, tread_radius
+from .mesh import (
+    DEFAULT_ELEMENTS_THROUGH_WEB,
+    PHYSICAL_TAGS,
+    MeshError,
+    ProfileMesh,
+    SolidMesh,
+    mesh_profile,
+    mesh_size,
+    mesh_wheel,
+)
 from .profile import Profile, half_profile, profile_area, revolved_volume, wheel_mass
 
 __all__ = [
+    "DEFAULT_ELEMENTS_THROUGH_WEB",
     "DesignError",
+    "MeshError",
+    "PHYSICAL_TAGS",
+    "ProfileMesh",
+    "SolidMesh",
+    "mesh_profile",
+    "mesh_size",
+    "mesh_wheel",
     "Profile",
     "SECTIONS",
     "STRUCTURAL_FIELDS",
