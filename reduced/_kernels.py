@@ -57,40 +57,40 @@ def _deriv(y, u, m, c, k, law, dy, du):
         dy[i] = u[i]
         du[i] = (q - c[i] * u[i] - k[i] * y[i]) / m[i]
         p -= c[i] * u[i] * u[i]
-    return p
+    return p, abs(q * v)
 
 
 @nb.njit(cache=True)
 def _rk4_step(y, u, m, c, k, law, h, scratch):
     """Advance (y, u) in place by one RK4 step h (s); return the RK4 estimate of
-    the energy input  int P dt  over the step (J)."""
+    the energy input  int P dt  and  int |Q v| dt  over the step (J)."""
     n = y.shape[0]
     ky1, ku1, ky2, ku2 = scratch[0], scratch[1], scratch[2], scratch[3]
     ky3, ku3, ky4, ku4 = scratch[4], scratch[5], scratch[6], scratch[7]
     yt, ut = scratch[8], scratch[9]
-    p1 = _deriv(y, u, m, c, k, law, ky1, ku1)
+    p1, r1 = _deriv(y, u, m, c, k, law, ky1, ku1)
     for i in range(n):
         yt[i] = y[i] + 0.5 * h * ky1[i]
         ut[i] = u[i] + 0.5 * h * ku1[i]
-    p2 = _deriv(yt, ut, m, c, k, law, ky2, ku2)
+    p2, r2 = _deriv(yt, ut, m, c, k, law, ky2, ku2)
     for i in range(n):
         yt[i] = y[i] + 0.5 * h * ky2[i]
         ut[i] = u[i] + 0.5 * h * ku2[i]
-    p3 = _deriv(yt, ut, m, c, k, law, ky3, ku3)
+    p3, r3 = _deriv(yt, ut, m, c, k, law, ky3, ku3)
     for i in range(n):
         yt[i] = y[i] + h * ky3[i]
         ut[i] = u[i] + h * ku3[i]
-    p4 = _deriv(yt, ut, m, c, k, law, ky4, ku4)
+    p4, r4 = _deriv(yt, ut, m, c, k, law, ky4, ku4)
     for i in range(n):
         y[i] += h / 6.0 * (ky1[i] + 2.0 * ky2[i] + 2.0 * ky3[i] + ky4[i])
         u[i] += h / 6.0 * (ku1[i] + 2.0 * ku2[i] + 2.0 * ku3[i] + ku4[i])
-    return h / 6.0 * (p1 + 2.0 * p2 + 2.0 * p3 + p4)
+    return h / 6.0 * (p1 + 2.0 * p2 + 2.0 * p3 + p4), h / 6.0 * (r1 + 2.0 * r2 + 2.0 * r3 + r4)
 
 
 @nb.njit(cache=True)
 def _rk4_step_1(y, u, m, c, k, law, h):
     """Single-mode RK4 step on scalars (2.4x faster than the array version).
-    Returns (y, u, energy input over the step in J)."""
+    Returns (y, u, int P dt, int |Q v| dt) over the step (J)."""
     a1 = u
     q1 = lateral_force(a1, law)
     b1 = (q1 - c * a1 - k * y) / m
@@ -104,9 +104,10 @@ def _rk4_step_1(y, u, m, c, k, law, h):
     q4 = lateral_force(a4, law)
     b4 = (q4 - c * a4 - k * (y + h * a3)) / m
     work = h / 6.0 * ((q1 - c * a1) * a1 + 2.0 * (q2 - c * a2) * a2 + 2.0 * (q3 - c * a3) * a3 + (q4 - c * a4) * a4)
+    absqv = h / 6.0 * (abs(q1 * a1) + 2.0 * abs(q2 * a2) + 2.0 * abs(q3 * a3) + abs(q4 * a4))
     return (y + h / 6.0 * (a1 + 2.0 * a2 + 2.0 * a3 + a4),
             u + h / 6.0 * (b1 + 2.0 * b2 + 2.0 * b3 + b4),
-            work)
+            work, absqv)
 
 
 @nb.njit(cache=True)
@@ -123,7 +124,7 @@ def integrate_store_1(y0, u0, m, c, k, law, h, n_steps, store_every, out_y, out_
     status = 0
     step = 0
     for step in range(1, n_steps + 1):
-        y, u, w = _rk4_step_1(y, u, m, c, k, law, h)
+        y, u, w, _wq = _rk4_step_1(y, u, m, c, k, law, h)
         work += w
         e = 0.5 * (m * u * u + k * y * y)
         if not math.isfinite(e):
@@ -168,7 +169,8 @@ def integrate_store(y0, u0, m, c, k, law, h, n_steps, store_every, out_y, out_u)
     status = 0
     step = 0
     for step in range(1, n_steps + 1):
-        work += _rk4_step(y, u, m, c, k, law, h, scratch)
+        w, _wq = _rk4_step(y, u, m, c, k, law, h, scratch)
+        work += w
         e = _energy(y, u, m, k)
         if not math.isfinite(e):
             status = 1
@@ -184,52 +186,47 @@ def integrate_store(y0, u0, m, c, k, law, h, n_steps, store_every, out_y, out_u)
 
 
 @nb.njit(cache=True)
-def extract_cycles(t, v, p, qv, out_start, out_amp, out_period, out_power, out_absqv):
+def extract_cycles(t, v, cum_p, cum_qv, out_start, out_amp, out_period, out_power, out_absqv):
     """Split a contact-velocity record v(t) into cycles between upward zero
-    crossings (linearly interpolated). Per cycle: start time (s), velocity
-    amplitude = (max - min)/2 with parabolic peak refinement (m/s), period (s),
-    mean power P (W, trapezoid) and mean |Q v| (W). Returns the number of cycles
-    written (limited by the length of the output arrays)."""
+    crossings (linearly interpolated). ``cum_p`` and ``cum_qv`` are the running
+    integrals of P and |Q v| (J) at the samples. Per cycle: start time (s),
+    velocity amplitude = (max - min)/2 with parabolic refinement of the sampled
+    extrema (m/s), period (s), mean power P (W), mean |Q v| (W). Returns the number
+    of cycles written (at most the length of the output arrays)."""
     n = t.shape[0]
     cap = out_start.shape[0]
     nc = 0
     have_start = False
     t_start = 0.0
+    ep_start = 0.0
+    eq_start = 0.0
     vmax = -np.inf
     vmin = np.inf
-    e_p = 0.0
-    e_q = 0.0
     for j in range(1, n):
-        dt = t[j] - t[j - 1]
-        # crossing between j-1 and j ?
         if v[j - 1] < 0.0 and v[j] >= 0.0:
             frac = -v[j - 1] / (v[j] - v[j - 1])
-            tc = t[j - 1] + frac * dt
-            # split the trapezoid of this interval at the crossing (linear interpolation)
-            p_c = p[j - 1] + frac * (p[j] - p[j - 1])
-            q_c = qv[j - 1] + frac * (qv[j] - qv[j - 1])
-            e_p += 0.5 * (p[j - 1] + p_c) * frac * dt
-            e_q += 0.5 * (qv[j - 1] + q_c) * frac * dt
+            tc = t[j - 1] + frac * (t[j] - t[j - 1])
+            ep = cum_p[j - 1] + frac * (cum_p[j] - cum_p[j - 1])
+            eq = cum_qv[j - 1] + frac * (cum_qv[j] - cum_qv[j - 1])
             if have_start and nc < cap:
                 per = tc - t_start
                 out_start[nc] = t_start
                 out_amp[nc] = 0.5 * (vmax - vmin)
                 out_period[nc] = per
-                out_power[nc] = e_p / per
-                out_absqv[nc] = e_q / per
+                out_power[nc] = (ep - ep_start) / per
+                out_absqv[nc] = (eq - eq_start) / per
                 nc += 1
             have_start = True
             t_start = tc
+            ep_start = ep
+            eq_start = eq
             vmax = -np.inf
             vmin = np.inf
-            e_p = 0.5 * (p_c + p[j]) * (1.0 - frac) * dt
-            e_q = 0.5 * (q_c + qv[j]) * (1.0 - frac) * dt
-        else:
-            e_p += 0.5 * (p[j - 1] + p[j]) * dt
-            e_q += 0.5 * (qv[j - 1] + qv[j]) * dt
-        # local extrema at j-1 with parabolic refinement (uniform spacing assumed locally)
+        # local extremum at j-1, refined by the parabola through j-2, j-1, j
         if j >= 2:
-            a0, a1, a2 = v[j - 2], v[j - 1], v[j]
+            a0 = v[j - 2]
+            a1 = v[j - 1]
+            a2 = v[j]
             curv = a0 - 2.0 * a1 + a2
             if a1 >= a0 and a1 >= a2:
                 peak = a1 - (a2 - a0) * (a2 - a0) / (8.0 * curv) if curv < 0.0 else a1
@@ -247,7 +244,8 @@ def sweep_kernel(m, c, k, laws, h_per_case, n_steps_per_case, cap,
                  out_start, out_amp, out_period, out_power, out_absqv, out_ncycles,
                  out_status, out_mismatch, out_emax):
     """Run every case (row of ``laws``) from rest in parallel (prange) and reduce
-    each time history to its cycles (see extract_cycles) without keeping it."""
+    each time history to its cycles (see extract_cycles) without keeping it.
+    The power integrals use the RK4 stage values (no extra force evaluation)."""
     n_cases = laws.shape[0]
     n = m.shape[0]
     for ic in nb.prange(n_cases):
@@ -259,14 +257,12 @@ def sweep_kernel(m, c, k, laws, h_per_case, n_steps_per_case, cap,
         scratch = np.zeros((10, n))
         t = np.empty(ns + 1)
         v = np.empty(ns + 1)
-        p = np.empty(ns + 1)
-        qv = np.empty(ns + 1)
+        cp = np.empty(ns + 1)
+        cq = np.empty(ns + 1)
         t[0] = 0.0
         v[0] = 0.0
-        q0 = lateral_force(0.0, law)
-        p[0] = 0.0
-        qv[0] = 0.0
-        work = 0.0
+        cp[0] = 0.0
+        cq[0] = 0.0
         emax = 0.0
         status = 0
         last = ns
@@ -274,36 +270,35 @@ def sweep_kernel(m, c, k, laws, h_per_case, n_steps_per_case, cap,
         u1 = 0.0
         for step in range(1, ns + 1):
             if n == 1:
-                y1, u1, w = _rk4_step_1(y1, u1, m[0], c[0], k[0], law, h)
-                work += w
-                y[0] = y1
-                u[0] = u1
+                y1, u1, w, wq = _rk4_step_1(y1, u1, m[0], c[0], k[0], law, h)
+                e = 0.5 * (m[0] * u1 * u1 + k[0] * y1 * y1)
+                vv = u1
             else:
-                work += _rk4_step(y, u, m, c, k, law, h, scratch)
-            vv = 0.0
-            diss = 0.0
-            for i in range(n):
-                vv += u[i]
-                diss += c[i] * u[i] * u[i]
-            q = lateral_force(vv, law)
-            t[step] = step * h
-            v[step] = vv
-            p[step] = q * vv - diss
-            qv[step] = abs(q * vv)
-            e = _energy(y, u, m, k)
+                w, wq = _rk4_step(y, u, m, c, k, law, h, scratch)
+                e = _energy(y, u, m, k)
+                vv = 0.0
+                for i in range(n):
+                    vv += u[i]
             if not math.isfinite(e):
                 status = 1
                 last = step - 1
                 break
             if e > emax:
                 emax = e
+            t[step] = step * h
+            v[step] = vv
+            cp[step] = cp[step - 1] + w
+            cq[step] = cq[step - 1] + wq
+        if n == 1:
+            e_end = 0.5 * (m[0] * u1 * u1 + k[0] * y1 * y1)
+        else:
+            e_end = _energy(y, u, m, k)
         out_status[ic] = status
         out_emax[ic] = emax
-        out_mismatch[ic] = abs(_energy(y, u, m, k) - work) if status == 0 else np.inf
-        out_ncycles[ic] = extract_cycles(t[: last + 1], v[: last + 1], p[: last + 1], qv[: last + 1],
+        out_mismatch[ic] = abs(e_end - cp[last]) if status == 0 else np.inf
+        out_ncycles[ic] = extract_cycles(t[: last + 1], v[: last + 1], cp[: last + 1], cq[: last + 1],
                                          out_start[ic], out_amp[ic], out_period[ic],
                                          out_power[ic], out_absqv[ic])
-        _ = q0
 
 
 def rk4_numpy_batch(m, c, k, laws, h, n_steps):

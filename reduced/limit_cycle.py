@@ -7,7 +7,8 @@ Definitions (all on the contact-point lateral velocity v = sum_i y_i'):
   the sampled extrema (m/s), period (s), mean power P of Eq. 7 (W), mean |Q v| (W).
 * **saturated**: over the last ``window_cycles`` cycles (default 50, about 44 ms at
   1.1 kHz) the envelope varies by less than ``saturation_tolerance`` (default 1 %)
-  of its mean. A decaying oscillation is not "saturated".
+  of its mean, and that mean exceeds the squeal threshold below. A decaying
+  oscillation is not "saturated".
 * **velocity amplitude**: mean envelope over that final window. If not saturated
   it is the value reached at the end of the run (still growing or decaying).
 * **squeal**: the final amplitude exceeds ``squeal_threshold`` * max(|Vc|, 1 mm/s)
@@ -18,6 +19,8 @@ Definitions (all on the contact-point lateral velocity v = sum_i y_i'):
 * **growth rate (fitted)**: least-squares slope of ln(envelope) against time over
   the start of the record (from cycle 1 until the envelope first exceeds 30 % of
   its final value; the whole record if it decays), 1/s.
+* **mean power per cycle**: mean of P (Eq. 7) over each cycle, from the running
+  integral of P (trapezoid on stored samples; RK4 stage quadrature in sweeps).
 * **growth rate (analytic)**: sigma = -(c + W/V0 dmu/dzeta(Vc/V0)) / (2 m) at the
   quasi-static creepage (the largest over the modes), 1/s.
 """
@@ -61,7 +64,9 @@ class LimitCycle:
     """Limit-cycle metrics (see the module docstring for the definitions).
 
     squeal : bool. saturated : bool.
-    velocity_amplitude_m_s : m/s. frequency_hz : Hz (NaN if fewer than 2 cycles).
+    velocity_amplitude_m_s : m/s.
+    frequency_hz : mean over the final window, Hz (NaN if fewer than 2 cycles or if the
+        final amplitude is below the squeal threshold).
     time_to_saturation_s : s (NaN if not saturated).
     growth_rate_1_s : fitted from the start envelope, 1/s (NaN if < 3 cycles).
     growth_rate_analytic_1_s : from the friction slope, 1/s.
@@ -95,8 +100,10 @@ def cycles(history: TimeHistory) -> Cycles:
     """Split a TimeHistory into cycles of the contact velocity (see module docstring)."""
     t = np.ascontiguousarray(history.t, dtype=float)
     v = np.ascontiguousarray(history.v, dtype=float)
-    p = np.ascontiguousarray(history.P, dtype=float)
-    qv = np.ascontiguousarray(np.abs(history.Q * history.v), dtype=float)
+    dt = np.diff(t)
+    p = np.concatenate([[0.0], np.cumsum(0.5 * (history.P[1:] + history.P[:-1]) * dt)])
+    aqv = np.abs(history.Q * history.v)
+    qv = np.concatenate([[0.0], np.cumsum(0.5 * (aqv[1:] + aqv[:-1]) * dt)])
     cap = max(1, len(t) // 2 + 1)
     out = [np.empty(cap) for _ in range(5)]
     n = _kernels.extract_cycles(t, v, p, qv, *out)
@@ -130,11 +137,12 @@ def metrics_from_cycles(
     w = min(window_cycles, n)
     tail = amp[n - w:]
     final = float(tail.mean())
-    frequency = float(1.0 / cyc.period_s[n - w:].mean())
     spread = float(tail.max() - tail.min())
-    saturated = bool(n >= window_cycles and final > 0.0 and spread <= saturation_tolerance * final)
-    late_slope = _fit_log_slope(cyc.start_s[n - w:], tail)
     threshold = squeal_threshold * max(abs(crabbing_velocity_m_s), 1e-3)
+    # the period of an oscillation decayed to round-off level means nothing
+    frequency = float(1.0 / cyc.period_s[n - w:].mean()) if final > threshold else nan
+    saturated = bool(n >= window_cycles and final > threshold and spread <= saturation_tolerance * final)
+    late_slope = _fit_log_slope(cyc.start_s[n - w:], tail)
     squeal = bool(final > threshold and (saturated or (math.isfinite(late_slope) and late_slope > 0.0)))
     t_sat = nan
     if saturated:

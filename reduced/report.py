@@ -1,0 +1,215 @@
+"""Files and JSON-ready summaries for a squeal simulation (matplotlib Agg, no display).
+
+Writers take a directory Path and write plain files into it (the caller handles
+atomic renames). Figure numbers refer to Liu & Meehan (CM2015).
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+
+from .creep import ContactLaw, adhesion_ratio
+from .limit_cycle import LimitCycle
+from .model import OperatingPoint, TimeHistory
+from .sweep import SweepResult
+
+__all__ = [
+    "summary_dicts",
+    "write_timeseries_csv",
+    "write_time_history_plots",
+    "write_sweep_csv",
+    "write_sweep_plot",
+    "VELOCITY_REFERENCE_M_S",
+]
+
+#: reference velocity for velocity levels, m/s (dB re 5e-8 m/s)
+VELOCITY_REFERENCE_M_S = 5e-8
+
+
+def _num(x) -> float | None:
+    """float, or None for NaN/inf (JSON has no NaN)."""
+    x = float(x)
+    return x if math.isfinite(x) else None
+
+
+def summary_dicts(lc: LimitCycle, op: OperatingPoint, contact: ContactLaw) -> dict:
+    """JSON-ready dicts {'limit_cycle', 'operating_point', 'contact'} (SI units; NaN -> None)."""
+    return {
+        "limit_cycle": {
+            "squeal": bool(lc.squeal),
+            "velocity_amplitude_m_s": _num(lc.velocity_amplitude_m_s),
+            "frequency_hz": _num(lc.frequency_hz),
+            "time_to_saturation_s": _num(lc.time_to_saturation_s),
+            "growth_rate_1_s": _num(lc.growth_rate_1_s),
+        },
+        "operating_point": {
+            "rolling_speed_m_s": float(op.rolling_speed_m_s),
+            "crabbing_velocity_m_s": float(op.crabbing_velocity_m_s),
+            "creepage": float(op.creepage),
+        },
+        "contact": {
+            "semi_axis_a_m": float(contact.semi_axis_a_m),
+            "semi_axis_b_m": float(contact.semi_axis_b_m),
+            "c22": float(contact.c22),
+            "friction_coefficient": float(contact.friction_coefficient),
+        },
+    }
+
+
+def write_timeseries_csv(history: TimeHistory, directory: Path, name: str = "timeseries.csv") -> Path:
+    """Write t_s, y_m, v_m_s, creepage, Q_N, P_W (contact-point totals) as CSV."""
+    path = Path(directory) / name
+    data = np.column_stack([history.t, history.y, history.v, history.creepage, history.Q, history.P])
+    header = ("# Liu & Meehan squeal model time history at the contact point; SI units\n"
+              "t_s,y_m,v_m_s,creepage,Q_N,P_W")
+    np.savetxt(path, data, delimiter=",", header=header, comments="", fmt="%.9g")
+    return path
+
+
+def _plt():
+    import matplotlib
+
+    matplotlib.use("Agg", force=True)
+    import matplotlib.pyplot as plt
+
+    return plt
+
+
+def _window(history: TimeHistory, centre_s: float, n_cycles: float = 6.0):
+    f = max(md.frequency_hz for md in history.modes)
+    half = 0.5 * n_cycles / f
+    t_end = float(history.t[-1])
+    centre = min(max(centre_s, half), max(t_end - half, half))
+    sel = (history.t >= centre - half) & (history.t <= centre + half)
+    return sel, centre
+
+
+def write_time_history_plots(history: TimeHistory, directory: Path,
+                             times_s: tuple = (0.2, 0.4)) -> list:
+    """PNG plots: creep_curve.png (Fig. 4), velocity_history.png (Fig. 6),
+    force_velocity_<t>s.png (Fig. 7, 9) and power_<t>s.png (Fig. 8, 10) for each
+    time in ``times_s`` (clamped to the record). Returns the written paths."""
+    plt = _plt()
+    directory = Path(directory)
+    op, law = history.operating_point, history.contact
+    paths = []
+
+    # Fig. 4: creep curve
+    sat = law.saturation_creepage
+    zeta = np.linspace(-6 * max(sat, abs(op.creepage)), 6 * max(sat, abs(op.creepage)), 2001)
+    fig, ax = plt.subplots(figsize=(6, 4))
+    ax.plot(zeta, adhesion_ratio(zeta, law, op.rolling_speed_m_s), lw=1.5)
+    ax.axvline(op.creepage, color="C3", ls="--", lw=1, label=f"quasi-static creepage {op.creepage:.4f}")
+    for s in (-sat, sat):
+        ax.axvline(s, color="0.5", ls=":", lw=1)
+    ax.set_xlabel("lateral creepage zeta (-)")
+    ax.set_ylabel("adhesion ratio mu = -Q/W (-)")
+    ax.set_title(f"Creep curve (Eq. 3), V0 = {op.rolling_speed_m_s:.2f} m/s; saturation at {sat:.4f}")
+    ax.legend(loc="lower right")
+    ax.grid(alpha=0.3)
+    paths.append(_save(fig, directory / "creep_curve.png", plt))
+
+    # Fig. 6: velocity history
+    fig, ax = plt.subplots(figsize=(7, 4))
+    ax.plot(history.t, history.v, lw=0.4)
+    for s in (1, -1):
+        ax.axhline(s * op.crabbing_velocity_m_s, color="C3", ls="--", lw=1)
+    ax.set_xlabel("time (s)")
+    ax.set_ylabel("lateral vibration velocity y' (m/s)")
+    ax.set_title(f"Velocity from rest; Vc = {op.crabbing_velocity_m_s:.3f} m/s (dashed: +/- Vc)")
+    ax.grid(alpha=0.3)
+    paths.append(_save(fig, directory / "velocity_history.png", plt))
+
+    for t0 in times_s:
+        sel, centre = _window(history, t0)
+        tag = f"{centre:.2f}s"
+        t = history.t[sel]
+        fig, (a1, a2) = plt.subplots(2, 1, figsize=(7, 5), sharex=True)
+        a1.plot(t, history.v[sel], lw=1)
+        a1.set_ylabel("y' (m/s)")
+        a1.set_title(f"Velocity and lateral force around {centre:.3f} s (Fig. 7/9)")
+        a2.plot(t, history.Q[sel], color="C1", lw=1)
+        a2.set_ylabel("Q (N)")
+        a2.set_xlabel("time (s)")
+        for a in (a1, a2):
+            a.grid(alpha=0.3)
+        paths.append(_save(fig, directory / f"force_velocity_{tag}.png", plt))
+
+        fig, ax = plt.subplots(figsize=(7, 3.5))
+        ax.plot(t, history.P[sel], color="C2", lw=1)
+        ax.axhline(0.0, color="k", lw=0.5)
+        ax.set_xlabel("time (s)")
+        ax.set_ylabel("P = Q y' - c y'^2 (W)")
+        ax.set_title(f"Power input around {centre:.3f} s (Fig. 8/10); window mean {history.P[sel].mean():.3g} W")
+        ax.grid(alpha=0.3)
+        paths.append(_save(fig, directory / f"power_{tag}.png", plt))
+    return paths
+
+
+def _save(fig, path: Path, plt) -> Path:
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+    return path
+
+
+def _rpm(speeds_m_s: np.ndarray, wheel_radius_m: float | None) -> np.ndarray:
+    if wheel_radius_m is None:
+        return np.full(speeds_m_s.shape, np.nan)
+    return speeds_m_s / wheel_radius_m * 60.0 / (2.0 * math.pi)
+
+
+def write_sweep_csv(result: SweepResult, directory: Path, wheel_radius_m: float | None = None,
+                    name: str = "sweep.csv") -> Path:
+    """sweep.csv: crab_velocity_m_s, rpm, rolling_speed_m_s, squeal, velocity_amplitude_m_s,
+    frequency_hz, growth_rate_1_s, time_to_saturation_s (one row per case; NaN -> empty;
+    rpm needs the wheel rolling radius in m, else empty)."""
+    path = Path(directory) / name
+    rpm = _rpm(result.rolling_speeds_m_s, wheel_radius_m)
+    lines = ["crab_velocity_m_s,rpm,rolling_speed_m_s,squeal,velocity_amplitude_m_s,"
+             "frequency_hz,growth_rate_1_s,time_to_saturation_s"]
+
+    def fmt(x) -> str:
+        return "" if not math.isfinite(float(x)) else f"{float(x):.9g}"
+
+    for i, vc in enumerate(result.crabbing_velocities_m_s):
+        for j, v0 in enumerate(result.rolling_speeds_m_s):
+            lines.append(",".join([
+                fmt(vc), fmt(rpm[j]), fmt(v0), str(bool(result.squeal[i, j])).lower(),
+                fmt(result.velocity_amplitude_m_s[i, j]), fmt(result.frequency_hz[i, j]),
+                fmt(result.growth_rate_1_s[i, j]), fmt(result.time_to_saturation_s[i, j])]))
+    path.write_text("\n".join(lines) + "\n")
+    return path
+
+
+def write_sweep_plot(result: SweepResult, directory: Path, wheel_radius_m: float | None = None,
+                     name: str = "sweep.png") -> Path:
+    """Model counterpart of the paper's Fig. 5: limit-cycle velocity amplitude vs
+    crabbing velocity, one curve per rolling speed (top), and the velocity level
+    20 log10(V / 5e-8 m/s) in dB (bottom). Open markers: still growing at the end of
+    the run (amplitude reached so far, not a limit cycle); no squeal is drawn as 0."""
+    plt = _plt()
+    rpm = _rpm(result.rolling_speeds_m_s, wheel_radius_m)
+    fig, (a1, a2) = plt.subplots(2, 1, figsize=(7, 7), sharex=True)
+    vc = result.crabbing_velocities_m_s
+    for j, v0 in enumerate(result.rolling_speeds_m_s):
+        amp = np.where(result.squeal[:, j], result.velocity_amplitude_m_s[:, j], 0.0)
+        unsat = result.squeal[:, j] & ~result.saturated[:, j]
+        label = f"{v0:.1f} m/s" + (f" ({rpm[j]:.0f} RPM)" if math.isfinite(rpm[j]) else "")
+        line, = a1.plot(vc, np.where(unsat, np.nan, amp), "-o", ms=3, label=label)
+        a1.plot(vc[unsat], amp[unsat], "o", mfc="white", mec=line.get_color(), ms=6)
+        with np.errstate(divide="ignore"):
+            level = 20.0 * np.log10(np.where(amp > 0, amp, np.nan) / VELOCITY_REFERENCE_M_S)
+        a2.plot(vc, level, "-o", ms=3, color=line.get_color())
+    a1.plot(vc, np.abs(vc), "k--", lw=0.8, label="|Vc|")
+    a1.set_ylabel("limit-cycle velocity amplitude (m/s)")
+    a1.set_title(f"Squeal amplitude vs crabbing velocity ({result.duration_s:g} s runs from rest)")
+    a1.legend()
+    a2.set_ylabel("velocity level (dB re 5e-8 m/s)")
+    a2.set_xlabel("crabbing velocity Vc (m/s)")
+    for a in (a1, a2):
+        a.grid(alpha=0.3)
+    return _save(fig, Path(directory) / name, plt)
