@@ -29,9 +29,9 @@ A mode with n >= 1 has two members (the cos / sin pair), and any rotation of the
 an equally valid solver output. The pictures (and the primary array of ``modes.vtu``)
 use the combination of the pair whose displacement at the contact point is largest:
 ``phi = (a_c a + b_c b) / sqrt(a_c^2 + b_c^2)`` with ``a_c``, ``b_c`` the axial contact
-displacements of the members (the full contact displacement vector is used when the
-axial one vanishes, e.g. for in-plane modes). It is mass-normalised like the members,
-does not depend on how the solver rotated the pair, and is the shape the contact
+displacements of the members (for radial / circumferential modes, whose axial contact
+value is round-off, the combination maximising the whole contact displacement
+vector). It is mass-normalised like the members, does not depend on how the solver rotated the pair, and is the shape the contact
 actually excites: its contact displacement squared is 1 / (contact modal mass), so the
 contact point sits on an antinode and the nodal diameters are placed where the squeal
 model sees them. Its partner (the orthogonal combination, a node at the contact) is kept
@@ -109,22 +109,19 @@ def _pair_basis(modeset: ModeSet, i: int) -> tuple[np.ndarray, np.ndarray | None
         S = S[None]
     k = contact_point_index(modeset)
     d = S[:, k, :]  # (members, 3) contact displacement of each member
-    scale = float(np.abs(S).max()) or 1.0
-    if S.shape[0] == 1:
-        c = d[0]
-        j = 2 if abs(c[2]) > 1e-6 * scale else int(np.argmax(np.abs(c)))
-        sign = -1.0 if c[j] < 0 else 1.0
-        return sign * S[0], None
-    if np.linalg.norm(d[:, 2]) > 1e-6 * scale:
-        w = d[:, 2] / np.linalg.norm(d[:, 2])  # maximises the axial contact displacement
-    elif np.linalg.norm(d) > 1e-6 * scale:
-        vals, vecs = np.linalg.eigh(d @ d.T)  # maximises |contact displacement|
-        w = vecs[:, -1]
-        c = w @ d
-        if c[int(np.argmax(np.abs(c)))] < 0:
-            w = -w
-    else:  # the contact point is a node of the whole pair
-        w = np.eye(S.shape[0])[0]
+    tiny = 1e-9 * (float(np.abs(S).max()) or 1.0)
+    # Axial modes: align on the axial contact displacement (what the contact model
+    # uses); in-plane modes, whose axial contact value is round-off: on the whole
+    # contact displacement vector.
+    if modeset.modes[i].family == "axial" and np.linalg.norm(d[:, 2]) > tiny:
+        d = d[:, 2:3]
+    if np.linalg.norm(d) <= tiny:  # the contact point is a node of the whole mode
+        return S[0], (S[1] if S.shape[0] == 2 else None)
+    vals, vecs = np.linalg.eigh(d @ d.T)  # w maximises |sum_j w_j d_j| with |w| = 1
+    w = vecs[:, -1]
+    c = w @ d
+    if c[int(np.argmax(np.abs(c)))] < 0:  # the largest contact component positive
+        w = -w
     primary = np.tensordot(w, S, axes=1)
     partner = None
     if S.shape[0] == 2:
@@ -413,100 +410,110 @@ def _build_scene(
     surf.point_data["|u|"] = np.linalg.norm(surf.point_data["u"], axis=1)
 
     pl = pv.Plotter(off_screen=True, window_size=list(window_size))
-    fs = min(window_size[0] / 1024, window_size[1] / 768)  # font scale
-    pl.set_background("white")
-    moving, labels = [], []
-    u = np.asarray(surf.point_data["u"])
-    base = np.array(surf.points)
+    try:
+        fs = min(window_size[0] / 1024, window_size[1] / 768)  # font scale
+        pl.set_background("white")
+        moving, labels = [], []
+        u = np.asarray(surf.point_data["u"])
+        base = np.array(surf.points)
 
-    deformed = surf.copy()
-    deformed.points = base + scale * u
-    moving.append((deformed, base, u))
-    pl.add_mesh(
-        deformed,
-        scalars="|u|",
-        cmap=cmap,
-        clim=(0.0, umax if umax > 0 else 1.0),
-        smooth_shading=True,
-        show_scalar_bar=True,
-        scalar_bar_args=dict(
-            title="displacement magnitude [m/sqrt(kg)]",
-            color="black",
-            vertical=False,
-            position_x=0.3,
-            position_y=0.045,
-            height=0.085,
-            width=0.4,
-            fmt="%.2g",
-            title_font_size=max(6, round(13 * fs)),
-            label_font_size=max(6, round(11 * fs)),
-        ),
-    )
-
-    if show_outline:
-        edges = surf.extract_feature_edges(
-            feature_angle=30.0, boundary_edges=True, non_manifold_edges=False,
-            manifold_edges=False,
+        deformed = surf.copy()
+        deformed.points = base + scale * u
+        moving.append((deformed, base, u))
+        pl.add_mesh(
+            deformed,
+            scalars="|u|",
+            cmap=cmap,
+            clim=(0.0, umax if umax > 0 else 1.0),
+            smooth_shading=True,
+            show_scalar_bar=True,
+            scalar_bar_args=dict(
+                title="",
+                color="black",
+                vertical=False,
+                position_x=0.3,
+                position_y=0.045,
+                height=0.11,
+                width=0.4,
+                fmt="%.2g",
+                title_font_size=max(6, round(13 * fs)),
+                label_font_size=max(6, round(11 * fs)),
+            ),
         )
-        if edges.n_points:
-            pl.add_mesh(edges, color="#333333", line_width=1.2, opacity=0.8)
 
-    if show_nodal_lines:
-        r_in = float(r_all.min())
-        cut = surf.clip_scalar(scalars="r", value=r_in + 0.12 * (radius - r_in), invert=False)
-        if cut.n_points and np.ptp(cut.point_data["comp"]) > 0:
-            lines = cut.contour([0.0], scalars="comp")
-            if lines.n_points:
-                lu = np.asarray(lines.point_data["u"])
-                lp = np.array(lines.points)
-                lines.points = lp + scale * lu
-                moving.append((lines, lp, lu))
-                pl.add_mesh(lines, color="white", line_width=4.0, render_lines_as_tubes=True)
-        angles = _nodal_angles(pts, grid.point_data["comp"], mode.nodal_diameters)
-        if angles.size:
-            segs = []
-            for t in angles:
-                c, s = math.cos(t), math.sin(t)
-                segs.append([(1.04 * radius * c, 1.04 * radius * s, 0.0),
-                             (1.22 * radius * c, 1.22 * radius * s, 0.0)])
-            ticks = pv.line_segments_from_points(np.array(segs).reshape(-1, 3))
-            pl.add_mesh(ticks, color="#1f3fbf", line_width=5.0)
-
-    if show_contact:
-        k = contact_point_index(modeset)
-        p0 = pts[k]
-        sphere = pv.Sphere(radius=0.03 * radius, center=p0)
-        sp0 = np.array(sphere.points)
-        su = np.tile(u_all[k], (sphere.n_points, 1))
-        sphere.points = sp0 + scale * su
-        moving.append((sphere, sp0, su))
-        pl.add_mesh(sphere, color="red", smooth_shading=True)
-        # an arrow pointing radially at the contact point, as the roller presses on it
-        arrow = pv.Arrow(
-            start=p0 + [0.30 * radius, 0.0, 0.0], direction=(-1.0, 0.0, 0.0),
-            scale=0.26 * radius, tip_length=0.3, tip_radius=0.12, shaft_radius=0.04,
+        # the bar's own title collides with its labels when horizontal: a text above it
+        pl.add_text(
+            "displacement magnitude [m/sqrt(kg)]", position=(0.3, 0.118), viewport=True,
+            font_size=max(6, round(9 * fs)), color="black",
         )
-        ap0 = np.array(arrow.points)
-        au = np.tile(u_all[k], (arrow.n_points, 1))
-        arrow.points = ap0 + scale * au
-        moving.append((arrow, ap0, au))
-        pl.add_mesh(arrow, color="red")
-        lab0 = p0 + [0.31 * radius, 0.0, 0.0]
-        labels.append((lab0, u_all[k], "contact"))
-        _add_label(pl, lab0 + scale * u_all[k], "contact", f"label{len(labels) - 1}", fs)
 
-    pl.add_text(mode_title(modeset, i), position="upper_edge", font_size=max(7, round(14 * fs)), color="black")
-    member_txt = "contact-aligned combination" if member == "contact" else f"member {member}"
-    pl.add_text(
-        f"deformation x{scale:.3g} (peak = {100 * scale * umax / radius:.0f} % of R); "
-        f"{member_txt}; white: nodal lines, blue ticks: nodal diameters",
-        position="lower_left", font_size=max(5, round(8 * fs)), color="#444444",
-    )
-    pl.camera_position = _camera(camera, radius, float(np.ptp(pts[:, 2])))
-    pl.reset_camera()
-    zoom = {"iso": 1.45, "front": 1.05, "side": 1.35}.get(camera, 1.0) if isinstance(camera, str) else 1.0
-    pl.camera.zoom(zoom)
-    return _Scene(pl, base, u, scale, moving, labels, fs)
+        if show_outline:
+            edges = surf.extract_feature_edges(
+                feature_angle=30.0, boundary_edges=True, non_manifold_edges=False,
+                manifold_edges=False,
+            )
+            if edges.n_points:
+                pl.add_mesh(edges, color="#333333", line_width=1.2, opacity=0.8)
+
+        if show_nodal_lines:
+            r_in = float(r_all.min())
+            cut = surf.clip_scalar(scalars="r", value=r_in + 0.12 * (radius - r_in), invert=False)
+            if cut.n_points and np.ptp(cut.point_data["comp"]) > 0:
+                lines = cut.contour([0.0], scalars="comp")
+                if lines.n_points:
+                    lu = np.asarray(lines.point_data["u"])
+                    lp = np.array(lines.points)
+                    lines.points = lp + scale * lu
+                    moving.append((lines, lp, lu))
+                    pl.add_mesh(lines, color="white", line_width=4.0, render_lines_as_tubes=True)
+            angles = _nodal_angles(pts, grid.point_data["comp"], mode.nodal_diameters)
+            if angles.size:
+                segs = []
+                for t in angles:
+                    c, s = math.cos(t), math.sin(t)
+                    segs.append([(1.04 * radius * c, 1.04 * radius * s, 0.0),
+                                 (1.22 * radius * c, 1.22 * radius * s, 0.0)])
+                ticks = pv.line_segments_from_points(np.array(segs).reshape(-1, 3))
+                pl.add_mesh(ticks, color="#1f3fbf", line_width=5.0)
+
+        if show_contact:
+            k = contact_point_index(modeset)
+            p0 = pts[k]
+            sphere = pv.Sphere(radius=0.03 * radius, center=p0)
+            sp0 = np.array(sphere.points)
+            su = np.tile(u_all[k], (sphere.n_points, 1))
+            sphere.points = sp0 + scale * su
+            moving.append((sphere, sp0, su))
+            pl.add_mesh(sphere, color="red", smooth_shading=True)
+            # an arrow pointing radially at the contact point, as the roller presses on it
+            arrow = pv.Arrow(
+                start=p0 + [0.30 * radius, 0.0, 0.0], direction=(-1.0, 0.0, 0.0),
+                scale=0.26 * radius, tip_length=0.3, tip_radius=0.12, shaft_radius=0.04,
+            )
+            ap0 = np.array(arrow.points)
+            au = np.tile(u_all[k], (arrow.n_points, 1))
+            arrow.points = ap0 + scale * au
+            moving.append((arrow, ap0, au))
+            pl.add_mesh(arrow, color="red")
+            lab0 = p0 + [0.31 * radius, 0.0, 0.0]
+            labels.append((lab0, u_all[k], "contact"))
+            _add_label(pl, lab0 + scale * u_all[k], "contact", f"label{len(labels) - 1}", fs)
+
+        pl.add_text(mode_title(modeset, i), position="upper_edge", font_size=max(7, round(14 * fs)), color="black")
+        member_txt = "contact-aligned combination" if member == "contact" else f"member {member}"
+        pl.add_text(
+            f"deformation x{scale:.3g} (peak = {100 * scale * umax / radius:.0f} % of R); "
+            f"{member_txt}; white: nodal lines, blue ticks: nodal diameters",
+            position="lower_left", font_size=max(5, round(8 * fs)), color="#444444",
+        )
+        pl.camera_position = _camera(camera, radius, float(np.ptp(pts[:, 2])))
+        pl.reset_camera()
+        zoom = {"iso": 1.45, "front": 1.05, "side": 1.35}.get(camera, 1.0) if isinstance(camera, str) else 1.0
+        pl.camera.zoom(zoom)
+        return _Scene(pl, base, u, scale, moving, labels, fs)
+    except BaseException:
+        pl.close()
+        raise
 
 
 def render_mode(

@@ -132,6 +132,9 @@ def test_contact_aligned_pair_is_rotation_invariant(modeset):
             # the drawn shape carries the whole contact response: u_z^2 = 1 / m
             assert u[k, 2] > 0
             assert u[k, 2] ** 2 == pytest.approx(1.0 / mode.modal_mass, rel=1e-9)
+        else:  # in-plane: aligned on the whole contact displacement vector
+            d = np.asarray(modeset.shapes[i])[:, k, :]
+            assert np.linalg.norm(u[k]) == pytest.approx(np.linalg.norm(d), rel=1e-9)
     # rotating the pair (as another solver might) does not change the drawn shape
     i = 2
     c, s = math.cos(0.7), math.sin(0.7)
@@ -243,4 +246,19 @@ def test_tetra_cells(modeset):
     tets = np.vstack([w[:, [0, 1, 2, 3]], w[:, [1, 2, 3, 4]], w[:, [2, 3, 4, 5]]])
     ms = ModeSet(modeset.modes, modeset.points, {"tetra": tets}, modeset.shapes, "x", 0)
     img = render_mode(ms, 2, window_size=(400, 300), show_nodal_lines=False)
+    assert 0.15 < _wheel_fraction(np.asarray(img)) < 0.85
+
+
+def test_real_table1_mode(tmp_path):
+    """The axisymmetric solver's Table 1 mode set renders (if that solver is present)."""
+    axisym = pytest.importorskip("fem.axisym")
+    from geometry.design import WheelDesign
+
+    from fem.render import mode_shape, render_mode, contact_point_index
+
+    ms = axisym.solve_axisymmetric(WheelDesign(), fmax_hz=1500.0)
+    i = next(j for j, m in enumerate(ms.modes) if m.nodal_diameters == 3 and m.family == "axial")
+    k = contact_point_index(ms)
+    assert mode_shape(ms, i)[k, 2] ** 2 == pytest.approx(1 / ms.modes[i].modal_mass, rel=1e-6)
+    img = render_mode(ms, i, tmp_path / "n3.png", window_size=(640, 480))
     assert 0.15 < _wheel_fraction(np.asarray(img)) < 0.85
