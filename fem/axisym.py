@@ -95,6 +95,11 @@ CIRCLE_THRESHOLD = 0.02
 CIRCLE_SAMPLES = 161
 #: hard cap on the harmonic index when none is given
 N_MAX_DEFAULT = 60
+#: P2 elements across the web when the solver meshes the design itself (mesh=None,
+#: no size given). Measured on Table 1 against a 10-per-web curved reference: every
+#: mode <= 5 kHz within 0.15 % (1 per web: 0.47 %, 3 per web: 0.07 %), 9.6k DOFs
+#: summed over the harmonics, about 0.1-0.4 s (benchmarks/bench_axisym.py).
+DEFAULT_ELEMENTS_THROUGH_WEB = 2
 
 
 # ------------------------------------------------------------------------------------
@@ -129,7 +134,12 @@ def to_skfem_mesh(mesh: Any, curved: bool = False) -> fe.Mesh:
 def _corner_mesh(m: fe.Mesh) -> tuple[np.ndarray, np.ndarray]:
     """Corner points (Np, 2) and triangles (M, 3) of a scikit-fem triangle mesh."""
     nv = m.nvertices
-    return np.asarray(m.doflocs[:, :nv].T), np.asarray(m.t[:3].T)
+    p = np.asarray(m.doflocs[:, :nv].T)
+    t = np.array(m.t[:3].T)  # scikit-fem sorts t: orientation is lost, restore CCW
+    a, b, c = p[t[:, 0]], p[t[:, 1]], p[t[:, 2]]
+    cw = (b[:, 0] - a[:, 0]) * (c[:, 1] - a[:, 1]) - (b[:, 1] - a[:, 1]) * (c[:, 0] - a[:, 0]) < 0
+    t[cw] = t[cw][:, [0, 2, 1]]
+    return p, t
 
 
 # ------------------------------------------------------------------------------------
@@ -138,7 +148,7 @@ def _corner_mesh(m: fe.Mesh) -> tuple[np.ndarray, np.ndarray]:
 def _strains(u, r):
     """(eps0, eps1): the n-independent part and the coefficient of n of the six
     engineering strains (eps_r, eps_z, eps_t, gamma_rz, gamma_zt, gamma_rt)."""
-    U, V, W = u.value[0], u.value[1], u.value[2]
+    U, V, W = u[0], u[1], u[2]
     gU, gV, gW = u.grad[0], u.grad[1], u.grad[2]
     z = 0.0 * U
     eps0 = (gU[0], gV[1], U / r, gU[1] + gV[0], gW[1], gW[0] - W / r)
@@ -296,9 +306,9 @@ def _assemble_einsum(mesh: fe.Mesh, scalar: fe.Element, intorder: int, E: float,
     function i, and the global one ``3 I + c`` (scikit-fem's ElementVector numbering)."""
     sb = fe.Basis(mesh, scalar, intorder=intorder)
     nb = sb.Nbfun
-    N = np.array([sb.basis[i][0].value for i in range(nb)])  # (nb, nel, nq)
+    N = np.array([np.asarray(sb.basis[i][0]) for i in range(nb)])  # (nb, nel, nq)
     dN = np.array([sb.basis[i][0].grad for i in range(nb)])  # (nb, 2, nel, nq)
-    r = sb.global_coordinates().value[0]  # (nel, nq)
+    r = np.asarray(sb.global_coordinates())[0]  # (nel, nq)
     dx = sb.dx  # (nel, nq) includes the quadrature weights and |J|
     nel, nq = r.shape
     ir = 1.0 / r
@@ -387,7 +397,7 @@ def assemble_harmonic(
 # revolved visualisation mesh
 # ------------------------------------------------------------------------------------
 def revolved_mesh(points_rz: np.ndarray, triangles: np.ndarray, n_theta: int):
-    """Revolve a profile (corner points (Np, 2), triangles (M, 3)) about z.
+    """Revolve a profile (corner points (Np, 2), CCW triangles (M, 3)) about z.
 
     Returns (points (n_theta*Np, 3), wedges (n_theta*M, 6), theta (n_theta,)); point
     ``j*Np + i`` is profile node i at angle ``theta_j = 2 pi j / n_theta``.
@@ -400,9 +410,11 @@ def revolved_mesh(points_rz: np.ndarray, triangles: np.ndarray, n_theta: int):
     pts[:, :, 1] = np.sin(th)[:, None] * r
     pts[:, :, 2] = z
     j = np.arange(n_theta)[:, None, None]
-    tri = triangles[None, :, :]
-    # a counter-clockwise (r, z) triangle has its normal along -t: that is the face
-    # (0, 1, 2), and (3, 4, 5) the same triangle one step further in t.
+    # VTK/meshio wedge: (0, 1, 2) and (3, 4, 5) the same triangle one angular step
+    # apart, with (0, 1, 2) ordered so that its right-hand normal points towards (3, 4, 5)
+    # (+t): that is a clockwise triangle in the (r, z) plane (checked: positive
+    # volumes in VTK, total = the revolved volume of the chordal profile).
+    tri = np.asarray(triangles)[None, :, [0, 2, 1]]
     wedges = np.concatenate([tri + j * np_, tri + ((j + 1) % n_theta) * np_], axis=2)
     return pts.reshape(-1, 3), wedges.reshape(-1, 6), th
 
@@ -470,7 +482,9 @@ def solve_axisymmetric(
     design: the wheel (geometry and material, SI).
     mesh: a ``geometry.mesh.ProfileMesh`` or a scikit-fem ``MeshTri1``/``MeshTri2`` of
         the (r, z) half-profile; ``None`` meshes the design with
-        ``geometry.mesh.mesh_profile(design, size, elements_through_web, order)``.
+        ``geometry.mesh.mesh_profile(design, size, elements_through_web, order)``
+        (straight order-1 mesh + P2 unless ``curved``; neither size given:
+        ``DEFAULT_ELEMENTS_THROUGH_WEB`` = 2 elements across the web).
     order: 1 or 2, the Lagrange element order (P2 is the baseline; P1 locks).
     fmax_hz: keep the modes with f <= fmax_hz (``None``: no band, give ``k``).
     k: the k lowest modes (a degenerate pair counts once); with ``fmax_hz`` too, at
@@ -518,6 +532,8 @@ def _solve_axisymmetric(design, mesh, *, order, size, elements_through_web, fmax
             kwargs["size"] = size
         if elements_through_web is not None:
             kwargs["elements_through_web"] = elements_through_web
+        elif size is None:
+            kwargs["elements_through_web"] = DEFAULT_ELEMENTS_THROUGH_WEB
         mesh = mesh_profile(design, **kwargs)
     skm = to_skfem_mesh(mesh, curved=curved)
     t_mesh = time.perf_counter()
