@@ -44,7 +44,7 @@ from typing import Iterator
 
 import numpy as np
 
-from .design import WheelDesign
+from .design import WheelDesign, validate
 from .profile import half_profile
 
 __all__ = [
@@ -189,15 +189,16 @@ def _readonly(a: np.ndarray) -> np.ndarray:
 # --------------------------------------------------------------------------------------
 # data objects
 # --------------------------------------------------------------------------------------
-def _atomic_meshio_write(path: str | Path, mesh, binary: bool) -> Path:
+def _atomic_meshio_write(path: str | Path, mesh, binary: bool | None) -> Path:
     import meshio
 
     path = Path(path)
     suffix = path.suffix.lower()
     if suffix == ".msh":
-        kwargs = {"file_format": "gmsh", "binary": binary}
+        # MSH 2.2: meshio's 4.1 writer needs per-node entity data for mixed cells
+        kwargs = {"file_format": "gmsh22", "binary": bool(binary)}
     elif suffix == ".vtu":
-        kwargs = {"file_format": "vtu", "binary": binary}
+        kwargs = {"file_format": "vtu", "binary": binary is None or binary}
     else:
         raise ValueError(f"mesh file must end in .msh or .vtu, got {path.name!r}")
     fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
@@ -244,9 +245,19 @@ class _MeshBase:
     def n_elements(self) -> int:
         return int(len(self.cells))
 
-    def write(self, path: str | Path, include_boundaries: bool = True, binary: bool = False) -> Path:
-        """Write ``.msh`` (gmsh 4.1, physical groups "wheel", "bore", "tread") or ``.vtu``
-        through meshio, atomically (temporary file in the same folder, then rename)."""
+    @property
+    def n_vertices(self) -> int:
+        """Number of element vertices; they come first: ``points[:n_vertices]`` with
+        ``cells[:, :dim + 1]`` is the straight-sided first-order mesh."""
+        return int(self.cells[:, : self.dim + 1].max()) + 1
+
+    def write(
+        self, path: str | Path, include_boundaries: bool = True, binary: bool | None = None
+    ) -> Path:
+        """Write ``.msh`` (MSH 2.2, physical groups "wheel", "bore", "tread" with the tags
+        of :data:`PHYSICAL_TAGS`) or ``.vtu`` through meshio, chosen by the extension,
+        atomically (temporary file in the same folder, then rename). ``binary``: default
+        ASCII for .msh, binary (compressed) for .vtu."""
         return _atomic_meshio_write(path, self.to_meshio(include_boundaries), binary)
 
 
@@ -398,10 +409,12 @@ def _gmsh_session(verbose: bool) -> Iterator[object]:
     with _LOCK:
         owner = not gmsh.isInitialized()
         saved: dict[str, float] = {}
+        current = None
         if owner:
             interruptible = threading.current_thread() is threading.main_thread()
             gmsh.initialize(readConfigFiles=False, interruptible=interruptible)
         else:
+            current = gmsh.model.getCurrent()
             for name in _OPTIONS_TOUCHED:
                 saved[name] = gmsh.option.getNumber(name)
         try:
@@ -414,6 +427,7 @@ def _gmsh_session(verbose: bool) -> Iterator[object]:
             else:
                 try:
                     gmsh.model.remove()
+                    gmsh.model.setCurrent(current)
                 finally:
                     for name, value in saved.items():
                         gmsh.option.setNumber(name, value)
@@ -581,8 +595,10 @@ def _extract(gmsh, dim: int, order: int, bore: list[int], tread: list[int]):
 
     nn_f = {1: dim, 2: {2: 3, 3: 6}[dim]}[order]
     bore_f, tread_f = facets_of(bore), facets_of(tread)
-    # compact numbering: only the nodes of the elements, in gmsh's node order
-    used = np.unique(cells)
+    # compact numbering: only the nodes of the elements; the element vertices first,
+    # then the mid-edge nodes (so points[:n_vertices] with cells[:, :dim+1] is the P1 mesh)
+    vertices = np.unique(cells[:, : dim + 1])
+    used = np.concatenate([vertices, np.setdiff1d(np.unique(cells), vertices)])
     lookup = np.full(node_tags.max() + 1, -1, dtype=np.int64)
     lookup[node_tags] = np.arange(len(node_tags))
     points = coords[lookup[used]]
@@ -607,6 +623,7 @@ def _contact_node(points: np.ndarray, design: WheelDesign) -> int:
 def _run(design: WheelDesign, size, elements_through_web, order, verbose, dim):
     if not isinstance(design, WheelDesign):
         raise TypeError(f"design must be a WheelDesign, got {type(design).__name__}")
+    validate(design)  # again: a frozen dataclass can still be forced; DesignError before gmsh
     order = _check_order(order)
     h = mesh_size(design, size, elements_through_web, dim)
     _check_count(design, h, dim)
