@@ -111,23 +111,27 @@ class ContactLaw:
 def falling_friction_factor(sliding_speed_m_s, law: ContactLaw):
     """F(s) = 1 - 0.5 exp(-s1/s) - 0.5 exp(-s2/s) for sliding speed s >= 0 (m/s).
 
-    Finite and equal to 1 at s = 0 (the limit), without warnings.
+    Finite and equal to 1 at s = 0 (the limit), without warnings: below
+    s = min(s1, s2)/746 both exponentials are exactly 0 in double precision and the
+    division is skipped (no overflow for tiny or subnormal s).
     """
     s = np.abs(np.asarray(sliding_speed_m_s, dtype=float))
-    inv = np.divide(1.0, s, out=np.full_like(s, np.inf), where=s > 0.0)
-    with np.errstate(over="ignore", under="ignore", invalid="ignore"):
+    live = s > min(law.decay_speed_1_m_s, law.decay_speed_2_m_s) / 746.0
+    inv = np.divide(1.0, s, out=np.zeros_like(s), where=live)
+    with np.errstate(under="ignore"):
         f = 1.0 - 0.5 * np.exp(-law.decay_speed_1_m_s * inv) - 0.5 * np.exp(-law.decay_speed_2_m_s * inv)
-    return f
+    return np.where(live, f, 1.0)
 
 
 def _falling_friction_slope(s: np.ndarray, law: ContactLaw) -> np.ndarray:
-    """dF/ds, 1/(m/s); zero at s = 0 (all derivatives of exp(-c/s) vanish there)."""
-    inv = np.divide(1.0, s, out=np.full_like(s, np.inf), where=s > 0.0)
-    inv2 = np.where(s > 0.0, inv * inv, 0.0)
+    """dF/ds, 1/(m/s). Below s = s1/700 the exponentials underflow (e^-700) and the
+    slope is exactly 0 in double precision (all derivatives of exp(-c/s) vanish at 0)."""
     s1, s2 = law.decay_speed_1_m_s, law.decay_speed_2_m_s
-    with np.errstate(over="ignore", under="ignore", invalid="ignore"):
-        d = -0.5 * s1 * inv2 * np.exp(-s1 * inv) - 0.5 * s2 * inv2 * np.exp(-s2 * inv)
-    return np.where(s > 0.0, d, 0.0)
+    live = s > min(s1, s2) / 700.0
+    inv = np.divide(1.0, s, out=np.zeros_like(s), where=live)
+    with np.errstate(under="ignore"):
+        d = -0.5 * s1 * inv * inv * np.exp(-s1 * inv) - 0.5 * s2 * inv * inv * np.exp(-s2 * inv)
+    return np.where(live, d, 0.0)
 
 
 def adhesion_ratio(creepage, law: ContactLaw, rolling_speed_m_s: float):

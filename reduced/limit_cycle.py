@@ -28,7 +28,7 @@ Definitions (all on the contact-point lateral velocity v = sum_i y_i'):
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -80,7 +80,7 @@ class LimitCycle:
     time_to_saturation_s: float
     growth_rate_1_s: float
     growth_rate_analytic_1_s: float
-    cycles: Cycles
+    cycles: Cycles = field(repr=False)
 
 
 def analytic_growth_rate(modes, contact: ContactLaw, op: OperatingPoint) -> float:
