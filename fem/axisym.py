@@ -51,7 +51,7 @@ Labels (documented rules):
   W -> "circumferential".
 - ``nodal_circles``: the number of sign changes of that dominant component along the
   web mid-surface line ``z = web_offset`` from the bore to the tread, sampled at 161
-  points; samples below 2 % of the line's peak magnitude are ignored, so a clamp or a
+  points; samples below 5 % of the line's peak magnitude are ignored (the rule of the 3-D solver), so a clamp or a
   numerically tiny lobe does not count as a circle.
 - ``contact_axial``: ``V`` at the contact point (r, z) = (rolling_radius, 0) of the
   mass-normalised cos member (evaluated by interpolation, no node needed there), and
@@ -90,7 +90,7 @@ from .modes import Mode, ModeSet
 #: a mode with f < RIGID_TOL * c_s / (2 pi R1) is a rigid-body mode (free-free only)
 RIGID_TOL = 1e-3
 #: sign changes of samples below this fraction of the peak are ignored (nodal circles)
-CIRCLE_THRESHOLD = 0.02
+CIRCLE_THRESHOLD = 0.05
 #: number of samples along the web mid-surface line for the nodal-circle count
 CIRCLE_SAMPLES = 161
 #: hard cap on the harmonic index when none is given
