@@ -1,0 +1,1156 @@
+#!/usr/bin/env python3
+"""Wheel-squeal pipeline: design -> mesh -> modes -> contact modal parameters -> squeal.
+
+Command line (``python pipeline.py --help``)::
+
+    python pipeline.py run                      # Table 1 wheel, 800 RPM, Vc 0.39 m/s
+    python pipeline.py run --design designs/thin_web.toml --rpm 600
+    python pipeline.py modes --fidelity accurate --out results/modes
+    python pipeline.py sweep --crab-velocity 0:0.5:26 --rpm 400,600,800
+    python pipeline.py compare designs/thin_web.toml designs/thick_web.toml
+
+Python API (notebooks): :func:`load_design`, :func:`compute_modes`, :func:`pick_mode`,
+:func:`modal_dof`, :func:`contact_law`, :func:`operating_point`, :func:`simulate`,
+:func:`sweep`, :func:`render` - plain functions on plain objects.
+
+This is the only module that knows every stage. Stages that are expensive (mesh, modes)
+go through a content-addressed cache (:class:`StageCache`).
+"""
+
+from __future__ import annotations
+
+import argparse
+import contextlib
+import hashlib
+import io
+import json
+import math
+import os
+import shutil
+import sys
+import tempfile
+import time
+import zipfile
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any, Callable, Iterator, Sequence
+
+import numpy as np
+
+from geometry import DesignError, WheelDesign, load_design, profile_area, revolved_volume
+
+ROOT = Path(__file__).resolve().parent
+DEFAULT_DESIGN = ROOT / "designs" / "table1.toml"
+DEFAULT_CACHE = Path(os.environ.get("WHEEL_SQUEAL_CACHE", ROOT / ".cache"))
+
+
+class UsageError(ValueError):
+    """A bad request from the user: reported in one line, exit status 2."""
+
+
+# --------------------------------------------------------------------------------------
+# progress and output folders
+# --------------------------------------------------------------------------------------
+class Progress:
+    """Stage progress on stderr: ``[  3.2 s] modes: done (1.9 s)``. Silent if quiet."""
+
+    def __init__(self, quiet: bool = False, stream=None) -> None:
+        self.quiet = quiet
+        self.stream = stream or sys.stderr
+        self.t0 = time.perf_counter()
+        self.timings: dict[str, float] = {}
+
+    def say(self, text: str) -> None:
+        if not self.quiet:
+            print(f"[{time.perf_counter() - self.t0:6.1f} s] {text}", file=self.stream, flush=True)
+
+    @contextlib.contextmanager
+    def stage(self, name: str) -> Iterator[None]:
+        self.say(f"{name} ...")
+        t = time.perf_counter()
+        yield
+        dt = time.perf_counter() - t
+        self.timings[name] = self.timings.get(name, 0.0) + dt
+        self.say(f"{name}: done ({dt:.2f} s)")
+
+
+def check_writable_out(out: Path) -> None:
+    """Fail early (before any computation) when ``out`` cannot be created."""
+    parent = out.resolve().parent
+    probe = parent
+    while not probe.exists():
+        probe = probe.parent
+    if out.exists() and not out.is_dir():
+        raise UsageError(f"--out {out} exists and is not a directory")
+    if not os.access(probe, os.W_OK | os.X_OK):
+        raise UsageError(f"--out {out} is not writable (no write permission in {probe})")
+
+
+@contextlib.contextmanager
+def output_folder(out: Path) -> Iterator[Path]:
+    """Write a result folder atomically.
+
+    Yields a temporary folder beside ``out``; on success it replaces ``out`` in one
+    rename (an older folder of the same name is removed only after the new one is in
+    place). On any error the temporary folder is removed and ``out`` is untouched, so
+    no half-written output is ever left behind.
+    """
+    out = Path(out)
+    check_writable_out(out)
+    out.parent.mkdir(parents=True, exist_ok=True)
+    tmp = Path(tempfile.mkdtemp(prefix=f".{out.name}.tmp-", dir=out.parent))
+    try:
+        yield tmp
+    except BaseException:
+        shutil.rmtree(tmp, ignore_errors=True)
+        raise
+    old = None
+    if out.exists():
+        old = out.with_name(f".{out.name}.old-{os.getpid()}")
+        out.rename(old)
+    tmp.rename(out)
+    if old is not None:
+        shutil.rmtree(old, ignore_errors=True)
+
+
+def write_json(path: Path, data: dict) -> None:
+    path.write_text(json.dumps(_jsonable(data), indent=2, allow_nan=False) + "\n")
+
+
+def _jsonable(x: Any) -> Any:
+    if isinstance(x, dict):
+        return {str(k): _jsonable(v) for k, v in x.items()}
+    if isinstance(x, (list, tuple)):
+        return [_jsonable(v) for v in x]
+    if isinstance(x, np.generic):
+        x = x.item()
+    if isinstance(x, float) and not math.isfinite(x):
+        return None
+    if isinstance(x, Path):
+        return str(x)
+    return x
+
+
+# --------------------------------------------------------------------------------------
+# stage cache
+# --------------------------------------------------------------------------------------
+def code_version(*packages: str) -> str:
+    """Hash of the source of the given packages: a code change invalidates the cache."""
+    h = hashlib.sha256()
+    for pkg in packages:
+        for f in sorted((ROOT / pkg).rglob("*.py")):
+            h.update(f.relative_to(ROOT).as_posix().encode())
+            h.update(f.read_bytes())
+    return h.hexdigest()[:16]
+
+
+class CacheMiss(Exception):
+    pass
+
+
+class StageCache:
+    """Content-addressed store for expensive stages (mesh, modes).
+
+    An entry is one ``.npz`` file named by the SHA-256 of its key (a JSON-able dict of
+    everything the stage depends on). The file carries its own key and a checksum of
+    its arrays, so a corrupt, truncated or foreign entry is detected, reported in one
+    line and recomputed. Writes are atomic (temporary file + rename).
+    """
+
+    def __init__(self, root: Path | str | None = DEFAULT_CACHE, enabled: bool = True,
+                 warn: Callable[[str], None] | None = None) -> None:
+        self.root = Path(root) if root is not None else DEFAULT_CACHE
+        self.enabled = enabled
+        self.warn = warn or (lambda msg: print(f"warning: {msg}", file=sys.stderr))
+        self.hits: list[str] = []
+        self.misses: list[str] = []
+
+    @staticmethod
+    def digest(key: dict) -> str:
+        return hashlib.sha256(json.dumps(key, sort_keys=True).encode()).hexdigest()
+
+    def path(self, stage: str, key: dict) -> Path:
+        return self.root / stage / f"{self.digest(key)[:32]}.npz"
+
+    def load(self, stage: str, key: dict) -> dict[str, np.ndarray]:
+        if not self.enabled:
+            raise CacheMiss
+        p = self.path(stage, key)
+        if not p.exists():
+            self.misses.append(stage)
+            raise CacheMiss
+        try:
+            with np.load(p, allow_pickle=False) as z:
+                arrays = {k: z[k] for k in z.files}
+            meta = json.loads(str(arrays.pop("__meta__")))
+            if meta.get("key") != key:
+                raise ValueError("entry belongs to another key")
+            if meta.get("checksum") != _checksum(arrays):
+                raise ValueError("checksum mismatch")
+        except (OSError, ValueError, KeyError, zipfile.BadZipFile, EOFError) as exc:
+            self.warn(f"cache entry {p} is corrupt or foreign ({exc}); recomputing {stage}")
+            self.misses.append(stage)
+            raise CacheMiss from None
+        self.hits.append(stage)
+        return arrays
+
+    def store(self, stage: str, key: dict, arrays: dict[str, np.ndarray]) -> None:
+        if not self.enabled:
+            return
+        p = self.path(stage, key)
+        p.parent.mkdir(parents=True, exist_ok=True)
+        meta = json.dumps({"key": key, "checksum": _checksum(arrays)})
+        buf = io.BytesIO()
+        np.savez(buf, __meta__=np.array(meta), **arrays)
+        fd, tmp = tempfile.mkstemp(prefix=p.name, suffix=".tmp", dir=p.parent)
+        try:
+            with os.fdopen(fd, "wb") as f:
+                f.write(buf.getvalue())
+            os.replace(tmp, p)
+        except BaseException:
+            with contextlib.suppress(OSError):
+                os.unlink(tmp)
+            raise
+
+    def clear(self) -> int:
+        """Remove every entry; returns the number of files removed."""
+        # Only our own files go: a cache folder pointed at the wrong place must not
+        # cost the user anything else.
+        n = 0
+        if self.root.exists():
+            for stage_dir in self.root.iterdir():
+                if not stage_dir.is_dir():
+                    continue
+                for f in list(stage_dir.glob("*.npz")) + list(stage_dir.glob("*.tmp")):
+                    f.unlink()
+                    n += f.suffix == ".npz"
+                with contextlib.suppress(OSError):
+                    stage_dir.rmdir()
+            with contextlib.suppress(OSError):
+                self.root.rmdir()
+        return n
+
+
+def _checksum(arrays: dict[str, np.ndarray]) -> str:
+    h = hashlib.sha256()
+    for k in sorted(arrays):
+        a = np.ascontiguousarray(arrays[k])
+        h.update(k.encode())
+        h.update(str(a.dtype).encode())
+        h.update(str(a.shape).encode())
+        h.update(a.tobytes())
+    return h.hexdigest()
+
+
+# --------------------------------------------------------------------------------------
+# fidelity presets
+# --------------------------------------------------------------------------------------
+@dataclass(frozen=True)
+class Fidelity:
+    """A solver, element order and mesh size, chosen together (see README's table)."""
+
+    name: str
+    solver: str  # "axisym" | "3d"
+    order: int  # element order (2 = quadratic)
+    elements_through_web: int
+    mesh_order: int = 1  # geometry order of the mesh (1: straight P2 elements on it)
+
+    def mesh_options(self) -> dict:
+        return {"order": self.mesh_order, "elements_through_web": self.elements_through_web}
+
+
+FIDELITIES: dict[str, Fidelity] = {
+    "fast": Fidelity("fast", "axisym", 2, 1),
+    "balanced": Fidelity("balanced", "axisym", 2, 2),
+    "accurate": Fidelity("accurate", "axisym", 2, 4),
+}
+DEFAULT_FIDELITY = "balanced"
+
+
+def fidelity_for(name: str, solver: str | None = None) -> Fidelity:
+    """The preset ``name``, optionally forcing the solver (``axisym`` or ``3d``)."""
+    if name not in FIDELITIES:
+        raise UsageError(f"unknown fidelity {name!r}; choose from {', '.join(FIDELITIES)}")
+    f = FIDELITIES[name]
+    if solver is None or solver == f.solver:
+        return f
+    if solver not in ("axisym", "3d"):
+        raise UsageError(f"unknown solver {solver!r}; choose axisym or 3d")
+    return Fidelity(f.name, solver, f.order, f.elements_through_web, f.mesh_order)
+
+
+# --------------------------------------------------------------------------------------
+# stages: mesh and modes (cached)
+# --------------------------------------------------------------------------------------
+def _mesh_key(design: WheelDesign, dim: int, order: int, size: float | None,
+              elements_through_web: int | None) -> dict:
+    return {
+        "stage": f"mesh{dim}d",
+        "design": design.content_hash("structure"),
+        "order": order,
+        "size": size,
+        "elements_through_web": elements_through_web,
+        "code": code_version("geometry"),
+    }
+
+
+def build_mesh(design: WheelDesign, dim: int = 2, order: int = 2, size: float | None = None,
+               elements_through_web: int | None = None, cache: StageCache | None = None):
+    """Mesh the design: the 2-D half-profile (``dim=2``) or the revolved solid (``dim=3``)."""
+    from geometry import mesh as gm
+
+    cls = gm.ProfileMesh if dim == 2 else gm.SolidMesh
+    mesher = gm.mesh_profile if dim == 2 else gm.mesh_wheel
+    key = _mesh_key(design, dim, order, size, elements_through_web)
+    if cache is not None:
+        try:
+            arrays = cache.load(f"mesh{dim}d", key)
+            return _mesh_from_arrays(cls, arrays)
+        except CacheMiss:
+            pass
+    mesh = mesher(design, size=size, elements_through_web=elements_through_web, order=order)
+    if cache is not None:
+        cache.store(f"mesh{dim}d", key, _mesh_to_arrays(mesh))
+    return mesh
+
+
+def _mesh_to_arrays(mesh) -> dict[str, np.ndarray]:
+    import dataclasses
+
+    out = {}
+    for f in dataclasses.fields(mesh):
+        v = getattr(mesh, f.name)
+        out[f.name] = np.asarray(v)
+    return out
+
+
+def _mesh_from_arrays(cls, arrays: dict[str, np.ndarray]):
+    import dataclasses
+
+    kwargs = {}
+    for f in dataclasses.fields(cls):
+        v = arrays[f.name]
+        kwargs[f.name] = v.item() if v.ndim == 0 else v
+    return cls(**kwargs)
+
+
+def _modes_key(design: WheelDesign, fid: Fidelity, fmax_hz: float) -> dict:
+    return {
+        "stage": "modes",
+        "design": design.content_hash("structure"),
+        "solver": fid.solver,
+        "order": fid.order,
+        "mesh_order": fid.mesh_order,
+        "elements_through_web": fid.elements_through_web,
+        "fmax_hz": float(fmax_hz),
+        "code": code_version("geometry", "fem"),
+    }
+
+
+def _modeset_to_arrays(ms) -> dict[str, np.ndarray]:
+    import dataclasses
+
+    meta = {
+        "modes": [dataclasses.asdict(m) for m in ms.modes],
+        "solver": ms.solver,
+        "dofs": int(ms.dofs),
+        "timings_s": ms.timings_s,
+        "cell_types": list(ms.cells),
+    }
+    arrays = {"meta": np.array(json.dumps(meta)), "points": np.asarray(ms.points, float)}
+    for name, conn in ms.cells.items():
+        arrays[f"cells_{name}"] = np.asarray(conn)
+    for i, s in enumerate(ms.shapes):
+        arrays[f"shape_{i}"] = np.asarray(s, dtype=float)
+    return arrays
+
+
+def _modeset_from_arrays(arrays: dict[str, np.ndarray]):
+    from fem.modes import Mode, ModeSet
+
+    meta = json.loads(str(arrays["meta"]))
+    modes = [Mode(**{**m, "contact_axial": tuple(m["contact_axial"])}) for m in meta["modes"]]
+    return ModeSet(
+        modes=modes,
+        points=arrays["points"],
+        cells={t: arrays[f"cells_{t}"] for t in meta["cell_types"]},
+        shapes=[arrays[f"shape_{i}"] for i in range(len(modes))],
+        solver=meta["solver"],
+        dofs=meta["dofs"],
+        timings_s=meta["timings_s"],
+    )
+
+
+def compute_modes(design: WheelDesign, fidelity: str | Fidelity = DEFAULT_FIDELITY,
+                  solver: str | None = None, fmax_hz: float = 5000.0,
+                  cache: StageCache | None = None, progress: Progress | None = None):
+    """Eigenmodes of the bore-clamped wheel up to ``fmax_hz`` [Hz] as a ``fem.ModeSet``.
+
+    ``fidelity`` is a preset name (fast | balanced | accurate) or a :class:`Fidelity`;
+    ``solver`` forces ``axisym`` or ``3d``. With a ``cache`` the mesh and the modes are
+    re-used whenever the geometry, material, fidelity and code are unchanged.
+    """
+    fid = fidelity if isinstance(fidelity, Fidelity) else fidelity_for(fidelity, solver)
+    if not (math.isfinite(fmax_hz) and fmax_hz > 0):
+        raise UsageError(f"--fmax must be a positive frequency in Hz, got {fmax_hz}")
+    progress = progress or Progress(quiet=True)
+    key = _modes_key(design, fid, fmax_hz)
+    if cache is not None:
+        try:
+            ms = _modeset_from_arrays(cache.load("modes", key))
+            progress.say("modes: loaded from cache")
+            return ms
+        except CacheMiss:
+            pass
+    dim = 2 if fid.solver == "axisym" else 3
+    with progress.stage(f"mesh ({dim}-D, {fid.name})"):
+        mesh = build_mesh(design, dim=dim, cache=cache, **fid.mesh_options())
+    with progress.stage(f"modes ({fid.solver}, f <= {fmax_hz:g} Hz)"):
+        if fid.solver == "axisym":
+            from fem.axisym import solve_axisymmetric
+
+            ms = solve_axisymmetric(design, mesh, order=fid.order, fmax_hz=fmax_hz)
+        else:
+            from fem.solid import solve_solid
+
+            ms = solve_solid(design, mesh, order=fid.order, fmax_hz=fmax_hz)
+    if cache is not None:
+        cache.store("modes", key, _modeset_to_arrays(ms))
+    return ms
+
+
+def pick_mode(modeset, mode: str = "auto"):
+    """The squeal mode and why it was picked; ``mode`` is auto | INDEX | n=3[,c=0] | f=HZ."""
+    from fem.modes import ModeSelection, select_mode
+
+    try:
+        selection = ModeSelection.parse(str(mode))
+        return select_mode(modeset.modes, selection)
+    except (ValueError, LookupError) as exc:
+        raise UsageError(str(exc).strip("'\"")) from None
+
+
+# --------------------------------------------------------------------------------------
+# commands
+# --------------------------------------------------------------------------------------
+def _design_from_args(args) -> WheelDesign:
+    return load_design(args.design if args.design else DEFAULT_DESIGN)
+
+
+def _cache_from_args(args, progress: Progress) -> StageCache:
+    return StageCache(args.cache_dir, enabled=not args.no_cache,
+                      warn=lambda m: print(f"warning: {m}", file=sys.stderr))
+
+
+def cmd_mesh(args) -> int:
+    design = _design_from_args(args)
+    if args.size is not None and not (math.isfinite(args.size) and args.size > 0):
+        raise UsageError(f"--size must be a positive length in m, got {args.size}")
+    if args.elements_through_web is not None and args.elements_through_web < 1:
+        raise UsageError("--elements-through-web must be at least 1")
+    check_writable_out(args.out)
+    progress = Progress(args.quiet)
+    t = time.perf_counter()
+    with progress.stage(f"mesh ({args.dim}-D, order {args.order})"):
+        mesh = build_mesh(design, dim=args.dim, order=args.order, size=args.size,
+                          elements_through_web=args.elements_through_web)
+    seconds = time.perf_counter() - t
+    if args.dim == 2:
+        mesh_measure, exact = mesh.area(), profile_area(design)
+        extra = {"mesh_area_m2": mesh_measure, "exact_area_m2": exact,
+                 "mesh_volume_m3": mesh.revolved_volume()}
+    else:
+        extra = {"mesh_volume_m3": mesh.volume()}
+    summary = {
+        "design": design.name,
+        "dim": args.dim,
+        "order": args.order,
+        "nodes": int(mesh.n_nodes),
+        "elements": int(mesh.n_elements),
+        **extra,
+        "exact_volume_m3": revolved_volume(design),
+        "seconds": seconds,
+    }
+    with output_folder(args.out) as tmp:
+        mesh.write(tmp / "mesh.msh")
+        mesh.write(tmp / "mesh.vtu")
+        write_json(tmp / "summary.json", summary)
+    rel = summary["mesh_volume_m3"] / summary["exact_volume_m3"] - 1
+    print(f"{design.name}: {summary['nodes']} nodes, {summary['elements']} elements, "
+          f"volume {summary['mesh_volume_m3']:.6e} m^3 ({rel:+.3%} vs exact), "
+          f"{seconds:.2f} s -> {args.out}")
+    return 0
+
+
+def _modes_table(modes, damping_ratio: float, selected=None) -> str:
+    lines = [f"{'#':>3} {'f [Hz]':>9} {'n':>2} {'c':>2} {'family':<15} {'m [kg]':>10} "
+             f"{'k [N/m]':>10} {'c [Ns/m]':>9}"]
+    for m in modes:
+        d = m.to_dict(damping_ratio)
+        mass = f"{d['modal_mass_kg']:10.3f}" if d["modal_mass_kg"] is not None else f"{'node':>10}"
+        k = f"{d['modal_stiffness_n_m']:10.3e}" if d["modal_stiffness_n_m"] is not None else f"{'-':>10}"
+        c = f"{d['modal_damping_ns_m']:9.2f}" if d["modal_damping_ns_m"] is not None else f"{'-':>9}"
+        mark = " <- selected" if selected is not None and m.index == selected.index else ""
+        lines.append(f"{m.index:>3} {m.frequency_hz:9.1f} {m.nodal_diameters:>2} "
+                     f"{m.nodal_circles:>2} {m.family:<15} {mass} {k} {c}{mark}")
+    return "\n".join(lines)
+
+
+def modes_summary(design: WheelDesign, modeset, selected, fid: Fidelity) -> dict:
+    zeta = design.modal_damping_ratio
+    return {
+        "design": design.name,
+        "fidelity": fid.name,
+        "solver": modeset.solver,
+        "dofs": int(modeset.dofs),
+        "modes": [m.to_dict(zeta) for m in modeset.modes],
+        "selected_mode": selected.to_dict(zeta),
+        "timings_s": dict(modeset.timings_s),
+    }
+
+
+def cmd_modes(args) -> int:
+    design = _design_from_args(args)
+    fid = fidelity_for(args.fidelity, args.solver)
+    check_writable_out(args.out)
+    progress = Progress(args.quiet)
+    cache = _cache_from_args(args, progress)
+    ms = compute_modes(design, fid, fmax_hz=args.fmax, cache=cache, progress=progress)
+    if not ms.modes:
+        raise UsageError(f"no modes below {args.fmax:g} Hz for {design.name}")
+    selected, why = pick_mode(ms, args.mode)
+    summary = modes_summary(design, ms, selected, fid)
+    with output_folder(args.out) as tmp:
+        from fem.render import write_modes_vtu
+
+        write_modes_vtu(ms, tmp / "modes.vtu")
+        write_json(tmp / "summary.json", summary)
+    print(_modes_table(ms.modes, design.modal_damping_ratio, selected))
+    print(f"selected: mode {selected.index} ({why}), {selected.frequency_hz:.1f} Hz, "
+          f"m = {selected.modal_mass:.3f} kg")
+    print(f"{ms.solver}, {ms.dofs} DOFs, {fid.name} -> {args.out}")
+    return 0
+
+
+# --------------------------------------------------------------------------------------
+# reduced model: contact, operating point, simulation
+# --------------------------------------------------------------------------------------
+def contact_law(design: WheelDesign, c22: float | str | None = None):
+    """Creep-law parameters of the design's wheel on its roller (Hertz + Eq. 3, 6).
+
+    ``c22``: None for the design's value (Table 1: 3.14), a number, or ``"kalker"``.
+    """
+    from reduced import ContactLaw, hertz_contact
+
+    hertz = hertz_contact(design.rolling_radius, design.crown_radius,
+                          design.roller_rolling_radius, design.roller_crown_radius,
+                          design.youngs_modulus, design.poissons_ratio, design.normal_load)
+    return ContactLaw.from_hertz(hertz, friction_coefficient=design.friction_coefficient,
+                                 c22=design.c22 if c22 is None else c22)
+
+
+def operating_point(design: WheelDesign, *, rpm: float | None = None, speed: float | None = None,
+                    crab_velocity: float | None = None, angle_of_attack: float | None = None):
+    """Rolling speed (``rpm`` of the wheel or ``speed`` [m/s]; default 800 RPM) and
+    crabbing velocity (``crab_velocity`` [m/s] or ``angle_of_attack`` [rad]; default
+    0.39 m/s) as a ``reduced.OperatingPoint``."""
+    from reduced import OperatingPoint
+
+    if rpm is not None and speed is not None:
+        raise UsageError("give --rpm or --speed, not both")
+    if crab_velocity is not None and angle_of_attack is not None:
+        raise UsageError("give --crab-velocity or --angle-of-attack, not both")
+    for name, v in (("rpm", rpm), ("speed", speed)):
+        if v is not None and not (math.isfinite(v) and v > 0):
+            raise UsageError(f"--{name} must be positive, got {v:g}")
+    for name, v in (("crab-velocity", crab_velocity), ("angle-of-attack", angle_of_attack)):
+        if v is not None and not math.isfinite(v):
+            raise UsageError(f"--{name} must be finite, got {v}")
+    v0 = speed if speed is not None else (800.0 if rpm is None else rpm) * 2 * math.pi / 60 * design.rolling_radius
+    if angle_of_attack is not None:
+        return OperatingPoint.from_angle_of_attack(v0, angle_of_attack)
+    return OperatingPoint(v0, 0.39 if crab_velocity is None else crab_velocity)
+
+
+def modal_dof(mode, design: WheelDesign):
+    """The selected FE mode as the reduced model's (m, k, c) at the contact point."""
+    from reduced import ModalDOF
+
+    if not math.isfinite(mode.modal_mass):
+        raise UsageError(f"mode {mode.index} ({mode.label()}) has a node at the contact point: "
+                         "it cannot be excited there; pick another mode")
+    return ModalDOF.from_damping_ratio(mode.modal_mass, mode.modal_stiffness,
+                                       design.modal_damping_ratio)
+
+
+@dataclass
+class Simulation:
+    """A time-domain run and its limit-cycle metrics (plain objects from ``reduced``)."""
+
+    history: Any
+    limit_cycle: Any
+    contact: Any
+    operating_point: Any
+
+    def summary(self) -> dict:
+        from reduced import summary_dicts
+
+        return summary_dicts(self.limit_cycle, self.operating_point, self.contact)
+
+
+def simulate(dof, contact, op, duration: float | None = None, max_duration: float = 4.8) -> Simulation:
+    """Integrate the squeal model from rest.
+
+    ``duration`` [s]: fixed length; None runs 0.6 s (the paper's Fig. 6) and doubles it,
+    up to ``max_duration``, while the oscillation is still growing, so slow cases reach
+    their limit cycle.
+    """
+    from reduced import limit_cycle
+    from reduced import simulate as integrate
+
+    if duration is not None and not (math.isfinite(duration) and duration > 0):
+        raise UsageError(f"--duration must be positive, got {duration:g}")
+    t = duration or 0.6
+    while True:
+        hist = integrate(dof, contact, op, t)
+        lc = limit_cycle(hist)
+        if duration is not None or lc.saturated or not lc.squeal and lc.growth_rate_analytic_1_s <= 0 \
+                or t * 2 > max_duration:
+            return Simulation(hist, lc, contact, op)
+        t *= 2
+
+
+def _mode_source(args, progress: Progress, cache: StageCache | None):
+    """(design, dof, modes-summary or None) from --design or --mass/--stiffness/--damping."""
+    design = _design_from_args(args)
+    explicit = [getattr(args, "mass", None), getattr(args, "stiffness", None),
+                getattr(args, "damping", None)]
+    if any(v is not None for v in explicit):
+        if any(v is None for v in explicit):
+            raise UsageError("--mass, --stiffness and --damping go together: give all three")
+        for name, v in zip(("mass", "stiffness", "damping"), explicit):
+            if not math.isfinite(v) or v < 0 or (v == 0 and name != "damping"):
+                raise UsageError(f"--{name} must be positive, got {v:g}")
+        from reduced import ModalDOF
+
+        progress.say("modal parameters given: no mesh, no FE")
+        return design, ModalDOF(args.mass, args.stiffness, args.damping), None
+    fid = fidelity_for(args.fidelity, getattr(args, "solver", None))
+    ms = compute_modes(design, fid, fmax_hz=args.fmax, cache=cache, progress=progress)
+    mode, why = pick_mode(ms, args.mode)
+    progress.say(f"squeal mode: {mode.index} ({why}), {mode.frequency_hz:.1f} Hz")
+    summary = modes_summary(design, ms, mode, fid)
+    summary["selected_mode"]["why"] = why
+    return design, modal_dof(mode, design), (ms, mode, summary)
+
+
+def _simulate_outputs(tmp: Path, sim: Simulation) -> None:
+    from reduced import write_time_history_plots, write_timeseries_csv
+
+    write_timeseries_csv(sim.history, tmp)
+    write_time_history_plots(sim.history, tmp)
+
+
+def _print_squeal(sim: Simulation, dof) -> None:
+    s = sim.summary()
+    lc, op, ct = s["limit_cycle"], s["operating_point"], s["contact"]
+    print(f"modal parameters: f = {dof.frequency_hz:.1f} Hz, m = {dof.mass_kg:.3f} kg, "
+          f"k = {dof.stiffness_n_m:.4g} N/m, c = {dof.damping_ns_m:.2f} N s/m")
+    print(f"contact ellipse: a = {ct['semi_axis_a_m'] * 1e3:.3f} mm (rolling), "
+          f"b = {ct['semi_axis_b_m'] * 1e3:.3f} mm, C22 = {ct['c22']:.3g}, mu = {ct['friction_coefficient']:.3g}")
+    print(f"operating point: V0 = {op['rolling_speed_m_s']:.2f} m/s, "
+          f"Vc = {op['crabbing_velocity_m_s']:.4g} m/s, creepage = {op['creepage']:.4g}")
+    lcobj = sim.limit_cycle
+    if lc["squeal"]:
+        state = "limit cycle" if lcobj.saturated else "still growing at the end of the run"
+        tsat = lc["time_to_saturation_s"]
+        print(f"SQUEAL: velocity amplitude {lc['velocity_amplitude_m_s']:.4g} m/s ({state}), "
+              f"{lc['frequency_hz']:.1f} Hz, growth rate {lc['growth_rate_1_s']:.3g} 1/s"
+              + (f", saturated after {tsat:.3f} s" if tsat is not None else ""))
+    else:
+        print(f"no squeal (linear growth rate {lcobj.growth_rate_analytic_1_s:.3g} 1/s)")
+
+
+def cmd_simulate(args) -> int:
+    check_writable_out(args.out)
+    progress = Progress(args.quiet)
+    cache = _cache_from_args(args, progress)
+    design, dof, modes_info = _mode_source(args, progress, cache)
+    contact = contact_law(design, args.c22)
+    op = operating_point(design, rpm=args.rpm, speed=args.speed, crab_velocity=args.crab_velocity,
+                         angle_of_attack=args.angle_of_attack)
+    with progress.stage("squeal model"):
+        sim = simulate(dof, contact, op, args.duration)
+    summary = {"design": design.name, "modal_parameters": _dof_dict(dof), **sim.summary(),
+               "timings_s": progress.timings}
+    if modes_info is not None:
+        summary["selected_mode"] = modes_info[2]["selected_mode"]
+    with output_folder(args.out) as tmp:
+        _simulate_outputs(tmp, sim)
+        write_json(tmp / "summary.json", summary)
+    _print_squeal(sim, dof)
+    print(f"-> {args.out}")
+    return 0
+
+
+def _dof_dict(dof) -> dict:
+    return {"mass_kg": dof.mass_kg, "stiffness_n_m": dof.stiffness_n_m,
+            "damping_ns_m": dof.damping_ns_m, "frequency_hz": dof.frequency_hz}
+
+
+def cmd_run(args) -> int:
+    design = _design_from_args(args)
+    out = args.out or ROOT / "results" / design.name
+    check_writable_out(out)
+    progress = Progress(args.quiet)
+    cache = _cache_from_args(args, progress)
+    t0 = time.perf_counter()
+    op = operating_point(design, rpm=args.rpm, crab_velocity=args.crab_velocity,
+                         angle_of_attack=args.angle_of_attack)
+    contact = contact_law(design, args.c22)
+    design, dof, (ms, mode, msum) = _mode_source(args, progress, cache)
+    with progress.stage("squeal model"):
+        sim = simulate(dof, contact, op, args.duration)
+    with output_folder(out) as tmp:
+        with progress.stage("report"):
+            _simulate_outputs(tmp, sim)
+            from fem.render import render_mode, mode_file_stem, write_modes_vtu
+
+            write_modes_vtu(ms, tmp / "modes.vtu")
+        with progress.stage("render"):
+            indices = [mode.index] if args.render == "selected" else (
+                [] if args.render == "none" else range(len(ms.modes)))
+            for i in indices:
+                render_mode(ms, i, tmp / f"{mode_file_stem(ms, i)}.png")
+        summary = {**msum, **sim.summary(), "modal_parameters": _dof_dict(dof),
+                   "timings_s": {**progress.timings, "total": time.perf_counter() - t0},
+                   "cache": {"hits": cache.hits, "misses": cache.misses}}
+        write_json(tmp / "summary.json", summary)
+    print(f"{design.name}: squeal mode {mode.index}: {mode.label()} "
+          f"({msum['selected_mode']['why']}), {mode.frequency_hz:.1f} Hz")
+    _print_squeal(sim, dof)
+    print(f"files: {out}/ (summary.json, timeseries.csv, *.png, modes.vtu)  "
+          f"[{time.perf_counter() - t0:.1f} s]")
+    return 0
+
+
+def cmd_render(args) -> int:
+    design = _design_from_args(args)
+    check_writable_out(args.out)
+    progress = Progress(args.quiet)
+    cache = _cache_from_args(args, progress)
+    ms = compute_modes(design, fidelity_for(args.fidelity, args.solver), fmax_hz=args.fmax,
+                       cache=cache, progress=progress)
+    indices = None
+    if args.modes:
+        try:
+            indices = [int(i) for i in args.modes.split(",")]
+        except ValueError:
+            raise UsageError(f"--modes takes indices like 0,3,4, got {args.modes!r}") from None
+        bad = [i for i in indices if not 0 <= i < len(ms.modes)]
+        if bad:
+            raise UsageError(f"mode index {bad[0]} out of range 0..{len(ms.modes) - 1}")
+    from fem.render import render_modes
+
+    with output_folder(args.out) as tmp, progress.stage("render"):
+        paths = render_modes(ms, tmp, indices=indices, gif=args.gif)
+    print(f"{len(paths)} files -> {args.out}")
+    return 0
+
+
+def parse_range(text: str) -> np.ndarray:
+    """``START:STOP:N`` (N points, inclusive) or a comma list -> array."""
+    try:
+        if ":" in text:
+            a, b, n = text.split(":")
+            n = int(n)
+            if n < 1:
+                raise ValueError
+            return np.linspace(float(a), float(b), n)
+        return np.array([float(x) for x in text.split(",")])
+    except ValueError:
+        raise UsageError(f"expected START:STOP:N or a comma list of numbers, got {text!r}") from None
+
+
+def sweep(dof, contact, crab_velocities, rolling_speeds, duration: float = 1.0):
+    """Limit cycles over a grid of crabbing velocities x rolling speeds [m/s] (one call)."""
+    from reduced import sweep as run_sweep
+
+    return run_sweep(dof, contact, crab_velocities, rolling_speeds, duration)
+
+
+def cmd_sweep(args) -> int:
+    check_writable_out(args.out)
+    progress = Progress(args.quiet)
+    cache = _cache_from_args(args, progress)
+    vcs = parse_range(args.crab_velocity)
+    rpms = parse_range(args.rpm)
+    if np.any(rpms <= 0) or not np.all(np.isfinite(rpms)):
+        raise UsageError("--rpm values must be positive")
+    if not np.all(np.isfinite(vcs)):
+        raise UsageError("--crab-velocity values must be finite")
+    if not (math.isfinite(args.duration) and args.duration > 0):
+        raise UsageError(f"--duration must be positive, got {args.duration:g}")
+    design, dof, _ = _mode_source(args, progress, cache)
+    contact = contact_law(design, args.c22)
+    speeds = rpms * 2 * math.pi / 60 * design.rolling_radius
+    with progress.stage(f"sweep {len(vcs)} x {len(speeds)} cases, {args.duration:g} s each"):
+        result = sweep(dof, contact, vcs, speeds, args.duration)
+    from reduced import write_sweep_csv, write_sweep_plot
+
+    with output_folder(args.out) as tmp:
+        write_sweep_csv(result, tmp, wheel_radius_m=design.rolling_radius)
+        write_sweep_plot(result, tmp, wheel_radius_m=design.rolling_radius)
+        write_json(tmp / "summary.json", {"design": design.name, "modal_parameters": _dof_dict(dof),
+                                          "duration_s": args.duration, "timings_s": progress.timings})
+    print(f"{'Vc [m/s]':>9} " + " ".join(f"{r:>9.0f}rpm" for r in rpms))
+    for i, vc in enumerate(vcs):
+        cells = []
+        for j in range(len(speeds)):
+            a = result.velocity_amplitude_m_s[i, j]
+            cells.append(f"{a:12.4f}" if result.squeal[i, j] else f"{'-':>12}")
+        print(f"{vc:9.4f} " + " ".join(cells))
+    print(f"velocity amplitude [m/s] ('-' = no squeal) -> {args.out}")
+    return 0
+
+
+def cmd_compare(args) -> int:
+    check_writable_out(args.out)
+    progress = Progress(args.quiet)
+    cache = _cache_from_args(args, progress)
+    designs = [load_design(p) for p in args.designs]
+    names = [d.name for d in designs]
+    if len(set(names)) != len(names):
+        raise UsageError("two designs have the same name; give each a distinct name")
+    rows, sims = [], []
+    fid = fidelity_for(args.fidelity, args.solver)
+    for d in designs:
+        progress.say(f"design {d.name}")
+        ms = compute_modes(d, fid, fmax_hz=args.fmax, cache=cache, progress=progress)
+        mode, why = pick_mode(ms, args.mode)
+        dof = modal_dof(mode, d)
+        contact = contact_law(d, args.c22)
+        op = operating_point(d, rpm=args.rpm, crab_velocity=args.crab_velocity,
+                             angle_of_attack=args.angle_of_attack)
+        sim = simulate(dof, contact, op, args.duration)
+        s = sim.summary()["limit_cycle"]
+        rows.append({"design": d.name, "mode_index": mode.index, "mode": mode.label(),
+                     "frequency_hz": mode.frequency_hz, "modal_mass_kg": dof.mass_kg,
+                     "modal_stiffness_n_m": dof.stiffness_n_m, "modal_damping_ns_m": dof.damping_ns_m,
+                     "growth_rate_1_s": s["growth_rate_1_s"], "squeal": s["squeal"],
+                     "velocity_amplitude_m_s": s["velocity_amplitude_m_s"],
+                     "time_to_saturation_s": s["time_to_saturation_s"]})
+        sims.append(sim)
+    with output_folder(args.out) as tmp:
+        _write_rows_csv(tmp / "compare.csv", rows)
+        _compare_plot(tmp / "compare.png", rows, sims)
+        write_json(tmp / "summary.json", {"designs": rows, "fidelity": fid.name,
+                                          "operating_point": sims[0].summary()["operating_point"]})
+    print(f"{'design':<16} {'mode':<14} {'f [Hz]':>8} {'m [kg]':>7} {'k [N/m]':>10} "
+          f"{'growth [1/s]':>12} {'amp [m/s]':>9}")
+    for r in rows:
+        amp = f"{r['velocity_amplitude_m_s']:9.4f}" if r["squeal"] else f"{'-':>9}"
+        g = r["growth_rate_1_s"]
+        print(f"{r['design']:<16} {r['mode']:<14} {r['frequency_hz']:8.1f} {r['modal_mass_kg']:7.3f} "
+              f"{r['modal_stiffness_n_m']:10.4g} {(g if g is not None else float('nan')):12.3g} {amp}")
+    print(f"-> {args.out}")
+    return 0
+
+
+def _write_rows_csv(path: Path, rows: list[dict]) -> None:
+    keys = list(rows[0])
+    lines = [",".join(keys)]
+    for r in rows:
+        lines.append(",".join("" if r[k] is None else str(r[k]) for k in keys))
+    path.write_text("\n".join(lines) + "\n")
+
+
+def _compare_plot(path: Path, rows: list[dict], sims: list[Simulation]) -> None:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, axes = plt.subplots(1, 3, figsize=(14, 4.2))
+    for r, sim in zip(rows, sims):
+        cyc = sim.limit_cycle.cycles
+        axes[0].plot(cyc.start_s, cyc.amplitude_m_s, label=f"{r['design']} ({r['frequency_hz']:.0f} Hz)")
+    axes[0].axhline(sims[0].operating_point.crabbing_velocity_m_s, color="k", ls=":", lw=1, label="Vc")
+    axes[0].set(xlabel="time [s]", ylabel="velocity amplitude [m/s]", title="growth to the limit cycle")
+    axes[0].legend(fontsize=8)
+    x = np.arange(len(rows))
+    axes[1].bar(x, [r["frequency_hz"] for r in rows], color="tab:blue")
+    axes[1].set(xticks=x, ylabel="frequency [Hz]", title="squeal mode frequency")
+    axes[1].set_xticklabels([r["design"] for r in rows], rotation=30, ha="right")
+    axes[2].bar(x, [r["modal_mass_kg"] for r in rows], color="tab:orange")
+    axes[2].set(xticks=x, ylabel="modal mass at contact [kg]", title="contact modal mass")
+    axes[2].set_xticklabels([r["design"] for r in rows], rotation=30, ha="right")
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+# --------------------------------------------------------------------------------------
+# calibration
+# --------------------------------------------------------------------------------------
+@dataclass
+class Calibration:
+    design: WheelDesign
+    free: dict[str, float]
+    frequency_hz: float
+    modal_mass_kg: float
+    residual: dict[str, float]
+    evaluations: int
+
+
+def calibrate(design: WheelDesign, free: Sequence[str], target_frequency_hz: float | None,
+              target_modal_mass_kg: float | None, fidelity: str = "fast", mode: str = "auto",
+              progress: Progress | None = None) -> Calibration:
+    """Least-squares fit of the free design parameters to measured modal data.
+
+    Residuals are relative: (f / f_target - 1) and (m / m_target - 1) of the selected
+    mode (default: the (3, 0) axial mode) computed with the ``fidelity`` preset.
+    """
+    from scipy.optimize import least_squares
+
+    from geometry.design import SECTIONS
+
+    allowed = [k for keys in SECTIONS.values() for k in keys]
+    for name in free:
+        if name not in allowed:
+            raise UsageError(f"--free {name}: not a design parameter; choose from {', '.join(allowed)}")
+    if target_frequency_hz is None and target_modal_mass_kg is None:
+        raise UsageError("give --target-frequency and/or --target-modal-mass")
+    for name, v in (("target-frequency", target_frequency_hz), ("target-modal-mass", target_modal_mass_kg)):
+        if v is not None and not (math.isfinite(v) and v > 0):
+            raise UsageError(f"--{name} must be positive, got {v:g}")
+    progress = progress or Progress(quiet=True)
+    fid = fidelity_for(fidelity)
+    x0 = np.array([getattr(design, k) for k in free], dtype=float)
+    scale = np.where(x0 != 0, np.abs(x0), design.web_thickness)
+    evaluations = 0
+    last: dict = {}
+
+    def evaluate(x: np.ndarray):
+        d = design.replace(**dict(zip(free, map(float, x))))
+        ms = compute_modes(d, fid)
+        m, _ = pick_mode(ms, mode)
+        return d, m
+
+    def residuals(x: np.ndarray) -> np.ndarray:
+        nonlocal evaluations
+        evaluations += 1
+        try:
+            d, m = evaluate(x)
+        except DesignError:
+            return np.full(2, 10.0)  # outside the valid design space
+        r = []
+        r.append(m.frequency_hz / target_frequency_hz - 1 if target_frequency_hz else 0.0)
+        r.append(m.modal_mass / target_modal_mass_kg - 1 if target_modal_mass_kg else 0.0)
+        progress.say("calibrate: " + ", ".join(f"{k} = {v:.6g}" for k, v in zip(free, x))
+                     + f" -> f = {m.frequency_hz:.1f} Hz, m = {m.modal_mass:.3f} kg")
+        last["x"] = x
+        return np.array(r)
+
+    lower, upper = x0 - 0.9 * scale, x0 + 3.0 * scale
+    # Re-meshing makes the objective piecewise smooth at the 1e-4 level: a finite
+    # difference step of 1 % of the parameter keeps derivatives meaningful.
+    sol = least_squares(residuals, x0, bounds=(lower, upper), x_scale=scale, diff_step=1e-2,
+                        xtol=1e-4, ftol=1e-6)
+    d, m = evaluate(sol.x)
+    res = {}
+    if target_frequency_hz:
+        res["frequency_relative"] = m.frequency_hz / target_frequency_hz - 1
+    if target_modal_mass_kg:
+        res["modal_mass_relative"] = m.modal_mass / target_modal_mass_kg - 1
+    res["rms"] = float(np.sqrt(np.mean(np.square(list(res.values())))))
+    return Calibration(d, dict(zip(free, map(float, sol.x))), m.frequency_hz, m.modal_mass, res,
+                       evaluations)
+
+
+def cmd_calibrate(args) -> int:
+    design = _design_from_args(args)
+    out = Path(args.out) if args.out else None
+    if out is not None:
+        check_writable_out(out.parent if out.suffix == ".toml" else out)
+    progress = Progress(args.quiet)
+    free = [f for part in args.free for f in part.split(",") if f]
+    cal = calibrate(design, free, args.target_frequency, args.target_modal_mass,
+                    fidelity=args.fidelity, mode=args.mode, progress=progress)
+    cal_design = cal.design.replace(
+        name=f"{design.name}_calibrated",
+        description=(f"{design.name} with {', '.join(free)} calibrated to "
+                     f"f = {args.target_frequency} Hz, m = {args.target_modal_mass} kg "
+                     f"({args.fidelity}); residual {cal.residual}"))
+    for k, v in cal.free.items():
+        print(f"{k} = {v:.6g} (was {getattr(design, k):.6g})")
+    print(f"selected mode: f = {cal.frequency_hz:.1f} Hz, m = {cal.modal_mass_kg:.3f} kg; "
+          f"residual " + ", ".join(f"{k} {v:+.2%}" for k, v in cal.residual.items())
+          + f" ({cal.evaluations} evaluations)")
+    if out is not None:
+        path = out if out.suffix == ".toml" else out / f"{cal_design.name}.toml"
+        path.parent.mkdir(parents=True, exist_ok=True)
+        cal_design.save_toml(path)
+        print(f"-> {path}")
+    return 0
+
+
+def cmd_cache(args) -> int:
+    cache = StageCache(args.cache_dir)
+    if args.action == "clear":
+        n = cache.clear()
+        print(f"removed {n} cache entries from {cache.root}")
+    else:
+        entries = sorted(cache.root.rglob("*.npz")) if cache.root.exists() else []
+        size = sum(f.stat().st_size for f in entries)
+        print(f"{cache.root}: {len(entries)} entries, {size / 1e6:.1f} MB")
+    return 0
+
+
+# --------------------------------------------------------------------------------------
+# command line
+# --------------------------------------------------------------------------------------
+class _Parser(argparse.ArgumentParser):
+    """argparse with one-line errors (exit status 2, no usage dump)."""
+
+    def error(self, message: str):  # type: ignore[override]
+        self.exit(2, f"error: {message} (see {self.prog} --help)\n")
+
+
+def _add_common(p: argparse.ArgumentParser, out_required: bool = True, out_default=None) -> None:
+    p.add_argument("--design", type=Path, help="wheel design TOML (default designs/table1.toml)")
+    if out_required:
+        p.add_argument("--out", type=Path, required=True, help="output folder")
+    else:
+        p.add_argument("--out", type=Path, default=out_default, help="output folder")
+    p.add_argument("--quiet", action="store_true", help="no progress on stderr")
+    p.add_argument("--no-cache", action="store_true", help="recompute mesh and modes")
+    p.add_argument("--cache-dir", type=Path, default=DEFAULT_CACHE,
+                   help="stage cache folder (default .cache; env WHEEL_SQUEAL_CACHE)")
+
+
+def _add_fe(p: argparse.ArgumentParser, mode: bool = True) -> None:
+    p.add_argument("--fidelity", default=DEFAULT_FIDELITY, choices=list(FIDELITIES),
+                   help="speed/accuracy preset (default %(default)s; see README)")
+    p.add_argument("--solver", choices=["axisym", "3d"], help="force the FE solver")
+    p.add_argument("--fmax", type=float, default=5000.0, help="modes up to this frequency [Hz]")
+    if mode:
+        p.add_argument("--mode", default="auto",
+                       help="squeal mode: auto (the (3,0) axial mode), INDEX, n=3[,c=0] or f=HZ")
+
+
+def _add_operating(p: argparse.ArgumentParser, speed: bool = True) -> None:
+    p.add_argument("--rpm", type=float, help="wheel speed [rev/min] (default 800)")
+    if speed:
+        p.add_argument("--speed", type=float, help="rolling speed at the contact [m/s]")
+    p.add_argument("--crab-velocity", type=float, help="crabbing velocity Vc [m/s] (default 0.39)")
+    p.add_argument("--angle-of-attack", type=float, help="angle of attack [rad] (Vc = theta V0)")
+    p.add_argument("--duration", type=float,
+                   help="simulated time [s] (default: 0.6 s, extended while still growing)")
+    p.add_argument("--c22", type=lambda t: t if t == "kalker" else float(t),
+                   help="creep coefficient C22: a number or 'kalker' (default: the design's)")
+
+
+def _add_modal(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--mass", type=float, help="modal mass at the contact [kg] (with --stiffness, --damping: no FE)")
+    p.add_argument("--stiffness", type=float, help="modal stiffness [N/m]")
+    p.add_argument("--damping", type=float, help="modal damping [N s/m]")
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = _Parser(prog="pipeline.py", description=__doc__.split("\n\n")[0],
+                     formatter_class=argparse.RawDescriptionHelpFormatter)
+    sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
+
+    p = sub.add_parser("run", help="design -> modes -> squeal limit cycle -> report (default: Table 1)")
+    _add_common(p, out_required=False)
+    _add_fe(p)
+    _add_operating(p, speed=False)
+    p.add_argument("--render", choices=["selected", "all", "none"], default="selected",
+                   help="mode-shape PNGs to draw (default: the squeal mode)")
+    p.set_defaults(func=cmd_run)
+
+    p = sub.add_parser("mesh", help="mesh a design (2-D profile or 3-D revolved)")
+    _add_common(p)
+    p.add_argument("--size", type=float, help="characteristic element length [m]")
+    p.add_argument("--elements-through-web", type=int, help="elements across the web thickness")
+    p.add_argument("--order", type=int, choices=[1, 2], default=2, help="geometry order")
+    p.add_argument("--dim", type=int, choices=[2, 3], default=3, help="2-D profile or 3-D solid")
+    p.set_defaults(func=cmd_mesh)
+
+    p = sub.add_parser("modes", help="eigenmodes, labels and contact modal parameters")
+    _add_common(p)
+    _add_fe(p)
+    p.set_defaults(func=cmd_modes)
+
+    p = sub.add_parser("simulate", help="time-domain squeal model at one operating point")
+    _add_common(p)
+    _add_fe(p)
+    _add_modal(p)
+    _add_operating(p)
+    p.set_defaults(func=cmd_simulate)
+
+    p = sub.add_parser("sweep", help="limit cycles over crabbing velocity x speed (Fig. 5)")
+    _add_common(p)
+    _add_fe(p)
+    _add_modal(p)
+    p.add_argument("--crab-velocity", default="0:0.5:26", help="START:STOP:N or list [m/s]")
+    p.add_argument("--rpm", default="400,600,800", help="list of speeds [rev/min]")
+    p.add_argument("--duration", type=float, default=1.5, help="simulated time per case [s]")
+    p.add_argument("--c22", type=lambda t: t if t == "kalker" else float(t), help="C22 or 'kalker'")
+    p.set_defaults(func=cmd_sweep)
+
+    p = sub.add_parser("compare", help="several designs at the same operating point")
+    p.add_argument("designs", nargs="+", type=Path, help="design TOML files")
+    p.add_argument("--out", type=Path, default=ROOT / "results" / "compare", help="output folder")
+    p.add_argument("--quiet", action="store_true")
+    p.add_argument("--no-cache", action="store_true")
+    p.add_argument("--cache-dir", type=Path, default=DEFAULT_CACHE)
+    _add_fe(p)
+    _add_operating(p, speed=False)
+    p.set_defaults(func=cmd_compare)
+
+    p = sub.add_parser("render", help="mode-shape PNGs (and GIFs), off-screen")
+    _add_common(p)
+    _add_fe(p, mode=False)
+    p.add_argument("--modes", help="comma list of mode indices (default: all)")
+    p.add_argument("--gif", action="store_true", help="also an animated GIF per mode")
+    p.set_defaults(func=cmd_render)
+
+    p = sub.add_parser("calibrate", help="fit design parameters to measured modal data")
+    p.add_argument("--design", type=Path)
+    p.add_argument("--free", action="append", required=True,
+                   help="design parameter(s) to fit, e.g. rim_depth (repeat or comma list)")
+    p.add_argument("--target-frequency", type=float, help="measured frequency [Hz]")
+    p.add_argument("--target-modal-mass", type=float, help="measured contact modal mass [kg]")
+    p.add_argument("--fidelity", default="fast", choices=list(FIDELITIES))
+    p.add_argument("--mode", default="auto")
+    p.add_argument("--out", type=Path, help="folder or .toml path for the calibrated design")
+    p.add_argument("--quiet", action="store_true")
+    p.set_defaults(func=cmd_calibrate)
+
+    p = sub.add_parser("cache", help="inspect or clear the stage cache")
+    p.add_argument("action", choices=["clear", "info"])
+    p.add_argument("--cache-dir", type=Path, default=DEFAULT_CACHE)
+    p.set_defaults(func=cmd_cache)
+    return parser
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    args = build_parser().parse_args(argv)
+    try:
+        return args.func(args)
+    except (UsageError, DesignError) as exc:
+        print(f"error: {exc}", file=sys.stderr)
+        return 2
+    except (ValueError, LookupError) as exc:
+        # Input the library rejected (e.g. an operating point outside the model's range).
+        print(f"error: {exc}", file=sys.stderr)
+        return 2
+    except KeyboardInterrupt:
+        print("interrupted", file=sys.stderr)
+        return 130
+
+
+if __name__ == "__main__":
+    sys.exit(main())
