@@ -82,6 +82,8 @@ def check_writable_out(out: Path) -> None:
         probe = probe.parent
     if out.exists() and not out.is_dir():
         raise UsageError(f"--out {out} exists and is not a directory")
+    if not probe.is_dir():
+        raise UsageError(f"--out {out} is not writable ({probe} is not a directory)")
     if not os.access(probe, os.W_OK | os.X_OK):
         raise UsageError(f"--out {out} is not writable (no write permission in {probe})")
 
@@ -319,8 +321,8 @@ def _mesh_to_arrays(mesh) -> dict[str, np.ndarray]:
 
     out = {}
     for f in dataclasses.fields(mesh):
-        v = getattr(mesh, f.name)
-        out[f.name] = np.asarray(v)
+        if f.init:
+            out[f.name] = np.asarray(getattr(mesh, f.name))
     return out
 
 
@@ -329,6 +331,8 @@ def _mesh_from_arrays(cls, arrays: dict[str, np.ndarray]):
 
     kwargs = {}
     for f in dataclasses.fields(cls):
+        if not f.init:
+            continue
         v = arrays[f.name]
         kwargs[f.name] = v.item() if v.ndim == 0 else v
     return cls(**kwargs)
@@ -772,7 +776,7 @@ def parse_range(text: str) -> np.ndarray:
         raise UsageError(f"expected START:STOP:N or a comma list of numbers, got {text!r}") from None
 
 
-def sweep(dof, contact, crab_velocities, rolling_speeds, duration: float = 1.0):
+def sweep(dof, contact, crab_velocities, rolling_speeds, duration: float = 1.5):
     """Limit cycles over a grid of crabbing velocities x rolling speeds [m/s] (one call)."""
     from reduced import sweep as run_sweep
 
@@ -1138,6 +1142,10 @@ def build_parser() -> argparse.ArgumentParser:
 
 def main(argv: Sequence[str] | None = None) -> int:
     args = build_parser().parse_args(argv)
+    if not os.environ.get("DISPLAY"):
+        # Without an X server VTK tries X first and warns before falling back to EGL;
+        # go straight to EGL (off-screen) so the terminal stays clean.
+        os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkEGLRenderWindow")
     try:
         return args.func(args)
     except (UsageError, DesignError) as exc:

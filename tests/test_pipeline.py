@@ -1,0 +1,288 @@
+"""The pipeline: CLI contract, error discipline, stage cache, only-what-is-needed."""
+
+from __future__ import annotations
+
+import json
+import math
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import pipeline
+from geometry import WheelDesign
+
+ROOT = Path(__file__).resolve().parents[1]
+DESIGNS = ROOT / "designs"
+
+
+def cli(*args: str, cwd: Path | None = None) -> subprocess.CompletedProcess:
+    return subprocess.run([sys.executable, str(ROOT / "pipeline.py"), *args],
+                          capture_output=True, text=True, cwd=cwd or ROOT, timeout=600)
+
+
+# ---------------------------------------------------------------------------------------
+# bad requests: one line, exit 2, no traceback, nothing written
+# ---------------------------------------------------------------------------------------
+def _bad_requests(tmp: Path) -> list[tuple[list[str], str]]:
+    blocker = tmp / "a_file"
+    blocker.write_text("not a folder")
+    typo = tmp / "typo.toml"
+    typo.write_text("[wheel]\nrim_dept = 0.03\n")
+    return [
+        (["run", "--design", str(tmp / "missing.toml")], "not found"),
+        (["run", "--design", str(typo)], "rim_dept"),
+        (["run", "--mode", "n=17"], "n=17"),
+        (["run", "--mode", "banana"], "banana"),
+        (["run", "--rpm", "-5"], "rpm"),
+        (["run", "--crab-velocity", "0.2", "--angle-of-attack", "0.01"], "not both"),
+        (["simulate", "--mass", "3.1", "--stiffness", "1.6e8"], "together"),
+        (["simulate", "--mass", "-3", "--stiffness", "1.6e8", "--damping", "42"], "mass"),
+        (["simulate", "--speed", "0", "--mass", "3.1", "--stiffness", "1.6e8", "--damping", "42"], "speed"),
+        (["mesh", "--size", "-1"], "size"),
+        (["modes", "--fidelity", "ultra"], "fidelity"),
+        (["sweep", "--crab-velocity", "0:1:x"], "START:STOP:N"),
+        (["run", "--out", str(blocker / "sub")], "not"),
+    ]
+
+
+def test_bad_requests_exit_2_with_one_line_and_no_output(tmp_path):
+    for args, needle in _bad_requests(tmp_path):
+        out = tmp_path / "out"
+        if "--out" not in args:
+            args = [*args, "--out", str(out)]
+        r = cli(*args, "--quiet", "--cache-dir", str(tmp_path / "cache"))
+        msg = f"{args}: rc={r.returncode} stderr={r.stderr!r}"
+        assert r.returncode == 2, msg
+        lines = [ln for ln in r.stderr.splitlines() if ln.strip()]
+        assert len(lines) == 1, msg
+        assert "Traceback" not in r.stderr, msg
+        assert needle.lower() in lines[0].lower(), msg
+        assert not out.exists(), msg
+        # no temporary folders left beside the output either
+        assert not list(tmp_path.glob(".out.tmp-*")), msg
+
+
+def test_every_command_has_help():
+    for command in ["run", "mesh", "modes", "simulate", "sweep", "compare", "render",
+                    "calibrate", "cache"]:
+        r = cli(command, "--help")
+        assert r.returncode == 0 and "usage" in r.stdout, command
+
+
+def test_failed_run_keeps_previous_results(tmp_path):
+    """A failure after the output folder exists must not damage the earlier results."""
+    out = tmp_path / "res"
+    out.mkdir()
+    (out / "summary.json").write_text('{"precious": true}')
+    r = cli("run", "--mode", "n=17", "--out", str(out), "--quiet",
+            "--cache-dir", str(tmp_path / "cache"))
+    assert r.returncode == 2
+    assert json.loads((out / "summary.json").read_text()) == {"precious": True}
+
+
+# ---------------------------------------------------------------------------------------
+# the cache
+# ---------------------------------------------------------------------------------------
+def test_changing_only_the_operating_point_reuses_mesh_and_modes(tmp_path, monkeypatch):
+    cache = pipeline.StageCache(tmp_path / "cache")
+    design = WheelDesign()
+    ms1 = pipeline.compute_modes(design, "fast", cache=cache)
+    assert cache.misses == ["modes", "mesh2d"] and cache.hits == []
+
+    # the second request (different crabbing velocity, friction and damping) must not
+    # mesh or solve at all: make both impossible
+    import fem.axisym
+    import geometry.mesh
+
+    def boom(*a, **k):
+        raise AssertionError("recomputed although cached")
+
+    monkeypatch.setattr(geometry.mesh, "mesh_profile", boom)
+    monkeypatch.setattr(fem.axisym, "solve_axisymmetric", boom)
+    other = design.replace(friction_coefficient=0.25, modal_damping_ratio=2e-3, normal_load=1500.0)
+    ms2 = pipeline.compute_modes(other, "fast", cache=cache)
+    assert cache.hits == ["modes"]
+    mode1, _ = pipeline.pick_mode(ms1)
+    mode2, _ = pipeline.pick_mode(ms2)
+    assert mode2 == mode1
+    for a, b in zip(ms1.shapes, ms2.shapes):
+        np.testing.assert_array_equal(a, b)
+
+    dof = pipeline.modal_dof(mode2, other)
+    contact = pipeline.contact_law(other)
+    for vc in (0.2, 0.39):
+        sim = pipeline.simulate(dof, contact, pipeline.operating_point(other, crab_velocity=vc), 0.3)
+        assert np.all(np.isfinite(sim.history.v))
+
+
+def test_geometry_change_misses_the_cache(tmp_path):
+    cache = pipeline.StageCache(tmp_path / "cache")
+    pipeline.compute_modes(WheelDesign(), "fast", cache=cache)
+    pipeline.compute_modes(WheelDesign(rim_depth=0.032), "fast", cache=cache)
+    assert cache.hits == [] and cache.misses.count("modes") == 2
+
+
+def test_corrupt_cache_entry_is_reported_and_recomputed_identically(tmp_path, capsys):
+    cache = pipeline.StageCache(tmp_path / "cache")
+    design = WheelDesign()
+    fresh = pipeline.compute_modes(design, "fast", cache=cache)
+    entries = sorted((tmp_path / "cache" / "modes").glob("*.npz"))
+    assert len(entries) == 1
+    # flip bytes in the middle of the file
+    data = bytearray(entries[0].read_bytes())
+    mid = len(data) // 2
+    data[mid:mid + 64] = bytes(64)
+    entries[0].write_bytes(bytes(data))
+
+    again = pipeline.compute_modes(design, "fast", cache=cache)
+    err = capsys.readouterr().err
+    assert "corrupt" in err and len([ln for ln in err.splitlines() if "corrupt" in ln]) == 1
+    assert [m.frequency_hz for m in again.modes] == [m.frequency_hz for m in fresh.modes]
+    assert [m.contact_axial for m in again.modes] == [m.contact_axial for m in fresh.modes]
+    # the entry was rewritten and now loads cleanly
+    third = pipeline.compute_modes(design, "fast", cache=cache)
+    assert cache.hits[-1] == "modes"
+    assert [m.modal_mass for m in third.modes] == [m.modal_mass for m in fresh.modes]
+
+
+def test_foreign_cache_entry_is_detected(tmp_path, capsys):
+    cache = pipeline.StageCache(tmp_path / "cache")
+    a, b = WheelDesign(), WheelDesign(rim_depth=0.035)
+    pipeline.compute_modes(a, "fast", cache=cache)
+    pipeline.compute_modes(b, "fast", cache=cache)
+    key_a = pipeline._modes_key(a, pipeline.fidelity_for("fast"), 5000.0)
+    key_b = pipeline._modes_key(b, pipeline.fidelity_for("fast"), 5000.0)
+    # put b's entry where a's belongs
+    cache.path("modes", key_a).write_bytes(cache.path("modes", key_b).read_bytes())
+    ms = pipeline.compute_modes(a, "fast", cache=cache)
+    assert "foreign" in capsys.readouterr().err
+    ref = pipeline.compute_modes(a, "fast", cache=None)
+    assert [m.frequency_hz for m in ms.modes] == [m.frequency_hz for m in ref.modes]
+
+
+def test_cache_clear_only_removes_cache_entries(tmp_path):
+    root = tmp_path / "cache"
+    cache = pipeline.StageCache(root)
+    pipeline.compute_modes(WheelDesign(), "fast", cache=cache)
+    (root / "keep.txt").write_text("user file")
+    r = cli("cache", "clear", "--cache-dir", str(root))
+    assert r.returncode == 0 and "removed 2" in r.stdout
+    assert (root / "keep.txt").exists()
+    assert not list(root.rglob("*.npz"))
+
+
+# ---------------------------------------------------------------------------------------
+# only what the request needs
+# ---------------------------------------------------------------------------------------
+def test_simulate_with_explicit_modal_parameters_builds_no_mesh(tmp_path, monkeypatch):
+    import geometry.mesh
+
+    def boom(*a, **k):
+        raise AssertionError("meshed although m, k, c were given")
+
+    monkeypatch.setattr(geometry.mesh, "mesh_profile", boom)
+    monkeypatch.setattr(geometry.mesh, "mesh_wheel", boom)
+    out = tmp_path / "sim"
+    rc = pipeline.main(["simulate", "--mass", "3.1", "--stiffness", "1.6e8", "--damping", "42",
+                        "--rpm", "800", "--crab-velocity", "0.39", "--duration", "0.6",
+                        "--out", str(out), "--quiet", "--cache-dir", str(tmp_path / "c")])
+    assert rc == 0
+    s = json.loads((out / "summary.json").read_text())
+    assert set(s["limit_cycle"]) == {"squeal", "velocity_amplitude_m_s", "frequency_hz",
+                                     "time_to_saturation_s", "growth_rate_1_s"}
+    assert set(s["operating_point"]) == {"rolling_speed_m_s", "crabbing_velocity_m_s", "creepage"}
+    assert set(s["contact"]) == {"semi_axis_a_m", "semi_axis_b_m", "c22", "friction_coefficient"}
+    # the paper's case: limit cycle marginally below Vc (MODEL.md section 5: ~0.367 m/s)
+    assert s["limit_cycle"]["squeal"] is True
+    assert 0.35 <= s["limit_cycle"]["velocity_amplitude_m_s"] <= 0.39
+    assert abs(s["limit_cycle"]["frequency_hz"] / 1143.0 - 1) < 0.01
+    assert abs(s["operating_point"]["creepage"] - 0.022) < 0.0005
+    header = (out / "timeseries.csv").read_text().splitlines()[1]
+    assert header == "t_s,y_m,v_m_s,creepage,Q_N,P_W"
+    for png in ["creep_curve", "velocity_history", "force_velocity_0.20s", "force_velocity_0.40s",
+                "power_0.20s", "power_0.40s"]:
+        assert (out / f"{png}.png").stat().st_size > 10_000, png
+    assert not (tmp_path / "c").exists(), "no cache entry for a run without FE"
+
+
+def test_run_default_writes_the_full_report(tmp_path):
+    out = tmp_path / "run"
+    r = cli("run", "--out", str(out), "--quiet", "--cache-dir", str(tmp_path / "cache"))
+    assert r.returncode == 0, r.stderr
+    s = json.loads((out / "summary.json").read_text())
+    for key in ("design", "fidelity", "modes", "selected_mode", "contact", "operating_point",
+                "limit_cycle", "timings_s"):
+        assert key in s, key
+    sel = s["selected_mode"]
+    assert (sel["nodal_diameters"], sel["nodal_circles"], sel["family"]) == (3, 0, "axial")
+    # MODEL.md section 2: the (3,0) axial mode near 1.1 kHz with a contact modal mass near 4 kg
+    assert 1000 < sel["frequency_hz"] < 1250
+    assert 2.5 < sel["modal_mass_kg"] < 5.0
+    assert math.isclose(sel["modal_stiffness_n_m"],
+                        (2 * math.pi * sel["frequency_hz"]) ** 2 * sel["modal_mass_kg"], rel_tol=1e-9)
+    assert s["limit_cycle"]["squeal"] is True
+    assert (out / "modes.vtu").exists() and (out / "timeseries.csv").exists()
+    assert list(out.glob("mode_*_n3_c0_axial.png"))
+    assert "SQUEAL" in r.stdout and str(out) in r.stdout
+
+
+def test_compare_shows_geometry_moves_the_squeal_prediction(tmp_path):
+    out = tmp_path / "cmp"
+    r = cli("compare", str(DESIGNS / "thin_web.toml"), str(DESIGNS / "thick_web.toml"),
+            "--fidelity", "fast", "--out", str(out), "--quiet", "--cache-dir", str(tmp_path / "c"))
+    assert r.returncode == 0, r.stderr
+    rows = {row["design"]: row for row in json.loads((out / "summary.json").read_text())["designs"]}
+    thin, thick = rows["thin_web"], rows["thick_web"]
+    # a thicker web is a stiffer plate: the (3,0) mode moves up by far more than 10 %
+    assert thick["frequency_hz"] / thin["frequency_hz"] - 1 > 0.10
+    assert thin["modal_mass_kg"] != pytest.approx(thick["modal_mass_kg"], rel=0.02)
+    assert thin["growth_rate_1_s"] != pytest.approx(thick["growth_rate_1_s"], rel=0.02)
+    assert (out / "compare.png").stat().st_size > 10_000
+    assert (out / "compare.csv").read_text().count("\n") == 3
+
+
+def test_mesh_command_summary(tmp_path):
+    out = tmp_path / "mesh"
+    r = cli("mesh", "--dim", "2", "--out", str(out), "--quiet")
+    assert r.returncode == 0, r.stderr
+    s = json.loads((out / "summary.json").read_text())
+    assert {"design", "nodes", "elements", "mesh_volume_m3", "exact_volume_m3", "seconds"} <= set(s)
+    assert abs(s["mesh_volume_m3"] / s["exact_volume_m3"] - 1) < 1e-3
+    assert (out / "mesh.msh").exists() and (out / "mesh.vtu").exists()
+
+
+def test_modes_command_summary(tmp_path):
+    out = tmp_path / "modes"
+    r = cli("modes", "--fidelity", "fast", "--fmax", "3000", "--out", str(out), "--quiet",
+            "--cache-dir", str(tmp_path / "c"))
+    assert r.returncode == 0, r.stderr
+    s = json.loads((out / "summary.json").read_text())
+    keys = {"index", "frequency_hz", "nodal_diameters", "nodal_circles", "family",
+            "modal_mass_kg", "modal_stiffness_n_m", "modal_damping_ns_m"}
+    assert all(set(m) == keys for m in s["modes"])
+    assert {"selected_mode", "fidelity", "solver", "dofs", "timings_s"} <= set(s)
+    assert all(m["frequency_hz"] <= 3000 for m in s["modes"])
+    freqs = [m["frequency_hz"] for m in s["modes"]]
+    assert freqs == sorted(freqs)
+    import meshio
+
+    vtu = meshio.read(out / "modes.vtu")
+    assert len([k for k in vtu.point_data if k.startswith("mode_")]) >= len(s["modes"])
+
+
+def test_sweep_command(tmp_path):
+    out = tmp_path / "sweep"
+    r = cli("sweep", "--mass", "3.1", "--stiffness", "1.6e8", "--damping", "42",
+            "--crab-velocity", "0:0.4:5", "--rpm", "400,800", "--duration", "0.8",
+            "--out", str(out), "--quiet")
+    assert r.returncode == 0, r.stderr
+    lines = (out / "sweep.csv").read_text().splitlines()
+    assert lines[0] == ("crab_velocity_m_s,rpm,rolling_speed_m_s,squeal,velocity_amplitude_m_s,"
+                        "frequency_hz,growth_rate_1_s,time_to_saturation_s")
+    assert len(lines) == 1 + 5 * 2
+    first = lines[1].split(",")
+    assert float(first[0]) == 0.0 and first[3] == "false"  # Vc = 0: no squeal
+    assert (out / "sweep.png").exists()
