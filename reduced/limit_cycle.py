@@ -7,10 +7,19 @@ Definitions (all on the contact-point lateral velocity v = sum_i y_i'):
   the sampled extrema (m/s), period (s), mean power P of Eq. 7 (W), mean |Q v| (W).
 * **saturated**: over the last ``window_cycles`` cycles (default 50, about 44 ms at
   1.1 kHz) the envelope varies by less than ``saturation_tolerance`` (default 1 %)
-  of its mean, and that mean exceeds the squeal threshold below. A decaying
-  oscillation is not "saturated".
+  of its mean, that mean exceeds the squeal threshold below, and the envelope's
+  log-slope over the window is below ``LINEAR_RATE_FRACTION`` (10 %) of the magnitude
+  of the analytic linear growth rate. A decaying oscillation is not "saturated": the
+  last condition separates a limit cycle (envelope flat although the linearised
+  equilibrium grows or decays at sigma) from a slow linear growth or decay (envelope
+  slope = sigma) near the stability boundary (Vc ~ 0.62-0.64 m/s for Table 1, or c
+  close to the friction's negative damping), whose envelope changes by less than
+  the tolerance over a short window. Exactly at the boundary (sigma = 0) nothing is
+  reported saturated.
 * **velocity amplitude**: mean envelope over that final window. If not saturated
-  it is the value reached at the end of the run (still growing or decaying).
+  it is the value reached at the end of the run (still growing or decaying). If the
+  oscillation has died out (no zero crossing of v over the last 3 periods of the
+  record: decayed to round-off, or a non-oscillating creep/stick state), it is 0.
 * **squeal**: the final amplitude exceeds ``squeal_threshold`` * max(|Vc|, 1 mm/s)
   (default 1e-3) and the oscillation is self-sustained: saturated, or its envelope
   still grows over the final window.
@@ -18,7 +27,8 @@ Definitions (all on the contact-point lateral velocity v = sum_i y_i'):
   stays within ``saturation_tolerance`` of the final amplitude (NaN if not saturated).
 * **growth rate (fitted)**: least-squares slope of ln(envelope) against time over
   the start of the record (from cycle 1 until the envelope first exceeds 30 % of
-  its final value; the whole record if it decays), 1/s.
+  its final value; if it decays, the whole record down to 1e-9 of the largest
+  envelope, above the round-off floor), 1/s.
 * **mean power per cycle**: mean of P (Eq. 7) over each cycle, from the running
   integral of P (trapezoid on stored samples; RK4 stage quadrature in sweeps).
 * **growth rate (analytic)**: sigma = -(c + W/V0 dmu/dzeta(Vc/V0)) / (2 m) at the
@@ -41,6 +51,12 @@ __all__ = ["Cycles", "LimitCycle", "cycles", "limit_cycle", "analytic_growth_rat
 WINDOW_CYCLES = 50
 SATURATION_TOLERANCE = 0.01
 SQUEAL_THRESHOLD = 1e-3
+#: at a limit cycle the envelope's log-slope must be below this fraction of |sigma|
+LINEAR_RATE_FRACTION = 0.1
+#: a decay is fitted down to this fraction of the largest envelope (round-off floor ~1e-15)
+DECAY_FIT_FLOOR = 1e-9
+#: the oscillation has died out if the last cycle ends this many periods before the record
+CEASED_PERIODS = 3.0
 
 
 @dataclass(frozen=True, eq=False)
@@ -126,8 +142,13 @@ def metrics_from_cycles(
     window_cycles: int = WINDOW_CYCLES,
     saturation_tolerance: float = SATURATION_TOLERANCE,
     squeal_threshold: float = SQUEAL_THRESHOLD,
+    record_end_s: float | None = None,
 ) -> LimitCycle:
-    """Compute LimitCycle from per-cycle data (shared by limit_cycle and sweep)."""
+    """Compute LimitCycle from per-cycle data (shared by limit_cycle and sweep).
+
+    ``record_end_s`` (s): end time of the record; with it, an oscillation whose zero
+    crossings stopped well before the end (died out) is reported with amplitude 0.
+    """
     amp = cyc.amplitude_m_s
     n = len(amp)
     nan = float("nan")
@@ -138,11 +159,20 @@ def metrics_from_cycles(
     tail = amp[n - w:]
     final = float(tail.mean())
     spread = float(tail.max() - tail.min())
+    ceased = bool(record_end_s is not None and
+                  record_end_s - (cyc.start_s[-1] + cyc.period_s[-1]) > CEASED_PERIODS * cyc.period_s[-1])
+    if ceased:
+        final = 0.0
     threshold = squeal_threshold * max(abs(crabbing_velocity_m_s), 1e-3)
     # the period of an oscillation decayed to round-off level means nothing
     frequency = float(1.0 / cyc.period_s[n - w:].mean()) if final > threshold else nan
-    saturated = bool(n >= window_cycles and final > threshold and spread <= saturation_tolerance * final)
     late_slope = _fit_log_slope(cyc.start_s[n - w:], tail)
+    # a flat envelope is a limit cycle only if it is flat compared with the linear rate:
+    # a slow linear growth/decay near the stability boundary has slope ~ sigma
+    flat = not math.isfinite(late_slope) or \
+        abs(late_slope) <= LINEAR_RATE_FRACTION * abs(growth_rate_analytic_1_s)
+    saturated = bool(n >= window_cycles and final > threshold and spread <= saturation_tolerance * final
+                     and flat)
     squeal = bool(final > threshold and (saturated or (math.isfinite(late_slope) and late_slope > 0.0)))
     t_sat = nan
     if saturated:
@@ -157,7 +187,9 @@ def metrics_from_cycles(
         growth = _fit_log_slope(cyc.start_s[lo:stop], amp[lo:stop]) if stop - lo >= 3 else \
             _fit_log_slope(cyc.start_s[: min(n, 10)], amp[: min(n, 10)])
     else:
-        growth = _fit_log_slope(cyc.start_s, amp)
+        # decaying: fit down to DECAY_FIT_FLOOR of the largest envelope, not the round-off tail
+        keep = amp >= DECAY_FIT_FLOOR * amp.max()
+        growth = _fit_log_slope(cyc.start_s[keep], amp[keep])
     return LimitCycle(squeal, saturated, final, frequency, t_sat, growth, growth_rate_analytic_1_s, cyc)
 
 
@@ -173,4 +205,5 @@ def limit_cycle(
     sigma = analytic_growth_rate(history.modes, history.contact, history.operating_point)
     return metrics_from_cycles(cyc, history.operating_point.crabbing_velocity_m_s, sigma,
                                window_cycles=window_cycles, saturation_tolerance=saturation_tolerance,
-                               squeal_threshold=squeal_threshold)
+                               squeal_threshold=squeal_threshold,
+                               record_end_s=float(history.t[-1]) if len(history.t) else None)

@@ -89,7 +89,8 @@ def sweep(modes, contact: ContactLaw, crabbing_velocities, rolling_speeds, durat
         else:
             n = int(ncyc[i])
             cyc = Cycles(*(b[i, :n].copy() for b in bufs))
-            lc = metrics_from_cycles(cyc, op.crabbing_velocity_m_s, analytic_growth_rate(modes, contact, op))
+            lc = metrics_from_cycles(cyc, op.crabbing_velocity_m_s, analytic_growth_rate(modes, contact, op),
+                                     record_end_s=float(n_steps[i] * h[i]))
         out["amp"][i] = lc.velocity_amplitude_m_s
         out["freq"][i] = lc.frequency_hz
         out["growth"][i] = lc.growth_rate_1_s
