@@ -137,6 +137,29 @@ class IntegrationError(RuntimeError):
     """The time integration became unstable or inaccurate and could not be refined."""
 
 
+#: largest number of stored samples simulate() accepts (the TimeHistory holds about
+#: 2 N + 6 float64 arrays of that length, plus temporaries: ~1.5 GB for one mode)
+MAX_STORED_SAMPLES = 10_000_000
+
+
+def _check_storage(n_out: int, n_modes: int, n_steps: int, h: float, duration: float,
+                   store_every: int, f_max: float, error=ValueError) -> None:
+    if n_out <= MAX_STORED_SAMPLES:
+        return
+    need = int(math.ceil(n_steps / (MAX_STORED_SAMPLES - 1)))
+    per_period = 1.0 / (f_max * h * need)
+    gb = n_out * (2 * n_modes + 12) * 8 / 1e9
+    # limit-cycle metrics need >= 16 samples per period of the highest mode
+    fix = (f"pass store_every >= {need} (keeps {per_period:.0f} samples per period)"
+           if per_period >= 16 else
+           f"shorten the duration to at most {MAX_STORED_SAMPLES / (16 * f_max):.3g} s (16 samples "
+           f"per period, store_every = {max(1, int(1 / (16 * f_max * h)))})")
+    raise error(
+        f"simulate would store {n_out:,} samples (~{gb:.1f} GB): {n_steps:,} RK4 steps of "
+        f"{h:.3g} s over {duration:g} s with store_every={store_every} (highest mode "
+        f"{f_max:.4g} Hz); {fix} (limit MAX_STORED_SAMPLES = {MAX_STORED_SAMPLES:,})")
+
+
 @dataclass(frozen=True, eq=False)
 class TimeHistory:
     """Result of a time integration (all arrays share the time axis).
@@ -293,7 +316,9 @@ def simulate(
         energy reached; a larger mismatch (or a non-finite state) means the step is
         too large for the dynamics.
 
-    Raises IntegrationError if the integration cannot be made stable and consistent.
+    Raises IntegrationError if the integration cannot be made stable and consistent,
+    ValueError (before integrating) if the output would exceed MAX_STORED_SAMPLES
+    samples (very stiff or light modes over long durations: raise ``store_every``).
     """
     modes = _as_modes(modes)
     duration = _check_duration(duration)
@@ -306,10 +331,13 @@ def simulate(
     if not (math.isfinite(h) and h > 0.0):
         raise ValueError(f"step_s must be positive and finite, got {step_s!r}")
     attempts = 1 + (max_refinements if refine else 0)
+    f_max = max(md.frequency_hz for md in modes)
     for attempt in range(attempts):
         n_steps = int(math.ceil(duration / h - 1e-9))
         h_eff = duration / n_steps
         n_out = n_steps // store_every + 1
+        _check_storage(n_out, len(modes), n_steps, h_eff, duration, store_every, f_max,
+                       ValueError if attempt == 0 else IntegrationError)
         out_y = np.empty((n_out, len(modes)))
         out_u = np.empty((n_out, len(modes)))
         if len(modes) == 1:

@@ -21,6 +21,10 @@ from .model import OperatingPoint, _as_modes, _mode_arrays, choose_time_step, la
 
 __all__ = ["SweepResult", "sweep"]
 
+#: largest number of RK4 steps per sweep case (the kernel keeps t, v and two running
+#: integrals per step for each running case: 32 bytes/step, 0.8 GB at the limit)
+MAX_SWEEP_STEPS = 25_000_000
+
 
 @dataclass(frozen=True, eq=False)
 class SweepResult:
@@ -67,6 +71,14 @@ def sweep(modes, contact: ContactLaw, crabbing_velocities, rolling_speeds, durat
     laws = np.array([law_vector(contact, op) for op in ops])
     h_nominal = np.array([choose_time_step(modes, contact, op, steps_per_period) for op in ops])
     n_steps = np.ceil(duration / h_nominal - 1e-9).astype(np.int64)
+    worst = int(np.argmax(n_steps))
+    if n_steps[worst] > MAX_SWEEP_STEPS:
+        raise ValueError(
+            f"sweep case Vc = {ops[worst].crabbing_velocity_m_s:g} m/s, V0 = {ops[worst].rolling_speed_m_s:g} m/s "
+            f"needs {int(n_steps[worst]):,} RK4 steps of {h_nominal[worst]:.3g} s over {duration:g} s "
+            f"(each running case keeps 4 arrays of that length; limit MAX_SWEEP_STEPS = {MAX_SWEEP_STEPS:,}): "
+            f"a very stiff or very light mode, or a very low rolling speed; shorten the duration "
+            f"or run the case with simulate(..., store_every=...)")
     h = duration / n_steps
     f_max = max(md.frequency_hz for md in modes)
     cap = int(duration * f_max * 2.0) + 16
