@@ -1,0 +1,448 @@
+"""3-D tetrahedral modal solver for the whole wheel (scikit-fem, P1 or P2).
+
+Linear elasticity ``K`` (``linear_elasticity(*lame_parameters(E, nu))``) and the
+consistent mass ``M`` (``rho u.v``) are assembled on a tetrahedral mesh of the revolved
+profile (z is the wheel axis, the contact point is the tread apex at (R1, 0, 0)).
+The bore is clamped (every DOF on a boundary facet lying on r = bore_radius, so the
+P2 edge DOFs too), or the wheel is left free-free, in which case the shift is a small
+negative number and the six rigid-body modes are recognised (near-zero eigenvalue and
+a shape inside the span of the rigid motions) and left out.
+
+Mesh / element choices (see :func:`solve_solid`):
+
+- a second-order mesh (``tetra10``, mid-edge nodes on the true curved tread and bore)
+  with isoparametric P2 elements, or
+- a first-order mesh with P2 elements on straight-edged tets (the revolution faceted).
+
+Each eigenvector is labelled in cylindrical components (r, theta, z):
+
+- nodal diameters ``n``: the dominant circumferential harmonic. The nodes are binned in
+  small (r, z) cells; in each cell a discrete Fourier sum over the nodes' angles gives
+  the harmonic content of every component, and the energies are added over cells and
+  components (binning avoids cancellation where a component changes sign over the
+  cross-section, e.g. across a nodal circle);
+- family: the cylindrical component with the largest share of the kinetic energy
+  ``phi_c^T M phi_c`` (axial -> z, radial -> r, circumferential -> theta);
+- nodal circles: sign changes of the family's component along a radial line from the
+  bore to the tread at the web mid-surface ``z = web_offset``, at the angle where the
+  n-th harmonic of that component peaks; samples below 5 % of the largest magnitude
+  on the line are ignored (the clamped bore is not a nodal circle).
+
+Degenerate cos/sin pairs (same n >= 1, same family, relative frequency gap below
+``pair_rtol``) become one :class:`~fem.modes.Mode` with two members; the frequency is
+their mean, and ``contact_axial`` holds both members' axial displacement at the
+contact point, so the pair-combined modal mass does not depend on the rotation.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+import warnings
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+import scipy.sparse as sp
+from skfem import Basis, BilinearForm, ElementTetP1, ElementTetP2, ElementVector, MeshTet1, MeshTet2, asm
+from skfem.helpers import dot
+from skfem.models.elasticity import lame_parameters, linear_elasticity
+
+from .eigen import solve_eigen
+from .modes import Mode, ModeSet
+
+#: Relative frequency gap below which two modes of the same n >= 1 and family are a
+#: degenerate cos/sin pair. On unstructured meshes the split is ~1e-5 .. 1e-4 (measured
+#: on the Table 1 wheel); distinct modes with the same label are far further apart.
+PAIR_RTOL = 2e-3
+
+#: Free-free shift [Hz]: K is singular, so factorise K - sigma M with sigma = -(2 pi f)^2.
+FREE_SHIFT_HZ = 10.0
+
+#: A free-free eigenvalue is a rigid-body mode when its frequency is below this [Hz]
+#: and its shape lies in the span of the six rigid motions.
+RIGID_FMAX_HZ = 1.0
+
+#: Harmonics searched for the nodal-diameter label.
+N_HARMONICS = 40
+
+
+@dataclass
+class _Assembled:
+    mesh: Any  # skfem mesh
+    basis: Any
+    K: sp.csr_matrix
+    M: sp.csr_matrix
+    fixed: np.ndarray  # clamped DOFs (empty when free-free)
+    free: np.ndarray
+    curved: bool
+
+
+def _skfem_mesh(points: np.ndarray, tetra: np.ndarray, order: int):
+    """scikit-fem mesh for the requested element order; returns (mesh, curved)."""
+    points = np.asarray(points, dtype=float)
+    tetra = np.asarray(tetra)
+    if tetra.shape[1] == 10 and order == 2:
+        # meshio tetra10 edge order (01, 12, 20, 03, 13, 23) is scikit-fem's P2 order.
+        return MeshTet2(np.ascontiguousarray(points.T), np.ascontiguousarray(tetra.T)), True
+    corners = tetra[:, :4]
+    used, inv = np.unique(corners, return_inverse=True)
+    t = inv.reshape(corners.shape)
+    return MeshTet1(np.ascontiguousarray(points[used].T), np.ascontiguousarray(t.T)), False
+
+
+def assemble(design, points, tetra, order: int = 2, boundary: str = "clamped") -> _Assembled:
+    """Stiffness and mass of the wheel on a tetrahedral mesh, and the clamped DOFs."""
+    if order not in (1, 2):
+        raise ValueError(f"order must be 1 or 2, got {order}")
+    if boundary not in ("clamped", "free"):
+        raise ValueError(f"boundary must be 'clamped' or 'free', got {boundary!r}")
+    mesh, curved = _skfem_mesh(points, tetra, order)
+    elem = ElementVector(ElementTetP2() if order == 2 else ElementTetP1())
+    basis = Basis(mesh, elem)
+    lam, mu = lame_parameters(design.youngs_modulus, design.poissons_ratio)
+    rho = design.density
+
+    @BilinearForm
+    def mass(u, v, w):
+        return rho * dot(u, v)
+
+    K = asm(linear_elasticity(lam, mu), basis)
+    M = asm(mass, basis)
+    n = basis.N
+    if boundary == "clamped":
+        rb = design.bore_radius
+        # Bore facets: boundary facets whose corner centroid lies on (or, for straight
+        # chords, just inside) r = bore_radius; interior facets are h away.
+        tol = 1e-6 * design.rolling_radius
+        facets = mesh.facets_satisfying(
+            lambda x: np.hypot(x[0], x[1]) <= rb + tol, boundaries_only=True
+        )
+        if len(facets) == 0:
+            raise ValueError("no boundary facet found on the bore (r = bore_radius)")
+        fixed = np.unique(basis.get_dofs(facets).all())
+    else:
+        fixed = np.zeros(0, dtype=np.int64)
+    free = np.setdiff1d(np.arange(n), fixed)
+    return _Assembled(mesh, basis, K, M, fixed, free, curved)
+
+
+# -- labels -----------------------------------------------------------------------------
+
+
+def _cyl(xyz: np.ndarray, u: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Cylindrical components (u_r, u_theta, u_z) of Cartesian u at points xyz (3, N)."""
+    th = np.arctan2(xyz[1], xyz[0])
+    c, s = np.cos(th), np.sin(th)
+    return c * u[0] + s * u[1], -s * u[0] + c * u[1], u[2]
+
+
+class _Labeller:
+    """Precomputed geometry for labelling mode shapes on one assembled model."""
+
+    def __init__(self, design, asm_: _Assembled):
+        self.design = design
+        b = asm_.basis
+        self.basis = b
+        self.probe_basis = straight_basis(asm_)
+        self.M = asm_.M
+        # component DOF index arrays (x, y, z) and their locations, all DOFs
+        self.comp = [b.nodal_dofs[c] for c in range(3)]
+        xyz = b.doflocs[:, self.comp[0]]
+        if b.edge_dofs.size:
+            self.comp = [np.concatenate([b.nodal_dofs[c], b.edge_dofs[c]]) for c in range(3)]
+            xyz = b.doflocs[:, self.comp[0]]
+        self.xyz = xyz
+        self.theta = np.arctan2(xyz[1], xyz[0])
+        r = np.hypot(xyz[0], xyz[1])
+        z = xyz[2]
+        # (r, z) bins for the harmonic analysis
+        nr, nz = 24, 6
+        ri = np.clip(((r - r.min()) / (np.ptp(r) + 1e-300) * nr).astype(int), 0, nr - 1)
+        zi = np.clip(((z - z.min()) / (np.ptp(z) + 1e-300) * nz).astype(int), 0, nz - 1)
+        self.bin = ri * nz + zi
+        self.nbins = nr * nz
+        self.count = np.bincount(self.bin, minlength=self.nbins).astype(float)
+        nmax = N_HARMONICS
+        self.harm = np.exp(-1j * np.outer(np.arange(nmax + 1), self.theta))  # (nh, N)
+        # radial line at the web mid-surface for the nodal-circle count
+        d = design
+        rr = np.linspace(d.bore_radius, d.rolling_radius, 80)[1:-1]
+        self.line_r = rr
+        self.line_z = d.web_offset
+
+    def vectors(self, phi: np.ndarray) -> np.ndarray:
+        """(3, N) Cartesian components at the DOF locations."""
+        return np.stack([phi[c] for c in self.comp])
+
+    def spectrum(self, phis: list[np.ndarray]) -> np.ndarray:
+        """Energy per harmonic n (summed over members, components, (r, z) bins)."""
+        E = np.zeros(N_HARMONICS + 1)
+        for phi in phis:
+            ur, ut, uz = _cyl(self.xyz, self.vectors(phi))
+            for u in (ur, ut, uz):
+                F = self.harm * u  # (nh, N)
+                S = np.zeros((N_HARMONICS + 1, self.nbins), dtype=complex)
+                for k in range(N_HARMONICS + 1):
+                    S[k] = np.bincount(self.bin, weights=F[k].real, minlength=self.nbins) + 1j * np.bincount(
+                        self.bin, weights=F[k].imag, minlength=self.nbins
+                    )
+                cnt = np.maximum(self.count, 1.0)
+                # Parseval: mean square = c0^2 + 2 sum |c_n|^2, c_n = S / count
+                e = np.abs(S) ** 2 / cnt
+                e[1:] *= 2.0
+                E += e.sum(axis=1)
+        return E
+
+    def family(self, phis: list[np.ndarray]) -> tuple[str, np.ndarray]:
+        frac = np.zeros(3)
+        for phi in phis:
+            ur, ut, uz = _cyl(self.xyz, self.vectors(phi))
+            th = self.theta
+            for i, (vx, vy, vz) in enumerate(
+                ((ur * np.cos(th), ur * np.sin(th), 0 * ur), (-ut * np.sin(th), ut * np.cos(th), 0 * ut), (0 * uz, 0 * uz, uz))
+            ):
+                v = np.zeros_like(phi)
+                v[self.comp[0]], v[self.comp[1]], v[self.comp[2]] = vx, vy, vz
+                frac[i] += v @ (self.M @ v)
+        frac /= frac.sum()
+        fam = ("radial", "circumferential", "axial")[int(np.argmax(frac))]
+        return fam, frac
+
+    def nodal_circles(self, phi: np.ndarray, n: int, family: str) -> int:
+        ci = {"radial": 0, "circumferential": 1, "axial": 2}[family]
+        comps = _cyl(self.xyz, self.vectors(phi))
+        u = comps[ci]
+        # angle where the n-th harmonic of the family component peaks (rim half)
+        if n == 0:
+            th0 = 0.0
+        else:
+            c = np.sum(u * self.harm[n])
+            th0 = float(-np.angle(c) / n)
+        pts = np.stack(
+            [self.line_r * math.cos(th0), self.line_r * math.sin(th0), np.full_like(self.line_r, self.line_z)]
+        )
+        try:
+            vals = (self.probe_basis.probes(pts) @ phi).reshape(3, -1)
+        except Exception:  # pragma: no cover - probes outside the mesh
+            return -1
+        line = _cyl(pts, vals)[ci]
+        return count_sign_changes(line)
+
+
+def count_sign_changes(values: np.ndarray, floor: float = 0.05) -> int:
+    """Sign changes along a sampled line, ignoring samples below ``floor * max|v|``."""
+    v = np.asarray(values, dtype=float)
+    big = np.abs(v) >= floor * np.max(np.abs(v)) if v.size and np.max(np.abs(v)) > 0 else np.zeros(v.shape, bool)
+    s = np.sign(v[big])
+    return int(np.count_nonzero(s[1:] != s[:-1]))
+
+
+def straight_basis(asm_: _Assembled):
+    """A basis for point evaluation (``probes``) with the same DOF numbering.
+
+    On a curved ``MeshTet2`` scikit-fem's ``probes`` inverts the isoparametric map by
+    Newton on every candidate element and fails on elements far from the point. The
+    straight-sided ``MeshTet1`` on the same corner nodes and cells numbers its P1/P2
+    DOFs identically (vertices, then edges built from the same ``t``), so its
+    ``probes`` matrix applies to the curved solution vector; the only approximation is
+    the affine map in the few boundary elements whose mid-edge nodes are curved
+    (displacement error of the order of the sagitta h^2 / 8R times the gradient).
+    """
+    m = asm_.mesh
+    if not asm_.curved:
+        return asm_.basis
+    return Basis(MeshTet1(m.p, m.t), asm_.basis.elem)
+
+
+def _contact_operator(design, asm_: _Assembled) -> tuple[sp.csr_matrix, str]:
+    """Row vector giving u_z at the contact point (R1, 0, 0), and how it was obtained.
+
+    The gmsh mesh has a node at the tread apex: the P1/P2 nodal DOF there is the value
+    itself (no interpolation). Otherwise interpolate with ``basis.probes``; if the point
+    is outside the (faceted) mesh, take the nearest node and say so: the shape varies
+    over a circumferential half-wavelength pi R1 / n >> h, so the nearest node is
+    accurate to O((h n / R1)^2).
+    """
+    b = asm_.basis
+    xc = np.array([design.rolling_radius, 0.0, 0.0])
+    vert = b.doflocs[:, b.nodal_dofs[2]]
+    dist = np.linalg.norm(vert - xc[:, None], axis=0)
+    j = int(np.argmin(dist))
+    row = sp.csr_matrix(([1.0], ([0], [b.nodal_dofs[2, j]])), shape=(1, b.N))
+    if dist[j] <= 1e-9 * design.rolling_radius:
+        return row, "node"
+    try:
+        P = sp.csr_matrix(straight_basis(asm_).probes(xc[:, None]))
+        return P[2:3], "probes"
+    except Exception:
+        return row, f"nearest node ({dist[j] * 1e3:.3g} mm away)"
+
+
+def _rigid_modes(xyz_by_comp: list[np.ndarray], comp: list[np.ndarray], n: int) -> np.ndarray:
+    """(n, 6) rigid-body motions (3 translations, 3 rotations) as DOF vectors."""
+    R = np.zeros((n, 6))
+    x, y, z = xyz_by_comp
+    for c in range(3):
+        R[comp[c], c] = 1.0
+    # rotation about x: (0, -z, y); about y: (z, 0, -x); about z: (-y, x, 0)
+    R[comp[1], 3], R[comp[2], 3] = -z, y
+    R[comp[0], 4], R[comp[2], 4] = z, -x
+    R[comp[0], 5], R[comp[1], 5] = -y, x
+    return R
+
+
+def solve_solid(
+    design,
+    mesh=None,
+    *,
+    order: int = 2,
+    size: float | None = None,
+    elements_through_web: int | None = None,
+    fmax_hz: float | None = 5000.0,
+    k: int | None = None,
+    boundary: str = "clamped",
+    factorization: str = "auto",
+) -> ModeSet:
+    """Natural modes of the wheel from a 3-D tetrahedral model.
+
+    Parameters
+    ----------
+    design: a :class:`~geometry.design.WheelDesign`.
+    mesh: a ``SolidMesh`` (``points``, ``tetra`` in meshio order, ``order``); ``None``
+        meshes the design with ``geometry.mesh.mesh_wheel(design, size,
+        elements_through_web, order=...)`` (see ``MESH_ORDER`` for the mesh order used).
+    order: element order, 1 (P1, locks in bending: diagnostic only) or 2 (P2).
+    fmax_hz / k: all modes up to ``fmax_hz``, or the ``k`` lowest modes (a degenerate
+        pair counts as one mode), or both (the ``k`` lowest within the band).
+    boundary: ``"clamped"`` (bore fixed) or ``"free"`` (six rigid modes dropped).
+    factorization: passed to :func:`fem.eigen.solve_eigen` (``"auto"`` picks the
+        fastest available).
+
+    Returns a :class:`~fem.modes.ModeSet` whose ``points``/``cells`` are the corner
+    nodes and ``"tetra"`` cells, ``shapes[i]`` of shape (members, n_points, 3).
+    """
+    if k is None and fmax_hz is None:
+        raise ValueError("give k or fmax_hz")
+    t0 = time.perf_counter()
+    timings: dict[str, float] = {}
+    if mesh is None:
+        from geometry.mesh import mesh_wheel
+
+        mesh = mesh_wheel(design, size=size, elements_through_web=elements_through_web, order=MESH_ORDER.get(order, 1))
+    timings["mesh"] = time.perf_counter() - t0
+
+    t1 = time.perf_counter()
+    A = assemble(design, mesh.points, mesh.tetra, order=order, boundary=boundary)
+    Kf = A.K[A.free][:, A.free].tocsr()
+    Mf = A.M[A.free][:, A.free].tocsr()
+    timings["assemble"] = time.perf_counter() - t1
+
+    t2 = time.perf_counter()
+    free_free = boundary == "free"
+    sigma = -((2 * math.pi * FREE_SHIFT_HZ) ** 2) if free_free else 0.0
+    n_rigid = 6 if free_free else 0
+    # Band: solve slightly past fmax so a pair straddling the edge is not split.
+    band = None if fmax_hz is None else fmax_hz * (1.0 + 4 * PAIR_RTOL)
+    nvec = None if k is None else 2 * k + 1 + n_rigid
+    res = solve_eigen(Kf, Mf, k=nvec, fmax_hz=band, sigma=sigma, factorization=factorization)
+    timings["eigen"] = time.perf_counter() - t2
+
+    t3 = time.perf_counter()
+    lam = res.eigenvalues
+    X = np.zeros((A.basis.N, res.vectors.shape[1]))
+    X[A.free] = res.vectors
+    if free_free:
+        X, lam = _drop_rigid(A, X, lam)
+    modes, shapes = _build_modes(design, A, X, lam, fmax_hz, k)
+    timings["label"] = time.perf_counter() - t3
+    timings["total"] = time.perf_counter() - t0
+    return ModeSet(
+        modes=modes,
+        points=A.mesh.p.T.copy(),
+        cells={"tetra": A.mesh.t.T.copy()},
+        shapes=shapes,
+        solver=f"3d-p{order}",
+        dofs=int(A.free.size),
+        timings_s=timings,
+    )
+
+
+#: Mesh order requested from ``mesh_wheel`` for each element order when ``mesh`` is None.
+MESH_ORDER = {1: 1, 2: 2}
+
+
+def _drop_rigid(A: _Assembled, X: np.ndarray, lam: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Remove the six rigid-body modes of a free-free solve (checked, not assumed)."""
+    b = A.basis
+    comp = [np.concatenate([b.nodal_dofs[c], b.edge_dofs[c]]) if b.edge_dofs.size else b.nodal_dofs[c] for c in range(3)]
+    xyz = b.doflocs[:, comp[0]]
+    R = _rigid_modes([xyz[0], xyz[1], xyz[2]], comp, b.N)
+    # M-orthonormal basis of the rigid space
+    G = R.T @ (A.M @ R)
+    L = np.linalg.cholesky(G)
+    Q = np.linalg.solve(L, R.T).T
+    proj = Q.T @ (A.M @ X)  # (6, m)
+    inside = np.sum(proj**2, axis=0)  # fraction of the (unit) M-norm in the rigid span
+    rigid = (np.sqrt(np.maximum(lam, 0.0)) / (2 * math.pi) < RIGID_FMAX_HZ) & (inside > 0.999)
+    if np.count_nonzero(rigid) != 6:
+        raise RuntimeError(
+            f"free-free solve: expected 6 rigid-body modes, recognised {np.count_nonzero(rigid)} "
+            f"(lowest frequencies {np.sqrt(np.abs(lam[:8])) / (2 * math.pi)} Hz)"
+        )
+    return X[:, ~rigid], lam[~rigid]
+
+
+def _build_modes(design, A: _Assembled, X: np.ndarray, lam: np.ndarray, fmax_hz, k):
+    lab = _Labeller(design, A)
+    crow, _how = _contact_operator(design, A)
+    f = np.sqrt(np.maximum(lam, 0.0)) / (2 * math.pi)
+    m = X.shape[1]
+    info = []
+    for j in range(m):
+        spec = lab.spectrum([X[:, j]])
+        n = int(np.argmax(spec))
+        fam, _ = lab.family([X[:, j]])
+        info.append((n, fam))
+    groups: list[list[int]] = []
+    j = 0
+    while j < m:
+        n, fam = info[j]
+        if (
+            n >= 1
+            and j + 1 < m
+            and info[j + 1] == (n, fam)
+            and abs(f[j + 1] - f[j]) <= PAIR_RTOL * max(f[j], 1e-300)
+        ):
+            groups.append([j, j + 1])
+            j += 2
+        else:
+            groups.append([j])
+            j += 1
+    modes: list[Mode] = []
+    shapes: list[np.ndarray] = []
+    vdofs = A.basis.nodal_dofs  # (3, n_vertices)
+    for g in groups:
+        fr = float(np.mean(f[g]))
+        if fmax_hz is not None and fr > fmax_hz:
+            continue
+        if k is not None and len(modes) >= k:
+            break
+        members = [X[:, j] for j in g]
+        n, fam = info[g[0]]
+        if len(g) == 1 and n >= 1:
+            warnings.warn(
+                f"3-D mode at {fr:.1f} Hz has n={n} but no degenerate partner within "
+                f"{PAIR_RTOL:g}: reported with one member",
+                RuntimeWarning,
+                stacklevel=3,
+            )
+        # nodal circles from the member with the larger response on the line
+        circles = max(lab.nodal_circles(x, n, fam) for x in members)
+        contact = tuple(float((crow @ x)[0]) for x in members)
+        modes.append(Mode(len(modes), fr, n, circles, fam, contact))
+        shapes.append(np.stack([x[vdofs].T for x in members]))
+    return modes, shapes
+
+
+__all__ = ["PAIR_RTOL", "assemble", "count_sign_changes", "solve_solid"]
