@@ -44,7 +44,7 @@ from typing import Iterator
 
 import numpy as np
 
-from .design import WheelDesign, validate
+from .design import WheelDesign, tread_radius, validate
 from .profile import half_profile
 
 __all__ = [
@@ -68,9 +68,11 @@ MAX_ELEMENTS = 3_000_000
 #: gmsh physical-group tags (names are "bore", "tread", "wheel"), also in the .msh files.
 PHYSICAL_TAGS: dict[str, int] = {"bore": 1, "tread": 2, "wheel": 3}
 
-# Profile segments shorter than this are merged away before gmsh sees them (OCC's
-# confusion tolerance is 1e-7 m; a web face 1e-9 m from a rim face would otherwise
-# make a degenerate edge). 1 micrometre: far below any machining tolerance.
+# gmsh works on the wheel scaled to a unit rolling radius (so that meshing does not
+# depend on the units or the size of the wheel). Profile segments shorter than _SNAP
+# (relative to the rolling radius) are merged away before gmsh sees them: OCC's
+# confusion tolerance is 1e-7, and a web face 1e-9 from a rim face would otherwise make
+# a degenerate edge. 1e-6 * 0.213 m = 0.2 um: far below any machining tolerance.
 _SNAP = 1e-6
 
 _LOCK = threading.RLock()  # gmsh is a process-wide singleton and not thread-safe
@@ -165,19 +167,34 @@ def _inverted(points: np.ndarray, cells: np.ndarray, dim: int, order: int) -> np
     return (det <= 1e-12 * np.abs(det).max()).any(axis=1)
 
 
-def _straighten(points, cells, bad, keep, dim) -> np.ndarray:
+def _straighten(points, cells, bad, keep, dim) -> tuple[np.ndarray, np.ndarray]:
     """Move the mid-edge nodes of the ``bad`` elements to the middle of their edge,
     except the nodes in ``keep`` (bore and tread). Curving a mid-node onto a concave
     surface (the rim's inner cylinder) inverts an element thinner than the edge's
-    sagitta; a straight edge there changes the volume by much less than the sagitta
-    times the element's face area."""
+    sagitta; a straight edge there changes the volume by at most the sagitta times the
+    element's face area. Returns the new points and the moved node indices."""
     points = points.copy()
+    moved = []
     for k, (i, j) in enumerate(_EDGES[dim]):
         mid = cells[bad, dim + 1 + k]
         move = ~np.isin(mid, keep)
         e = cells[bad][move]
         points[mid[move]] = 0.5 * (points[e[:, i]] + points[e[:, j]])
-    return points
+        moved.append(mid[move])
+    return points, np.unique(np.concatenate(moved))
+
+
+#: Straightened mid-nodes are accepted only if the mesh volume (area) stays this close
+#: to the exact one; otherwise the mesh is refined locally instead.
+_STRAIGHT_TOL = 2e-3
+
+
+def _measure_error(points, cells, dim, order, design) -> float:
+    from .profile import profile_area, revolved_volume
+
+    det, _, w = _jacobians(points, cells, dim, order)
+    exact = profile_area(design) if dim == 2 else revolved_volume(design)
+    return abs(float((det @ w).sum()) / exact - 1.0)
 
 
 def _readonly(a: np.ndarray) -> np.ndarray:
@@ -270,7 +287,8 @@ class ProfileMesh(_MeshBase):
     (r = bore_radius) and on the crowned tread, mid-edge nodes included;
     ``bore_facets`` / ``tread_facets``: boundary edges (K, 2) or (K, 3) (meshio
     ``line``/``line3``: end nodes, then the mid node); ``contact_node``: the node at the
-    tread apex (rolling_radius, 0); ``size``: the characteristic length used [m].
+    tread apex (rolling_radius, 0); ``size``: the characteristic length used [m];
+    ``straight_mid_nodes``: as for :class:`SolidMesh` (normally empty).
     """
 
     points: np.ndarray
@@ -283,6 +301,7 @@ class ProfileMesh(_MeshBase):
     contact_node: int
     size: float
     design_name: str
+    straight_mid_nodes: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.int64))
     dim: int = field(default=2, init=False)
 
     @property
@@ -316,7 +335,9 @@ class SolidMesh(_MeshBase):
     cylinder and on the crowned tread, mid-edge nodes included; ``bore_facets`` /
     ``tread_facets``: boundary triangles (K, 3) or (K, 6), meshio ordering;
     ``contact_node``: the node at (rolling_radius, 0, 0); ``size``: the characteristic
-    length used [m].
+    length used [m]; ``straight_mid_nodes``: mid-edge nodes left on their straight edge
+    because curving them would invert a thin element (normally empty; never on the bore
+    or tread; the volume then stays within 0.2 % of exact).
     """
 
     points: np.ndarray
@@ -329,6 +350,7 @@ class SolidMesh(_MeshBase):
     contact_node: int
     size: float
     design_name: str
+    straight_mid_nodes: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.int64))
     dim: int = field(default=3, init=False)
 
     @property
@@ -462,13 +484,15 @@ def _outline(design: WheelDesign) -> tuple[list[tuple[float, float]], list[str]]
         kinds[i] = "bore"
     while True:
         n = len(verts)
-        short = [i for i in range(n) if math.dist(verts[i], verts[(i + 1) % n]) < _SNAP]
+        snap = _SNAP * design.rolling_radius
+        short = [i for i in range(n) if math.dist(verts[i], verts[(i + 1) % n]) < snap]
         if not short:
             return verts, kinds
         i = short[0]
         if kinds[i] != "line":
             raise MeshError(
-                f"design {design.name!r}: the {kinds[i]} segment is shorter than {_SNAP} m; "
+                f"design {design.name!r}: the {kinds[i]} segment is shorter than {snap:.3g} m "
+                f"({_SNAP:g} x rolling_radius); "
                 "cannot mesh a feature that small"
             )
         j = (i + 1) % n
@@ -490,8 +514,11 @@ def _build_profile_surface(gmsh, design: WheelDesign, h: float, dim: int):
     occ = gmsh.model.occ
     verts, kinds = _outline(design)
 
+    L = design.rolling_radius  # unit of length inside gmsh
+
     def point(r: float, z: float) -> int:
-        return occ.addPoint(r, z, 0.0, h) if dim == 2 else occ.addPoint(r, 0.0, z, h)
+        r, z = r / L, z / L
+        return occ.addPoint(r, z, 0.0, h / L) if dim == 2 else occ.addPoint(r, 0.0, z, h / L)
 
     tags = [point(r, z) for r, z in verts]
     centre = point(design.rolling_radius - design.crown_radius, 0.0)
@@ -516,14 +543,16 @@ def _build_profile_surface(gmsh, design: WheelDesign, h: float, dim: int):
     return surface, bore, tread
 
 
-def _classify_surfaces(gmsh, design: WheelDesign, volume: int) -> tuple[list[int], list[int]]:
-    """Bore and tread surfaces of the revolved solid, found by sampling each boundary
-    surface: all samples at r = bore_radius, or all on the crown circle."""
-    rb, R = design.bore_radius, design.crown_radius
-    c = design.rolling_radius - R
-    tol = 1e-9 * (design.rolling_radius + R)
+def _classify_surfaces(gmsh, design: WheelDesign, volume: int):
+    """Bore, tread and rim-inner (r = rim_inner_radius) surfaces of the revolved solid,
+    found by sampling each boundary surface: all samples at r = bore_radius, all on the
+    crown circle, or all at r = rim_inner_radius."""
+    L = design.rolling_radius  # gmsh works in units of the rolling radius
+    rb, R, ri = design.bore_radius / L, design.crown_radius / L, design.rim_inner_radius / L
+    c = 1.0 - R
+    tol = 1e-9 * (1.0 + R)
     s = np.linspace(0.1, 0.9, 5)
-    bore, tread = [], []
+    bore, tread, rim_inner = [], [], []
     for _, tag in gmsh.model.getBoundary([(3, volume)], oriented=False):
         (umin, vmin), (umax, vmax) = np.asarray(gmsh.model.getParametrizationBounds(2, tag))
         U, V = np.meshgrid(umin + s * (umax - umin), vmin + s * (vmax - vmin))
@@ -534,15 +563,17 @@ def _classify_surfaces(gmsh, design: WheelDesign, volume: int) -> tuple[list[int
             bore.append(tag)
         elif np.all(np.abs(np.hypot(r - c, z) - R) < tol):
             tread.append(tag)
+        elif np.all(np.abs(r - ri) < tol):
+            rim_inner.append(tag)
     if not bore or not tread:
         raise MeshError(
             f"design {design.name!r}: could not identify the bore/tread surfaces of the "
             f"revolved solid (found {len(bore)} bore, {len(tread)} tread)"
         )
-    return bore, tread
+    return bore, tread, rim_inner
 
 
-def _set_options(gmsh, h: float, order: int) -> None:
+def _set_options(gmsh, h: float, order: int, dim: int) -> None:
     opt = gmsh.option.setNumber
     opt("General.NumThreads", 1)  # deterministic meshes
     opt("Mesh.Algorithm", 6)  # Frontal-Delaunay
@@ -550,8 +581,9 @@ def _set_options(gmsh, h: float, order: int) -> None:
     opt("Mesh.MeshSizeMin", 0.0)
     opt("Mesh.MeshSizeMax", h)
     opt("Mesh.MeshSizeFromPoints", 1)
-    # at least 16 elements around a full circle: refines a small bore when h is large
-    opt("Mesh.MeshSizeFromCurvature", 16)
+    # 2-D: at least 16 elements around a full circle (a strongly crowned tread); not in
+    # 3-D, where curvature sizing of a small crown is costly (_Sizer refines the bore)
+    opt("Mesh.MeshSizeFromCurvature", 16 if dim == 2 else 0)
     opt("Mesh.MeshSizeExtendFromBoundary", 1)
     opt("Mesh.Optimize", 1)
     opt("Mesh.ElementOrder", 1)  # raised with setOrder after generation
@@ -559,16 +591,59 @@ def _set_options(gmsh, h: float, order: int) -> None:
     opt("Mesh.HighOrderOptimize", 0)
 
 
-#: Meshing attempts, in order, until no curved element has a non-positive Jacobian:
-#: (straighten mid-nodes off the bore/tread?, gmsh options). Delaunay sometimes leaves a
-#: flat tet with all four vertices on the bore, which curving its mid-nodes inverts;
-#: another 3-D algorithm avoids it.
-_ATTEMPTS: tuple[tuple[bool, dict[str, float]], ...] = (
-    (False, {}),
-    (False, {"Mesh.Algorithm3D": 10}),  # HXT
-    (True, {"Mesh.Algorithm3D": 1}),
-    (True, {"Mesh.Algorithm3D": 10}),
-)
+def _attempts(dim: int, order: int) -> list[int]:
+    """The 3-D algorithm of each meshing attempt, tried until no curved element has a
+    non-positive Jacobian. Delaunay (1) sometimes leaves a flat tet with all four
+    vertices on the bore, which curving its mid-nodes inverts: HXT (10) avoids it. A
+    rim overhang thinner than an edge's sagitta inverts too: the offending mid-nodes off
+    the bore and tread are put back on their straight edge if that keeps the volume
+    within _STRAIGHT_TOL, else the size is halved locally (:class:`_Sizer`) and the
+    mesh redone."""
+    if order == 1:
+        return [1]
+    return [1, 10] + [1] * _REFINEMENTS
+
+
+_REFINEMENTS = 4  # local halvings of the size around inverted curved elements
+
+
+class _Sizer:
+    """gmsh size callback (gmsh units = rolling radius): the uniform size h, at least 16
+    elements around the bore, and axisymmetric rings of finer size around the (r, z)
+    positions where curved elements inverted in an earlier attempt."""
+
+    def __init__(self, design: WheelDesign, h: float, dim: int):
+        L = design.rolling_radius
+        self.h = h / L
+        self.dim = dim
+        self.rb = design.bore_radius / L
+        self.h_bore = min(self.h, 2 * math.pi * self.rb / 16)
+        self.rings = np.zeros((0, 4))  # r, z, radius, size (gmsh units)
+        self.L = L
+
+    def __call__(self, dim, tag, x, y, z, lc):
+        r, zz = (x, y) if self.dim == 2 else (math.hypot(x, y), z)
+        size = min(lc, self.h)
+        if r < self.rb + 2 * self.h_bore:
+            size = min(size, self.h_bore)
+        if len(self.rings):
+            R = self.rings
+            inside = np.hypot(R[:, 0] - r, R[:, 1] - zz) < R[:, 2]
+            if inside.any():
+                size = min(size, float(R[inside, 3].min()))
+        return size
+
+    def refine(self, points: np.ndarray, bad_cells: np.ndarray, dim: int) -> None:
+        p = points / self.L
+        v = p[bad_cells[:, : dim + 1]]  # (k, dim+1, dim)
+        rz = v if dim == 2 else np.stack([np.hypot(v[..., 0], v[..., 1]), v[..., 2]], -1)
+        centre = rz.mean(axis=1)
+        edge = np.max(np.linalg.norm(v[:, :, None, :] - v[:, None, :, :], axis=-1), axis=(1, 2))
+        new = np.column_stack([centre, 1.5 * edge, 0.5 * edge])
+        # one ring per cluster is enough: round (r, z) to half the new size
+        key = np.round(new[:, :2] / np.maximum(new[:, 3:4], 1e-12)).astype(np.int64)
+        _, first = np.unique(key, axis=0, return_index=True)
+        self.rings = np.concatenate([self.rings, new[first]])
 
 
 def _extract(gmsh, dim: int, order: int, bore: list[int], tread: list[int]):
@@ -631,7 +706,7 @@ def _run(design: WheelDesign, size, elements_through_web, order, verbose, dim):
     _outline(design)
     try:
         with _gmsh_session(verbose) as gmsh:
-            _set_options(gmsh, h, order)
+            _set_options(gmsh, h / design.rolling_radius, order, dim)
             surface, bore, tread = _build_profile_surface(gmsh, design, h, dim)
             occ = gmsh.model.occ
             if dim == 3:
@@ -640,7 +715,7 @@ def _run(design: WheelDesign, size, elements_through_web, order, verbose, dim):
                 if len(volumes) != 1:
                     raise MeshError(f"revolve gave {len(volumes)} volumes, expected 1")
                 occ.synchronize()
-                bore, tread = _classify_surfaces(gmsh, design, volumes[0])
+                bore, tread, rim_inner = _classify_surfaces(gmsh, design, volumes[0])
                 domain = volumes
             else:
                 occ.synchronize()
@@ -649,15 +724,21 @@ def _run(design: WheelDesign, size, elements_through_web, order, verbose, dim):
             model.addPhysicalGroup(dim - 1, bore, PHYSICAL_TAGS["bore"], "bore")
             model.addPhysicalGroup(dim - 1, tread, PHYSICAL_TAGS["tread"], "tread")
             model.addPhysicalGroup(dim, domain, PHYSICAL_TAGS["wheel"], "wheel")
+            sizer = _Sizer(design, h, dim)
+            model.mesh.setSizeCallback(sizer)
             failures = []
-            for straighten, strategy in _ATTEMPTS[: len(_ATTEMPTS) if order == 2 else 1]:
-                for name, value in strategy.items():
-                    gmsh.option.setNumber(name, value)
+            for attempt, algorithm in enumerate(_attempts(dim, order)):
+                gmsh.option.setNumber("Mesh.Algorithm3D", algorithm)
                 model.mesh.clear()
                 model.mesh.generate(dim)
                 if order == 2:
                     model.mesh.setOrder(2)
-                points, cells, bore_f, tread_f = _extract(gmsh, dim, order, bore, tread)
+                try:
+                    points, cells, bore_f, tread_f = _extract(gmsh, dim, order, bore, tread)
+                except MeshError as exc:  # e.g. the 3-D mesher gave up
+                    failures.append(f"attempt {attempt}: {exc}")
+                    continue
+                points *= design.rolling_radius
                 if dim == 2:
                     points = points[:, :2]
                 else:
@@ -665,16 +746,18 @@ def _run(design: WheelDesign, size, elements_through_web, order, verbose, dim):
                     points[np.abs(points[:, 1]) < 1e-14 * design.rolling_radius, 1] = 0.0
                 cells = _orient(points, cells, dim)
                 bad = _inverted(points, cells, dim, order)
-                if bad.any() and straighten:
+                straight = np.zeros(0, dtype=np.int64)
+                if bad.any():
                     keep = np.union1d(bore_f, tread_f)
-                    points = _straighten(points, cells, bad, keep, dim)
-                    bad = _inverted(points, cells, dim, order)
+                    fixed, moved = _straighten(points, cells, bad, keep, dim)
+                    if (not _inverted(fixed, cells, dim, order).any()
+                            and _measure_error(fixed, cells, dim, order, design) <= _STRAIGHT_TOL):
+                        points, straight, bad = fixed, moved, bad & False
                 if not bad.any():
                     break
-                failures.append(
-                    f"{np.count_nonzero(bad)} inverted curved element(s) with {strategy}"
-                    + (", mid-nodes straightened" if straighten else "")
-                )
+                failures.append(f"attempt {attempt}: {np.count_nonzero(bad)} inverted curved "
+                                "element(s)")
+                sizer.refine(points, cells[bad], dim)
             else:
                 raise MeshError("; ".join(failures))
     except (MeshError, ValueError, TypeError) as exc:
@@ -694,6 +777,7 @@ def _run(design: WheelDesign, size, elements_through_web, order, verbose, dim):
         bore_facets=_readonly(bore_f),
         tread_facets=_readonly(tread_f),
         contact_node=contact,
+        straight_mid_nodes=_readonly(straight),
         size=h,
         design_name=design.name,
     )
