@@ -17,7 +17,8 @@ from .design import WheelDesign, tread_radius
 
 @dataclass(frozen=True)
 class Profile:
-    """Closed half-profile outline, counter-clockwise in (r, z) [m].
+    """Closed half-profile outline in (r, z) [m], clockwise with r as abscissa and z as
+    ordinate (counter-clockwise in (z, r)).
 
     ``vertices[i] -> vertices[i+1]`` is a straight segment except the one listed in
     ``arc``: ``(i, centre)`` means the segment from vertex i to vertex i+1 is a circular
@@ -38,9 +39,9 @@ def half_profile(d: WheelDesign) -> Profile:
     hw = d.rim_width / 2
     z_lo, z_hi = d.web_offset - d.web_thickness / 2, d.web_offset + d.web_thickness / 2
     re = tread_radius(d, hw)
-    # Counter-clockwise: along the bore upwards (+z), out along the upper web face, up the
-    # rim face, over the tread (arc, from +z to -z), down the other rim face, back along
-    # the lower web face.
+    # Clockwise in the (r, z) plane: along the bore upwards (+z), out along the upper web
+    # face, up the rim face, over the tread (arc, from +z to -z), down the other rim
+    # face, back along the lower web face.
     pts = [(rb, z_lo), (rb, z_hi), (ri, z_hi), (ri, hw), (re, hw), (re, -hw), (ri, -hw), (ri, z_lo)]
     kinds = ["bore", "line", "line", "line", "arc", "line", "line", "line"]
     # A web flush with a rim face makes a zero-length segment: drop repeated vertices.

@@ -192,6 +192,8 @@ def test_profile_outline():
     assert np.allclose(v[[bore, bore + 1], 0], T1.bore_radius)
     i = prof.arc[0]
     assert np.allclose(v[[i, (i + 1) % len(v)], 0], T1.tread_edge_radius)
+    r, z = v[:, 0], v[:, 1]  # clockwise in (r, z), as documented
+    assert 0.5 * np.sum(r * np.roll(z, -1) - np.roll(r, -1) * z) < 0
     # web flush with both rim faces: the zero-length segments are dropped
     assert len(half_profile(DEGENERATE["flat_plate_rim_eq_web"]).vertices) == 6
     assert len(half_profile(DEGENERATE["web_flush_with_rim_face"]).vertices) == 7
