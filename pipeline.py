@@ -37,7 +37,8 @@ from typing import Any, Callable, Iterator, Sequence
 
 import numpy as np
 
-from geometry import DesignError, WheelDesign, load_design, profile_area, revolved_volume
+from geometry import DesignError, WheelDesign, profile_area, revolved_volume
+from geometry import load_design as _load_design
 
 ROOT = Path(__file__).resolve().parent
 DEFAULT_DESIGN = ROOT / "designs" / "table1.toml"
@@ -279,6 +280,11 @@ def fidelity_for(name: str, solver: str | None = None) -> Fidelity:
     if solver not in ("axisym", "3d"):
         raise UsageError(f"unknown solver {solver!r}; choose axisym or 3d")
     return Fidelity(f.name, solver, f.order, f.elements_through_web, f.mesh_order)
+
+
+def load_design(path: str | Path | None = None) -> WheelDesign:
+    """A wheel design from TOML; None gives the default, ``designs/table1.toml``."""
+    return _load_design(DEFAULT_DESIGN if path is None else path)
 
 
 # --------------------------------------------------------------------------------------
