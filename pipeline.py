@@ -1020,6 +1020,18 @@ def cmd_calibrate(args) -> int:
     return 0
 
 
+def cmd_converge(args) -> int:
+    design = _design_from_args(args)
+    check_writable_out(args.out)
+    progress = Progress(args.quiet)
+    import convergence
+
+    with output_folder(args.out) as tmp:
+        rows = convergence.run_convergence(design, tmp, quick=args.quick, progress=progress.say)
+    print(f"{len(rows)} rungs -> {args.out}/convergence.csv (and plots)")
+    return 0
+
+
 def cmd_cache(args) -> int:
     cache = StageCache(args.cache_dir)
     if args.action == "clear":
@@ -1158,6 +1170,13 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--quiet", action="store_true")
     p.set_defaults(func=cmd_calibrate)
 
+    p = sub.add_parser("converge", help="speed/accuracy study: mesh ladders, solvers, integrator")
+    p.add_argument("--design", type=Path, help="wheel design TOML (default designs/table1.toml)")
+    p.add_argument("--out", type=Path, required=True, help="output folder")
+    p.add_argument("--quick", action="store_true", help="only the cheapest rungs")
+    p.add_argument("--quiet", action="store_true")
+    p.set_defaults(func=cmd_converge)
+
     p = sub.add_parser("cache", help="inspect or clear the stage cache")
     p.add_argument("action", choices=["clear", "info"])
     p.add_argument("--cache-dir", type=Path, default=DEFAULT_CACHE)
@@ -1165,24 +1184,44 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
+def _one_line_warning(message, category, filename, lineno, file=None, line=None) -> None:
+    print(f"warning: {str(message).splitlines()[0]}", file=sys.stderr)
+
+
 def main(argv: Sequence[str] | None = None) -> int:
+    """Run the command line; returns the exit status (0 ok, 1 computation failed,
+    2 bad request)."""
+    import warnings
+
+    from fem.eigen import EigenError
+    from geometry.mesh import MeshError
+
     args = build_parser().parse_args(argv)
     if not os.environ.get("DISPLAY"):
         # Without an X server VTK tries X first and warns before falling back to EGL;
         # go straight to EGL (off-screen) so the terminal stays clean.
         os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkEGLRenderWindow")
-    try:
-        return args.func(args)
-    except (UsageError, DesignError) as exc:
-        print(f"error: {exc}", file=sys.stderr)
-        return 2
-    except (ValueError, LookupError) as exc:
-        # Input the library rejected (e.g. an operating point outside the model's range).
-        print(f"error: {exc}", file=sys.stderr)
-        return 2
-    except KeyboardInterrupt:
-        print("interrupted", file=sys.stderr)
-        return 130
+    with warnings.catch_warnings():
+        warnings.showwarning = _one_line_warning
+        try:
+            return args.func(args)
+        except (UsageError, DesignError, ValueError, LookupError) as exc:
+            # a bad request, or input the library rejected (e.g. a zero rolling speed)
+            print(f"error: {exc}", file=sys.stderr)
+            return 2
+        except (MeshError, EigenError) as exc:
+            print(f"error: {exc}", file=sys.stderr)
+            return 1
+        except RuntimeError as exc:
+            from reduced import IntegrationError
+
+            if isinstance(exc, IntegrationError):
+                print(f"error: {exc}", file=sys.stderr)
+                return 1
+            raise
+        except KeyboardInterrupt:
+            print("interrupted", file=sys.stderr)
+            return 130
 
 
 if __name__ == "__main__":
