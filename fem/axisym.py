@@ -58,7 +58,24 @@ Labels (documented rules):
 - ``contact_axial``: ``V`` at the contact point (r, z) = (rolling_radius, 0) of the
   mass-normalised cos member (evaluated by interpolation, no node needed there), and
   0.0 for the sin member (it has a nodal diameter through the contact angle):
-  ``(V, 0.0)`` for n >= 1, ``(V,)`` for n = 0.
+  ``(V, 0.0)`` for n >= 1, ``(V,)`` for n = 0. The contact is a node (``V`` reported
+  as exactly 0.0, modal mass ``inf``) when (a) the wheel is mirror-symmetric about
+  z = 0 (``web_offset == 0``) and the mode is in-plane by parity (more than half of
+  its r-weighted nodal squared amplitude has U, W even and V odd in z; an
+  unstructured mesh is not symmetric and otherwise leaves a spurious V of up to 1e-2
+  of the peak at z = 0), or (b) ``|V| <= fem.modes.CONTACT_NODE_RTOL`` (1e-6) times
+  the largest DOF magnitude of the mode. A dished wheel's in-plane modes keep their
+  genuine axial coupling (1e-2 of the peak and more at a 4 mm offset).
+
+Warnings (``fem.modes``; the modes are still returned):
+- ``LockingWarning``: P1 with nu > ``LOCKING_NU`` (volumetric locking) or with fewer
+  than ``P1_ELEMENTS_THROUGH_WEB`` elements through the web (bending);
+- ``ResolutionWarning``: P2 with an element size above the web thickness, or a band
+  whose shortest wavelength (:func:`shortest_wavelength` at ``fmax_hz``, or at the
+  highest mode found when only ``k`` is given) spans fewer than
+  ``RESOLUTION_ELEMENTS[order]`` elements;
+- ``EmptyBandWarning``: nothing at or below ``fmax_hz``; the ModeSet is empty and the
+  message gives the lowest natural frequency (``select_mode`` on it raises LookupError).
 
 Shapes for visualisation are expanded onto a revolved mesh made of the profile's corner
 nodes rotated to ``n_theta`` angles (meshio "wedge" cells), in Cartesian (x, y, z); the
@@ -70,6 +87,7 @@ from __future__ import annotations
 import functools
 import math
 import time
+import warnings
 from dataclasses import dataclass
 from typing import Any
 
@@ -89,7 +107,14 @@ from geometry.design import WheelDesign, tread_radius
 
 from . import eigen as _eigen
 from .eigen import solve_eigen
-from .modes import Mode, ModeSet
+from .modes import (
+    EmptyBandWarning,
+    LockingWarning,
+    Mode,
+    ModeSet,
+    ResolutionWarning,
+    clean_contact,
+)
 
 #: a mode with f < RIGID_TOL * c_s / (2 pi R1) is a rigid-body mode (free-free only)
 RIGID_TOL = 1e-3
@@ -104,6 +129,33 @@ N_MAX_DEFAULT = 60
 #: mode <= 5 kHz within 0.15 % (1 per web: 0.47 %, 3 per web: 0.07 %), 9.6k DOFs
 #: summed over the harmonics, about 0.1-0.4 s (benchmarks/bench_axisym.py).
 DEFAULT_ELEMENTS_THROUGH_WEB = 2
+
+# -- fidelity checks (warnings, see fem.modes.FidelityWarning) --------------------------
+#: Elements of size h per shortest wavelength at fmax_hz needed for about 1 % frequency
+#: error, by element order. The shortest wavelength is ``shortest_wavelength``: the
+#: smaller of the web's Kirchhoff bending wavelength and the shear wavelength (the true
+#: bending wavelength of a thick plate tends to the shear/Rayleigh one at high
+#: frequency, where Kirchhoff's keeps shrinking, so the minimum of the two is a simple
+#: lower bound of what the mesh must resolve in the (r, z) plane; the circumferential
+#: direction is exact, a Fourier harmonic). Measured on the Table 1 wheel against a
+#: 6-per-web reference, P2 with h = web thickness (the ``fast`` preset): every mode
+#: within 0.45 % up to 5 kHz (lambda / h = 11), 0.64 % up to 10 kHz (7.7), 1.2 % up to
+#: 15 kHz (6.3), 1.8 % up to 20 kHz (5.5), 2.2 % up to 30 kHz (4.5): 1 % at about
+#: lambda = 6 h. That is twice the 1-D estimate for P2 with consistent mass (error
+#: (kh)^4 / 1440 = 1 % at lambda = 3.2 h; bending and the through-thickness field cost
+#: the factor 2); for P1 the 1-D estimate (error (kh)^2 / 24 = 1 % at lambda = 12.8 h)
+#: times the same factor 2 gives 24 (P1 warns for locking anyway).
+RESOLUTION_ELEMENTS: dict[int, float] = {1: 24.0, 2: 6.0}
+#: P1 with fewer elements than this through the web: shear locking in bending, frequency
+#: errors above 1 % (Table 1, nu = 0.28: +3.1 % with 4 per web, +0.8 % with 8).
+P1_ELEMENTS_THROUGH_WEB = 8
+#: Poisson's ratio above which P1 locks volumetrically (Table 1, 8 P1 per web: max error
+#: +0.8 % at nu = 0.28, +1.8 % at 0.45, +6.9 % at 0.49, +47 % at 0.499; P2 with 1 per web
+#: stays within 2.3 % up to nu = 0.499).
+LOCKING_NU = 0.45
+#: A design with |web_offset| below this fraction of the rolling radius is mirror
+#: symmetric about z = 0: its modes are even (in-plane) or odd (out-of-plane) in z.
+SYMMETRY_RTOL = 1e-12
 
 
 # ------------------------------------------------------------------------------------
@@ -445,6 +497,109 @@ def _expand(UVW: np.ndarray, n: int, theta: np.ndarray, member: str, torsion: bo
 
 
 # ------------------------------------------------------------------------------------
+# fidelity checks
+# ------------------------------------------------------------------------------------
+def shortest_wavelength(design: WheelDesign, f_hz: float) -> float:
+    """The shortest wavelength [m] the (r, z) mesh must resolve at ``f_hz``: the smaller
+    of the Kirchhoff bending wavelength of the web plate,
+    ``2 pi (D / (rho t))^(1/4) / sqrt(omega)`` with ``D = E t^3 / 12 (1 - nu^2)``, and
+    the shear wavelength ``c_s / f``."""
+    t, E, nu, rho = design.web_thickness, design.youngs_modulus, design.poissons_ratio, design.density
+    omega = 2 * math.pi * f_hz
+    D = E * t**3 / (12 * (1 - nu * nu))
+    bending = 2 * math.pi * (D / (rho * t)) ** 0.25 / math.sqrt(omega)
+    shear = math.sqrt(design.shear_modulus / rho) / f_hz
+    return min(bending, shear)
+
+
+def mesh_element_size(mesh: Any) -> float:
+    """Characteristic element size h [m] of a profile mesh: ``size`` of a gmsh
+    ``ProfileMesh``; for a scikit-fem mesh the median over the elements of the longest
+    corner-to-corner edge (on gmsh meshes that is 0.94-0.98 x ``size``)."""
+    size = getattr(mesh, "size", None)
+    if not isinstance(mesh, fe.Mesh) and isinstance(size, (int, float)) and size > 0:
+        return float(size)
+    m = to_skfem_mesh(mesh)
+    p, t = np.asarray(m.p), np.asarray(m.t[:3])
+    edges = np.stack([np.linalg.norm(p[:, t[i]] - p[:, t[(i + 1) % 3]], axis=0) for i in range(3)])
+    return float(np.median(edges.max(axis=0)))
+
+
+def _fidelity_warnings(design: WheelDesign, h: float, order: int, f_top: float | None,
+                       before: bool) -> None:
+    """Warn (FidelityWarning subclasses) when the discretisation cannot give ~1 %.
+    ``before``: the checks that do not need the solution (mesh, order, material);
+    otherwise only the wavelength check at ``f_top``."""
+    t = design.web_thickness
+    per_web = t / h
+    if before:
+        if order == 1 and design.poissons_ratio > LOCKING_NU:
+            warnings.warn(
+                f"nu = {design.poissons_ratio:g} > {LOCKING_NU:g} with linear (P1) elements: "
+                "volumetric locking makes the frequencies too high (Table 1: +7 % at "
+                "nu = 0.49, +47 % at 0.499); use order=2",
+                LockingWarning, stacklevel=4)
+        if order == 1 and per_web < P1_ELEMENTS_THROUGH_WEB * (1 - 1e-9):
+            warnings.warn(
+                f"linear (P1) elements with {per_web:.3g} elements through the "
+                f"{t * 1e3:.3g} mm web lock in bending: frequencies too high by more than "
+                f"1 % (Table 1: +3 % with 4, +0.8 % with {P1_ELEMENTS_THROUGH_WEB}); use order=2",
+                LockingWarning, stacklevel=4)
+        elif order == 2 and h > t * (1 + 1e-9):
+            warnings.warn(
+                f"mesh size {h * 1e3:.3g} mm exceeds the web thickness {t * 1e3:.3g} mm "
+                "(fewer than one element through the web): frequency errors of several % "
+                "(Table 1: 1.4 % at twice the thickness, 6 % at 8 times); use "
+                "elements_through_web >= 1",
+                ResolutionWarning, stacklevel=4)
+    if f_top is not None and f_top > 0:
+        lam = shortest_wavelength(design, f_top)
+        need = RESOLUTION_ELEMENTS[order]
+        if lam < need * h:
+            warnings.warn(
+                f"the mesh (element size {h * 1e3:.3g} mm, P{order}) does not resolve "
+                f"{f_top:.4g} Hz: the shortest wavelength there ({lam * 1e3:.3g} mm, web "
+                f"bending or shear) spans {lam / h:.2g} elements, fewer than {need:g} "
+                f"(about 1 % frequency error); refine the mesh to size <= "
+                f"{lam / need * 1e3:.3g} mm or lower fmax_hz",
+                ResolutionWarning, stacklevel=4)
+
+
+def _in_plane_parity(x_nodes: np.ndarray, x_mirror: np.ndarray, r: np.ndarray) -> float:
+    """Fraction of the mode's (r-weighted, nodal) squared amplitude that is even in z for
+    U and W and odd for V: 1 for an in-plane mode of a mirror-symmetric wheel (V = 0 on
+    the plane z = 0), 0 for an out-of-plane one. ``x_nodes`` / ``x_mirror``: (3, Np)
+    values (U, V, W) at the nodes (r, z) and at their mirror images (r, -z)."""
+    even = 0.5 * (x_nodes + x_mirror)
+    odd = 0.5 * (x_nodes - x_mirror)
+    sq_in = r @ (even[0] ** 2 + odd[1] ** 2 + even[2] ** 2)
+    sq_out = r @ (odd[0] ** 2 + even[1] ** 2 + odd[2] ** 2)
+    total = sq_in + sq_out
+    return float(sq_in / total) if total > 0 else 0.0
+
+
+def _lowest_frequency(model: "HarmonicModel", boundary: str, sigma: float, f_rigid: float,
+                      factorization: str, n_last: int) -> float:
+    """The lowest natural frequency [Hz] over the harmonics 0..n_last (for messages)."""
+    comp = model.comp
+    best = math.inf
+    for n in range(n_last + 1):
+        if n == 0:
+            sets = [model.free[comp[model.free] != 2], model.free[comp[model.free] == 2]]
+        else:
+            sets = [model.free]
+        for dofs in sets:
+            K, M = model.matrices(n, dofs)
+            res = solve_eigen(K, M, k=min(4, K.shape[0] - 2), sigma=sigma,
+                              factorization=factorization)
+            f = res.frequencies_hz
+            f = f[f >= f_rigid] if boundary == "free" else f
+            if f.size:
+                best = min(best, float(f.min()))
+    return best
+
+
+# ------------------------------------------------------------------------------------
 # the solver
 # ------------------------------------------------------------------------------------
 def small_problem_factorization() -> str:
@@ -568,8 +723,10 @@ def _solve_axisymmetric(design, mesh, *, order, size, elements_through_web, fmax
         elif size is None:
             kwargs["elements_through_web"] = DEFAULT_ELEMENTS_THROUGH_WEB
         mesh = mesh_profile(design, **kwargs)
+    h = mesh_element_size(mesh)
     skm = to_skfem_mesh(mesh, curved=curved)
     t_mesh = time.perf_counter()
+    _fidelity_warnings(design, h, order, fmax_hz, before=True)
 
     model = assemble_harmonic(design, skm, order=order, boundary=boundary, intorder=intorder)
     basis = model.basis
@@ -581,6 +738,15 @@ def _solve_axisymmetric(design, mesh, *, order, size, elements_through_web, fmax
     rl = np.linspace(rmin, r_end, CIRCLE_SAMPLES)
     P_contact = probe_matrix(basis, np.array([[R1], [0.0]]))  # rows: U, V, W
     P_line = probe_matrix(basis, np.vstack([rl, np.full_like(rl, zc)]))
+    pts_rz, tris = _corner_mesh(skm)
+    nv = skm.nvertices
+    nodal = basis.nodal_dofs[:, :nv]  # (3, Nv) DOF indices at the corner nodes
+    # a mirror-symmetric wheel: the in-plane modes have V = 0 exactly on z = 0, so at
+    # the contact point; an unstructured mesh is not symmetric and leaves a spurious
+    # V there (measured up to 1e-2 of the peak on a coarse thick-web mesh): the mode's
+    # parity decides instead (values at the nodes and at their mirror images).
+    symmetric = abs(design.web_offset) <= SYMMETRY_RTOL * R1
+    P_mirror = probe_matrix(basis, np.vstack([pts_rz[:, 0], -pts_rz[:, 1]])) if symmetric else None
     t_asm = time.perf_counter()
 
     G = design.shear_modulus
@@ -633,11 +799,17 @@ def _solve_axisymmetric(design, mesh, *, order, size, elements_through_web, fmax
     raw.sort(key=lambda r: r[0])
     if k is not None:
         raw = raw[:k]
+    if fmax_hz is None and raw:
+        _fidelity_warnings(design, h, order, raw[-1][0], before=False)
+    if not raw and fmax_hz is not None:
+        f_low = _lowest_frequency(model, boundary, sigma, f_rigid, factorization, min(n, cap))
+        warnings.warn(
+            f"no natural frequency at or below fmax_hz = {fmax_hz:g} Hz ({boundary} wheel "
+            f"{design.name!r}): the lowest is {f_low:.4g} Hz; returning an empty ModeSet "
+            "(raise fmax_hz)",
+            EmptyBandWarning, stacklevel=3)
 
-    pts_rz, tris = _corner_mesh(skm)
     points, wedges, theta = revolved_mesh(pts_rz, tris, n_theta)
-    nv = skm.nvertices
-    nodal = basis.nodal_dofs[:, :nv]  # (3, Nv) DOF indices at the corner nodes
     split = [np.nonzero(comp == c)[0] for c in range(3)]
     Mdiag_blocks = [model.M[idx][:, idx] for idx in split]
 
@@ -650,6 +822,11 @@ def _solve_axisymmetric(design, mesh, *, order, size, elements_through_web, fmax
         line = (P_line @ x).reshape(3, -1)[dom]
         circles = count_sign_changes(line, CIRCLE_THRESHOLD)
         v_c = float((P_contact @ x)[1])
+        if symmetric and _in_plane_parity(
+            x[nodal], (P_mirror @ x).reshape(3, -1), pts_rz[:, 0]
+        ) > 0.5:
+            v_c = 0.0  # in-plane mode of a symmetric wheel: the contact is a node
+        v_c = clean_contact(v_c, float(np.abs(x).max()))
         contact = (v_c,) if n == 0 else (v_c, 0.0)
         modes.append(Mode(i, f, n, circles, family, contact))
         UVW = x[nodal].T

@@ -18,6 +18,45 @@ import numpy as np
 FAMILIES = ("axial", "radial", "circumferential")
 
 
+# ------------------------------------------------------------------------------------
+# warnings of the FE solvers (the pipeline prints each on one line)
+# ------------------------------------------------------------------------------------
+class FidelityWarning(UserWarning):
+    """The modes were computed, but the discretisation is known to be too coarse for
+    the accuracy the presets promise (about 1 % on frequencies): the message names the
+    cause and the remedy. Subclasses say which kind."""
+
+
+class LockingWarning(FidelityWarning):
+    """Linear (P1) elements lock: shear locking in bending of the thin web, and
+    volumetric locking for a nearly incompressible material (nu > 0.45). Frequencies
+    come out too high; use quadratic (P2) elements."""
+
+
+class ResolutionWarning(FidelityWarning):
+    """The mesh cannot resolve the requested band or the geometry: fewer than one
+    element through the web, or the shortest wavelength at ``fmax_hz`` spans too few
+    elements."""
+
+
+class EmptyBandWarning(UserWarning):
+    """No natural frequency lies in the requested band: the solver returns an empty
+    ModeSet; the message gives the lowest natural frequency found."""
+
+
+#: A member's axial contact displacement below this fraction of the member's peak
+#: displacement (largest nodal DOF magnitude of the mass-normalised shape) is a node:
+#: reported as 0.0, so the modal mass is ``inf``. Far below any physical coupling
+#: (dished wheels: 1e-2 and more), above the round-off of a symmetric mesh (1e-12).
+CONTACT_NODE_RTOL = 1e-6
+
+
+def clean_contact(value: float, peak: float, rtol: float = CONTACT_NODE_RTOL) -> float:
+    """``value`` (a contact displacement), or 0.0 if ``|value| <= rtol * peak``."""
+    value = float(value)
+    return 0.0 if abs(value) <= rtol * abs(float(peak)) else value
+
+
 @dataclass(frozen=True)
 class Mode:
     """One natural mode (a degenerate pair is one Mode with two members).
@@ -146,7 +185,10 @@ def select_mode(modes: Sequence[Mode], selection: ModeSelection | None = None) -
     """
     sel = selection or ModeSelection()
     if not modes:
-        raise LookupError("no modes to select from")
+        raise LookupError(
+            "no modes to select from: the mode set is empty (no natural frequency in the "
+            "requested band); raise the band's upper frequency (fmax)"
+        )
     if sel.index is not None:
         if not 0 <= sel.index < len(modes):
             raise LookupError(f"mode index {sel.index} out of range 0..{len(modes) - 1}")
@@ -196,7 +238,13 @@ class ModeSet:
 
 
 __all__ = [
+    "CONTACT_NODE_RTOL",
+    "EmptyBandWarning",
     "FAMILIES",
+    "FidelityWarning",
+    "LockingWarning",
+    "ResolutionWarning",
+    "clean_contact",
     "Mode",
     "ModeSelection",
     "ModeSet",
