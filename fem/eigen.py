@@ -29,15 +29,20 @@ class EigenResult:
         return np.sqrt(np.maximum(self.eigenvalues, 0.0)) / (2 * math.pi)
 
 
-#: Preference of ``factorization="auto"``, fastest first (measured, see
-#: ``benchmarks/bench_modes.py``); a package that is not installed is skipped, ``splu``
-#: (SciPy, always present) is the last resort.
-AUTO_ORDER: tuple[str, ...] = ("cholmod", "pardiso", "splu")
+#: Preference of ``factorization="auto"``, first available wins; ``splu`` (SciPy, always
+#: present) is the last resort. Measured on the Table 1 wheel, curved P2, all modes
+#: <= 5 kHz, one BLAS thread, loaded 2-core machine (benchmarks/bench_modes.py):
+#: 41k DOFs: pardiso 4.9 s, cholmod 4.5-4.7 s, splu 8.4 s, SuperLU/COLAMD 9.5 s;
+#: 85k DOFs: pardiso 13.1 s, cholmod 17.1 s, splu 77 s, SuperLU/COLAMD 40 s (plain
+#: eigsh + SuperLU/COLAMD with default threads: 18 s and 64 s). PARDISO and CHOLMOD
+#: are on a par at 41k, PARDISO ahead at 85k and it installs from PyPI wheels alone
+#: (scikit-sparse needs libsuitesparse-dev and a compiler), so it comes first.
+AUTO_ORDER: tuple[str, ...] = ("pardiso", "cholmod", "splu")
 
 #: BLAS/OpenMP threads while factorising and iterating. On these 2-core shared
 #: machines one thread is several times faster than two (measured: CHOLMOD band solve
 #: of the 41k-DOF wheel 3.9 s with one thread, 17 s with the default two; PARDISO 8.9 s
-#: vs 39 s): ARPACK's small BLAS calls, OpenBLAS and MKL/OpenMP threads otherwise spin
+#: vs 39 s; interleaved, same load): ARPACK's small BLAS calls, OpenBLAS and MKL/OpenMP threads otherwise spin
 #: against each other and against other processes. ``None`` leaves the defaults.
 BLAS_THREADS: int | None = 1
 
