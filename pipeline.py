@@ -424,7 +424,8 @@ def compute_modes(design: WheelDesign, fidelity: str | Fidelity = DEFAULT_FIDELI
             from fem.solid import solve_solid
 
             ms = solve_solid(design, mesh, order=fid.order, fmax_hz=fmax_hz)
-    if cache is not None:
+    if cache is not None and ms.modes:
+        # an empty band is not cached, so its warning is shown again on the next request
         cache.store("modes", key, _modeset_to_arrays(ms))
     return ms
 
@@ -437,7 +438,7 @@ def pick_mode(modeset, mode: str = "auto"):
         selection = ModeSelection.parse(str(mode))
         return select_mode(modeset.modes, selection)
     except (ValueError, LookupError) as exc:
-        raise UsageError(str(exc).strip("'\"")) from None
+        raise UsageError(str(exc).strip("'\"").replace("(fmax)", "(--fmax)")) from None
 
 
 # --------------------------------------------------------------------------------------

@@ -1,14 +1,41 @@
-"""Finite-element modal analysis of the wheel (scikit-fem)."""
+"""Finite-element modal analysis of the wheel (scikit-fem).
+
+Solvers: :func:`solve_axisymmetric` (axisymmetric-harmonic, the fast path) and
+:func:`solve_solid` (3-D tetrahedra). Both return a :class:`ModeSet` of :class:`Mode`
+objects with contact-point modal parameters. Rendering (pyvista) is imported on first
+use, so the solvers do not pay for VTK.
+"""
 
 from .axisym import solve_axisymmetric
 from .eigen import available_factorizations, solve_eigen
-from .render import render_mode, render_modes, to_pyvista, write_modes_vtu
+from .modes import (EmptyBandWarning, FidelityWarning, LockingWarning, Mode, ModeSelection,
+                    ModeSet, ResolutionWarning, contact_modal_mass, select_mode)
 from .solid import solve_solid
 
+_RENDER = ("render_mode", "render_modes", "to_pyvista", "write_modes_vtu")
+
+
+def __getattr__(name: str):
+    if name in _RENDER:
+        from . import render
+
+        return getattr(render, name)
+    raise AttributeError(f"module 'fem' has no attribute {name!r}")
+
+
 __all__ = [
+    "EmptyBandWarning",
+    "FidelityWarning",
+    "LockingWarning",
+    "Mode",
+    "ModeSelection",
+    "ModeSet",
+    "ResolutionWarning",
     "available_factorizations",
+    "contact_modal_mass",
     "render_mode",
     "render_modes",
+    "select_mode",
     "solve_axisymmetric",
     "solve_eigen",
     "solve_solid",
