@@ -532,9 +532,7 @@ def cmd_modes(args) -> int:
     selected, why = pick_mode(ms, args.mode)
     summary = modes_summary(design, ms, selected, fid)
     with output_folder(args.out) as tmp:
-        from fem.render import write_modes_vtu
-
-        write_modes_vtu(ms, tmp / "modes.vtu")
+        write_mode_views(tmp, design, fid, args.fmax, ms, [], cache)
         write_json(tmp / "summary.json", summary)
     print(_modes_table(ms.modes, design.modal_damping_ratio, selected))
     print(f"selected: mode {selected.index} ({why}), {selected.frequency_hz:.1f} Hz, "
@@ -722,17 +720,14 @@ def cmd_run(args) -> int:
     design, dof, (ms, mode, msum) = _mode_source(args, progress, cache)
     with progress.stage("squeal model"):
         sim = simulate(dof, contact, op, args.duration)
+    indices = [mode.index] if args.render == "selected" else (
+        [] if args.render == "none" else list(range(len(ms.modes))))
+    fid = fidelity_for(args.fidelity, args.solver)
     with output_folder(out) as tmp:
         with progress.stage("report"):
             _simulate_outputs(tmp, sim)
-            from fem.render import render_mode, mode_file_stem, write_modes_vtu
-
-            write_modes_vtu(ms, tmp / "modes.vtu")
-        with progress.stage("render"):
-            indices = [mode.index] if args.render == "selected" else (
-                [] if args.render == "none" else range(len(ms.modes)))
-            for i in indices:
-                render_mode(ms, i, tmp / f"{mode_file_stem(ms, i)}.png")
+        with progress.stage("mode views"):
+            write_mode_views(tmp, design, fid, args.fmax, ms, indices, cache)
         summary = {**msum, **sim.summary(), "modal_parameters": _dof_dict(dof),
                    "timings_s": {**progress.timings, "total": time.perf_counter() - t0},
                    "cache": {"hits": cache.hits, "misses": cache.misses}}
@@ -743,6 +738,38 @@ def cmd_run(args) -> int:
     print(f"files: {out}/ (summary.json, timeseries.csv, *.png, modes.vtu)  "
           f"[{time.perf_counter() - t0:.1f} s]")
     return 0
+
+
+def write_mode_views(directory: Path, design: WheelDesign, fid: Fidelity, fmax_hz: float, modeset,
+                     indices: Sequence[int], cache: StageCache | None) -> list[Path]:
+    """Write ``modes.vtu`` and a PNG per mode index into ``directory``.
+
+    They depend on the modes only, so they are cached beside them: a run that changes
+    the operating point copies them instead of starting VTK.
+    """
+    key = {**_modes_key(design, fid, fmax_hz), "stage": "views", "indices": list(indices)}
+    files: dict[str, bytes] = {}
+    if cache is not None:
+        try:
+            files = {name: arr.tobytes() for name, arr in cache.load("views", key).items()}
+        except CacheMiss:
+            pass
+    if not files:
+        from fem.render import mode_file_stem, render_mode, write_modes_vtu
+
+        with tempfile.TemporaryDirectory() as scratch:
+            scratch = Path(scratch)
+            write_modes_vtu(modeset, scratch / "modes.vtu")
+            for i in indices:
+                render_mode(modeset, i, scratch / f"{mode_file_stem(modeset, i)}.png")
+            files = {f.name: f.read_bytes() for f in scratch.iterdir()}
+        if cache is not None:
+            cache.store("views", key, {k: np.frombuffer(v, np.uint8) for k, v in files.items()})
+    paths = []
+    for name, data in files.items():
+        (directory / name).write_bytes(data)
+        paths.append(directory / name)
+    return paths
 
 
 def cmd_render(args) -> int:

@@ -227,6 +227,20 @@ def test_run_default_writes_the_full_report(tmp_path):
     assert (out / "modes.vtu").exists() and (out / "timeseries.csv").exists()
     assert list(out.glob("mode_*_n3_c0_axial.png"))
     assert "SQUEAL" in r.stdout and str(out) in r.stdout
+    assert s["cache"]["hits"] == []
+
+    # only the crabbing velocity changes: mesh, modes and mode views come from the cache
+    out2 = tmp_path / "run2"
+    r = cli("run", "--crab-velocity", "0.3", "--out", str(out2), "--quiet",
+            "--cache-dir", str(tmp_path / "cache"))
+    assert r.returncode == 0, r.stderr
+    s2 = json.loads((out2 / "summary.json").read_text())
+    assert s2["cache"] == {"hits": ["modes", "views"], "misses": []}
+    assert s2["modes"] == s["modes"] and s2["selected_mode"] == s["selected_mode"]
+    assert s2["operating_point"]["crabbing_velocity_m_s"] == 0.3
+    assert s2["limit_cycle"]["velocity_amplitude_m_s"] < s["limit_cycle"]["velocity_amplitude_m_s"]
+    for f in out.glob("mode_*.png"):
+        assert (out2 / f.name).read_bytes() == f.read_bytes()
 
 
 def test_compare_shows_geometry_moves_the_squeal_prediction(tmp_path):
