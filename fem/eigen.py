@@ -23,6 +23,16 @@ class EigenError(RuntimeError):
 class EigenResult:
     eigenvalues: np.ndarray  # omega^2 [rad^2/s^2], ascending
     vectors: np.ndarray  # (n_dofs, n_modes), M-orthonormal
+    #: every eigenvalue computed, in the band or not (ascending): names the lowest
+    #: natural frequency when the band is empty
+    computed: np.ndarray | None = None
+
+    def lowest_hz(self, skip: int = 0) -> float | None:
+        """Lowest computed frequency [Hz] after skipping ``skip`` (e.g. rigid) ones."""
+        lam = self.eigenvalues if self.computed is None else self.computed
+        if lam.size <= skip:
+            return None
+        return float(np.sqrt(max(lam[skip], 0.0)) / (2 * math.pi))
 
     @property
     def frequencies_hz(self) -> np.ndarray:
@@ -38,6 +48,11 @@ class EigenResult:
 #: are on a par at 41k, PARDISO ahead at 85k and it installs from PyPI wheels alone
 #: (scikit-sparse needs libsuitesparse-dev and a compiler), so it comes first.
 AUTO_ORDER: tuple[str, ...] = ("pardiso", "cholmod", "splu")
+#: Without pypardiso (the ``fast3d`` extra) and scikit-sparse, ``auto`` uses SciPy's
+#: SuperLU; with a definite matrix (shift below the spectrum) in symmetric mode
+#: (MMD on A^T + A, diagonal pivots: no row interchanges, so the symmetric ordering
+#: is kept). See :func:`auto_factorization` for the measurements.
+SCIPY_AUTO_DEFINITE = "superlu-sym"
 
 #: BLAS/OpenMP threads while factorising and iterating. On these 2-core shared
 #: machines one thread is several times faster than two (measured: CHOLMOD band solve
@@ -46,7 +61,7 @@ AUTO_ORDER: tuple[str, ...] = ("pardiso", "cholmod", "splu")
 #: against each other and against other processes. ``None`` leaves the defaults.
 BLAS_THREADS: int | None = 1
 
-FACTORIZATIONS: tuple[str, ...] = ("auto", "pardiso", "cholmod", "splu", "superlu-colamd")
+FACTORIZATIONS: tuple[str, ...] = ("auto", "pardiso", "cholmod", "splu", "superlu-sym", "superlu-colamd")
 
 
 def available_factorizations() -> list[str]:
@@ -58,7 +73,35 @@ def available_factorizations() -> list[str]:
         except ImportError:
             continue
         out.append(name)
-    return out + ["splu", "superlu-colamd"]
+    return out + ["splu", "superlu-sym", "superlu-colamd"]
+
+
+def auto_factorization(n: int, definite: bool) -> str:
+    """The factorisation ``"auto"`` uses for an ``n``-DOF matrix.
+
+    The first installed of :data:`AUTO_ORDER` (CHOLMOD only for a definite matrix),
+    else SciPy's SuperLU: ``"superlu-sym"`` for a definite matrix, ``"splu"``
+    otherwise. Measured on the Table 1 wheel's 3-D P2 stiffness, one BLAS thread,
+    factorisation / one solve, best of 2 (benchmarks/bench_modes.py interleaves them):
+    41k DOFs: superlu-sym 1.7 s / 26 ms (fill 2.1e7), splu (MMD_AT_PLUS_A) 2.4 s /
+    32 ms (2.1e7), superlu-colamd 5.0 s / 44 ms (4.3e7); 85k DOFs: superlu-sym
+    10.0 s / 79 ms (5.7e7), splu 50.8 s / 141 ms (5.7e7: same fill, but SuperLU's
+    off-diagonal pivoting makes it slow, hence the earlier "MMD 2x slower than COLAMD"),
+    superlu-colamd 24.6 s / 140 ms (1.3e8). The 2-D harmonic problems of
+    :mod:`fem.axisym` pick their own (``small_problem_factorization``) and never see
+    this choice. ``n`` is accepted for a size-dependent rule (none is needed so far).
+    """
+    for name in AUTO_ORDER:
+        if name == "splu":
+            break
+        if name == "cholmod" and not definite:
+            continue  # LL^T needs a definite matrix; no pivoting LDL^T here
+        try:
+            _import_backend(name)
+        except (ImportError, OSError):
+            continue
+        return name
+    return SCIPY_AUTO_DEFINITE if definite else "splu"
 
 
 def _import_backend(name: str):
@@ -110,22 +153,19 @@ def _factorize(A: sp.spmatrix, factorization: str, definite: bool = False):
     spectrum), which lets PARDISO and CHOLMOD use a Cholesky factorisation.
     """
     if factorization == "auto":
-        for name in AUTO_ORDER:
-            if name == "splu":
-                break
-            if name == "cholmod" and not definite:
-                continue  # LL^T needs a definite matrix; no pivoting LDL^T here
-            try:
-                _import_backend(name)
-            except (ImportError, OSError):
-                continue
-            try:
-                return _factorize(A, name, definite)
-            except Exception:  # e.g. not positive definite after all: fall back
-                continue
-        return _factorize(A, "splu", definite)
+        name = auto_factorization(A.shape[0], definite)
+        try:
+            return _factorize(A, name, definite)
+        except Exception:  # e.g. not positive definite after all: fall back
+            return _factorize(A, "splu", definite)
     if factorization == "splu":
         lu = spla.splu(A.tocsc(), permc_spec="MMD_AT_PLUS_A")
+        return lu.solve
+    if factorization == "superlu-sym":
+        # symmetric mode: MMD on A^T + A and diagonal pivots (threshold 0), stable for
+        # a definite matrix; for an indefinite one SuperLU still pivots where needed.
+        lu = spla.splu(A.tocsc(), permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0,
+                       options={"SymmetricMode": True})
         return lu.solve
     if factorization == "superlu-colamd":
         lu = spla.splu(A.tocsc())
@@ -196,6 +236,7 @@ def _solve_eigen(K, M, k, fmax_hz, sigma, factorization, tol, guess) -> EigenRes
         if lam_max is None or vals[-1] > lam_max or nev >= n - 2 or (k and nev >= k):
             break
         want = int(want * 1.8) + 4
+    computed = vals.copy()
     if lam_max is not None:
         keep = vals <= lam_max
         vals, vecs = vals[keep], vecs[:, keep]
@@ -205,7 +246,7 @@ def _solve_eigen(K, M, k, fmax_hz, sigma, factorization, tol, guess) -> EigenRes
     # fix the sign convention so results are repeatable: largest entry positive
     idx = np.argmax(np.abs(vecs), axis=0)
     vecs = vecs * np.sign(vecs[idx, np.arange(vecs.shape[1])])
-    return EigenResult(eigenvalues=vals, vectors=vecs)
+    return EigenResult(eigenvalues=vals, vectors=vecs, computed=computed)
 
 
-__all__ = ["AUTO_ORDER", "FACTORIZATIONS", "EigenError", "EigenResult", "available_factorizations", "solve_eigen"]
+__all__ = ["AUTO_ORDER", "FACTORIZATIONS", "SCIPY_AUTO_DEFINITE", "auto_factorization", "EigenError", "EigenResult", "available_factorizations", "solve_eigen"]
