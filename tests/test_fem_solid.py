@@ -251,3 +251,16 @@ def test_against_axisymmetric(p2):
         assert -5e-3 < rel < 1.5e-2, (m3.label(), m3.frequency_hz, fa[key(m3)])
     a30, s30 = find(ax.modes, 3, 0), find(ms3.modes, 3, 0)
     assert s30.modal_mass == pytest.approx(a30.modal_mass, rel=1e-2)
+
+
+@pytest.mark.parametrize("order", [1, 2])
+def test_fast_assembly_equals_skfem(order):
+    """The vectorised assembly (fem.solid._assemble_elasticity) gives scikit-fem's
+    linear_elasticity and rho u.v matrices (curved P2 and straight P1), to 1e-10."""
+    mesh = mesh_wheel(TABLE1, size=0.03, order=order)
+    fast = assemble(TABLE1, mesh.points, mesh.tetra, order=order)
+    ref = assemble(TABLE1, mesh.points, mesh.tetra, order=order, fast=False)
+    for a, b in ((fast.K, ref.K), (fast.M, ref.M)):
+        assert a.shape == b.shape
+        assert abs(a - b).max() <= 1e-10 * abs(b).max()
+    np.testing.assert_array_equal(fast.fixed, ref.fixed)
