@@ -1,0 +1,319 @@
+"""The benchmark suite in one command: one table, medians of several runs, ratios
+against baselines measured in the same run.
+
+    .venv/bin/python benchmarks/run_all.py [--quick] [--design FILE] [--output FILE]
+
+Rows (Table 1 wheel unless ``--design``):
+
+* meshing: the 2-D profile (balanced preset's mesh) and the 3-D wheel (curved
+  second-order mesh, 1 element across the web, the one the 3-D P2 rows use);
+* modes: the axisymmetric solver through ``pipeline.compute_modes`` for the fast,
+  balanced and accurate presets (no cache: mesh + modes), and the 3-D P2 eigen-solve
+  (all modes <= 5 kHz) on one assembled mesh: plain ``scipy.sparse.linalg.eigsh(K, k,
+  M, sigma=0)`` (SuperLU with SciPy's default COLAMD ordering, default threads) as the
+  baseline vs ``fem.eigen.solve_eigen(factorization="auto")``, the chosen path; plus
+  the whole ``solve_solid`` on that mesh;
+* one simulation (Fig. 6 operating point, balanced preset's mode): the production
+  ``pipeline.simulate`` (numba RK4, duration extended while growing) and RK4 over the
+  same final duration, vs ``solve_ivp`` (DOP853, rtol 1e-8) over that duration;
+* one sweep (50 crabbing velocities x 3 speeds, 0.6 s each): ``pipeline.sweep``
+  (numba, parallel) vs the 150 cases run one after another with ``reduced.simulate``
+  + ``limit_cycle`` (RK4, one core); the first call (compile/cache load) is reported
+  apart;
+* the full ``pipeline.py run`` as a subprocess: cold (a fresh empty cache folder each
+  time) and warm (cache filled by a previous run).
+
+Each figure is the median of ``n`` runs (the column ``n``); slow baselines run fewer
+times. ``--quick`` runs everything once or twice (a smoke test of the suite, not
+figures to quote).
+"""
+
+from __future__ import annotations
+
+import argparse
+import datetime as _dt
+import math
+import os
+import platform
+import shutil
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+from typing import Any, Callable
+
+ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT))
+
+import numpy as np  # noqa: E402
+
+import pipeline  # noqa: E402
+
+
+# --------------------------------------------------------------------------------------
+# machine and timing helpers
+# --------------------------------------------------------------------------------------
+def machine_info() -> dict:
+    cpu = "unknown"
+    try:
+        for line in Path("/proc/cpuinfo").read_text().splitlines():
+            if line.startswith("model name"):
+                cpu = line.split(":", 1)[1].strip()
+                break
+    except OSError:
+        pass
+    mem_gb = float("nan")
+    try:
+        for line in Path("/proc/meminfo").read_text().splitlines():
+            if line.startswith("MemTotal"):
+                mem_gb = int(line.split()[1]) / 1024**2
+                break
+    except OSError:
+        pass
+    try:
+        affinity = len(os.sched_getaffinity(0))
+    except AttributeError:  # pragma: no cover
+        affinity = os.cpu_count()
+    try:
+        commit = subprocess.run(["git", "rev-parse", "--short", "HEAD"], cwd=ROOT, capture_output=True,
+                                text=True, timeout=10).stdout.strip() or "unknown"
+    except (OSError, subprocess.SubprocessError):
+        commit = "unknown"
+    import scipy
+
+    return {
+        "date": _dt.datetime.now().astimezone().strftime("%Y-%m-%d %H:%M %Z"),
+        "nproc": affinity, "cpu": cpu, "memory_gb": mem_gb,
+        "loadavg": os.getloadavg() if hasattr(os, "getloadavg") else (float("nan"),) * 3,
+        "python": platform.python_version(), "numpy": np.__version__, "scipy": scipy.__version__,
+        "commit": commit,
+    }
+
+
+def timed(fn: Callable[[], Any], n: int) -> tuple[float, Any, list[float]]:
+    """Median wall time of ``n`` calls, the last result and all times."""
+    times, out = [], None
+    for _ in range(max(1, n)):
+        t = time.perf_counter()
+        out = fn()
+        times.append(time.perf_counter() - t)
+    return statistics.median(times), out, times
+
+
+class Table:
+    def __init__(self) -> None:
+        self.rows: list[tuple] = []
+
+    def add(self, section: str, what: str, n: int, seconds: float, baseline: str = "",
+            baseline_s: float | None = None, baseline_n: int | None = None, note: str = "") -> None:
+        self.rows.append((section, what, n, seconds, baseline, baseline_s, baseline_n, note))
+        ratio = f", {baseline_s / seconds:.1f}x faster than {baseline}" if baseline_s else ""
+        print(f"  {section}: {what}: {_fmt_s(seconds)} (median of {n}){ratio}", file=sys.stderr,
+              flush=True)
+
+    def render(self) -> str:
+        head = (f"{'section':<10} {'benchmark':<46} {'n':>2} {'median':>9} "
+                f"{'baseline (same run)':<34} {'n':>2} {'median':>9} {'ratio':>7}  notes")
+        lines = [head, "-" * len(head)]
+        for sec, what, n, s, base, bs, bn, note in self.rows:
+            ratio = f"{bs / s:6.1f}x" if bs else ""
+            lines.append(f"{sec:<10} {what:<46} {n:>2} {_fmt_s(s):>9} {base:<34} "
+                         f"{bn if bn else '':>2} {_fmt_s(bs) if bs else '':>9} {ratio:>7}  {note}")
+        lines.append("ratio = baseline median / median (how many times faster than the baseline)")
+        return "\n".join(lines)
+
+
+def _fmt_s(s: float | None) -> str:
+    if s is None or not math.isfinite(s):
+        return "-"
+    if s < 0.1:
+        return f"{s * 1e3:.1f} ms"
+    return f"{s:.2f} s"
+
+
+# --------------------------------------------------------------------------------------
+# the benchmarks
+# --------------------------------------------------------------------------------------
+def bench_mesh(design, table: Table, quick: bool) -> None:
+    from geometry.mesh import mesh_profile, mesh_wheel
+
+    bal = pipeline.FIDELITIES["balanced"]
+    s, m, _ = timed(lambda: mesh_profile(design, elements_through_web=bal.elements_through_web,
+                                         order=bal.mesh_order), 3 if quick else 5)
+    table.add("mesh", f"2-D profile ({bal.elements_through_web}/web, order {bal.mesh_order})",
+              3 if quick else 5, s, note=f"{m.n_nodes} nodes, {m.n_elements} triangles")
+    n = 1 if quick else 3
+    s, m, _ = timed(lambda: mesh_wheel(design, elements_through_web=1, order=2), n)
+    table.add("mesh", "3-D wheel (1/web, order 2, curved tetra10)", n, s,
+              note=f"{m.n_nodes} nodes, {m.n_elements} tetrahedra")
+
+
+def bench_modes(design, table: Table, quick: bool) -> tuple:
+    n = 3 if quick else 5
+    results = {}
+    for name in ("fast", "balanced", "accurate"):
+        s, ms, _ = timed(lambda: pipeline.compute_modes(design, name), n)
+        mode, _ = pipeline.pick_mode(ms)
+        results[name] = (s, ms, mode)
+        fid = pipeline.FIDELITIES[name]
+        table.add("modes", f"{fid.solver} P{fid.order} {name} ({fid.elements_through_web}/web), mesh+modes",
+                  n, s, note=f"{ms.dofs} DOFs, {len(ms.modes)} modes <= 5 kHz, "
+                             f"(3,0) {mode.frequency_hz:.2f} Hz")
+
+    import scipy.sparse.linalg as spla
+
+    from fem.eigen import AUTO_ORDER, available_factorizations, solve_eigen
+    from fem.solid import assemble, solve_solid
+    from geometry.mesh import mesh_wheel
+
+    mesh = mesh_wheel(design, elements_through_web=1, order=2)
+    model = assemble(design, mesh.points, mesh.tetra, order=2)
+    K = model.K[model.free][:, model.free].tocsr()
+    M = model.M[model.free][:, model.free].tocsr()
+    nd = K.shape[0]
+    n_fast = 1 if quick else 3
+    s_auto, res, _ = timed(lambda: solve_eigen(K, M, fmax_hz=5000.0, factorization="auto"), n_fast)
+    nev = len(res.eigenvalues)
+
+    def plain():
+        v0 = np.ones(nd) / math.sqrt(nd)
+        return spla.eigsh(K, k=nev, M=M, sigma=0.0, which="LM", v0=v0)
+
+    n_base = 1 if quick else 2
+    s_plain, (vals, _), _ = timed(plain, n_base)
+    dev = float(np.max(np.abs(np.sort(vals) - res.eigenvalues) / res.eigenvalues))
+    avail = available_factorizations()
+    chosen = next((f for f in AUTO_ORDER if f in avail), "splu")
+    table.add("modes", f"3-D P2 (1/web) eigen-solve, {chosen} (auto)", n_fast, s_auto,
+              "eigsh + SuperLU/COLAMD (plain)", s_plain, n_base,
+              note=f"{nd} DOFs, {nev} eigenpairs <= 5 kHz, eigenvalues agree to {dev:.0e}")
+    s_full, full, _ = timed(lambda: solve_solid(design, mesh, order=2, fmax_hz=5000.0), n_fast)
+    s_bal = results["balanced"][0]
+    table.add("modes", "3-D P2 (1/web) solve_solid (assemble+eigen+labels)", n_fast, s_full,
+              note=f"{full.dofs} DOFs; axisym balanced is {s_full / s_bal:.0f}x faster")
+    return results
+
+
+def bench_simulation(design, mode, table: Table, quick: bool):
+    import reduced
+
+    dof = pipeline.modal_dof(mode, design)
+    contact = pipeline.contact_law(design)
+    op = pipeline.operating_point(design)
+    pipeline.simulate(dof, contact, op, 0.01)  # numba compile / cache load, not timed
+    n = 3 if quick else 5
+    s_prod, sim, _ = timed(lambda: pipeline.simulate(dof, contact, op), n)
+    duration = float(sim.history.t[-1])
+    s_rk4, hist, _ = timed(lambda: reduced.simulate(dof, contact, op, duration), n)
+    n_ivp = 1 if quick else 3
+    s_ivp, ref, _ = timed(lambda: reduced.simulate_reference(dof, contact, op, duration,
+                                                             method="DOP853", rtol=1e-8), n_ivp)
+    a_ref = reduced.limit_cycle(ref).velocity_amplitude_m_s
+    a_rk4 = reduced.limit_cycle(hist).velocity_amplitude_m_s
+    base = "solve_ivp DOP853 rtol 1e-8"
+    table.add("simulate", f"pipeline.simulate (RK4 48/period, auto length)", n, s_prod, base, s_ivp,
+              n_ivp, note=f"runs 0.6 s, doubled while growing: {duration:g} s at the end "
+                          f"(baseline: {duration:g} s once)")
+    table.add("simulate", f"RK4 48/period, same {duration:g} s", n, s_rk4, base, s_ivp, n_ivp,
+              note=f"amplitude {a_rk4:.5f} vs {a_ref:.5f} m/s ({a_rk4 / a_ref - 1:+.1e})")
+    return dof, contact
+
+
+def bench_sweep(design, dof, contact, table: Table, quick: bool) -> None:
+    import reduced
+
+    vcs = np.linspace(0.0, 0.5, 50)
+    rpms = np.array([400.0, 600.0, 800.0])
+    speeds = rpms * 2 * math.pi / 60 * design.rolling_radius
+    t = time.perf_counter()
+    pipeline.sweep(dof, contact, [0.39], [speeds[-1]], 0.01)
+    t_first = time.perf_counter() - t
+    n = 3 if quick else 5
+    s, res, _ = timed(lambda: pipeline.sweep(dof, contact, vcs, speeds, 0.6), n)
+
+    def serial():
+        out = []
+        for vc in vcs:
+            for v0 in speeds:
+                op = reduced.OperatingPoint(v0, vc)
+                out.append(reduced.limit_cycle(reduced.simulate(dof, contact, op, 0.6)))
+        return out
+
+    s_ser, _, _ = timed(serial, 1)
+    table.add("sweep", "pipeline.sweep 50 x 3, 0.6 s (numba prange)", n, s,
+              "150 x simulate+limit_cycle, serial", s_ser, 1,
+              note=f"{int(res.squeal.sum())}/150 squeal; first call {t_first:.2f} s (compile/cache load)")
+
+
+def bench_run(design_path: Path | None, table: Table, quick: bool) -> None:
+    py = sys.executable
+    base_args = [py, str(ROOT / "pipeline.py"), "run", "--quiet"]
+    if design_path is not None:
+        base_args += ["--design", str(design_path)]
+    n = 1 if quick else 3
+    tmp = Path(tempfile.mkdtemp(prefix="bench-run-"))
+    try:
+        def run(cache: Path, out: Path) -> float:
+            t = time.perf_counter()
+            p = subprocess.run(base_args + ["--cache-dir", str(cache), "--out", str(out)],
+                               capture_output=True, text=True, cwd=ROOT, timeout=1800)
+            dt = time.perf_counter() - t
+            if p.returncode != 0:
+                raise RuntimeError(f"pipeline.py run failed ({p.returncode}): {p.stderr.strip()[-300:]}")
+            return dt
+
+        cold = [run(tmp / f"cache-cold-{i}", tmp / f"out-cold-{i}") for i in range(n)]
+        warm_cache = tmp / "cache-cold-0"
+        warm = [run(warm_cache, tmp / f"out-warm-{i}") for i in range(n)]
+    finally:
+        shutil.rmtree(tmp, ignore_errors=True)
+    s_cold, s_warm = statistics.median(cold), statistics.median(warm)
+    table.add("run", "pipeline.py run, cold cache (subprocess)", n, s_cold,
+              note="fresh empty cache each time: mesh + modes (balanced) + squeal + report + render")
+    table.add("run", "pipeline.py run, warm cache (subprocess)", n, s_warm, "cold cache", s_cold, n,
+              note="mesh and modes loaded from the cache")
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--quick", action="store_true", help="fewer repetitions (smoke test)")
+    ap.add_argument("--design", type=Path, default=None, help="design TOML (default Table 1)")
+    ap.add_argument("--output", type=Path, default=None, help="also write the report here")
+    args = ap.parse_args(argv)
+    info = machine_info()
+    t0 = time.perf_counter()
+    design = pipeline.load_design(args.design)
+    table = Table()
+    print(f"benchmarks/run_all.py{' --quick' if args.quick else ''}: design {design.name} ...",
+          file=sys.stderr, flush=True)
+    bench_mesh(design, table, args.quick)
+    results = bench_modes(design, table, args.quick)
+    dof, contact = bench_simulation(design, results["balanced"][2], table, args.quick)
+    bench_sweep(design, dof, contact, table, args.quick)
+    bench_run(args.design, table, args.quick)
+    load_end = os.getloadavg() if hasattr(os, "getloadavg") else (float("nan"),) * 3
+    la = info["loadavg"]
+    header = [
+        f"date: {info['date']}   commit: {info['commit']}   design: {design.name}",
+        f"machine: {info['nproc']} CPUs ({info['cpu']}), {info['memory_gb']:.1f} GB RAM; "
+        f"python {info['python']}, numpy {info['numpy']}, scipy {info['scipy']}",
+        f"load average at start: {la[0]:.2f} {la[1]:.2f} {la[2]:.2f}; at end: "
+        f"{load_end[0]:.2f} {load_end[1]:.2f} {load_end[2]:.2f}"
+        + (f"   (shared/busy machine: load at start above {0.5 * info['nproc']:g}; expect noisy times)"
+           if la[0] > 0.5 * info["nproc"] else ""),
+        f"command: .venv/bin/python benchmarks/run_all.py{' --quick' if args.quick else ''}"
+        + (f" --design {args.design}" if args.design else ""),
+        f"total wall time: {time.perf_counter() - t0:.0f} s",
+        "",
+    ]
+    text = "\n".join(header) + table.render()
+    print(text)
+    if args.output:
+        args.output.write_text(text + "\n")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
