@@ -3,6 +3,15 @@
 One entry point, :func:`solve_eigen`, used by every FE solver. The factorisation of
 ``K - sigma M`` is pluggable (``factorization=``); results are deterministic (fixed
 start vector).
+
+Block shift-invert was tried and not adopted (measured 2026-11-22, 41k DOFs, 25
+eigenpairs <= 5.1 kHz, interleaved medians of 3): a block Lanczos with full
+reorthogonalisation and Rayleigh-Ritz (deterministic Gaussian start block, residual
+tolerance 1e-7..1e-8; same eigenvalues to 1e-11, M-orthonormal to 1e-15) needs 88-128
+solve columns (block 4-8) against ARPACK's 75 single solves, which eats the 2.5-3x
+cheaper per-column block solves: 3.15-3.4 s vs 3.7 s with PARDISO, 2.1-2.5 s vs 2.3 s
+with SuperLU-sym; block subspace iteration needs ~10 iterations of a 45-column block
+(450 columns) at 1e-10. Not worth a second eigensolver path.
 """
 
 from __future__ import annotations
@@ -39,15 +48,18 @@ class EigenResult:
         return np.sqrt(np.maximum(self.eigenvalues, 0.0)) / (2 * math.pi)
 
 
-#: Preference of ``factorization="auto"``, first available wins; ``splu`` (SciPy, always
-#: present) is the last resort. Measured on the Table 1 wheel, curved P2, all modes
-#: <= 5 kHz, one BLAS thread, loaded 2-core machine (benchmarks/bench_modes.py):
-#: 41k DOFs: pardiso 4.9 s, cholmod 4.5-4.7 s, splu 8.4 s, SuperLU/COLAMD 9.5 s;
-#: 85k DOFs: pardiso 13.1 s, cholmod 17.1 s, splu 77 s, SuperLU/COLAMD 40 s (plain
-#: eigsh + SuperLU/COLAMD with default threads: 18 s and 64 s). PARDISO and CHOLMOD
-#: are on a par at 41k, PARDISO ahead at 85k and it installs from PyPI wheels alone
-#: (scikit-sparse needs libsuitesparse-dev and a compiler), so it comes first.
-AUTO_ORDER: tuple[str, ...] = ("pardiso", "cholmod", "splu")
+#: Preference of ``factorization="auto"``, first available wins (CHOLMOD only for a
+#: definite matrix); without either, SciPy's SuperLU (:data:`SCIPY_AUTO_DEFINITE`).
+#: Measured on the Table 1 wheel, curved P2, all modes <= 5.1 kHz (25 eigenpairs), one
+#: BLAS thread, loaded 2-core machine, interleaved medians (2026-11-22):
+#: 41k DOFs: cholmod 2.4 s, pardiso 5.3 s, superlu-sym 5.3 s (another run: 3.8 s);
+#: 85k DOFs: cholmod 6.7 s, pardiso 11.4 s, superlu-sym 20.2 s; plain eigsh +
+#: SuperLU/COLAMD with default threads 16.5 s at 41k (8.8 s on one thread).
+#: CHOLMOD (scikit-sparse, needs libsuitesparse-dev and a compiler: installed by hand)
+#: comes first; PARDISO (pypardiso, the ``fast3d`` extra, MKL wheels) factorises fast
+#: (0.85 s at 41k vs SuperLU-sym 1.55 s) but each single-vector solve in the Lanczos
+#: loop costs more (ARPACK loop 3.7 s vs 2.3 s for SuperLU-sym, 75 solves).
+AUTO_ORDER: tuple[str, ...] = ("cholmod", "pardiso", "splu")
 #: Without pypardiso (the ``fast3d`` extra) and scikit-sparse, ``auto`` uses SciPy's
 #: SuperLU; with a definite matrix (shift below the spectrum) in symmetric mode
 #: (MMD on A^T + A, diagonal pivots: no row interchanges, so the symmetric ordering
