@@ -18,7 +18,7 @@ from pathlib import Path
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from fem.axisym import solve_axisymmetric  # noqa: E402
-from geometry.design import WheelDesign  # noqa: E402
+from geometry.design import load_design  # noqa: E402
 from geometry.mesh import mesh_profile  # noqa: E402
 
 
@@ -31,8 +31,9 @@ def main(argv=None) -> int:
     ap.add_argument("--reps", type=int, default=5)
     ap.add_argument("--fmax", type=float, default=5000.0)
     ap.add_argument("--ref-etw", type=int, default=10)
+    ap.add_argument("--design", type=Path, default=Path(__file__).resolve().parents[1] / "designs" / "table1.toml")
     args = ap.parse_args(argv)
-    d = WheelDesign()
+    d = load_design(args.design)
 
     t = time.perf_counter()
     ref = solve_axisymmetric(
