@@ -452,9 +452,8 @@ def _design_from_args(args) -> WheelDesign:
     return load_design(args.design if args.design else DEFAULT_DESIGN)
 
 
-def _cache_from_args(args, progress: Progress) -> StageCache:
-    return StageCache(args.cache_dir, enabled=not args.no_cache,
-                      warn=lambda m: print(f"warning: {m}", file=sys.stderr))
+def _cache_from_args(args) -> StageCache:
+    return StageCache(args.cache_dir, enabled=not args.no_cache)
 
 
 def cmd_mesh(args) -> int:
@@ -529,7 +528,7 @@ def cmd_modes(args) -> int:
     fid = fidelity_for(args.fidelity, args.solver)
     check_writable_out(args.out)
     progress = Progress(args.quiet)
-    cache = _cache_from_args(args, progress)
+    cache = _cache_from_args(args)
     ms = compute_modes(design, fid, fmax_hz=args.fmax, cache=cache, progress=progress)
     if not ms.modes:
         raise UsageError(f"no modes below {args.fmax:g} Hz for {design.name}")
@@ -648,9 +647,8 @@ def simulate(dof, contact, op, duration: float | None = None, max_duration: floa
         t *= 2
 
 
-def _mode_source(args, progress: Progress, cache: StageCache | None):
-    """(design, dof, modes-summary or None) from --design or --mass/--stiffness/--damping."""
-    design = _design_from_args(args)
+def _mode_source(args, design: WheelDesign, progress: Progress, cache: StageCache | None):
+    """(dof, modes info or None) from the design's FE modes or --mass/--stiffness/--damping."""
     explicit = [getattr(args, "mass", None), getattr(args, "stiffness", None),
                 getattr(args, "damping", None)]
     if any(v is not None for v in explicit):
@@ -662,14 +660,14 @@ def _mode_source(args, progress: Progress, cache: StageCache | None):
         from reduced import ModalDOF
 
         progress.say("modal parameters given: no mesh, no FE")
-        return design, ModalDOF(args.mass, args.stiffness, args.damping), None
+        return ModalDOF(args.mass, args.stiffness, args.damping), None
     fid = fidelity_for(args.fidelity, getattr(args, "solver", None))
     ms = compute_modes(design, fid, fmax_hz=args.fmax, cache=cache, progress=progress)
     mode, why = pick_mode(ms, args.mode)
     progress.say(f"squeal mode: {mode.index} ({why}), {mode.frequency_hz:.1f} Hz")
     summary = modes_summary(design, ms, mode, fid)
     summary["selected_mode"]["why"] = why
-    return design, modal_dof(mode, design), (ms, mode, summary)
+    return modal_dof(mode, design), (ms, mode, summary)
 
 
 def _simulate_outputs(tmp: Path, sim: Simulation) -> None:
@@ -702,8 +700,9 @@ def _print_squeal(sim: Simulation, dof) -> None:
 def cmd_simulate(args) -> int:
     check_writable_out(args.out)
     progress = Progress(args.quiet)
-    cache = _cache_from_args(args, progress)
-    design, dof, modes_info = _mode_source(args, progress, cache)
+    cache = _cache_from_args(args)
+    design = _design_from_args(args)
+    dof, modes_info = _mode_source(args, design, progress, cache)
     contact = contact_law(design, args.c22)
     op = operating_point(design, rpm=args.rpm, speed=args.speed, crab_velocity=args.crab_velocity,
                          angle_of_attack=args.angle_of_attack)
@@ -731,12 +730,12 @@ def cmd_run(args) -> int:
     out = args.out or ROOT / "results" / design.name
     check_writable_out(out)
     progress = Progress(args.quiet)
-    cache = _cache_from_args(args, progress)
+    cache = _cache_from_args(args)
     t0 = time.perf_counter()
     op = operating_point(design, rpm=args.rpm, crab_velocity=args.crab_velocity,
                          angle_of_attack=args.angle_of_attack)
     contact = contact_law(design, args.c22)
-    design, dof, (ms, mode, msum) = _mode_source(args, progress, cache)
+    dof, (ms, mode, msum) = _mode_source(args, design, progress, cache)
     with progress.stage("squeal model"):
         sim = simulate(dof, contact, op, args.duration)
     indices = [mode.index] if args.render == "selected" else (
@@ -795,7 +794,7 @@ def cmd_render(args) -> int:
     design = _design_from_args(args)
     check_writable_out(args.out)
     progress = Progress(args.quiet)
-    cache = _cache_from_args(args, progress)
+    cache = _cache_from_args(args)
     ms = compute_modes(design, fidelity_for(args.fidelity, args.solver), fmax_hz=args.fmax,
                        cache=cache, progress=progress)
     indices = None
@@ -839,7 +838,7 @@ def sweep(dof, contact, crab_velocities, rolling_speeds, duration: float = 1.5):
 def cmd_sweep(args) -> int:
     check_writable_out(args.out)
     progress = Progress(args.quiet)
-    cache = _cache_from_args(args, progress)
+    cache = _cache_from_args(args)
     vcs = parse_range(args.crab_velocity)
     rpms = parse_range(args.rpm)
     if np.any(rpms <= 0) or not np.all(np.isfinite(rpms)):
@@ -848,7 +847,8 @@ def cmd_sweep(args) -> int:
         raise UsageError("--crab-velocity values must be finite")
     if not (math.isfinite(args.duration) and args.duration > 0):
         raise UsageError(f"--duration must be positive, got {args.duration:g}")
-    design, dof, _ = _mode_source(args, progress, cache)
+    design = _design_from_args(args)
+    dof, _ = _mode_source(args, design, progress, cache)
     contact = contact_law(design, args.c22)
     speeds = rpms * 2 * math.pi / 60 * design.rolling_radius
     with progress.stage(f"sweep {len(vcs)} x {len(speeds)} cases, {args.duration:g} s each"):
@@ -874,7 +874,7 @@ def cmd_sweep(args) -> int:
 def cmd_compare(args) -> int:
     check_writable_out(args.out)
     progress = Progress(args.quiet)
-    cache = _cache_from_args(args, progress)
+    cache = _cache_from_args(args)
     designs = [load_design(p) for p in args.designs]
     names = [d.name for d in designs]
     if len(set(names)) != len(names):
@@ -996,7 +996,6 @@ def calibrate(design: WheelDesign, free: Sequence[str], target_frequency_hz: flo
     x0 = np.array([getattr(design, k) for k in free], dtype=float)
     scale = np.where(x0 != 0, np.abs(x0), design.web_thickness)
     evaluations = 0
-    last: dict = {}
 
     def evaluate(x: np.ndarray):
         d = design.replace(**dict(zip(free, map(float, x))))
@@ -1017,7 +1016,6 @@ def calibrate(design: WheelDesign, free: Sequence[str], target_frequency_hz: flo
              if target_modal_mass_kg else 0.0]
         progress.say("calibrate: " + ", ".join(f"{k} = {v:.6g}" for k, v in zip(free, x))
                      + f" -> f = {m.frequency_hz:.1f} Hz, m = {m.modal_mass:.3f} kg")
-        last["x"] = x
         return np.array(r)
 
     lower, upper = x0 - 0.9 * scale, x0 + 3.0 * scale
