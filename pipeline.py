@@ -674,7 +674,19 @@ def _simulate_outputs(tmp: Path, sim: Simulation) -> None:
     from reduced import write_time_history_plots, write_timeseries_csv
 
     write_timeseries_csv(sim.history, tmp)
-    write_time_history_plots(sim.history, tmp)
+    write_time_history_plots(sim.history, tmp, times_s=_plot_times(sim))
+
+
+def _plot_times(sim: Simulation) -> tuple[float, float]:
+    """Windows for the paper's Fig. 7-10: while growing (0.2 s) and at the limit cycle
+    (0.4 s in the paper; later when this mode saturates later)."""
+    lc = sim.limit_cycle
+    if not (lc.saturated and math.isfinite(lc.time_to_saturation_s)):
+        return (0.2, 0.4)
+    period = 1.0 / lc.frequency_hz
+    t_lc = max(0.4, lc.time_to_saturation_s + 20 * period)
+    growing = min(0.2, 0.5 * lc.time_to_saturation_s)
+    return (round(growing, 2), round(min(t_lc, float(sim.history.t[-1]) - 5 * period), 2))
 
 
 def _print_squeal(sim: Simulation, dof) -> None:
