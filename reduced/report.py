@@ -203,7 +203,11 @@ def write_sweep_plot(result: SweepResult, directory: Path, wheel_radius_m: float
         a1.plot(vc[unsat], amp[unsat], "o", mfc="white", mec=line.get_color(), ms=6)
         with np.errstate(divide="ignore"):
             level = 20.0 * np.log10(np.where(amp > 0, amp, np.nan) / VELOCITY_REFERENCE_M_S)
-        a2.plot(vc, level, "-o", ms=3, color=line.get_color())
+        a2.plot(vc, np.where(unsat, np.nan, level), "-o", ms=3, color=line.get_color())
+        a2.plot(vc[unsat], level[unsat], "o", mfc="white", mec=line.get_color(), ms=6)
+    if np.any(result.squeal & ~result.saturated):
+        a1.plot([], [], "o", mfc="white", mec="0.4", ms=6,
+                label="still growing at the end (not a limit cycle)")
     a1.plot(vc, np.abs(vc), "k--", lw=0.8, label="|Vc|")
     a1.set_ylabel("limit-cycle velocity amplitude (m/s)")
     a1.set_title(f"Squeal amplitude vs crabbing velocity ({result.duration_s:g} s runs from rest)")
