@@ -32,6 +32,19 @@ Degenerate cos/sin pairs (same n >= 1, same family, relative frequency gap below
 ``pair_rtol``) become one :class:`~fem.modes.Mode` with two members; the frequency is
 their mean, and ``contact_axial`` holds both members' axial displacement at the
 contact point, so the pair-combined modal mass does not depend on the rotation.
+
+The contact is a node (``contact_axial`` exactly 0.0, modal mass ``inf``), as in
+:mod:`fem.axisym`, when (a) the wheel is mirror-symmetric about z = 0
+(``web_offset == 0``) and more than half of the mode's nodal squared amplitude has
+u_r, u_theta even and u_z odd in z (an in-plane mode; the unstructured mesh is not
+symmetric and otherwise leaves a spurious u_z at the contact, i.e. modal masses of
+1e6-1e10 kg), or (b) a member's ``|u_z|`` there is at most
+``fem.modes.CONTACT_NODE_RTOL`` times its largest DOF magnitude.
+
+Empty band: nothing at or below ``fmax_hz`` gives an empty ModeSet and an
+``EmptyBandWarning`` naming the lowest natural frequency (from the eigenpairs the
+solve computed anyway: no extra cost). The free-free shift and the rigid-mode
+threshold are fractions of ``c_s / (2 pi R1)`` (:func:`reference_frequency`).
 """
 
 from __future__ import annotations
