@@ -54,7 +54,10 @@ class EigenResult:
 #: BLAS thread, loaded 2-core machine, interleaved medians (2026-11-22):
 #: 41k DOFs: cholmod 2.4 s, pardiso 5.3 s, superlu-sym 5.3 s (another run: 3.8 s);
 #: 85k DOFs: cholmod 6.7 s, pardiso 11.4 s, superlu-sym 20.2 s; plain eigsh +
-#: SuperLU/COLAMD with default threads 16.5 s at 41k (8.8 s on one thread).
+#: SuperLU/COLAMD with default threads 16.5 s at 41k (8.8 s on one thread). Under
+#: heavier load (benchmarks/bench_modes.py --full, same day): 41k: cholmod 4.1-4.5 s,
+#: pardiso 4.3 s, superlu-sym 4.5 s, splu 6.6 s, superlu-colamd 9.2 s; 85k: cholmod
+#: 11.9-14.7 s, pardiso 12.8 s, superlu-sym 17.9 s, superlu-colamd 34 s, splu 69 s.
 #: CHOLMOD (scikit-sparse, needs libsuitesparse-dev and a compiler: installed by hand)
 #: comes first; PARDISO (pypardiso, the ``fast3d`` extra, MKL wheels) factorises fast
 #: (0.85 s at 41k vs SuperLU-sym 1.55 s) but each single-vector solve in the Lanczos
