@@ -221,7 +221,7 @@ def bench_simulation(design, mode, table: Table, quick: bool):
     a_rk4 = reduced.limit_cycle(hist).velocity_amplitude_m_s
     base = "solve_ivp DOP853 rtol 1e-8"
     table.add("simulate", f"pipeline.simulate (RK4 48/period, auto length)", n, s_prod, base, s_ivp,
-              n_ivp, note=f"runs 0.6 s, doubled while growing: {duration:g} s at the end "
+              n_ivp, note=f"length from the harmonic-balance growth estimate: {duration:g} s "
                           f"(baseline: {duration:g} s once)")
     table.add("simulate", f"RK4 48/period, same {duration:g} s", n, s_rk4, base, s_ivp, n_ivp,
               note=f"amplitude {a_rk4:.5f} vs {a_ref:.5f} m/s ({a_rk4 / a_ref - 1:+.1e})")
