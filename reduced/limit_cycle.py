@@ -44,7 +44,7 @@ import numpy as np
 
 from . import _kernels
 from .creep import ContactLaw, adhesion_ratio_slope
-from .model import ModalDOF, OperatingPoint, TimeHistory, _as_modes
+from .model import OperatingPoint, TimeHistory, _as_modes
 
 __all__ = ["Cycles", "LimitCycle", "cycles", "limit_cycle", "analytic_growth_rate"]
 

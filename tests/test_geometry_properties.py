@@ -11,6 +11,8 @@ import pytest
 from hypothesis import HealthCheck, event, example, given, settings
 from hypothesis import strategies as st
 
+from strategies import unit, wheel_designs
+
 from geometry import (
     DesignError,
     WheelDesign,
@@ -30,31 +32,10 @@ SETTINGS = dict(
 NUMERIC = [f.name for f in fields(WheelDesign) if f.name not in ("name", "description")]
 
 
-def unit(lo: float = 0.0, hi: float = 1.0):
-    return st.floats(lo, hi, allow_nan=False, allow_infinity=False)
-
-
-@st.composite
-def valid_designs(draw) -> WheelDesign:
-    """A box of realistic wheels, built so that every constraint holds: rolling radius
-    0.1-0.4 m, rim 10-50 mm wide, web 30-100 % of the rim, any web offset that keeps the
-    web inside the rim, crown from rim_width to 100 x rim_width/2, rim depth from 1 mm
-    above the crown's sagitta to a quarter of the radius, bore 5-85 % of the rim inner
-    radius. (The extreme corners, a semicircular crown or a rim a few micrometres
-    thick, are in test_geometry.DEGENERATE.)"""
-    R1 = draw(unit(0.10, 0.40))
-    w = draw(unit(0.010, 0.050))
-    web = w * draw(unit(0.3, 1.0))
-    offset = draw(unit(-1.0, 1.0)) * (w - web) / 2
-    crown = w / 2 * draw(unit(2.0, 100.0))
-    sag = crown - math.sqrt(crown**2 - (w / 2) ** 2)
-    depth = sag + draw(unit(0.001, 0.25 * R1))
-    bore = (R1 - depth) * draw(unit(0.05, 0.85))
-    nu = draw(unit(-0.9, 0.49))
-    return WheelDesign(
-        name="h", rolling_radius=R1, rim_width=w, web_thickness=web, web_offset=offset,
-        crown_radius=crown, rim_depth=depth, bore_radius=bore, poissons_ratio=nu,
-    )
+def valid_designs():
+    """The realistic box of tests/strategies.py (the extreme corners, a semicircular crown
+    or a rim a few micrometres thick, are in test_geometry.DEGENERATE)."""
+    return wheel_designs()
 
 
 @settings(**SETTINGS)
