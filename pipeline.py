@@ -944,7 +944,10 @@ def _compare_plot(path: Path, rows: list[dict], sims: list[Simulation]) -> None:
     for r, sim in zip(rows, sims):
         cyc = sim.limit_cycle.cycles
         axes[0].plot(cyc.start_s, cyc.amplitude_m_s, label=f"{r['design']} ({r['frequency_hz']:.0f} Hz)")
-    axes[0].axhline(sims[0].operating_point.crabbing_velocity_m_s, color="k", ls=":", lw=1, label="Vc")
+    vc = abs(sims[0].operating_point.crabbing_velocity_m_s)
+    axes[0].axhline(vc, color="k", ls=":", lw=1, label="Vc")
+    axes[0].set_ylim(0, 1.1 * max([vc] + [float(np.max(s.limit_cycle.cycles.amplitude_m_s, initial=0))
+                                          for s in sims]))
     axes[0].set(xlabel="time [s]", ylabel="velocity amplitude [m/s]", title="growth to the limit cycle")
     axes[0].legend(fontsize=8)
     x = np.arange(len(rows))
