@@ -13,6 +13,8 @@ from .mesh import (
     mesh_profile,
     mesh_size,
     mesh_wheel,
+    revolve_profile,
+    SectorLayout,
 )
 from .profile import Profile, half_profile, profile_area, revolved_volume, wheel_mass
 
@@ -26,6 +28,8 @@ __all__ = [
     "mesh_profile",
     "mesh_size",
     "mesh_wheel",
+    "revolve_profile",
+    "SectorLayout",
     "Profile",
     "SECTIONS",
     "STRUCTURAL_FIELDS",
