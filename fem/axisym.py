@@ -578,6 +578,55 @@ def _in_plane_parity(x_nodes: np.ndarray, x_mirror: np.ndarray, r: np.ndarray) -
     return float(sq_in / total) if total > 0 else 0.0
 
 
+
+class ProfileLabeller:
+    """Labels of a harmonic mode from its profile field (U, V, W at every DOF of
+    ``model.basis``; real: the cos member), shared by this solver and
+    :mod:`fem.cyclic`.
+
+    - family: the component with the largest (r-weighted) kinetic energy share;
+    - nodal circles: sign changes of that component along the web mid-line
+      z = web_offset from the bore to the tread (samples below ``CIRCLE_THRESHOLD`` of
+      the peak ignored: the clamped bore is not a nodal circle);
+    - contact: V (axial displacement) at the contact point (rolling_radius, 0), or 0.0
+      for an in-plane mode of a mirror-symmetric wheel (V = 0 exactly on z = 0; an
+      unstructured mesh is not symmetric and leaves a spurious V there, measured up to
+      1e-2 of the peak on a coarse thick-web mesh, so the mode's parity decides, from
+      the values at the nodes and at their mirror images).
+    """
+
+    def __init__(self, design: WheelDesign, model: "HarmonicModel"):
+        basis, skm = model.basis, model.mesh
+        zc = design.web_offset
+        rmin = float(skm.doflocs[0].min())
+        rl = np.linspace(rmin, tread_radius(design, zc), CIRCLE_SAMPLES)
+        self.P_contact = probe_matrix(basis, np.array([[design.rolling_radius], [0.0]]))  # U, V, W
+        self.P_line = probe_matrix(basis, np.vstack([rl, np.full_like(rl, zc)]))
+        self.pts_rz, self.tris = _corner_mesh(skm)
+        self.nodal = basis.nodal_dofs[:, : skm.nvertices]  # (3, Nv) DOFs at the corners
+        self.symmetric = abs(design.web_offset) <= SYMMETRY_RTOL * design.rolling_radius
+        self.P_mirror = (probe_matrix(basis, np.vstack([self.pts_rz[:, 0], -self.pts_rz[:, 1]]))
+                         if self.symmetric else None)
+        self.split = [np.nonzero(model.comp == c)[0] for c in range(3)]
+        self.M_blocks = [model.M[idx][:, idx] for idx in self.split]
+
+    def label(self, x: np.ndarray) -> tuple[str, int, float]:
+        """(family, nodal circles, axial contact displacement) of profile vector x."""
+        energy = np.array([x[i] @ (Mb @ x[i]) for i, Mb in zip(self.split, self.M_blocks)])
+        dom = int(np.argmax(energy))
+        family = ("radial", "axial", "circumferential")[dom]
+        circles = count_sign_changes((self.P_line @ x).reshape(3, -1)[dom], CIRCLE_THRESHOLD)
+        v_c = float((self.P_contact @ x)[1])
+        if self.symmetric and self.in_plane_fraction(x) > 0.5:
+            v_c = 0.0  # in-plane mode of a symmetric wheel: the contact is a node
+        return family, circles, clean_contact(v_c, float(np.abs(x).max()))
+
+    def in_plane_fraction(self, x: np.ndarray) -> float:
+        """Share of the mode's nodal squared amplitude with in-plane parity (see
+        :func:`_in_plane_parity`); only for a mirror-symmetric wheel."""
+        return _in_plane_parity(x[self.nodal], (self.P_mirror @ x).reshape(3, -1), self.pts_rz[:, 0])
+
+
 def _lowest_frequency(model: "HarmonicModel", boundary: str, sigma: float, f_rigid: float,
                       factorization: str, n_last: int) -> float:
     """The lowest natural frequency [Hz] over the harmonics 0..n_last (for messages)."""
@@ -730,23 +779,10 @@ def _solve_axisymmetric(design, mesh, *, order, size, elements_through_web, fmax
 
     model = assemble_harmonic(design, skm, order=order, boundary=boundary, intorder=intorder)
     basis = model.basis
-    # probes: the contact point and the nodal-circle line
+    labeller = ProfileLabeller(design, model)
+    pts_rz, tris = labeller.pts_rz, labeller.tris
+    nodal = labeller.nodal
     R1 = design.rolling_radius
-    zc = design.web_offset
-    r_end = tread_radius(design, zc)
-    rmin = float(skm.doflocs[0].min())
-    rl = np.linspace(rmin, r_end, CIRCLE_SAMPLES)
-    P_contact = probe_matrix(basis, np.array([[R1], [0.0]]))  # rows: U, V, W
-    P_line = probe_matrix(basis, np.vstack([rl, np.full_like(rl, zc)]))
-    pts_rz, tris = _corner_mesh(skm)
-    nv = skm.nvertices
-    nodal = basis.nodal_dofs[:, :nv]  # (3, Nv) DOF indices at the corner nodes
-    # a mirror-symmetric wheel: the in-plane modes have V = 0 exactly on z = 0, so at
-    # the contact point; an unstructured mesh is not symmetric and leaves a spurious
-    # V there (measured up to 1e-2 of the peak on a coarse thick-web mesh): the mode's
-    # parity decides instead (values at the nodes and at their mirror images).
-    symmetric = abs(design.web_offset) <= SYMMETRY_RTOL * R1
-    P_mirror = probe_matrix(basis, np.vstack([pts_rz[:, 0], -pts_rz[:, 1]])) if symmetric else None
     t_asm = time.perf_counter()
 
     G = design.shear_modulus
@@ -810,23 +846,11 @@ def _solve_axisymmetric(design, mesh, *, order, size, elements_through_web, fmax
             EmptyBandWarning, stacklevel=3)
 
     points, wedges, theta = revolved_mesh(pts_rz, tris, n_theta)
-    split = [np.nonzero(comp == c)[0] for c in range(3)]
-    Mdiag_blocks = [model.M[idx][:, idx] for idx in split]
 
     modes: list[Mode] = []
     shapes: list[np.ndarray] = []
     for i, (f, n, x, torsion) in enumerate(raw):
-        energy = np.array([x[idx] @ (Mb @ x[idx]) for idx, Mb in zip(split, Mdiag_blocks)])
-        dom = int(np.argmax(energy))
-        family = ("radial", "axial", "circumferential")[dom]
-        line = (P_line @ x).reshape(3, -1)[dom]
-        circles = count_sign_changes(line, CIRCLE_THRESHOLD)
-        v_c = float((P_contact @ x)[1])
-        if symmetric and _in_plane_parity(
-            x[nodal], (P_mirror @ x).reshape(3, -1), pts_rz[:, 0]
-        ) > 0.5:
-            v_c = 0.0  # in-plane mode of a symmetric wheel: the contact is a node
-        v_c = clean_contact(v_c, float(np.abs(x).max()))
+        family, circles, v_c = labeller.label(x)
         contact = (v_c,) if n == 0 else (v_c, 0.0)
         modes.append(Mode(i, f, n, circles, family, contact))
         UVW = x[nodal].T
@@ -863,6 +887,7 @@ def count_sign_changes(values: np.ndarray, threshold: float = CIRCLE_THRESHOLD) 
 
 __all__ = [
     "HarmonicModel",
+    "ProfileLabeller",
     "assemble_harmonic",
     "count_sign_changes",
     "probe_matrix",
