@@ -1,0 +1,372 @@
+"""3-D P2 modes of the whole wheel by cyclic symmetry (the harmonic split in 3-D).
+
+The mesh is :func:`geometry.mesh.revolve_profile`: N identical sectors of curved P2
+tetrahedra. Its stiffness and mass are invariant under a rotation by ``Delta = 2 pi /
+N``, so in each sector's own rotated frame the global matrices are block-circulant and
+the full 3-D eigenproblem splits exactly into N/2 + 1 independent sector problems,
+one per harmonic index p (the nodal diameters):
+
+    K_p = E00 + J^T E11 J + e^{i p Delta} E01 J + e^{-i p Delta} J^T E10,
+
+where ``E`` is the stiffness of sector 0's tetrahedra alone, split between the nodes
+sector 0 owns (0) and those on its far face (1, rotated into sector 1's frame), and
+``J`` maps a far-face node to the same profile node on face 0 (a Bloch wave:
+``u_(s+1) = e^{i p Delta} u_s``); the same for M. ``K_p = A + iB`` is Hermitian (A
+symmetric, B antisymmetric). p = 0 and p = N/2 are real problems; every other p is
+solved as the real symmetric problem ``[[A, -B], [B, A]]`` of twice the size, whose
+eigenvalues come in exact pairs: the cos/sin pair of the wheel. The eigenvalues are
+those of the full 3-D problem on the same mesh (tested against :mod:`fem.solid` to
+round-off), at the cost of ~p_max small problems instead of one large one.
+
+Only sector 0 is assembled (scikit-fem basis, :func:`fem.solid._assemble_elasticity`).
+Labels: n = p exactly; family, nodal circles and the in-plane parity from the mode's
+(complex) amplitude on face 0, which is the profile mesh, with
+:class:`fem.axisym.ProfileLabeller` (the axisymmetric solver's own rules). Contact
+modal mass: the contact point is a node of face 0; a pair is reported with its two
+members ``sqrt(2/N) Re, Im`` of the Bloch wave, so ``m = 1 / (phi_a^2 + phi_b^2) = N /
+(2 |x_z|^2)`` for ``x^H M_p x = 1``: independent of the pair's rotation by construction.
+
+Harmonics are solved from p = 0 upwards and stop, as in :mod:`fem.axisym`, at the
+first p >= 2 with nothing in the band. An N-sector mesh represents p <= N/2 only: a
+band reaching p = N/2 gets a :class:`~fem.modes.ResolutionWarning`.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+import warnings
+
+import numpy as np
+import scipy.sparse as sp
+from scipy.spatial import cKDTree
+
+from .axisym import ProfileLabeller, _solve_band, assemble_harmonic, small_problem_factorization
+from .modes import EmptyBandWarning, Mode, ModeSet, ResolutionWarning, clean_contact
+from .solid import RIGID_TOL, FREE_SHIFT_REL, _assemble_elasticity, _skfem_mesh, reference_frequency
+
+#: Default circumferential element length, in units of the profile element size: the
+#: sector elements are smooth along theta (P2, 2 pi R1 / N long), so they can be longer
+#: than across the section; see :func:`default_sectors`.
+SECTOR_ASPECT = 2.0
+#: Fewest sectors by default (resolves n <= 8 with 3 P2 elements per half-wave).
+MIN_SECTORS = 48
+
+
+def default_sectors(design, size: float) -> int:
+    """Default N: circumferential element length about ``SECTOR_ASPECT`` profile element
+    sizes at the rolling radius, at least ``MIN_SECTORS``, rounded up to a multiple of 4."""
+    n = max(MIN_SECTORS, math.ceil(2 * math.pi * design.rolling_radius / (SECTOR_ASPECT * size)))
+    return int(4 * math.ceil(n / 4))
+
+
+class SectorModel:
+    """Assembled sector-0 matrices of a cyclic mesh, split for the Bloch reduction."""
+
+    def __init__(self, design, mesh, boundary: str = "clamped"):
+        if getattr(mesh, "n_sectors", 0) <= 0:
+            raise ValueError("solve_cyclic needs a cyclic mesh from geometry.mesh.revolve_profile "
+                             "(n_sectors > 0); for a gmsh mesh use fem.solid.solve_solid")
+        if boundary not in ("clamped", "free"):
+            raise ValueError(f"boundary must be 'clamped' or 'free', got {boundary!r}")
+        from skfem import Basis, ElementTetP1, ElementTetP2, ElementVector  # noqa: PLC0415
+        from skfem.models.elasticity import lame_parameters  # noqa: PLC0415
+
+        L = mesh.sector_layout()
+        self.layout = L
+        self.n_sectors = N = L.n_sectors
+        self.delta = 2 * math.pi / N
+        no, nf = len(L.owned), len(L.next_face)
+        slab = np.concatenate([L.owned, L.next_face])
+        local = np.full(mesh.n_nodes, -1, dtype=np.int64)
+        local[slab] = np.arange(len(slab))
+        tet = local[np.asarray(mesh.tetra)[L.tetra]]
+        pts = np.asarray(mesh.points)[slab]
+        # scikit-fem wants the vertices first (SolidMesh convention)
+        corner = np.unique(tet[:, :4])
+        rest = np.setdiff1d(np.arange(len(slab)), corner)
+        perm = np.concatenate([corner, rest])
+        inv = np.empty_like(perm)
+        inv[perm] = np.arange(len(perm))
+        order = 2 if mesh.order == 2 else 1
+        skm, _ = _skfem_mesh(pts[perm], inv[tet], order if tet.shape[1] == 10 else 1)
+        elem = ElementVector(ElementTetP2() if order == 2 else ElementTetP1())
+        basis = Basis(skm, elem)
+        lam, mu = lame_parameters(design.youngs_modulus, design.poissons_ratio)
+        K, M = _assemble_elasticity(skm, basis, elem, lam, mu, design.density)
+        # scikit-fem DOF -> (slab node, component), by location
+        comp = np.empty(basis.N, dtype=np.int64)
+        for c in range(3):
+            comp[basis.nodal_dofs[c]] = c
+            if basis.edge_dofs.size:
+                comp[basis.edge_dofs[c]] = c
+        dist, node = cKDTree(pts).query(basis.doflocs.T)
+        if dist.max() > 1e-9 * design.rolling_radius or np.unique(3 * node + comp).size != basis.N:
+            raise RuntimeError("sector DOFs do not match the mesh nodes")
+        n_slab = 3 * len(slab)
+        P = sp.csr_matrix((np.ones(basis.N), (3 * node + comp, np.arange(basis.N))), shape=(n_slab, basis.N))
+        # far-face nodes: Cartesian = R(Delta) * (sector 1's own frame)
+        c, s = math.cos(self.delta), math.sin(self.delta)
+        blocks = [sp.identity(3 * no, format="csr")]
+        R = np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
+        blocks.append(sp.block_diag([R] * nf, format="csr"))
+        T = P.T @ sp.block_diag(blocks, format="csr")  # skfem DOFs <- local-frame slab DOFs
+        J = sp.csr_matrix((np.ones(3 * nf), (np.arange(3 * nf), (3 * L.next_face_local[:, None] + np.arange(3)).ravel())),
+                          shape=(3 * nf, 3 * no))
+        self.parts = {}
+        for name, A in (("K", K), ("M", M)):
+            Al = (T.T @ A @ T).tocsr()
+            E00, E01, E11 = Al[: 3 * no, : 3 * no], Al[: 3 * no, 3 * no:], Al[3 * no:, 3 * no:]
+            X = (E01 @ J).tocsr()
+            self.parts[name] = ((E00 + J.T @ E11 @ J).tocsr(), X)
+        xyz = pts[:no]
+        self.points = xyz
+        if boundary == "clamped":
+            r = np.hypot(xyz[:, 0], xyz[:, 1])
+            bore = np.nonzero(r <= design.bore_radius + 1e-6 * design.rolling_radius)[0]
+            if bore.size == 0:
+                raise ValueError("no mesh node on the bore (r = bore_radius) to clamp")
+            fixed = (3 * bore[:, None] + np.arange(3)).ravel()
+        else:
+            fixed = np.zeros(0, dtype=np.int64)
+        self.free = np.setdiff1d(np.arange(3 * no), fixed)
+        self.n_owned = no
+
+    def matrices(self, p: int) -> tuple[sp.csr_matrix, sp.csr_matrix, bool]:
+        """Real (K, M) of harmonic p on the free DOFs, and whether it is the doubled
+        real form ``[[A, -B], [B, A]]`` of the Hermitian ``A + iB`` (0 < p < N/2)."""
+        phi = p * self.delta
+        f = self.free
+        out = []
+        real = p == 0 or 2 * p == self.n_sectors
+        for name in ("K", "M"):
+            D, X = self.parts[name]
+            A = (D + math.cos(phi) * (X + X.T))[f][:, f]
+            if real:
+                out.append(A.tocsc())
+                continue
+            B = (math.sin(phi) * (X - X.T))[f][:, f]
+            out.append(sp.bmat([[A, -B], [B, A]], format="csc"))
+        return out[0], out[1], not real
+
+
+def _complex_modes(K2, M2, vals, vecs, nf: int, rtol: float = 1e-6):
+    """Eigenpairs of the Hermitian problem from those of its doubled real form.
+
+    The doubled problem's eigenvalues come in exact pairs whose real vectors span a
+    space closed under multiplication by i; a Rayleigh-Ritz step in the complex span of
+    the computed vectors returns one M-orthonormal complex vector per pair (robust
+    when distinct pairs are close)."""
+    Z = vecs[:nf] + 1j * vecs[nf:]
+    if Z.shape[1] == 0:
+        return vals[:0], Z
+    A = K2[:nf, :nf] + 1j * K2[nf:, :nf]
+    Mh = M2[:nf, :nf] + 1j * M2[nf:, :nf]
+    G = Z.conj().T @ (Mh @ Z)
+    w, U = np.linalg.eigh((G + G.conj().T) / 2)
+    keep = w > 0.5 * w.max()
+    Y = Z @ (U[:, keep] / np.sqrt(w[keep]))
+    H = Y.conj().T @ (A @ Y)
+    lam, V = np.linalg.eigh((H + H.conj().T) / 2)
+    return lam, Y @ V
+
+
+def solve_cyclic(
+    design,
+    mesh=None,
+    *,
+    n_sectors: int | None = None,
+    size: float | None = None,
+    elements_through_web: int | None = None,
+    fmax_hz: float | None = 5000.0,
+    k: int | None = None,
+    boundary: str = "clamped",
+    factorization: str | None = None,
+) -> ModeSet:
+    """Natural modes of the wheel from the 3-D P2 model, by cyclic symmetry.
+
+    Parameters
+    ----------
+    design: a :class:`~geometry.design.WheelDesign`.
+    mesh: a cyclic ``SolidMesh`` (:func:`geometry.mesh.revolve_profile`); ``None``
+        meshes the profile (``geometry.mesh.mesh_profile(design, size,
+        elements_through_web, order=2)``, default one element across the web as the
+        gmsh 3-D mesh) and revolves it in ``n_sectors`` (default
+        :func:`default_sectors`).
+    fmax_hz / k: all modes up to ``fmax_hz``, or the ``k`` lowest (a pair counts once).
+    boundary: ``"clamped"`` (bore fixed) or ``"free"`` (rigid-body modes dropped: two
+        at p = 0, two pairs at p = 1).
+    factorization: of each harmonic problem (:func:`fem.eigen.solve_eigen`); default
+        :func:`fem.axisym.small_problem_factorization`.
+
+    Returns a :class:`~fem.modes.ModeSet` (``solver="3d-cyclic-p2"``), points and
+    ``"tetra"`` cells of the whole wheel's corner nodes, ``shapes[i]`` (members,
+    n_points, 3); ``dofs`` is the size of the equivalent full 3-D problem (free DOFs);
+    ``timings_s`` has "mesh", "assemble", "eigen", "label", "total".
+    """
+    if k is None and fmax_hz is None:
+        raise ValueError("give k or fmax_hz")
+    if k is not None and k < 1:
+        raise ValueError(f"k must be positive, got {k}")
+    try:
+        from threadpoolctl import threadpool_limits  # noqa: PLC0415
+    except ImportError:  # pragma: no cover
+        threadpool_limits = None
+    t0 = time.perf_counter()
+    if mesh is None:
+        from geometry.mesh import mesh_profile, revolve_profile  # noqa: PLC0415
+
+        if size is None and elements_through_web is None:
+            elements_through_web = 1
+        prof = mesh_profile(design, size=size, elements_through_web=elements_through_web, order=2)
+        mesh = revolve_profile(prof, n_sectors or default_sectors(design, prof.size))
+    elif n_sectors is not None and n_sectors != getattr(mesh, "n_sectors", 0):
+        raise ValueError(f"n_sectors={n_sectors} but the mesh has {getattr(mesh, 'n_sectors', 0)}")
+    t_mesh = time.perf_counter()
+    if threadpool_limits is None:
+        return _solve(design, mesh, fmax_hz, k, boundary, factorization, t0, t_mesh)
+    # small problems: one BLAS thread (see fem.axisym.solve_axisymmetric)
+    with threadpool_limits(limits=1, user_api="blas"):
+        return _solve(design, mesh, fmax_hz, k, boundary, factorization, t0, t_mesh)
+
+
+def _profile_labeller(design, mesh, layout, boundary):
+    """The axisymmetric labeller on face 0 (the profile mesh) and the map from its
+    DOFs (U, V, W at each node) to the owned-local nodes."""
+    import skfem as fe  # noqa: PLC0415
+
+    tri = layout.face_triangles
+    nodes = np.unique(tri)
+    xyz = np.asarray(mesh.points)[layout.owned[nodes]]
+    rz = np.zeros((2, int(nodes.max()) + 1))
+    rz[:, nodes] = xyz[:, [0, 2]].T
+    used = np.zeros(rz.shape[1], dtype=bool)
+    used[nodes] = True
+    if not used.all():
+        raise RuntimeError("face-0 nodes are not numbered 0..n-1")
+    skm = fe.MeshTri2(rz, tri.T) if tri.shape[1] == 6 else fe.MeshTri1(rz, tri.T)
+    model = assemble_harmonic(design, skm, order=2 if tri.shape[1] == 6 else 1, boundary=boundary)
+    dist, node = cKDTree(rz.T).query(model.basis.doflocs.T)
+    if dist.max() > 1e-9 * design.rolling_radius:
+        raise RuntimeError("profile DOFs do not match the face-0 nodes")
+    # profile component (0 U = u_r, 1 V = u_z, 2 W = u_theta) -> local Cartesian at theta=0
+    cart = np.array([0, 2, 1])[model.comp]
+    return ProfileLabeller(design, model), 3 * node + cart
+
+
+def _solve(design, mesh, fmax_hz, k, boundary, factorization, t0, t_mesh) -> ModeSet:
+    if factorization is None:
+        factorization = small_problem_factorization()
+    S = SectorModel(design, mesh, boundary)
+    N = S.n_sectors
+    L = S.layout
+    labeller, prof_dof = _profile_labeller(design, mesh, L, boundary)
+    t_asm = time.perf_counter()
+
+    f_ref = reference_frequency(design)
+    sigma = 0.0 if boundary == "clamped" else -((2 * math.pi * FREE_SHIFT_REL * f_ref) ** 2)
+    f_rigid = RIGID_TOL * f_ref
+    lam_max = None if fmax_hz is None else (2 * math.pi * fmax_hz) ** 2
+    nfree = S.free.size
+    raw: list[tuple[float, int, np.ndarray]] = []  # (f, p, complex owned-local vector)
+    n_rigid = 0
+    guess = 4
+    p_top = N // 2
+    for p in range(p_top + 1):
+        K, M, doubled = S.matrices(p)
+        mult = 2 if doubled else 1
+        res = _solve_band(K, M, fmax_hz, None if k is None else mult * k, sigma, mult * guess, factorization)
+        if doubled:
+            lam, Z = _complex_modes(K, M, res.eigenvalues, res.vectors, nfree)
+        else:
+            lam, Z = res.eigenvalues, res.vectors.astype(complex)
+        found = []
+        for lam_j, z in zip(lam, Z.T):
+            f = math.sqrt(max(lam_j, 0.0)) / (2 * math.pi)
+            if boundary == "free" and f < f_rigid:
+                n_rigid += 1
+                continue
+            if lam_max is not None and lam_j > lam_max:
+                continue
+            x = np.zeros(3 * S.n_owned, dtype=complex)
+            x[S.free] = z
+            raw.append((f, p, x))
+            found.append(f)
+        guess = max(3, len(found) + 2)
+        if p == p_top and found:
+            warnings.warn(
+                f"modes in the band at the highest harmonic the {N}-sector mesh represents "
+                f"(p = {p_top}): higher nodal diameters alias onto lower ones; use more sectors",
+                ResolutionWarning, stacklevel=3)
+        if p >= 2:
+            if not found:
+                break
+            if k is not None and len(raw) >= k and min(found) > sorted(r[0] for r in raw)[k - 1]:
+                break
+    if boundary == "free" and n_rigid != 4:  # p = 0: z-translation, z-rotation; p = 1: two pairs
+        raise RuntimeError(f"free-free solve: expected 4 rigid-body eigenpairs (p = 0, 1), found {n_rigid}")
+    t_eig = time.perf_counter()
+
+    raw.sort(key=lambda r: r[0])
+    if k is not None:
+        raw = raw[:k]
+    if not raw and fmax_hz is not None:
+        warnings.warn(
+            f"no natural frequency at or below fmax_hz = {fmax_hz:g} Hz ({boundary} wheel "
+            f"{getattr(design, 'name', '')!r}): returning an empty ModeSet (raise fmax_hz)",
+            EmptyBandWarning, stacklevel=3)
+
+    nv = mesh.n_vertices // N
+    theta = S.delta * np.arange(N)
+    cos_t, sin_t = np.cos(theta)[:, None], np.sin(theta)[:, None]
+    ic = 3 * mesh.contact_node + 2  # contact node = profile vertex on face 0 = local index
+    modes: list[Mode] = []
+    shapes: list[np.ndarray] = []
+    for i, (f, p, x) in enumerate(raw):
+        real = p == 0 or 2 * p == N
+        # the profile field, phased so that (u_r, u_z) are real: the cos member
+        xp = x[prof_dof]
+        if real:
+            x2 = xp.real
+        else:
+            ur_uz = np.isin(prof_dof % 3, (0, 2))
+            alpha = 0.5 * np.angle(np.sum(np.where(ur_uz, xp**2, -(xp**2))))
+            xr = xp * np.exp(-1j * alpha)
+            x2 = np.where(ur_uz, xr.real, -xr.imag)
+        family, circles, v_c = labeller.label(x2)
+        scale = math.sqrt((1.0 if real else 2.0) / N)
+        xc = x[ic]
+        peak = scale * float(np.abs(x).max())
+        if v_c == 0.0:  # in-plane mode of a symmetric wheel, or a node: the labeller's rule
+            contact = (0.0,) if real else (0.0, 0.0)
+        elif real:
+            contact = (clean_contact(scale * xc.real, peak),)
+        else:
+            contact = (clean_contact(scale * xc.real, peak), clean_contact(scale * xc.imag, peak))
+        modes.append(Mode(i, f, p, circles, family, contact))
+        # whole-wheel shapes at the corner nodes: sector s is the Bloch wave rotated by s Delta
+        u = x[: 3 * nv].reshape(nv, 3)
+        wave = np.exp(1j * p * theta)[:, None, None] * u[None]  # (N, nv, 3)
+        members = [wave.real] if real else [wave.real, wave.imag]
+        out = []
+        for w in members:
+            g = np.empty_like(w)
+            g[..., 0] = cos_t * w[..., 0] - sin_t * w[..., 1]
+            g[..., 1] = sin_t * w[..., 0] + cos_t * w[..., 1]
+            g[..., 2] = w[..., 2]
+            out.append(scale * g.reshape(-1, 3))
+        shapes.append(np.stack(out))
+    t_end = time.perf_counter()
+    return ModeSet(
+        modes=modes,
+        points=np.asarray(mesh.points)[: mesh.n_vertices].copy(),
+        cells={"tetra": np.asarray(mesh.tetra)[:, :4].copy()},
+        shapes=shapes,
+        solver=f"3d-cyclic-p{2 if mesh.order == 2 else 1}",
+        dofs=int(N * nfree),
+        timings_s={"mesh": t_mesh - t0, "assemble": t_asm - t_mesh, "eigen": t_eig - t_asm,
+                   "label": t_end - t_eig, "total": t_end - t0},
+    )
+
+
+__all__ = ["MIN_SECTORS", "SECTOR_ASPECT", "SectorModel", "default_sectors", "solve_cyclic"]
