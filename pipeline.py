@@ -253,7 +253,7 @@ class Fidelity:
     """A solver, element order and mesh size, chosen together (see README's table)."""
 
     name: str
-    solver: str  # "axisym" | "3d"
+    solver: str  # "axisym" | "3d" (cyclic 3-D P2) | "3d-tet" (gmsh tetrahedra)
     order: int  # element order (2 = quadratic)
     elements_through_web: int
     mesh_order: int = 1  # geometry order of the mesh (1: straight P2 elements on it)
@@ -268,20 +268,24 @@ FIDELITIES: dict[str, Fidelity] = {
     "accurate": Fidelity("accurate", "axisym", 2, 4),
 }
 DEFAULT_FIDELITY = "balanced"
+#: FE solvers: axisymmetric harmonics on the profile; 3-D P2 on the profile revolved in
+#: identical sectors, solved by cyclic symmetry (fem.cyclic); 3-D P2 on a gmsh mesh
+#: (fem.solid: the independent, unstructured check; 20-60x slower).
+SOLVERS = ("axisym", "3d", "3d-tet")
 
 
 def fidelity_for(name: str, solver: str | None = None) -> Fidelity:
-    """The preset ``name``, optionally forcing the solver (``axisym`` or ``3d``)."""
+    """The preset ``name``, optionally forcing the solver (one of :data:`SOLVERS`)."""
     if name not in FIDELITIES:
         raise UsageError(f"unknown fidelity {name!r}; choose from {', '.join(FIDELITIES)}")
     f = FIDELITIES[name]
     if solver is None or solver == f.solver:
         return f
-    if solver not in ("axisym", "3d"):
-        raise UsageError(f"unknown solver {solver!r}; choose axisym or 3d")
+    if solver not in SOLVERS:
+        raise UsageError(f"unknown solver {solver!r}; choose {', '.join(SOLVERS)}")
     # 3-D P2 on the curved (isoparametric) mesh converges from above; straight tets
     # facet the tread and bore (measured: +0.34 % vs +0.26 % at 1 element per web).
-    mesh_order = f.order if solver == "3d" else f.mesh_order
+    mesh_order = f.order if solver != "axisym" else f.mesh_order
     return Fidelity(f.name, solver, f.order, f.elements_through_web, mesh_order)
 
 
@@ -400,7 +404,7 @@ def compute_modes(design: WheelDesign, fidelity: str | Fidelity = DEFAULT_FIDELI
     """Eigenmodes of the bore-clamped wheel up to ``fmax_hz`` [Hz] as a ``fem.ModeSet``.
 
     ``fidelity`` is a preset name (fast | balanced | accurate) or a :class:`Fidelity`;
-    ``solver`` forces ``axisym`` or ``3d``. With a ``cache`` the mesh and the modes are
+    ``solver`` forces one of :data:`SOLVERS`. With a ``cache`` the mesh and the modes are
     re-used whenever the geometry, material, fidelity and code are unchanged.
     """
     fid = fidelity if isinstance(fidelity, Fidelity) else fidelity_for(fidelity, solver)
@@ -415,7 +419,7 @@ def compute_modes(design: WheelDesign, fidelity: str | Fidelity = DEFAULT_FIDELI
             return ms
         except CacheMiss:
             pass
-    dim = 2 if fid.solver == "axisym" else 3
+    dim = 3 if fid.solver == "3d-tet" else 2  # the cyclic mesh is revolved from the profile
     with progress.stage(f"mesh ({dim}-D, {fid.name})"):
         mesh = build_mesh(design, dim=dim, cache=cache, **fid.mesh_options())
     with progress.stage(f"modes ({fid.solver}, f <= {fmax_hz:g} Hz)"):
@@ -424,6 +428,12 @@ def compute_modes(design: WheelDesign, fidelity: str | Fidelity = DEFAULT_FIDELI
 
             ms = solve_axisymmetric(design, mesh, order=fid.order, fmax_hz=fmax_hz,
                                     curved=fid.mesh_order == 2)
+        elif fid.solver == "3d":
+            from fem.cyclic import default_sectors, solve_cyclic
+            from geometry.mesh import revolve_profile
+
+            solid = revolve_profile(mesh, default_sectors(design, mesh.size))
+            ms = solve_cyclic(design, solid, fmax_hz=fmax_hz)
         else:
             from fem.solid import solve_solid
 
@@ -1129,7 +1139,9 @@ def _add_common(p: argparse.ArgumentParser, out_required: bool = True, out_defau
 def _add_fe(p: argparse.ArgumentParser, mode: bool = True) -> None:
     p.add_argument("--fidelity", default=DEFAULT_FIDELITY, choices=list(FIDELITIES),
                    help="speed/accuracy preset (default %(default)s; see README)")
-    p.add_argument("--solver", choices=["axisym", "3d"], help="force the FE solver")
+    p.add_argument("--solver", choices=list(SOLVERS),
+                   help="force the FE solver: axisym, 3d (3-D P2, cyclic symmetry) or 3d-tet "
+                        "(3-D P2 on a gmsh tetrahedral mesh, slow)")
     p.add_argument("--fmax", type=float, default=5000.0, help="modes up to this frequency [Hz]")
     if mode:
         p.add_argument("--mode", default="auto",
