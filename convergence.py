@@ -6,9 +6,11 @@ For one wheel design at the default operating point (800 RPM, Vc = 0.39 m/s, the
 * the **modal solvers** over a ladder of mesh sizes (``elements_through_web``):
   axisymmetric P2 on straight triangles (``axisym-P2``, what the fidelity presets use),
   axisymmetric P2 on curved (isoparametric) triangles (``axisym-P2-curved``), 3-D P1
-  (``3d-P1``, locks in bending) and 3-D P2 on the curved second-order mesh (``3d-P2``,
-  ``fem.solid.solve_solid``'s default), all modes up to 5 kHz as the pipeline computes
-  them. Per rung: DOFs, wall time (mesh + assembly + eigen-solve + labels: what a cold
+  (``3d-P1``, locks in bending), 3-D P2 on the curved second-order gmsh mesh
+  (``3d-P2``, ``fem.solid.solve_solid``'s default) and 3-D P2 on the profile revolved
+  in identical sectors, solved by cyclic symmetry (``3d-cyclic-P2``,
+  ``fem.cyclic.solve_cyclic``; cheap enough to converge), all modes up to 5 kHz as the
+  pipeline computes them. Per rung: DOFs, wall time (mesh + assembly + eigen-solve + labels: what a cold
   ``compute_modes`` costs), peak memory, the selected mode's frequency and contact
   modal mass, and the limit-cycle amplitude and time to saturation of
   :func:`pipeline.simulate` (production RK4) with that rung's (m, k, c);
@@ -25,7 +27,8 @@ References (stated in ``summary.json`` and the progress output):
 * FE rungs: the **finest axisymmetric rung**, curved P2 with ``REFERENCE_ETW``
   (10) elements across the web (6 with ``quick=True``). Its own uncertainty is
   estimated by its change from the next-coarser curved rung and from the straight-P2
-  rung of the same size; it is cross-checked against the finest 3-D P2 rung. The
+  rung of the same size; it is cross-checked against the finest 3-D P2 rungs (gmsh
+  and cyclic). The
   amplitude and time-to-saturation errors of FE rungs use the same integrator for
   every rung, so they measure only the effect of the FE result on the squeal model.
 * integrator rungs: DOP853 at rtol 1e-10 on the same duration.
@@ -74,6 +77,8 @@ REFERENCE_ETW = 10
 #: 3-D ladders (elements across the web); a 3-D P2 run at 2 per web is ~180k DOFs
 SOLID_P1_LADDER = (1, 2, 3, 4)
 SOLID_P2_LADDER = (1, 2)
+#: cyclic 3-D P2 (fem.cyclic; default sector count): 4 per web is 1.3M DOFs in ~5 s
+CYCLIC_LADDER = (1, 2, 4)
 #: RK4 steps per period and solve_ivp rtol ladders; their reference
 RK4_LADDER = (12, 16, 24, 32, 48, 64, 96, 128)
 IVP_RTOLS = (1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9)
@@ -92,6 +97,7 @@ QUICK = {
     "reference_etw": 6,
     "p1": (1,),
     "p2": (1,),
+    "cyclic": (1, 2),
     "rk4": (16, 32, 48, 96),
     "rtols": (1e-5, 1e-7),
     "reference_rtol": 1e-9,
@@ -129,13 +135,14 @@ COLUMNS = [
     "limit_cycle_frequency_hz", "simulated_s", "step_s", "mode", "pareto", "note",
 ]
 
-FE_METHODS = ("axisym-P2", "axisym-P2-curved", "3d-P1", "3d-P2", "3d-P2-straight")
+FE_METHODS = ("axisym-P2", "axisym-P2-curved", "3d-P1", "3d-P2", "3d-P2-straight", "3d-cyclic-P2")
 METHOD_LABELS = {
     "axisym-P2": "axisym P2, straight (presets)",
     "axisym-P2-curved": "axisym P2, curved",
     "3d-P1": "3-D P1 (locks)",
     "3d-P2": "3-D P2, curved mesh",
     "3d-P2-straight": "3-D P2, straight mesh",
+    "3d-cyclic-P2": "3-D P2, cyclic sectors",
     "rk4": "RK4 (numba), steps/period",
     f"solve_ivp-{IVP_METHOD}": f"solve_ivp {IVP_METHOD}, rtol",
 }
@@ -252,6 +259,10 @@ class FERung:
             # curved=False: order-1 profile mesh + straight P2, as pipeline.compute_modes
             return solve_axisymmetric(design, order=2, elements_through_web=self.etw,
                                       curved=self.method.endswith("curved"), fmax_hz=FMAX_HZ)
+        if self.method == "3d-cyclic-P2":
+            from fem.cyclic import solve_cyclic
+
+            return solve_cyclic(design, elements_through_web=self.etw, fmax_hz=FMAX_HZ)
         from fem.solid import solve_solid
 
         if self.method == "3d-P2-straight":
@@ -734,6 +745,7 @@ def _warm_up(design) -> None:
     import reduced
     from fem.axisym import small_problem_factorization, solve_axisymmetric
     from fem.eigen import available_factorizations
+    from fem.cyclic import solve_cyclic  # noqa: F401
     from fem.solid import solve_solid  # noqa: F401
 
     small_problem_factorization()
@@ -767,6 +779,7 @@ def run_convergence(design, out_dir, *, quick: bool = False,
     ref_etw = q["reference_etw"] if q else REFERENCE_ETW
     p1 = q["p1"] if q else SOLID_P1_LADDER
     p2 = q["p2"] if q else SOLID_P2_LADDER
+    cyclic = q["cyclic"] if q else CYCLIC_LADDER
 
     say(f"design {design.name}: warming up (imports, numba) ...")
     _warm_up(design)
@@ -777,6 +790,7 @@ def run_convergence(design, out_dir, *, quick: bool = False,
     rungs += [FERung("axisym-P2-curved", e) for e in curved]
     rungs += [FERung("3d-P1", e) for e in p1]
     rungs += [FERung("3d-P2", e) for e in p2]
+    rungs += [FERung("3d-cyclic-P2", e) for e in cyclic]
     if not quick:
         rungs.append(FERung("3d-P2-straight", 1))
     fe_rows, modes = fe_ladder(design, rungs, isolate=isolate, progress=say)
@@ -797,6 +811,8 @@ def run_convergence(design, out_dir, *, quick: bool = False,
                           and r["parameter"] == ref_etw), None)
     p2_rows = [r for r in finer if r["method"] == "3d-P2"]
     finest_p2 = max(p2_rows, key=lambda r: r["parameter"], default=None)
+    finest_cyc = max((r for r in finer if r["method"] == "3d-cyclic-P2"),
+                     key=lambda r: r["parameter"], default=None)
     reference_info = {
         "rung": f"axisym-P2-curved, {ref_etw} elements across the web",
         "dofs": ref["dofs"], "seconds": ref["seconds"],
@@ -812,6 +828,10 @@ def run_convergence(design, out_dir, *, quick: bool = False,
                               "dofs": finest_p2["dofs"],
                               **{f"{k}_rel_difference": _rel(finest_p2, k) for k in ERROR_KEYS}}
                              if finest_p2 else None),
+        "crosscheck_3d_cyclic": ({"rung": f"3d-cyclic-P2, {finest_cyc['parameter']} per web",
+                                  "dofs": finest_cyc["dofs"],
+                                  **{f"{k}_rel_difference": _rel(finest_cyc, k) for k in ERROR_KEYS}}
+                                 if finest_cyc else None),
     }
     if straight_same is not None:
         reference_info["straight_p2_same_mesh"] = {
@@ -824,6 +844,11 @@ def run_convergence(design, out_dir, *, quick: bool = False,
             f"modal mass {_pct(sc['modal_mass_rel_change'])}")
     if finest_p2:
         cc = reference_info["crosscheck_3d_p2"]
+        say(f"  cross-check {cc['rung']} ({cc['dofs']} DOFs): frequency "
+            f"{_pct(cc['frequency_rel_difference'])}, modal mass {_pct(cc['modal_mass_rel_difference'])}, "
+            f"amplitude {_pct(cc['amplitude_rel_difference'])}")
+    if finest_cyc:
+        cc = reference_info["crosscheck_3d_cyclic"]
         say(f"  cross-check {cc['rung']} ({cc['dofs']} DOFs): frequency "
             f"{_pct(cc['frequency_rel_difference'])}, modal mass {_pct(cc['modal_mass_rel_difference'])}, "
             f"amplitude {_pct(cc['amplitude_rel_difference'])}")
