@@ -52,6 +52,7 @@ from typing import Any, Callable
 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
+sys.path.insert(0, str(ROOT / "benchmarks"))  # bench_modes: the shared 3-D baseline
 
 import numpy as np  # noqa: E402
 
@@ -177,10 +178,10 @@ def bench_modes(design, table: Table, quick: bool) -> tuple:
                   n, s, note=f"{ms.dofs} DOFs, {len(ms.modes)} modes <= 5 kHz, "
                              f"(3,0) {mode.frequency_hz:.2f} Hz")
 
-    import scipy.sparse.linalg as spla
+    from bench_modes import eigenvalue_list, eigsh_baseline
 
     from fem.cyclic import solve_cyclic
-    from fem.solid import PAIR_RTOL, assemble, solve_solid
+    from fem.solid import PAIR_RTOL, solve_solid
     from geometry.mesh import mesh_profile, mesh_wheel, revolve_profile
 
     t = time.perf_counter()
@@ -190,21 +191,11 @@ def bench_modes(design, table: Table, quick: bool) -> tuple:
     # the eigenvalues in the padded band (untimed): a pair (0 < n < N/2) counts twice;
     # eigsh is given exactly that many, so it runs once
     ref = solve_cyclic(design, mesh, fmax_hz=5000.0 * (1 + PAIR_RTOL))
-    lam = np.sort([(2 * math.pi * m.frequency_hz) ** 2
-                   for m in ref.modes
-                   for _ in range(1 if m.nodal_diameters == 0 or 2 * m.nodal_diameters == N else 2)])
+    lam = eigenvalue_list(ref, N)
     nev = len(lam)
 
     def baseline():
-        t = time.perf_counter()
-        model = assemble(design, mesh.points, mesh.tetra, order=2, fast=False)
-        K = model.K[model.free][:, model.free].tocsr()
-        M = model.M[model.free][:, model.free].tocsr()
-        t_asm = time.perf_counter() - t
-        nd = K.shape[0]
-        t = time.perf_counter()
-        vals, _ = spla.eigsh(K, k=nev, M=M, sigma=0.0, which="LM", v0=np.ones(nd) / math.sqrt(nd))
-        return t_asm, time.perf_counter() - t, np.sort(vals)
+        return eigsh_baseline(design, mesh, nev)[:3]
 
     n_fast = 3 if quick else 5
     n_base = 1 if quick else 2
