@@ -107,10 +107,9 @@ class SectorModel:
         P = sp.csr_matrix((np.ones(basis.N), (3 * node + comp, np.arange(basis.N))), shape=(n_slab, basis.N))
         # far-face nodes: Cartesian = R(Delta) * (sector 1's own frame)
         c, s = math.cos(self.delta), math.sin(self.delta)
-        blocks = [sp.identity(3 * no, format="csr")]
         R = np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
-        blocks.append(sp.block_diag([R] * nf, format="csr"))
-        T = P.T @ sp.block_diag(blocks, format="csr")  # skfem DOFs <- local-frame slab DOFs
+        rot = sp.block_diag([sp.identity(3 * no), sp.block_diag([R] * nf)], format="csr")
+        T = P.T @ rot  # skfem DOFs <- local-frame slab DOFs
         J = sp.csr_matrix((np.ones(3 * nf), (np.arange(3 * nf), (3 * L.next_face_local[:, None] + np.arange(3)).ravel())),
                           shape=(3 * nf, 3 * no))
         self.parts = {}
@@ -120,7 +119,6 @@ class SectorModel:
             X = (E01 @ J).tocsr()
             self.parts[name] = ((E00 + J.T @ E11 @ J).tocsr(), X)
         xyz = pts[:no]
-        self.points = xyz
         if boundary == "clamped":
             r = np.hypot(xyz[:, 0], xyz[:, 1])
             bore = np.nonzero(r <= design.bore_radius + 1e-6 * design.rolling_radius)[0]
@@ -235,15 +233,8 @@ def _profile_labeller(design, mesh, layout, boundary):
     DOFs (U, V, W at each node) to the owned-local nodes."""
     import skfem as fe  # noqa: PLC0415
 
-    tri = layout.face_triangles
-    nodes = np.unique(tri)
-    xyz = np.asarray(mesh.points)[layout.owned[nodes]]
-    rz = np.zeros((2, int(nodes.max()) + 1))
-    rz[:, nodes] = xyz[:, [0, 2]].T
-    used = np.zeros(rz.shape[1], dtype=bool)
-    used[nodes] = True
-    if not used.all():
-        raise RuntimeError("face-0 nodes are not numbered 0..n-1")
+    tri = layout.face_triangles  # local indices 0..n-1 = the profile's own numbering
+    rz = np.asarray(mesh.points)[layout.owned[: int(tri.max()) + 1]][:, [0, 2]].T.copy()
     skm = fe.MeshTri2(rz, tri.T) if tri.shape[1] == 6 else fe.MeshTri1(rz, tri.T)
     model = assemble_harmonic(design, skm, order=2 if tri.shape[1] == 6 else 1, boundary=boundary)
     dist, node = cKDTree(rz.T).query(model.basis.doflocs.T)
