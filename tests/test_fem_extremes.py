@@ -44,7 +44,8 @@ from fem.modes import (
 from geometry.design import DesignError, WheelDesign, load_design
 from geometry.mesh import mesh_profile
 
-T1 = WheelDesign()
+#: the Table 1 wheel with the 0.030 m starting rim depth: the values below were measured on it
+T1 = WheelDesign(rim_depth=0.030)
 SAG = T1.crown_radius - math.sqrt(T1.crown_radius**2 - (T1.rim_width / 2) ** 2)
 FAST = dict(elements_through_web=1, n_theta=8)  # the fast preset's mesh, small shapes
 
