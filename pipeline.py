@@ -22,15 +22,12 @@ from __future__ import annotations
 import argparse
 import contextlib
 import hashlib
-import io
 import json
 import math
 import os
-import shutil
 import sys
 import tempfile
 import time
-import zipfile
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Callable, Iterator, Sequence
@@ -39,14 +36,16 @@ import numpy as np
 
 from geometry import DesignError, WheelDesign, profile_area, revolved_volume
 from geometry import load_design as _load_design
+from wheel_squeal.budget import Budget
+from wheel_squeal.cache import CacheMiss, StageCache
+from wheel_squeal.errors import RequestError
+from wheel_squeal.outputs import result_folder, write_csv, write_json, write_text_atomic
 
 ROOT = Path(__file__).resolve().parent
 DEFAULT_DESIGN = ROOT / "designs" / "table1.toml"
-DEFAULT_CACHE = Path(os.environ.get("WHEEL_SQUEAL_CACHE", ROOT / ".cache"))
 
-
-class UsageError(ValueError):
-    """A bad request from the user: reported in one line, exit status 2."""
+#: A bad request from the user: reported in one line, exit status 2.
+UsageError = RequestError
 
 
 # --------------------------------------------------------------------------------------
@@ -74,64 +73,23 @@ class Progress:
         self.timings[name] = self.timings.get(name, 0.0) + dt
         self.say(f"{name}: done ({dt:.2f} s)")
 
+    def counter(self, name: str, unit: str, every_s: float = 1.0) -> Callable[[int, int], None]:
+        """A ``report(done, total)`` callback for long loops: ``name: 120/3000 cases (4 %),
+        ~35 s left``, at most once every ``every_s`` seconds and at the end."""
+        start = time.perf_counter()
+        last = [start]
 
-def check_writable_out(out: Path) -> None:
-    """Fail early (before any computation) when ``out`` cannot be created."""
-    parent = out.resolve().parent
-    probe = parent
-    while not probe.exists():
-        probe = probe.parent
-    if out.exists() and not out.is_dir():
-        raise UsageError(f"--out {out} exists and is not a directory")
-    if not probe.is_dir():
-        raise UsageError(f"--out {out} is not writable ({probe} is not a directory)")
-    if not os.access(probe, os.W_OK | os.X_OK):
-        raise UsageError(f"--out {out} is not writable (no write permission in {probe})")
+        def report(done: int, total: int) -> None:
+            now = time.perf_counter()
+            if done < total and now - last[0] < every_s:
+                return
+            last[0] = now
+            rate = done / max(now - start, 1e-9)
+            left = (total - done) / rate if rate > 0 else float("inf")
+            self.say(f"{name}: {done:,}/{total:,} {unit} ({100 * done / total:.0f} %), "
+                     f"{rate:.3g} {unit}/s, ~{left:.0f} s left")
 
-
-@contextlib.contextmanager
-def output_folder(out: Path) -> Iterator[Path]:
-    """Write a result folder atomically.
-
-    Yields a temporary folder beside ``out``; on success it replaces ``out`` in one
-    rename (an older folder of the same name is removed only after the new one is in
-    place). On any error the temporary folder is removed and ``out`` is untouched, so
-    no half-written output is ever left behind.
-    """
-    out = Path(out)
-    check_writable_out(out)
-    out.parent.mkdir(parents=True, exist_ok=True)
-    tmp = Path(tempfile.mkdtemp(prefix=f".{out.name}.tmp-", dir=out.parent))
-    try:
-        yield tmp
-    except BaseException:
-        shutil.rmtree(tmp, ignore_errors=True)
-        raise
-    old = None
-    if out.exists():
-        old = out.with_name(f".{out.name}.old-{os.getpid()}")
-        out.rename(old)
-    tmp.rename(out)
-    if old is not None:
-        shutil.rmtree(old, ignore_errors=True)
-
-
-def write_json(path: Path, data: dict) -> None:
-    path.write_text(json.dumps(_jsonable(data), indent=2, allow_nan=False) + "\n")
-
-
-def _jsonable(x: Any) -> Any:
-    if isinstance(x, dict):
-        return {str(k): _jsonable(v) for k, v in x.items()}
-    if isinstance(x, (list, tuple)):
-        return [_jsonable(v) for v in x]
-    if isinstance(x, np.generic):
-        x = x.item()
-    if isinstance(x, float) and not math.isfinite(x):
-        return None
-    if isinstance(x, Path):
-        return str(x)
-    return x
+        return report
 
 
 # --------------------------------------------------------------------------------------
@@ -145,104 +103,6 @@ def code_version(*packages: str) -> str:
             h.update(f.relative_to(ROOT).as_posix().encode())
             h.update(f.read_bytes())
     return h.hexdigest()[:16]
-
-
-class CacheMiss(Exception):
-    pass
-
-
-class StageCache:
-    """Content-addressed store for expensive stages (mesh, modes).
-
-    An entry is one ``.npz`` file named by the SHA-256 of its key (a JSON-able dict of
-    everything the stage depends on). The file carries its own key and a checksum of
-    its arrays, so a corrupt, truncated or foreign entry is detected, reported in one
-    line and recomputed. Writes are atomic (temporary file + rename).
-    """
-
-    def __init__(self, root: Path | str | None = DEFAULT_CACHE, enabled: bool = True,
-                 warn: Callable[[str], None] | None = None) -> None:
-        self.root = Path(root) if root is not None else DEFAULT_CACHE
-        self.enabled = enabled
-        self.warn = warn or (lambda msg: print(f"warning: {msg}", file=sys.stderr))
-        self.hits: list[str] = []
-        self.misses: list[str] = []
-
-    @staticmethod
-    def digest(key: dict) -> str:
-        return hashlib.sha256(json.dumps(key, sort_keys=True).encode()).hexdigest()
-
-    def path(self, stage: str, key: dict) -> Path:
-        return self.root / stage / f"{self.digest(key)[:32]}.npz"
-
-    def load(self, stage: str, key: dict) -> dict[str, np.ndarray]:
-        if not self.enabled:
-            raise CacheMiss
-        p = self.path(stage, key)
-        if not p.exists():
-            self.misses.append(stage)
-            raise CacheMiss
-        try:
-            with np.load(p, allow_pickle=False) as z:
-                arrays = {k: z[k] for k in z.files}
-            meta = json.loads(str(arrays.pop("__meta__")))
-            if meta.get("key") != key:
-                raise ValueError("entry belongs to another key")
-            if meta.get("checksum") != _checksum(arrays):
-                raise ValueError("checksum mismatch")
-        except (OSError, ValueError, KeyError, zipfile.BadZipFile, EOFError) as exc:
-            self.warn(f"cache entry {p} is corrupt or foreign ({exc}); recomputing {stage}")
-            self.misses.append(stage)
-            raise CacheMiss from None
-        self.hits.append(stage)
-        return arrays
-
-    def store(self, stage: str, key: dict, arrays: dict[str, np.ndarray]) -> None:
-        if not self.enabled:
-            return
-        p = self.path(stage, key)
-        p.parent.mkdir(parents=True, exist_ok=True)
-        meta = json.dumps({"key": key, "checksum": _checksum(arrays)})
-        buf = io.BytesIO()
-        np.savez(buf, __meta__=np.array(meta), **arrays)
-        fd, tmp = tempfile.mkstemp(prefix=p.name, suffix=".tmp", dir=p.parent)
-        try:
-            with os.fdopen(fd, "wb") as f:
-                f.write(buf.getvalue())
-            os.replace(tmp, p)
-        except BaseException:
-            with contextlib.suppress(OSError):
-                os.unlink(tmp)
-            raise
-
-    def clear(self) -> int:
-        """Remove every entry; returns the number of files removed."""
-        # Only our own files go: a cache folder pointed at the wrong place must not
-        # cost the user anything else.
-        n = 0
-        if self.root.exists():
-            for stage_dir in self.root.iterdir():
-                if not stage_dir.is_dir():
-                    continue
-                for f in list(stage_dir.glob("*.npz")) + list(stage_dir.glob("*.tmp")):
-                    f.unlink()
-                    n += f.suffix == ".npz"
-                with contextlib.suppress(OSError):
-                    stage_dir.rmdir()
-            with contextlib.suppress(OSError):
-                self.root.rmdir()
-        return n
-
-
-def _checksum(arrays: dict[str, np.ndarray]) -> str:
-    h = hashlib.sha256()
-    for k in sorted(arrays):
-        a = np.ascontiguousarray(arrays[k])
-        h.update(k.encode())
-        h.update(str(a.dtype).encode())
-        h.update(str(a.shape).encode())
-        h.update(a.tobytes())
-    return h.hexdigest()
 
 
 # --------------------------------------------------------------------------------------
@@ -400,12 +260,15 @@ def _modeset_from_arrays(arrays: dict[str, np.ndarray]):
 
 def compute_modes(design: WheelDesign, fidelity: str | Fidelity = DEFAULT_FIDELITY,
                   solver: str | None = None, fmax_hz: float = 5000.0,
-                  cache: StageCache | None = None, progress: Progress | None = None):
+                  cache: StageCache | None = None, progress: Progress | None = None,
+                  budget: Budget | None = None):
     """Eigenmodes of the bore-clamped wheel up to ``fmax_hz`` [Hz] as a ``fem.ModeSet``.
 
     ``fidelity`` is a preset name (fast | balanced | accurate) or a :class:`Fidelity`;
     ``solver`` forces one of :data:`SOLVERS`. With a ``cache`` the mesh and the modes are
-    re-used whenever the geometry, material, fidelity and code are unchanged.
+    re-used whenever the geometry, material, fidelity and code are unchanged. A solve
+    that is not cached is estimated first and refused (:class:`BudgetError`) beyond the
+    ``budget`` (default: :meth:`Budget.from_environment`).
     """
     fid = fidelity if isinstance(fidelity, Fidelity) else fidelity_for(fidelity, solver)
     if not (math.isfinite(fmax_hz) and fmax_hz > 0):
@@ -419,6 +282,7 @@ def compute_modes(design: WheelDesign, fidelity: str | Fidelity = DEFAULT_FIDELI
             return ms
         except CacheMiss:
             pass
+    check_modes_budget(design, fid, fmax_hz, budget or Budget.from_environment())
     dim = 3 if fid.solver == "3d-tet" else 2  # the cyclic mesh is revolved from the profile
     with progress.stage(f"mesh ({dim}-D, {fid.name})"):
         mesh = build_mesh(design, dim=dim, cache=cache, **fid.mesh_options())
@@ -444,6 +308,23 @@ def compute_modes(design: WheelDesign, fidelity: str | Fidelity = DEFAULT_FIDELI
     return ms
 
 
+def check_modes_budget(design: WheelDesign, fid: Fidelity, fmax_hz: float, budget: Budget):
+    """Estimate the modal solve (``fem.cost``) and refuse it beyond ``budget``."""
+    from fem.cost import estimate_cost
+    from geometry.mesh import mesh_size
+
+    h = mesh_size(design, elements_through_web=fid.elements_through_web)
+    cost = estimate_cost(design, fid.solver, h, fmax_hz)
+    cheaper = [n for n, f in FIDELITIES.items() if f.elements_through_web < fid.elements_through_web]
+    remedy = (f"use --fidelity {cheaper[0]}" if cheaper else "use a coarser preset") + \
+        (", the axisymmetric solver (--solver axisym)" if fid.solver != "axisym" else "") + \
+        " or a lower --fmax"
+    budget.check_solve(f"{design.name} with the {fid.name} preset ({fid.solver}, "
+                       f"{fid.elements_through_web} per web, {h * 1e3:.3g} mm elements, "
+                       f"modes <= {fmax_hz:g} Hz)", cost.dofs, cost.memory_bytes, cost.seconds, remedy)
+    return cost
+
+
 def pick_mode(modeset, mode: str = "auto"):
     """The squeal mode and why it was picked; ``mode`` is auto | INDEX | n=3[,c=0] | f=HZ."""
     from fem.modes import ModeSelection, select_mode
@@ -466,36 +347,39 @@ def _cache_from_args(args) -> StageCache:
     return StageCache(args.cache_dir, enabled=not args.no_cache)
 
 
+def _budget_from_args(args) -> Budget:
+    return Budget.from_environment(getattr(args, "max_dofs", None), getattr(args, "max_seconds", None))
+
+
 def cmd_mesh(args) -> int:
     design = _design_from_args(args)
     if args.size is not None and not (math.isfinite(args.size) and args.size > 0):
         raise UsageError(f"--size must be a positive length in m, got {args.size}")
     if args.elements_through_web is not None and args.elements_through_web < 1:
         raise UsageError("--elements-through-web must be at least 1")
-    check_writable_out(args.out)
     progress = Progress(args.quiet)
-    t = time.perf_counter()
-    with progress.stage(f"mesh ({args.dim}-D, order {args.order})"):
-        mesh = build_mesh(design, dim=args.dim, order=args.order, size=args.size,
-                          elements_through_web=args.elements_through_web)
-    seconds = time.perf_counter() - t
-    if args.dim == 2:
-        mesh_measure, exact = mesh.area(), profile_area(design)
-        extra = {"mesh_area_m2": mesh_measure, "exact_area_m2": exact,
-                 "mesh_volume_m3": mesh.revolved_volume()}
-    else:
-        extra = {"mesh_volume_m3": mesh.volume()}
-    summary = {
-        "design": design.name,
-        "dim": args.dim,
-        "order": args.order,
-        "nodes": int(mesh.n_nodes),
-        "elements": int(mesh.n_elements),
-        **extra,
-        "exact_volume_m3": revolved_volume(design),
-        "seconds": seconds,
-    }
-    with output_folder(args.out) as tmp:
+    with result_folder(args.out, "mesh") as tmp:
+        _check_mesh_budget(design, args, _budget_from_args(args))
+        t = time.perf_counter()
+        with progress.stage(f"mesh ({args.dim}-D, order {args.order})"):
+            mesh = build_mesh(design, dim=args.dim, order=args.order, size=args.size,
+                              elements_through_web=args.elements_through_web)
+        seconds = time.perf_counter() - t
+        if args.dim == 2:
+            extra = {"mesh_area_m2": mesh.area(), "exact_area_m2": profile_area(design),
+                     "mesh_volume_m3": mesh.revolved_volume()}
+        else:
+            extra = {"mesh_volume_m3": mesh.volume()}
+        summary = {
+            "design": design.name,
+            "dim": args.dim,
+            "order": args.order,
+            "nodes": int(mesh.n_nodes),
+            "elements": int(mesh.n_elements),
+            **extra,
+            "exact_volume_m3": revolved_volume(design),
+            "seconds": seconds,
+        }
         mesh.write(tmp / "mesh.msh")
         mesh.write(tmp / "mesh.vtu")
         write_json(tmp / "summary.json", summary)
@@ -505,6 +389,18 @@ def cmd_mesh(args) -> int:
           f"{seconds:.2f} s -> {args.out}")
     return 0
 
+
+def _check_mesh_budget(design: WheelDesign, args, budget: Budget) -> None:
+    """The mesh command's own estimate (the solvers estimate in compute_modes)."""
+    from geometry.mesh import estimate_element_count, mesh_size
+
+    h = mesh_size(design, args.size, args.elements_through_web, args.dim)
+    n = estimate_element_count(design, h, args.dim)
+    nodes = n * (2.2 if args.dim == 2 else 1.9) if args.order == 2 else n * (0.6 if args.dim == 2 else 0.2)
+    seconds = n * (2e-5 if args.dim == 2 else 6e-5)  # gmsh, measured on these wheels
+    budget.check_solve(f"meshing {design.name} ({args.dim}-D, size {h * 1e3:.3g} mm)", 3 * nodes,
+                       n * (2e3 if args.dim == 2 else 4e3), seconds,
+                       "use a larger --size or fewer --elements-through-web")
 
 def _modes_table(modes, damping_ratio: float, selected=None) -> str:
     lines = [f"{'#':>3} {'f [Hz]':>9} {'n':>2} {'c':>2} {'family':<15} {'m [kg]':>10} "
@@ -536,15 +432,15 @@ def modes_summary(design: WheelDesign, modeset, selected, fid: Fidelity) -> dict
 def cmd_modes(args) -> int:
     design = _design_from_args(args)
     fid = fidelity_for(args.fidelity, args.solver)
-    check_writable_out(args.out)
     progress = Progress(args.quiet)
-    cache = _cache_from_args(args)
-    ms = compute_modes(design, fid, fmax_hz=args.fmax, cache=cache, progress=progress)
-    if not ms.modes:
-        raise UsageError(f"no modes below {args.fmax:g} Hz for {design.name}")
-    selected, why = pick_mode(ms, args.mode)
-    summary = modes_summary(design, ms, selected, fid)
-    with output_folder(args.out) as tmp:
+    with result_folder(args.out, "modes") as tmp:
+        cache = _cache_from_args(args)
+        ms = compute_modes(design, fid, fmax_hz=args.fmax, cache=cache, progress=progress,
+                           budget=_budget_from_args(args))
+        if not ms.modes:
+            raise UsageError(f"no modes below {args.fmax:g} Hz for {design.name}")
+        selected, why = pick_mode(ms, args.mode)
+        summary = modes_summary(design, ms, selected, fid)
         write_mode_views(tmp, design, fid, args.fmax, ms, [], cache)
         write_json(tmp / "summary.json", summary)
     print(_modes_table(ms.modes, design.modal_damping_ratio, selected))
@@ -552,7 +448,6 @@ def cmd_modes(args) -> int:
           f"m = {selected.modal_mass:.3f} kg")
     print(f"{ms.solver}, {ms.dofs} DOFs, {fid.name} -> {args.out}")
     return 0
-
 
 # --------------------------------------------------------------------------------------
 # reduced model: contact, operating point, simulation
@@ -620,6 +515,11 @@ class Simulation:
         return summary_dicts(self.limit_cycle, self.operating_point, self.contact)
 
 
+#: Samples per period of the highest mode kept in a simulation record (every RK4 step
+#: at the default step, period / 48; fewer when a stiff contact shortens the step).
+RECORD_SAMPLES_PER_PERIOD = 48
+
+
 def simulate(dof, contact, op, duration: float | None = None, max_duration: float = 4.8) -> Simulation:
     """Integrate the squeal model from rest.
 
@@ -635,8 +535,16 @@ def simulate(dof, contact, op, duration: float | None = None, max_duration: floa
     from reduced import limit_cycle, predict_limit_cycle
     from reduced import simulate as integrate
 
+    from reduced.model import MAX_STORED_SAMPLES
+
     if duration is not None and not (math.isfinite(duration) and duration > 0):
         raise UsageError(f"--duration must be positive, got {duration:g}")
+    f_top = max(d.frequency_hz for d in dof) if isinstance(dof, (list, tuple)) else dof.frequency_hz
+    longest = MAX_STORED_SAMPLES / (RECORD_SAMPLES_PER_PERIOD * f_top)
+    if duration is not None and duration > longest:
+        raise UsageError(f"--duration {duration:g} s is too long to record: {RECORD_SAMPLES_PER_PERIOD} "
+                         f"samples per period of the {f_top:.4g} Hz mode fit at most {longest:.3g} s")
+    max_duration = min(max_duration, longest)
     t = duration
     if t is None:
         t = 0.6
@@ -649,7 +557,7 @@ def simulate(dof, contact, op, duration: float | None = None, max_duration: floa
                 grow = math.log(max(pred.velocity_amplitude_m_s / pred.initial_amplitude_m_s, 1.0)) / sigma
                 t = min(max(t, 1.5 * grow + 60.0 / pred.frequency_hz), max_duration)
     while True:
-        hist = integrate(dof, contact, op, t)
+        hist = integrate(dof, contact, op, t, samples_per_period=RECORD_SAMPLES_PER_PERIOD)
         lc = limit_cycle(hist)
         if duration is not None or lc.saturated or not lc.squeal and lc.growth_rate_analytic_1_s <= 0 \
                 or t * 2 > max_duration:
@@ -691,12 +599,13 @@ def _plot_times(sim: Simulation) -> tuple[float, float]:
     """Windows for the paper's Fig. 7-10: while growing (0.2 s) and at the limit cycle
     (0.4 s in the paper; later when this mode saturates later)."""
     lc = sim.limit_cycle
+    end = float(sim.history.t[-1])
     if not (lc.saturated and math.isfinite(lc.time_to_saturation_s)):
-        return (0.2, 0.4)
+        return (min(0.2, end / 3), min(0.4, end))
     period = 1.0 / lc.frequency_hz
     t_lc = max(0.4, lc.time_to_saturation_s + 20 * period)
     growing = min(0.2, 0.5 * lc.time_to_saturation_s)
-    return (round(growing, 2), round(min(t_lc, float(sim.history.t[-1]) - 5 * period), 2))
+    return (round(growing, 2), round(max(min(t_lc, end - 5 * period), 0.0), 2))
 
 
 def _print_squeal(sim: Simulation, dof) -> None:
@@ -720,27 +629,25 @@ def _print_squeal(sim: Simulation, dof) -> None:
 
 
 def cmd_simulate(args) -> int:
-    check_writable_out(args.out)
     progress = Progress(args.quiet)
-    cache = _cache_from_args(args)
-    design = _design_from_args(args)
-    dof, modes_info = _mode_source(args, design, progress, cache)
-    contact = contact_law(design, args.c22)
-    op = operating_point(design, rpm=args.rpm, speed=args.speed, crab_velocity=args.crab_velocity,
-                         angle_of_attack=args.angle_of_attack)
-    with progress.stage("squeal model"):
-        sim = simulate(dof, contact, op, args.duration)
-    summary = {"design": design.name, "modal_parameters": _dof_dict(dof), **sim.summary(),
-               "timings_s": progress.timings}
-    if modes_info is not None:
-        summary["selected_mode"] = modes_info[2]["selected_mode"]
-    with output_folder(args.out) as tmp:
+    with result_folder(args.out, "simulate") as tmp:
+        cache = _cache_from_args(args)
+        design = _design_from_args(args)
+        dof, modes_info = _mode_source(args, design, progress, cache)
+        contact = contact_law(design, args.c22)
+        op = operating_point(design, rpm=args.rpm, speed=args.speed, crab_velocity=args.crab_velocity,
+                             angle_of_attack=args.angle_of_attack)
+        with progress.stage("squeal model"):
+            sim = simulate(dof, contact, op, args.duration)
+        summary = {"design": design.name, "modal_parameters": _dof_dict(dof), **sim.summary(),
+                   "timings_s": progress.timings}
+        if modes_info is not None:
+            summary["selected_mode"] = modes_info[2]["selected_mode"]
         _simulate_outputs(tmp, sim)
         write_json(tmp / "summary.json", summary)
     _print_squeal(sim, dof)
     print(f"-> {args.out}")
     return 0
-
 
 def _dof_dict(dof) -> dict:
     return {"mass_kg": dof.mass_kg, "stiffness_n_m": dof.stiffness_n_m,
@@ -749,21 +656,20 @@ def _dof_dict(dof) -> dict:
 
 def cmd_run(args) -> int:
     design = _design_from_args(args)
-    out = args.out or ROOT / "results" / design.name
-    check_writable_out(out)
+    out = args.out or Path("results") / design.name
     progress = Progress(args.quiet)
-    cache = _cache_from_args(args)
     t0 = time.perf_counter()
-    op = operating_point(design, rpm=args.rpm, crab_velocity=args.crab_velocity,
-                         angle_of_attack=args.angle_of_attack)
-    contact = contact_law(design, args.c22)
-    dof, (ms, mode, msum) = _mode_source(args, design, progress, cache)
-    with progress.stage("squeal model"):
-        sim = simulate(dof, contact, op, args.duration)
-    indices = [mode.index] if args.render == "selected" else (
-        [] if args.render == "none" else list(range(len(ms.modes))))
-    fid = fidelity_for(args.fidelity, args.solver)
-    with output_folder(out) as tmp:
+    with result_folder(out, "run") as tmp:
+        cache = _cache_from_args(args)
+        op = operating_point(design, rpm=args.rpm, crab_velocity=args.crab_velocity,
+                             angle_of_attack=args.angle_of_attack)
+        contact = contact_law(design, args.c22)
+        dof, (ms, mode, msum) = _mode_source(args, design, progress, cache)
+        with progress.stage("squeal model"):
+            sim = simulate(dof, contact, op, args.duration)
+        indices = [mode.index] if args.render == "selected" else (
+            [] if args.render == "none" else list(range(len(ms.modes))))
+        fid = fidelity_for(args.fidelity, args.solver)
         with progress.stage("report"):
             _simulate_outputs(tmp, sim)
         with progress.stage("mode views"):
@@ -778,7 +684,6 @@ def cmd_run(args) -> int:
     print(f"files: {out}/ (summary.json, timeseries.csv, *.png, modes.vtu)  "
           f"[{time.perf_counter() - t0:.1f} s]")
     return 0
-
 
 def write_mode_views(directory: Path, design: WheelDesign, fid: Fidelity, fmax_hz: float, modeset,
                      indices: Sequence[int], cache: StageCache | None) -> list[Path]:
@@ -814,29 +719,33 @@ def write_mode_views(directory: Path, design: WheelDesign, fid: Fidelity, fmax_h
 
 def cmd_render(args) -> int:
     design = _design_from_args(args)
-    check_writable_out(args.out)
     progress = Progress(args.quiet)
-    cache = _cache_from_args(args)
-    ms = compute_modes(design, fidelity_for(args.fidelity, args.solver), fmax_hz=args.fmax,
-                       cache=cache, progress=progress)
-    indices = None
-    if args.modes:
-        try:
-            indices = [int(i) for i in args.modes.split(",")]
-        except ValueError:
-            raise UsageError(f"--modes takes indices like 0,3,4, got {args.modes!r}") from None
-        bad = [i for i in indices if not 0 <= i < len(ms.modes)]
-        if bad:
-            raise UsageError(f"mode index {bad[0]} out of range 0..{len(ms.modes) - 1}")
-    from fem.render import render_modes
+    with result_folder(args.out, "render") as tmp:
+        cache = _cache_from_args(args)
+        ms = compute_modes(design, fidelity_for(args.fidelity, args.solver), fmax_hz=args.fmax,
+                           cache=cache, progress=progress, budget=_budget_from_args(args))
+        indices = None
+        if args.modes:
+            try:
+                indices = [int(i) for i in args.modes.split(",")]
+            except ValueError:
+                raise UsageError(f"--modes takes indices like 0,3,4, got {args.modes!r}") from None
+            bad = [i for i in indices if not 0 <= i < len(ms.modes)]
+            if bad:
+                raise UsageError(f"mode index {bad[0]} out of range 0..{len(ms.modes) - 1}")
+        from fem.render import render_modes
 
-    with output_folder(args.out) as tmp, progress.stage("render"):
-        paths = render_modes(ms, tmp, indices=indices, gif=args.gif)
+        with progress.stage("render"):
+            paths = render_modes(ms, tmp, indices=indices, gif=args.gif)
     print(f"{len(paths)} files -> {args.out}")
     return 0
 
+#: Most points of one sweep axis (START:STOP:N): a typo like 0:1:1000000000 must not
+#: allocate gigabytes before the budget has a say.
+MAX_AXIS_POINTS = 1_000_000
 
-def parse_range(text: str) -> np.ndarray:
+
+def parse_range(text: str, flag: str = "--crab-velocity") -> np.ndarray:
     """``START:STOP:N`` (N points, inclusive) or a comma list -> array."""
     try:
         if ":" in text:
@@ -844,40 +753,56 @@ def parse_range(text: str) -> np.ndarray:
             n = int(n)
             if n < 1:
                 raise ValueError
-            return np.linspace(float(a), float(b), n)
-        return np.array([float(x) for x in text.split(",")])
+            if n > MAX_AXIS_POINTS:
+                raise UsageError(f"{flag} {text}: {n:,} points is more than a sweep axis takes "
+                                 f"({MAX_AXIS_POINTS:,})")
+            values = np.linspace(float(a), float(b), n)
+        else:
+            values = np.array([float(x) for x in text.split(",")])
     except ValueError:
-        raise UsageError(f"expected START:STOP:N or a comma list of numbers, got {text!r}") from None
+        raise UsageError(f"{flag}: expected START:STOP:N or a comma list of numbers, got {text!r}") from None
+    if not np.all(np.isfinite(values)):
+        raise UsageError(f"{flag} values must be finite, got {text!r}")
+    return values
 
+def sweep(dof, contact, crab_velocities, rolling_speeds, duration: float = 1.5,
+          budget: Budget | None = None, progress: Progress | None = None):
+    """Limit cycles over a grid of crabbing velocities x rolling speeds [m/s] (one call),
+    refused beforehand if the budget (default: this machine's) does not allow it."""
+    from reduced import OperatingPoint, sweep as run_sweep
+    from reduced.sweep import numba_threads, sweep_steps
 
-def sweep(dof, contact, crab_velocities, rolling_speeds, duration: float = 1.5):
-    """Limit cycles over a grid of crabbing velocities x rolling speeds [m/s] (one call)."""
-    from reduced import sweep as run_sweep
-
-    return run_sweep(dof, contact, crab_velocities, rolling_speeds, duration)
-
+    budget = budget or Budget.from_environment()
+    speeds = np.atleast_1d(np.asarray(rolling_speeds, dtype=float))
+    n_cases = len(np.atleast_1d(crab_velocities)) * len(speeds)
+    steps = max(sweep_steps(dof, contact, OperatingPoint(float(v0), 0.0), duration) for v0 in speeds)
+    n_modes = len(dof) if isinstance(dof, (list, tuple)) else 1
+    seconds = budget.check_sweep(n_cases, steps, n_modes, numba_threads(),
+                                 "use fewer points or a shorter duration")
+    report = None
+    if progress is not None and seconds > 2.0:
+        report = progress.counter("sweep", "cases")
+    return run_sweep(dof, contact, crab_velocities, speeds, duration, progress=report)
 
 def cmd_sweep(args) -> int:
-    check_writable_out(args.out)
-    progress = Progress(args.quiet)
-    cache = _cache_from_args(args)
-    vcs = parse_range(args.crab_velocity)
-    rpms = parse_range(args.rpm)
-    if np.any(rpms <= 0) or not np.all(np.isfinite(rpms)):
+    vcs = parse_range(args.crab_velocity, "--crab-velocity")
+    rpms = parse_range(args.rpm, "--rpm")
+    if np.any(rpms <= 0):
         raise UsageError("--rpm values must be positive")
-    if not np.all(np.isfinite(vcs)):
-        raise UsageError("--crab-velocity values must be finite")
     if not (math.isfinite(args.duration) and args.duration > 0):
         raise UsageError(f"--duration must be positive, got {args.duration:g}")
-    design = _design_from_args(args)
-    dof, _ = _mode_source(args, design, progress, cache)
-    contact = contact_law(design, args.c22)
-    speeds = rpms * 2 * math.pi / 60 * design.rolling_radius
-    with progress.stage(f"sweep {len(vcs)} x {len(speeds)} cases, {args.duration:g} s each"):
-        result = sweep(dof, contact, vcs, speeds, args.duration)
-    from reduced import write_sweep_csv, write_sweep_plot
+    progress = Progress(args.quiet)
+    with result_folder(args.out, "sweep") as tmp:
+        cache = _cache_from_args(args)
+        design = _design_from_args(args)
+        dof, _ = _mode_source(args, design, progress, cache)
+        contact = contact_law(design, args.c22)
+        speeds = rpms * 2 * math.pi / 60 * design.rolling_radius
+        with progress.stage(f"sweep {len(vcs)} x {len(speeds)} cases, {args.duration:g} s each"):
+            result = sweep(dof, contact, vcs, speeds, args.duration, budget=_budget_from_args(args),
+                           progress=progress)
+        from reduced import write_sweep_csv, write_sweep_plot
 
-    with output_folder(args.out) as tmp:
         write_sweep_csv(result, tmp, wheel_radius_m=design.rolling_radius)
         write_sweep_plot(result, tmp, wheel_radius_m=design.rolling_radius)
         write_json(tmp / "summary.json", {"design": design.name, "modal_parameters": _dof_dict(dof),
@@ -892,36 +817,44 @@ def cmd_sweep(args) -> int:
     print(f"velocity amplitude [m/s] ('-' = no squeal) -> {args.out}")
     return 0
 
-
 def cmd_compare(args) -> int:
-    check_writable_out(args.out)
     progress = Progress(args.quiet)
-    cache = _cache_from_args(args)
-    designs = [load_design(p) for p in args.designs]
-    names = [d.name for d in designs]
-    if len(set(names)) != len(names):
-        raise UsageError("two designs have the same name; give each a distinct name")
-    rows, sims = [], []
-    fid = fidelity_for(args.fidelity, args.solver)
-    for d in designs:
-        progress.say(f"design {d.name}")
-        ms = compute_modes(d, fid, fmax_hz=args.fmax, cache=cache, progress=progress)
-        mode, why = pick_mode(ms, args.mode)
-        dof = modal_dof(mode, d)
-        contact = contact_law(d, args.c22)
-        op = operating_point(d, rpm=args.rpm, crab_velocity=args.crab_velocity,
-                             angle_of_attack=args.angle_of_attack)
-        sim = simulate(dof, contact, op, args.duration)
-        s = sim.summary()["limit_cycle"]
-        rows.append({"design": d.name, "mode_index": mode.index, "mode": mode.label(),
-                     "frequency_hz": mode.frequency_hz, "modal_mass_kg": dof.mass_kg,
-                     "modal_stiffness_n_m": dof.stiffness_n_m, "modal_damping_ns_m": dof.damping_ns_m,
-                     "growth_rate_1_s": s["growth_rate_1_s"], "squeal": s["squeal"],
-                     "velocity_amplitude_m_s": s["velocity_amplitude_m_s"],
-                     "time_to_saturation_s": s["time_to_saturation_s"]})
-        sims.append(sim)
-    with output_folder(args.out) as tmp:
-        _write_rows_csv(tmp / "compare.csv", rows)
+    with result_folder(args.out, "compare") as tmp:
+        cache = _cache_from_args(args)
+        designs = []
+        for p in args.designs:
+            try:
+                designs.append(load_design(p))
+            except DesignError as exc:
+                raise UsageError(f"design {p}: {exc}") from None
+        names = [d.name for d in designs]
+        if len(set(names)) != len(names):
+            raise UsageError("two designs have the same name; give each a distinct name")
+        rows, sims = [], []
+        fid = fidelity_for(args.fidelity, args.solver)
+        budget = _budget_from_args(args)
+        for d in designs:
+            progress.say(f"design {d.name}")
+            try:
+                ms = compute_modes(d, fid, fmax_hz=args.fmax, cache=cache, progress=progress,
+                                   budget=budget)
+                mode, why = pick_mode(ms, args.mode)
+                dof = modal_dof(mode, d)
+                contact = contact_law(d, args.c22)
+                op = operating_point(d, rpm=args.rpm, crab_velocity=args.crab_velocity,
+                                     angle_of_attack=args.angle_of_attack)
+                sim = simulate(dof, contact, op, args.duration)
+            except (UsageError, DesignError) as exc:
+                raise UsageError(f"design {d.name}: {exc}") from None
+            s = sim.summary()["limit_cycle"]
+            rows.append({"design": d.name, "mode_index": mode.index, "mode": mode.label(),
+                         "frequency_hz": mode.frequency_hz, "modal_mass_kg": dof.mass_kg,
+                         "modal_stiffness_n_m": dof.stiffness_n_m, "modal_damping_ns_m": dof.damping_ns_m,
+                         "growth_rate_1_s": s["growth_rate_1_s"], "squeal": s["squeal"],
+                         "velocity_amplitude_m_s": s["velocity_amplitude_m_s"],
+                         "time_to_saturation_s": s["time_to_saturation_s"]})
+            sims.append(sim)
+        write_csv(tmp / "compare.csv", rows)
         _compare_plot(tmp / "compare.png", rows, sims)
         write_json(tmp / "summary.json", {"designs": rows, "fidelity": fid.name,
                                           "operating_point": sims[0].summary()["operating_point"]})
@@ -935,13 +868,6 @@ def cmd_compare(args) -> int:
     print(f"-> {args.out}")
     return 0
 
-
-def _write_rows_csv(path: Path, rows: list[dict]) -> None:
-    keys = list(rows[0])
-    lines = [",".join(keys)]
-    for r in rows:
-        lines.append(",".join("" if r[k] is None else str(r[k]) for k in keys))
-    path.write_text("\n".join(lines) + "\n")
 
 
 def _compare_plot(path: Path, rows: list[dict], sims: list[Simulation]) -> None:
@@ -1060,21 +986,44 @@ def calibrate(design: WheelDesign, free: Sequence[str], target_frequency_hz: flo
                        evaluations)
 
 
+def _calibrated_design_path(out: Path, name: str) -> Path:
+    """Where calibrate writes its design: ``out`` itself (a .toml) or ``out/NAME.toml``.
+    An existing file there is replaced only if calibrate wrote it."""
+    path = out if out.suffix == ".toml" else out / f"{name}.toml"
+    if path.exists():
+        try:
+            ours = CALIBRATED_MARK in load_design(path).description
+        except DesignError:
+            ours = False
+        if not ours:
+            raise UsageError(f"--out {path} exists and is not a design written by calibrate: "
+                             "choose another path (nothing was written)")
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise UsageError(f"--out {out} cannot be written ({exc.strerror})") from None
+    return path
+
+
+#: Words in the description of every design calibrate writes (it may replace those).
+CALIBRATED_MARK = " calibrated to f = "
+
+
 def cmd_calibrate(args) -> int:
     design = _design_from_args(args)
-    out = Path(args.out) if args.out else None
-    if out is not None:
-        check_writable_out(out.parent if out.suffix == ".toml" else out)
-    progress = Progress(args.quiet)
     free = [f for part in args.free for f in part.split(",") if f]
+    name = f"{design.name}_calibrated"
+    design.replace(name=name)  # a valid name, checked before the work
+    path = _calibrated_design_path(Path(args.out), name) if args.out else None
+    progress = Progress(args.quiet)
     cal = calibrate(design, free, args.target_frequency, args.target_modal_mass,
                     fidelity=args.fidelity, mode=args.mode,
                     frequency_uncertainty=args.frequency_uncertainty,
                     modal_mass_uncertainty=args.modal_mass_uncertainty, progress=progress)
     cal_design = cal.design.replace(
-        name=f"{design.name}_calibrated",
-        description=(f"{design.name} with {', '.join(free)} calibrated to "
-                     f"f = {args.target_frequency} Hz, m = {args.target_modal_mass} kg "
+        name=name,
+        description=(f"{design.name} with {', '.join(free)}{CALIBRATED_MARK}"
+                     f"{args.target_frequency} Hz, m = {args.target_modal_mass} kg "
                      f"({args.fidelity}); residual {cal.residual}"))
     for k, v in cal.free.items():
         print(f"{k} = {v:.6g} (was {getattr(design, k):.6g})")
@@ -1082,21 +1031,18 @@ def cmd_calibrate(args) -> int:
           f"residual " + ", ".join(f"{k} {v:+.2%}" for k, v in cal.residual.items()
                                    if k != "weighted_rms")
           + f", weighted rms {cal.residual['weighted_rms']:.3g} ({cal.evaluations} evaluations)")
-    if out is not None:
-        path = out if out.suffix == ".toml" else out / f"{cal_design.name}.toml"
-        path.parent.mkdir(parents=True, exist_ok=True)
-        cal_design.save_toml(path)
+    if path is not None:
+        write_text_atomic(path, cal_design.to_toml())
         print(f"-> {path}")
     return 0
 
 
 def cmd_converge(args) -> int:
     design = _design_from_args(args)
-    check_writable_out(args.out)
     progress = Progress(args.quiet)
     import convergence
 
-    with output_folder(args.out) as tmp:
+    with result_folder(args.out, "converge") as tmp:
         rows = convergence.run_convergence(design, tmp, quick=args.quick, progress=progress.say)
     print(f"{len(rows)} rungs -> {args.out}/convergence.csv (and plots)")
     return 0
@@ -1108,9 +1054,8 @@ def cmd_cache(args) -> int:
         n = cache.clear()
         print(f"removed {n} cache entries from {cache.root}")
     else:
-        entries = sorted(cache.root.rglob("*.npz")) if cache.root.exists() else []
-        size = sum(f.stat().st_size for f in entries)
-        print(f"{cache.root}: {len(entries)} entries, {size / 1e6:.1f} MB")
+        n, size = cache.info()
+        print(f"{cache.root}: {n} entries, {size / 1e6:.1f} MB")
     return 0
 
 
@@ -1132,8 +1077,16 @@ def _add_common(p: argparse.ArgumentParser, out_required: bool = True, out_defau
         p.add_argument("--out", type=Path, default=out_default, help="output folder")
     p.add_argument("--quiet", action="store_true", help="no progress on stderr")
     p.add_argument("--no-cache", action="store_true", help="recompute mesh and modes")
-    p.add_argument("--cache-dir", type=Path, default=DEFAULT_CACHE,
-                   help="stage cache folder (default .cache; env WHEEL_SQUEAL_CACHE)")
+    p.add_argument("--cache-dir", type=Path,
+                   help="stage cache folder (default $WHEEL_SQUEAL_CACHE, else ~/.cache/wheel-squeal)")
+    _add_budget(p)
+
+
+def _add_budget(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--max-dofs", type=float,
+                   help="refuse modal solves larger than this (default 2e6; env WHEEL_SQUEAL_MAX_DOFS)")
+    p.add_argument("--max-seconds", type=float,
+                   help="refuse work estimated to take longer (default 1800; env WHEEL_SQUEAL_MAX_SECONDS)")
 
 
 def _add_fe(p: argparse.ArgumentParser, mode: bool = True) -> None:
@@ -1211,10 +1164,11 @@ def build_parser() -> argparse.ArgumentParser:
 
     p = sub.add_parser("compare", help="several designs at the same operating point")
     p.add_argument("designs", nargs="+", type=Path, help="design TOML files")
-    p.add_argument("--out", type=Path, default=ROOT / "results" / "compare", help="output folder")
+    p.add_argument("--out", type=Path, default=Path("results") / "compare", help="output folder")
     p.add_argument("--quiet", action="store_true")
     p.add_argument("--no-cache", action="store_true")
-    p.add_argument("--cache-dir", type=Path, default=DEFAULT_CACHE)
+    p.add_argument("--cache-dir", type=Path)
+    _add_budget(p)
     _add_fe(p)
     _add_operating(p, speed=False)
     p.set_defaults(func=cmd_compare)
@@ -1251,7 +1205,7 @@ def build_parser() -> argparse.ArgumentParser:
 
     p = sub.add_parser("cache", help="inspect or clear the stage cache")
     p.add_argument("action", choices=["clear", "info"])
-    p.add_argument("--cache-dir", type=Path, default=DEFAULT_CACHE)
+    p.add_argument("--cache-dir", type=Path)
     p.set_defaults(func=cmd_cache)
     return parser
 

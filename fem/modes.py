@@ -168,10 +168,19 @@ class ModeSelection:
             )
         try:
             if "f" in parts:
-                return cls(nodal_diameters=None, nodal_circles=None, near_hz=float(parts["f"]))
+                near = float(parts["f"])
+                if not (math.isfinite(near) and near > 0):
+                    raise ValueError(f"mode {text!r}: f=HZ needs a positive frequency in Hz")
+                return cls(nodal_diameters=None, nodal_circles=None, near_hz=near)
             n = int(parts["n"])
             c = int(parts["c"]) if "c" in parts else 0
-        except (KeyError, ValueError):
+        except KeyError:
+            raise ValueError(
+                f"unknown mode {text!r}: use auto, an index (e.g. 4), n=3[,c=0] or f=1100"
+            ) from None
+        except ValueError as exc:
+            if "f=HZ" in str(exc):
+                raise
             raise ValueError(
                 f"unknown mode {text!r}: use auto, an index (e.g. 4), n=3[,c=0] or f=1100"
             ) from None

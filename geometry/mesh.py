@@ -54,6 +54,8 @@ from .profile import half_profile
 __all__ = [
     "DEFAULT_ELEMENTS_THROUGH_WEB",
     "MAX_ELEMENTS",
+    "bore_size",
+    "estimate_element_count",
     "PHYSICAL_TAGS",
     "MeshError",
     "ProfileMesh",
@@ -421,16 +423,46 @@ def _check_order(order: int) -> int:
     return int(order)
 
 
-def _check_count(design: WheelDesign, h: float, dim: int) -> None:
+def bore_size(design: WheelDesign, h: float) -> float:
+    """Element size [m] along the bore: at most ``h``, and at least 16 elements around
+    the bore circle (see :class:`_Sizer`)."""
+    return min(h, 2 * math.pi * design.bore_radius / 16)
+
+
+def estimate_element_count(design: WheelDesign, h: float, dim: int) -> int:
+    """Elements gmsh will make for characteristic length ``h`` [m], without meshing.
+
+    Measured on these wheels (Frontal-Delaunay in 2-D, Delaunay in 3-D): about
+    2.3 / h^2 triangles per unit area plus one per boundary length h; 7.5 / h^3
+    tetrahedra per unit volume. A bore finer than ``h`` (:func:`bore_size`) adds a band
+    of small elements along it: about 6 web_thickness / h_bore triangles in 2-D, and
+    2600 (t / h_bore)^0.62 (t / h)^1.6 tetrahedra in 3-D (t the web thickness; fitted to
+    bore radii of 0.3-3 mm). Within a factor 2 of gmsh on the designs and presets
+    (tests/test_safety.py), which is what a budget needs.
+    """
     from .profile import profile_area, revolved_volume
 
-    # Frontal-Delaunay gives about 2.3 / h^2 triangles per unit area, Delaunay about
-    # 7.5 / h^3 tetrahedra per unit volume (measured on these wheels).
-    est = 2.3 * profile_area(design) / h**2 if dim == 2 else 7.5 * revolved_volume(design) / h**3
+    t = design.web_thickness
+    hb = bore_size(design, h)
+    if dim == 2:
+        verts = half_profile(design).vertices
+        perimeter = float(np.sum(np.linalg.norm(np.roll(verts, -1, axis=0) - verts, axis=1)))
+        est = 2.3 * profile_area(design) / h**2 + perimeter / h
+        if hb < h:
+            est += 6.0 * t / hb
+    else:
+        est = 7.5 * revolved_volume(design) / h**3
+        if hb < h:
+            est += 2600.0 * (t / hb) ** 0.62 * (t / h) ** 1.6
+    return int(math.ceil(est))
+
+
+def _check_count(design: WheelDesign, h: float, dim: int) -> None:
+    est = estimate_element_count(design, h, dim)
     if est > MAX_ELEMENTS:
         raise ValueError(
             f"size {h:.3g} m would give about {est:.3g} elements (limit {MAX_ELEMENTS:.0e}); "
-            "use a larger size"
+            "use a larger size or fewer elements through the web"
         )
 
 
@@ -629,7 +661,7 @@ class _Sizer:
         self.h = h / L
         self.dim = dim
         self.rb = design.bore_radius / L
-        self.h_bore = min(self.h, 2 * math.pi * self.rb / 16)
+        self.h_bore = bore_size(design, h) / L
         self.rings = np.zeros((0, 4))  # r, z, radius, size (gmsh units)
         self.L = L
 

@@ -291,6 +291,7 @@ def simulate(
     steps_per_period: int = 48,
     step_s: float | None = None,
     store_every: int = 1,
+    samples_per_period: int | None = None,
     refine: bool = True,
     max_refinements: int = 4,
     energy_tolerance: float = 1e-2,
@@ -309,6 +310,9 @@ def simulate(
         Fig. 6 case, within 3e-4 of a 128-step run over the whole Vc x speed grid).
     step_s : force a step (s) instead of :func:`choose_time_step`.
     store_every : keep every n-th step in the output (1 = all).
+    samples_per_period : instead of ``store_every``, keep at least this many samples per
+        period of the highest mode (every step when the step is longer; the choice is
+        made again after a refinement, so halving the step does not double the record).
     refine, max_refinements : on detected instability, halve the step up to
         ``max_refinements`` times; with ``refine=False`` raise at once.
     energy_tolerance : accepted |Delta E - int P dt| relative to the largest modal
@@ -323,6 +327,8 @@ def simulate(
     duration = _check_duration(duration)
     if store_every < 1:
         raise ValueError(f"store_every must be >= 1, got {store_every}")
+    if samples_per_period is not None and samples_per_period < 2:
+        raise ValueError(f"samples_per_period must be >= 2, got {samples_per_period}")
     m, c, k = _mode_arrays(modes)
     law = law_vector(contact, operating_point)
     y0, u0 = _initial_state(initial_state, len(modes))
@@ -334,6 +340,8 @@ def simulate(
     for attempt in range(attempts):
         n_steps = int(math.ceil(duration / h - 1e-9))
         h_eff = duration / n_steps
+        if samples_per_period is not None:
+            store_every = max(1, int(1.0 / (f_max * h_eff * samples_per_period)))
         n_out = n_steps // store_every + 1
         _check_storage(n_out, len(modes), n_steps, h_eff, duration, store_every, f_max,
                        ValueError if attempt == 0 else IntegrationError)

@@ -79,10 +79,12 @@ def _plt():
 
 
 def _window(history: TimeHistory, centre_s: float, n_cycles: float = 6.0):
+    """Samples of ``n_cycles`` periods of the highest mode around ``centre_s``, kept
+    inside the record (a record shorter than the window is shown whole)."""
     f = max(md.frequency_hz for md in history.modes)
-    half = 0.5 * n_cycles / f
     t_end = float(history.t[-1])
-    centre = min(max(centre_s, half), max(t_end - half, half))
+    half = min(0.5 * n_cycles / f, 0.5 * t_end)
+    centre = min(max(centre_s, half), t_end - half)
     sel = (history.t >= centre - half) & (history.t <= centre + half)
     return sel, centre
 

@@ -1,8 +1,9 @@
 """Grid of operating points (crabbing velocity x rolling speed) in one call.
 
-All cases run from rest in a numba ``prange`` loop (one case per thread at a time);
-each time history is reduced on the fly to its cycles and then to LimitCycle
-metrics with the same definitions as :func:`reduced.limit_cycle.limit_cycle`.
+All cases run from rest in a numba ``prange`` loop (one case per thread at a time), in
+chunks of a few cases per thread so that memory stays bounded and a long sweep can
+report progress; each time history is reduced on the fly to its cycles and then to
+LimitCycle metrics with the same definitions as :func:`reduced.limit_cycle.limit_cycle`.
 A case whose integration is flagged unstable (non-finite state or energy balance
 violated) is re-run through :func:`reduced.model.simulate`, which refines the step.
 """
@@ -11,6 +12,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import Callable
 
 import numpy as np
 
@@ -19,7 +21,17 @@ from .creep import ContactLaw
 from .limit_cycle import Cycles, analytic_growth_rate, limit_cycle, metrics_from_cycles
 from .model import OperatingPoint, _as_modes, _mode_arrays, choose_time_step, law_vector, simulate
 
-__all__ = ["SweepResult", "sweep"]
+
+def numba_threads() -> int:
+    """Threads the compiled sweep kernel runs on."""
+    import numba
+
+    return int(numba.get_num_threads())
+
+__all__ = ["SweepResult", "sweep", "sweep_steps"]
+
+#: cases per thread in one call of the compiled kernel (bounds the per-chunk buffers)
+CHUNK_PER_THREAD = 16
 
 #: largest number of RK4 steps per sweep case (the kernel keeps t, v and two running
 #: integrals per step for each running case: 32 bytes/step, 0.8 GB at the limit)
@@ -48,8 +60,15 @@ class SweepResult:
     duration_s: float
 
 
+def sweep_steps(modes, contact: ContactLaw, op: OperatingPoint, duration: float,
+                steps_per_period: int = 48) -> int:
+    """RK4 steps one sweep case at ``op`` takes over ``duration`` s."""
+    return int(math.ceil(duration / choose_time_step(modes, contact, op, steps_per_period) - 1e-9))
+
+
 def sweep(modes, contact: ContactLaw, crabbing_velocities, rolling_speeds, duration: float, *,
-          steps_per_period: int = 48, energy_tolerance: float = 1e-2) -> SweepResult:
+          steps_per_period: int = 48, energy_tolerance: float = 1e-2,
+          progress: Callable[[int, int], None] | None = None) -> SweepResult:
     """Run every (Vc, V0) pair from rest for ``duration`` s and return the metrics.
 
     Parameters
@@ -59,6 +78,7 @@ def sweep(modes, contact: ContactLaw, crabbing_velocities, rolling_speeds, durat
     crabbing_velocities : Vc values, m/s (1-D).
     rolling_speeds : V0 values, m/s (1-D, > 0).
     duration : simulated time per case, s (slow growth near Vc = 0.5 m/s needs > 1 s).
+    progress : called as ``progress(done, total)`` after each chunk of cases.
     """
     modes = _as_modes(modes)
     vcs = np.atleast_1d(np.asarray(crabbing_velocities, dtype=float))
@@ -83,33 +103,39 @@ def sweep(modes, contact: ContactLaw, crabbing_velocities, rolling_speeds, durat
     f_max = max(md.frequency_hz for md in modes)
     cap = int(duration * f_max * 2.0) + 16
     n_cases = len(ops)
-    bufs = [np.zeros((n_cases, cap)) for _ in range(5)]
     ncyc = np.zeros(n_cases, dtype=np.int64)
     status = np.zeros(n_cases, dtype=np.int64)
     mismatch = np.zeros(n_cases)
     emax = np.zeros(n_cases)
-    _kernels.sweep_kernel(m, c, k, laws, h, n_steps, cap, *bufs, ncyc, status, mismatch, emax)
-    shape = (len(vcs), len(v0s))
-    out = {name: np.full(n_cases, np.nan) for name in
-           ("amp", "freq", "growth", "sigma", "tsat")}
+    out = {name: np.full(n_cases, np.nan) for name in ("amp", "freq", "growth", "sigma", "tsat")}
     squeal = np.zeros(n_cases, dtype=bool)
     saturated = np.zeros(n_cases, dtype=bool)
-    for i, op in enumerate(ops):
-        if status[i] != 0 or mismatch[i] > energy_tolerance * emax[i] + 1e-300:
-            lc = limit_cycle(simulate(modes, contact, op, duration, steps_per_period=steps_per_period,
-                                      energy_tolerance=energy_tolerance))
-        else:
-            n = int(ncyc[i])
-            cyc = Cycles(*(b[i, :n].copy() for b in bufs))
-            lc = metrics_from_cycles(cyc, op.crabbing_velocity_m_s, analytic_growth_rate(modes, contact, op),
-                                     record_end_s=float(n_steps[i] * h[i]))
-        out["amp"][i] = lc.velocity_amplitude_m_s
-        out["freq"][i] = lc.frequency_hz
-        out["growth"][i] = lc.growth_rate_1_s
-        out["sigma"][i] = lc.growth_rate_analytic_1_s
-        out["tsat"][i] = lc.time_to_saturation_s
-        squeal[i] = lc.squeal
-        saturated[i] = lc.saturated
+    chunk = CHUNK_PER_THREAD * max(1, numba_threads())
+    for lo in range(0, n_cases, chunk):
+        hi = min(lo + chunk, n_cases)
+        bufs = [np.zeros((hi - lo, cap)) for _ in range(5)]
+        _kernels.sweep_kernel(m, c, k, laws[lo:hi], h[lo:hi], n_steps[lo:hi], cap, *bufs,
+                              ncyc[lo:hi], status[lo:hi], mismatch[lo:hi], emax[lo:hi])
+        for i in range(lo, hi):
+            op = ops[i]
+            if status[i] != 0 or mismatch[i] > energy_tolerance * emax[i] + 1e-300:
+                lc = limit_cycle(simulate(modes, contact, op, duration, steps_per_period=steps_per_period,
+                                          energy_tolerance=energy_tolerance))
+            else:
+                cyc = Cycles(*(b[i - lo, :int(ncyc[i])] for b in bufs))
+                lc = metrics_from_cycles(cyc, op.crabbing_velocity_m_s,
+                                         analytic_growth_rate(modes, contact, op),
+                                         record_end_s=float(n_steps[i] * h[i]))
+            out["amp"][i] = lc.velocity_amplitude_m_s
+            out["freq"][i] = lc.frequency_hz
+            out["growth"][i] = lc.growth_rate_1_s
+            out["sigma"][i] = lc.growth_rate_analytic_1_s
+            out["tsat"][i] = lc.time_to_saturation_s
+            squeal[i] = lc.squeal
+            saturated[i] = lc.saturated
+        if progress is not None:
+            progress(hi, n_cases)
+    shape = (len(vcs), len(v0s))
     return SweepResult(
         crabbing_velocities_m_s=vcs, rolling_speeds_m_s=v0s,
         velocity_amplitude_m_s=out["amp"].reshape(shape), frequency_hz=out["freq"].reshape(shape),

@@ -1,0 +1,133 @@
+"""The resource budget: what a request may cost before it is refused.
+
+Every modal solve and every sweep is estimated before it starts (``fem.cost`` for the
+FE, the RK4 step count for sweeps); a request beyond the budget is refused with a
+:class:`~wheel_squeal.errors.BudgetError` that states the estimate and how to proceed.
+
+Limits, each from the API argument / CLI flag, else the environment, else the default:
+
+- size of the modal solve: ``max_dofs`` / ``--max-dofs`` / ``WHEEL_SQUEAL_MAX_DOFS``,
+  default :data:`DEFAULT_MAX_DOFS` (the accurate 3-D preset of the Table 1 wheel is
+  1.4 million);
+- run time: ``max_seconds`` / ``--max-seconds`` / ``WHEEL_SQUEAL_MAX_SECONDS``, default
+  :data:`DEFAULT_MAX_SECONDS`;
+- memory: :data:`MEMORY_FRACTION` of the memory available when the budget is made
+  (``MemAvailable``); not a setting: beyond it the machine swaps or kills the run.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+from dataclasses import dataclass
+
+from .errors import BudgetError, RequestError
+
+__all__ = ["Budget", "DEFAULT_MAX_DOFS", "DEFAULT_MAX_SECONDS", "MEMORY_FRACTION"]
+
+DEFAULT_MAX_DOFS = 2_000_000
+DEFAULT_MAX_SECONDS = 1800.0
+MEMORY_FRACTION = 0.75
+ENV_MAX_DOFS = "WHEEL_SQUEAL_MAX_DOFS"
+ENV_MAX_SECONDS = "WHEEL_SQUEAL_MAX_SECONDS"
+
+#: Single-mode RK4 step of the sweep kernel on one thread [s] per mode (measured: a
+#: 50 x 3 grid of 1.5 s runs, 12 million steps, in 0.4 s on 2 threads).
+SWEEP_SECONDS_PER_STEP = 7e-8
+#: Bytes a running sweep case keeps per RK4 step (time, velocity, two power integrals).
+SWEEP_BYTES_PER_STEP = 32
+
+
+def available_memory() -> float:
+    """Memory available to a new process [bytes] (Linux MemAvailable; else total RAM)."""
+    try:
+        with open("/proc/meminfo") as f:
+            for line in f:
+                if line.startswith("MemAvailable:"):
+                    return float(line.split()[1]) * 1024
+    except OSError:
+        pass
+    try:
+        return float(os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES"))
+    except (ValueError, OSError, AttributeError):
+        return 8e9
+
+
+def _limit(value: float | None, env: str, default: float, what: str) -> float:
+    if value is None:
+        text = os.environ.get(env, "").strip()
+        if not text:
+            return default
+        try:
+            value = float(text)
+        except ValueError:
+            raise RequestError(f"{env}={text!r} is not a number") from None
+        what = env
+    if not (math.isfinite(value) and value > 0):
+        raise RequestError(f"{what} must be a positive number, got {value:g}")
+    return float(value)
+
+
+def _human_time(seconds: float) -> str:
+    if seconds < 90:
+        return f"{seconds:.2g} s"
+    if seconds < 5400:
+        return f"{seconds / 60:.2g} min"
+    if seconds < 86400 * 3:
+        return f"{seconds / 3600:.2g} h"
+    return f"{seconds / 86400:.2g} days"
+
+
+def _human_bytes(n: float) -> str:
+    return f"{n / 1e9:.3g} GB" if n >= 1e9 else f"{n / 1e6:.3g} MB"
+
+
+@dataclass(frozen=True)
+class Budget:
+    """Limits on one request (see the module docstring)."""
+
+    max_dofs: float = DEFAULT_MAX_DOFS
+    max_seconds: float = DEFAULT_MAX_SECONDS
+    max_memory_bytes: float = math.inf
+
+    @classmethod
+    def from_environment(cls, max_dofs: float | None = None,
+                         max_seconds: float | None = None) -> "Budget":
+        """The budget of this machine: explicit limits, else the environment, else the
+        defaults; memory from what is available now."""
+        return cls(_limit(max_dofs, ENV_MAX_DOFS, DEFAULT_MAX_DOFS, "max_dofs"),
+                   _limit(max_seconds, ENV_MAX_SECONDS, DEFAULT_MAX_SECONDS, "max_seconds"),
+                   MEMORY_FRACTION * available_memory())
+
+    def check_solve(self, what: str, dofs: float, memory_bytes: float, seconds: float,
+                    remedy: str) -> None:
+        """Refuse a modal solve of ``dofs`` DOFs estimated at ``memory_bytes`` and
+        ``seconds``; ``what`` names the request, ``remedy`` the cheaper alternative."""
+        cost = (f"{what} would need about {dofs:,.0f} DOFs, {_human_bytes(memory_bytes)} "
+                f"and {_human_time(seconds)}")
+        if memory_bytes > self.max_memory_bytes:
+            raise BudgetError(f"{cost}: more memory than this machine has free "
+                              f"({_human_bytes(self.max_memory_bytes)} usable); {remedy}")
+        if dofs > self.max_dofs:
+            raise BudgetError(f"{cost} (limit {self.max_dofs:,.0f} DOFs); {remedy}, or raise the "
+                              f"limit with --max-dofs N ({ENV_MAX_DOFS})")
+        self._check_time(cost, seconds, remedy)
+
+    def check_sweep(self, n_cases: int, steps_per_case: float, n_modes: int, threads: int,
+                    remedy: str) -> float:
+        """Refuse a sweep of ``n_cases`` RK4 runs of ``steps_per_case`` steps each;
+        returns the estimated run time [s]."""
+        seconds = n_cases * steps_per_case * n_modes * SWEEP_SECONDS_PER_STEP / max(threads, 1)
+        memory = threads * steps_per_case * SWEEP_BYTES_PER_STEP
+        cost = (f"the sweep ({n_cases:,} cases of {steps_per_case:,.0f} RK4 steps) would need "
+                f"about {_human_bytes(memory)} and {_human_time(seconds)}")
+        if memory > self.max_memory_bytes:
+            raise BudgetError(f"{cost}: more memory than this machine has free "
+                              f"({_human_bytes(self.max_memory_bytes)} usable); {remedy}")
+        self._check_time(cost, seconds, remedy)
+        return seconds
+
+    def _check_time(self, cost: str, seconds: float, remedy: str) -> None:
+        if seconds > self.max_seconds:
+            raise BudgetError(f"{cost} (limit {_human_time(self.max_seconds)}); {remedy}, or raise "
+                              f"the limit with --max-seconds S ({ENV_MAX_SECONDS})")

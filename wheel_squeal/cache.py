@@ -1,0 +1,234 @@
+"""The stage cache: content-addressed results of the expensive stages (mesh, modes, views).
+
+An entry is ``ROOT/STAGE/DIGEST.npz``: DIGEST is the SHA-256 of the entry's key (a JSON
+dict of everything the stage depends on); the file carries its key, a checksum of its
+arrays and the tool's name (:data:`ENTRY_TOOL`), so a corrupt, truncated or foreign entry
+is reported in one line and recomputed. Writes are atomic (a temporary file, then a
+rename), so concurrent runs sharing a cache never see half an entry, and two runs
+storing the same entry store the same bytes.
+
+The cache touches only what it wrote. Its root holds the marker :data:`MARKER`; a folder
+that is neither empty nor marked is refused as a cache (:class:`RequestError`), and
+:meth:`StageCache.clear` deletes only entries that carry the tool's name, in stage
+folders of a marked root. A cache that cannot be written (read-only, full, or an entry
+path taken by a folder) is used for reading; the first failed store gives one warning
+and the run goes on without storing.
+
+Location: ``--cache-dir``, else ``$WHEEL_SQUEAL_CACHE`` (an empty value counts as unset),
+else ``$XDG_CACHE_HOME/wheel-squeal`` (``~/.cache/wheel-squeal``).
+"""
+
+from __future__ import annotations
+
+import contextlib
+import hashlib
+import io
+import json
+import os
+import re
+import sys
+import tempfile
+import zipfile
+from pathlib import Path
+from typing import Callable
+
+import numpy as np
+
+from .errors import RequestError
+
+__all__ = ["CacheMiss", "ENV_VAR", "MARKER", "StageCache", "default_cache_root"]
+
+ENV_VAR = "WHEEL_SQUEAL_CACHE"
+#: The file that marks a folder as a stage cache of this tool.
+MARKER = ".wheel-squeal-cache"
+#: The tool's name in every entry's metadata.
+ENTRY_TOOL = "wheel-squeal"
+_ENTRY = re.compile(r"[0-9a-f]{32}\.npz")
+_TMP = re.compile(r"[0-9a-f]{32}\.npz\..+\.tmp")
+#: Stage folders an unmarked cache written by an earlier version may hold (adopted).
+_LEGACY_STAGES = {"mesh2d", "mesh3d", "modes", "views"}
+
+
+def default_cache_root() -> Path:
+    """``$WHEEL_SQUEAL_CACHE`` if set and not empty, else the user's cache folder."""
+    env = os.environ.get(ENV_VAR, "").strip()
+    if env:
+        return Path(env).expanduser()
+    base = os.environ.get("XDG_CACHE_HOME", "").strip()
+    return (Path(base) if base else Path.home() / ".cache") / "wheel-squeal"
+
+
+class CacheMiss(Exception):
+    """No usable entry for the key (absent, corrupt or foreign)."""
+
+
+def _checksum(arrays: dict[str, np.ndarray]) -> str:
+    h = hashlib.sha256()
+    for k in sorted(arrays):
+        a = np.ascontiguousarray(arrays[k])
+        h.update(k.encode())
+        h.update(str(a.dtype).encode())
+        h.update(str(a.shape).encode())
+        h.update(a.tobytes())
+    return h.hexdigest()
+
+
+class StageCache:
+    """Content-addressed store for expensive stages (see the module docstring).
+
+    ``root``: the cache folder (default :func:`default_cache_root`); ``enabled=False``
+    makes every load a miss and every store a no-op without touching the disk.
+    ``hits`` / ``misses`` list the stages served and recomputed, in order.
+    """
+
+    def __init__(self, root: Path | str | None = None, enabled: bool = True,
+                 warn: Callable[[str], None] | None = None) -> None:
+        self.root = Path(root).expanduser() if root is not None else default_cache_root()
+        self.enabled = enabled
+        self.warn = warn or (lambda msg: print(f"warning: {msg}", file=sys.stderr))
+        self.hits: list[str] = []
+        self.misses: list[str] = []
+        self.writable = True
+        if enabled:
+            self._check_root()
+
+    # -- the root -----------------------------------------------------------------------
+    def _check_root(self) -> None:
+        root = self.root
+        for p in (root, *root.parents):
+            if p.exists() or p.is_symlink():
+                if not p.is_dir():
+                    raise RequestError(f"cache folder {root}: {p} is not a folder")
+                break
+        if root.is_dir() and not (root / MARKER).is_file():
+            try:
+                children = {c.name for c in os.scandir(root)}
+            except OSError as exc:
+                raise RequestError(f"cache folder {root} cannot be read ({exc.strerror})") from None
+            if children - _LEGACY_STAGES:
+                raise RequestError(
+                    f"cache folder {root} is not empty and not a wheel-squeal cache (no {MARKER}): "
+                    f"choose an empty or new folder (--cache-dir or {ENV_VAR})")
+
+    def _ensure_root(self) -> bool:
+        """Create the root and its marker on the first store; False if it cannot be."""
+        if (self.root / MARKER).is_file():
+            return True
+        try:
+            self.root.mkdir(parents=True, exist_ok=True)
+            (self.root / MARKER).write_text(json.dumps({"tool": ENTRY_TOOL}) + "\n")
+        except OSError as exc:
+            self._cannot_store(exc)
+            return False
+        return True
+
+    def _cannot_store(self, exc: OSError) -> None:
+        if self.writable:
+            self.warn(f"cache folder {self.root} cannot be written ({exc.strerror or exc}); "
+                      "going on without storing results")
+        self.writable = False
+
+    # -- entries ------------------------------------------------------------------------
+    @staticmethod
+    def digest(key: dict) -> str:
+        return hashlib.sha256(json.dumps(key, sort_keys=True).encode()).hexdigest()
+
+    def path(self, stage: str, key: dict) -> Path:
+        return self.root / stage / f"{self.digest(key)[:32]}.npz"
+
+    def load(self, stage: str, key: dict) -> dict[str, np.ndarray]:
+        """The entry's arrays; raises :class:`CacheMiss` (after one warning if the entry
+        exists but is unusable)."""
+        if not self.enabled:
+            raise CacheMiss
+        p = self.path(stage, key)
+        if not os.path.lexists(p):
+            self.misses.append(stage)
+            raise CacheMiss
+        try:
+            with np.load(p, allow_pickle=False) as z:
+                arrays = {k: z[k] for k in z.files}
+            meta = json.loads(str(arrays.pop("__meta__")))
+            if meta.get("key") != key:
+                raise ValueError("entry belongs to another key")
+            if meta.get("checksum") != _checksum(arrays):
+                raise ValueError("checksum mismatch")
+        except (OSError, ValueError, KeyError, zipfile.BadZipFile, EOFError) as exc:
+            self.warn(f"cache entry {p} is corrupt or foreign ({exc}); recomputing {stage}")
+            self.misses.append(stage)
+            raise CacheMiss from None
+        self.hits.append(stage)
+        return arrays
+
+    def store(self, stage: str, key: dict, arrays: dict[str, np.ndarray]) -> None:
+        """Store an entry atomically; a cache that cannot be written is warned about once."""
+        if not (self.enabled and self.writable and self._ensure_root()):
+            return
+        p = self.path(stage, key)
+        meta = json.dumps({"tool": ENTRY_TOOL, "key": key, "checksum": _checksum(arrays)})
+        buf = io.BytesIO()
+        np.savez(buf, __meta__=np.array(meta), **arrays)
+        tmp = None
+        try:
+            p.parent.mkdir(exist_ok=True)
+            fd, tmp = tempfile.mkstemp(prefix=f"{p.name}.", suffix=".tmp", dir=p.parent)
+            with os.fdopen(fd, "wb") as f:
+                f.write(buf.getvalue())
+            os.replace(tmp, p)
+        except OSError as exc:
+            if tmp is not None:
+                with contextlib.suppress(OSError):
+                    os.unlink(tmp)
+            self._cannot_store(exc)
+
+    # -- housekeeping -------------------------------------------------------------------
+    def _entries(self) -> list[Path]:
+        if not (self.root / MARKER).is_file() and not self.root.is_dir():
+            return []
+        out = []
+        for stage_dir in sorted(p for p in self.root.iterdir() if p.is_dir() and not p.is_symlink()):
+            out += [f for f in sorted(stage_dir.iterdir()) if f.is_file() and _ENTRY.fullmatch(f.name)
+                    and _is_entry(f)]
+        return out
+
+    def info(self) -> tuple[int, int]:
+        """(number of entries, their total size in bytes)."""
+        entries = self._entries()
+        return len(entries), sum(f.stat().st_size for f in entries)
+
+    def clear(self) -> int:
+        """Remove every entry this tool wrote; returns how many. Refuses a folder that is
+        not a cache (no marker); leaves anything else in it where it is."""
+        if not self.root.exists():
+            return 0
+        if not (self.root / MARKER).is_file():
+            self._check_root()  # refuses a folder that is not (even an unmarked) cache
+        n = 0
+        for f in self._entries():
+            f.unlink()
+            n += 1
+        for stage_dir in [p for p in self.root.iterdir() if p.is_dir() and not p.is_symlink()]:
+            for f in stage_dir.iterdir():
+                if f.is_file() and _TMP.fullmatch(f.name):
+                    f.unlink()
+            with contextlib.suppress(OSError):
+                stage_dir.rmdir()
+        if {c.name for c in self.root.iterdir()} <= {MARKER}:
+            with contextlib.suppress(OSError):
+                (self.root / MARKER).unlink(missing_ok=True)
+                self.root.rmdir()
+        return n
+
+
+def _is_entry(path: Path) -> bool:
+    """True if ``path`` (named like an entry, in a stage folder) is one this tool wrote:
+    its metadata says so, or it is damaged beyond reading (a corrupt entry). A readable
+    array file without the metadata is somebody else's and stays."""
+    try:
+        with np.load(path, allow_pickle=False) as z:
+            if "__meta__" not in z.files:
+                return False
+            meta = json.loads(str(z["__meta__"]))
+    except (OSError, ValueError, KeyError, zipfile.BadZipFile, EOFError):
+        return True
+    return isinstance(meta, dict) and "key" in meta and "checksum" in meta

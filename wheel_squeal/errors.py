@@ -1,0 +1,25 @@
+"""The errors the application reports to its user as a request it cannot meet.
+
+They are few on purpose: :class:`RequestError` (bad input, in the words of the API:
+a notebook user reads ``mass_kg``, a command-line user the flag, because the CLI checks
+its flags first) and its subclass :class:`BudgetError` (a request beyond the resource
+budget, with its cost and how to proceed). With ``geometry.DesignError`` they are the
+only exceptions the CLI turns into one line and exit status 2; the anticipated failures
+of a computation (``geometry.MeshError``, ``fem.EigenError``, ``reduced.IntegrationError``)
+are one line and exit status 1; anything else is a bug and shows its traceback.
+"""
+
+from __future__ import annotations
+
+__all__ = ["BudgetError", "RequestError"]
+
+
+class RequestError(ValueError):
+    """A request that cannot be met as asked (bad input, unusable folder, nothing to
+    select). The message is one line that names the problem."""
+
+
+class BudgetError(RequestError):
+    """A request whose estimated memory, size or run time exceeds the budget; the
+    message states the estimate and how to proceed (a coarser preset, or a limit to
+    lift)."""

@@ -1,0 +1,331 @@
+"""Result folders and files: written whole or not at all, never at the cost of anything else.
+
+A result folder is this tool's when it holds the marker file :data:`MARKER` (written with
+every result). ``--out DIR`` may name a new folder, an empty one, or an earlier result;
+any other folder is refused, so no command ever deletes a user's files.
+
+How a result folder is written (:class:`ResultFolder`):
+
+1. Before any computation: refuse an ``out`` that is the current folder or one of its
+   parents, a file, or a non-empty folder without the marker; put back a previous result
+   that a killed run left aside (only on file systems without an atomic exchange, see
+   below); remove the hidden staging folders of dead runs of this host; create the
+   staging folder ``.NAME.tmp-HOST-PID-TOKEN`` beside ``out`` (mode from the user's
+   umask). Creating it proves the place is writable before the work starts.
+2. The command writes plain files into the staging folder.
+3. Publish: write the marker, then put the staging folder in place in one atomic step:
+   a rename where ``out`` does not exist, an exchange (Linux ``renameat2`` with
+   ``RENAME_EXCHANGE``: the two names swap at once) where it does. The old result, now
+   under the staging name, is removed last. A kill at any point leaves either the old or
+   the new result under ``out``, complete, and at most a hidden folder that the next run
+   removes. Two runs writing the same ``out`` both succeed; the last one's result stays.
+   Without ``renameat2`` (other systems, some network file systems) the old result is
+   renamed to ``.NAME.old-HOST-PID-TOKEN`` first; a kill between the two renames leaves
+   it there, and step 1 of the next run puts it back.
+4. On any error the staging folder is removed and ``out`` is untouched.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import csv
+import ctypes
+import ctypes.util
+import errno
+import json
+import math
+import os
+import secrets
+import shutil
+import socket
+import tempfile
+import time
+from pathlib import Path
+from typing import Any, Iterator
+
+from .errors import RequestError
+
+__all__ = ["MARKER", "ResultFolder", "result_folder", "write_csv", "write_json", "write_text_atomic"]
+
+#: The file that marks a folder as a result of this tool.
+MARKER = ".wheel-squeal-result"
+
+_HOST = "".join(c if c.isalnum() else "_" for c in socket.gethostname())[:32] or "host"
+
+
+# --------------------------------------------------------------------------------------
+# atomic renames
+# --------------------------------------------------------------------------------------
+_AT_FDCWD = -100
+_RENAME_NOREPLACE = 1
+_RENAME_EXCHANGE = 2
+
+
+def _libc_renameat2():
+    try:
+        libc = ctypes.CDLL(ctypes.util.find_library("c") or None, use_errno=True)
+        fn = libc.renameat2
+    except (OSError, AttributeError):
+        return None
+    fn.argtypes = [ctypes.c_int, ctypes.c_char_p, ctypes.c_int, ctypes.c_char_p, ctypes.c_uint]
+    fn.restype = ctypes.c_int
+    return fn
+
+
+_RENAMEAT2 = _libc_renameat2()
+
+
+def _renameat2(src: Path, dst: Path, flags: int) -> None:
+    if _RENAMEAT2 is None:
+        raise OSError(errno.ENOSYS, "renameat2 is not available")
+    if _RENAMEAT2(_AT_FDCWD, os.fsencode(src), _AT_FDCWD, os.fsencode(dst), flags) != 0:
+        e = ctypes.get_errno()
+        raise OSError(e, os.strerror(e), str(dst))
+
+
+def _exchange(a: Path, b: Path) -> None:
+    """Swap the names of ``a`` and ``b`` atomically (both must exist)."""
+    _renameat2(a, b, _RENAME_EXCHANGE)
+
+
+def _rename_new(src: Path, dst: Path) -> None:
+    """Rename ``src`` to ``dst``, failing with EEXIST / ENOTEMPTY if ``dst`` exists."""
+    try:
+        _renameat2(src, dst, _RENAME_NOREPLACE)
+    except OSError as exc:
+        if exc.errno not in (errno.ENOSYS, errno.EINVAL):
+            raise
+        # rename(2) of a folder onto an empty folder would succeed: check first (a
+        # race with another writer then ends in ENOTEMPTY on the loser's next try)
+        if os.path.lexists(dst):
+            raise OSError(errno.EEXIST, "exists", str(dst)) from None
+        os.rename(src, dst)
+
+
+def _remove(path: Path) -> None:
+    if path.is_symlink() or not path.is_dir():
+        with contextlib.suppress(FileNotFoundError):
+            path.unlink()
+    else:
+        shutil.rmtree(path, ignore_errors=True)
+
+
+def _pid_alive(pid: int) -> bool:
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except PermissionError:
+        return True
+    return True
+
+
+def _umask() -> int:
+    mask = os.umask(0)
+    os.umask(mask)
+    return mask
+
+
+# --------------------------------------------------------------------------------------
+# the result folder
+# --------------------------------------------------------------------------------------
+class ResultFolder:
+    """One result folder being written (see the module docstring for the protocol).
+
+    ``ResultFolder(out).open()`` checks ``out`` and creates the staging folder (raising
+    :class:`~wheel_squeal.errors.RequestError` with the reason if it cannot); write
+    into ``.staging``; then ``publish(command)`` or ``discard()``.
+    """
+
+    def __init__(self, out: str | os.PathLike):
+        self.out = Path(out)
+        self.staging: Path | None = None
+
+    # -- checks ---------------------------------------------------------------------
+    def check(self) -> None:
+        """Refuse an ``out`` that cannot hold a result or holds something that is not one."""
+        out = self.out
+        try:
+            resolved = out.resolve()
+            cwd = Path.cwd().resolve()
+        except OSError as exc:
+            raise RequestError(f"--out {out}: {exc.strerror}") from None
+        if resolved == cwd or resolved in cwd.parents:
+            raise RequestError(f"--out {out} is the current folder or one of its parents: "
+                               "name a folder for the results")
+        if out.is_symlink() and not out.exists():
+            raise RequestError(f"--out {out} is a broken symbolic link")
+        if out.exists():
+            if not out.is_dir():
+                raise RequestError(f"--out {out} exists and is not a folder")
+            if not is_result(out):
+                raise RequestError(
+                    f"--out {out} is a folder with other files in it, not a result of this tool "
+                    f"(no {MARKER}): choose a new or empty folder (nothing was written)")
+
+    def open(self) -> Path:
+        """Check ``out``, tidy what dead runs left beside it and create the staging folder."""
+        self.check()
+        parent, name = self.out.parent, self.out.name
+        try:
+            parent.mkdir(parents=True, exist_ok=True)
+            self._recover(parent, name)
+            mode = 0o777 & ~_umask()
+            while True:
+                staging = parent / f".{name}.tmp-{_HOST}-{os.getpid()}-{secrets.token_hex(4)}"
+                try:
+                    os.mkdir(staging, 0o777)
+                    break
+                except FileExistsError:
+                    continue
+            os.chmod(staging, mode)  # mkdir's mode is also masked by the umask; be explicit
+        except OSError as exc:
+            where = exc.filename or parent
+            raise RequestError(f"--out {self.out} cannot be written ({where}: {exc.strerror})") from None
+        self.staging = staging
+        return staging
+
+    @staticmethod
+    def _recover(parent: Path, name: str) -> None:
+        """Put back a result a killed run left aside; remove dead runs' staging folders."""
+        prefix_tmp, prefix_old = f".{name}.tmp-{_HOST}-", f".{name}.old-{_HOST}-"
+        try:
+            entries = list(os.scandir(parent))
+        except OSError:
+            return
+        for entry in entries:
+            for prefix in (prefix_tmp, prefix_old):
+                if not entry.name.startswith(prefix):
+                    continue
+                pid_text = entry.name[len(prefix):].split("-", 1)[0]
+                if not pid_text.isdigit() or _pid_alive(int(pid_text)):
+                    continue
+                path = Path(entry.path)
+                if prefix == prefix_old and not os.path.lexists(parent / name):
+                    # the only copy of the previous result: put it back, never delete it
+                    with contextlib.suppress(OSError):
+                        _rename_new(path, parent / name)
+                    continue
+                _remove(path)
+
+    # -- finishing --------------------------------------------------------------------
+    def publish(self, command: str) -> Path:
+        """Mark the staged result and put it in place of ``out`` atomically."""
+        if self.staging is None:
+            raise RuntimeError("publish() before open()")
+        staging = self.staging
+        marker = {"tool": "wheel-squeal", "command": command,
+                  "written": time.strftime("%Y-%m-%dT%H:%M:%S%z")}
+        (staging / MARKER).write_text(json.dumps(marker) + "\n")
+        out = self.out
+        for _ in range(100):  # only another writer racing for the same name repeats this
+            try:
+                _rename_new(staging, out)
+                self.staging = None
+                return out
+            except OSError as exc:
+                if exc.errno not in (errno.EEXIST, errno.ENOTEMPTY):
+                    raise
+            if out.is_dir() and not is_result(out):
+                raise RequestError(f"--out {out} was filled with other files during the run; "
+                                   f"the result is left in {staging}")
+            try:
+                _exchange(staging, out)
+            except OSError as exc:
+                if exc.errno == errno.ENOENT:
+                    continue  # the other writer's result vanished: rename again
+                if exc.errno not in (errno.ENOSYS, errno.EINVAL):
+                    raise
+                self._replace_in_two_steps(staging, out)
+                return out
+            self.staging = None
+            _remove(staging)  # now the old result
+            return out
+        raise RuntimeError(f"could not put the result in place of {out}")
+
+    def _replace_in_two_steps(self, staging: Path, out: Path) -> None:
+        old = out.with_name(f".{out.name}.old-{_HOST}-{os.getpid()}-{secrets.token_hex(4)}")
+        os.rename(out, old)
+        _rename_new(staging, out)
+        self.staging = None
+        _remove(old)
+
+    def discard(self) -> None:
+        """Remove the staging folder (``out`` stays as it was)."""
+        if self.staging is not None:
+            _remove(self.staging)
+            self.staging = None
+
+
+def is_result(folder: Path) -> bool:
+    """True for a folder this tool wrote (it holds :data:`MARKER`) or an empty one."""
+    try:
+        return (folder / MARKER).is_file() or not any(os.scandir(folder))
+    except OSError:
+        return False
+
+
+@contextlib.contextmanager
+def result_folder(out: str | os.PathLike, command: str) -> Iterator[Path]:
+    """``with result_folder(out, "run") as tmp:`` write into ``tmp``; on success it
+    becomes ``out`` (atomically, see the module docstring), on any error it is removed.
+    Call :meth:`ResultFolder.open` yourself (``ResultFolder``) to check ``out`` before
+    a long computation."""
+    folder = out if isinstance(out, ResultFolder) else ResultFolder(out)
+    staging = folder.staging or folder.open()
+    try:
+        yield staging
+    except BaseException:
+        folder.discard()
+        raise
+    folder.publish(command)
+
+
+# --------------------------------------------------------------------------------------
+# files
+# --------------------------------------------------------------------------------------
+def _jsonable(x: Any) -> Any:
+    if isinstance(x, dict):
+        return {str(k): _jsonable(v) for k, v in x.items()}
+    if isinstance(x, (list, tuple)):
+        return [_jsonable(v) for v in x]
+    if hasattr(x, "item") and callable(x.item) and getattr(x, "ndim", 1) == 0:
+        x = x.item()  # numpy scalars
+    if isinstance(x, float) and not math.isfinite(x):
+        return None
+    if isinstance(x, os.PathLike):
+        return os.fspath(x)
+    return x
+
+
+def write_json(path: Path, data: dict) -> Path:
+    """JSON with NaN and infinities as null (JSON has no NaN)."""
+    path.write_text(json.dumps(_jsonable(data), indent=2, allow_nan=False) + "\n")
+    return path
+
+
+def write_csv(path: Path, rows: list[dict]) -> Path:
+    """One row per dict (the keys of the first are the header); None is an empty cell."""
+    with open(path, "w", newline="") as f:
+        writer = csv.writer(f, lineterminator="\n")
+        keys = list(rows[0]) if rows else []
+        writer.writerow(keys)
+        for r in rows:
+            writer.writerow(["" if r[k] is None else r[k] for k in keys])
+    return path
+
+
+def write_text_atomic(path: Path, text: str) -> Path:
+    """Write one file: a temporary file beside it, then a rename (never half-written)."""
+    path = Path(path)
+    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
+    try:
+        with os.fdopen(fd, "w") as f:
+            f.write(text)
+        os.chmod(tmp, 0o666 & ~_umask())
+        os.replace(tmp, path)
+    except BaseException:
+        with contextlib.suppress(OSError):
+            os.unlink(tmp)
+        raise
+    return path
