@@ -67,6 +67,28 @@ class HertzContact:
         return self.youngs_modulus_pa / (2.0 * (1.0 + self.poissons_ratio))
 
 
+#: Below this elliptic parameter m = e^2, K(m) - E(m) (about pi m / 4) is evaluated from
+#: its power series: from ``ellipk - ellipe`` it would lose log10(1/m) digits, and the
+#: near-circular contact (curvature sums a hair apart) would be computed from noise.
+_M_SERIES = 1e-3
+
+
+def _k_minus_e_over_m(m: float) -> float:
+    """(K(m) - E(m)) / m, m = e^2 (pi / 4 at m = 0)."""
+    if m < _M_SERIES:  # K - E = pi/2 (m/2 + 3m^2/16 + 15m^3/128 + 175m^4/2048 + ...)
+        return 0.5 * math.pi * (0.5 + m * (3 / 16 + m * (15 / 128 + m * 175 / 2048)))
+    return (ellipk(m) - ellipe(m)) / m
+
+
+def _curvature_excess(m: float) -> float:
+    """B'/A' - 1 = [E/(1 - m) - K] / (K - E) - 1 of the Hertz ellipse with parameter m
+    (Johnson eq. 4.39), ~ 3m/4 for a near circle."""
+    if m < _M_SERIES:  # ratio of the two series, truncated at m^4 (error < 1e-12)
+        return 0.75 * m * (1 + m * (1.25 + m * 175 / 128)) / (1 + m * (0.375 + m * (15 / 64 + m * 175 / 1024)))
+    K, Ee = ellipk(m), ellipe(m)
+    return (Ee / (1.0 - m) - K) / (K - Ee) - 1.0
+
+
 def _check_positive(name: str, value: float) -> float:
     value = float(value)
     if not math.isfinite(value) or value <= 0.0:
@@ -119,20 +141,11 @@ def hertz_contact(
         raise ValueError("both relative curvatures must be positive (point contact)")
     e_star = E / (2.0 * (1.0 - nu * nu))
     small, large = (A, B) if A <= B else (B, A)
-    ratio = large / small
-    if ratio - 1.0 < 1e-12:
-        m = 0.0
-        major = (3.0 * W / (8.0 * e_star * small)) ** (1.0 / 3.0)  # circle, R = 1/(2A)
-        minor = major
-    else:
-        def residual(m: float) -> float:
-            K, Ee = ellipk(m), ellipe(m)
-            return (Ee / (1.0 - m) - K) / (K - Ee) - ratio
-
-        m = brentq(residual, 1e-14, 1.0 - 1e-15, xtol=1e-15, rtol=1e-14, maxiter=200)
-        K, Ee = ellipk(m), ellipe(m)
-        major = (3.0 * W * (K - Ee) / (2.0 * math.pi * e_star * m * small)) ** (1.0 / 3.0)
-        minor = major * math.sqrt(1.0 - m)
+    excess = large / small - 1.0
+    m = 0.0 if excess <= 0.0 else brentq(lambda x: _curvature_excess(x) - excess, 0.0, 1.0 - 1e-15,
+                                         xtol=1e-300, rtol=1e-14, maxiter=200)
+    major = (3.0 * W * _k_minus_e_over_m(m) / (2.0 * math.pi * e_star * small)) ** (1.0 / 3.0)
+    minor = major * math.sqrt(1.0 - m)
     # the major axis lies along the direction of the smaller curvature sum
     if A <= B:
         a, b, orientation, angle = major, minor, "major axis along rolling", 0.0

@@ -138,3 +138,19 @@ def test_contact_law_validation():
         r.ContactLaw(0.0, 0.3, 0.3, 68e9, 1e-3, 1e-3)
     with pytest.raises(ValueError, match="c22"):
         r.ContactLaw(1000.0, 0.3, 0.3, 68e9, 1e-3, 1e-3, c22=float("nan"))
+
+
+@pytest.mark.parametrize("delta", [1e-12, 1e-9, 1e-6, 1e-4, 1e-2])
+def test_hertz_near_a_circle_is_continuous(delta):
+    """Curvature sums a hair apart (a roller crown radius that nearly matches the
+    wheel): the ellipse tends to the circle. For small eccentricity Hertz gives
+    a/b = (B/A)^(2/3) (1 + O(delta^2)); the circle's radius is (3 W / 8 E* A)^(1/3)."""
+    R1, R2, R1t = 0.213, 0.085, 0.3
+    A = 0.5 * (1 / R1 + 1 / R2)
+    B = A * (1 + delta)  # across rolling, slightly more curved
+    R2t = 1 / (2 * B - 1 / R1t)
+    h = r.hertz_contact(R1, R1t, R2, R2t, 175e9, 0.28, 1000.0)
+    assert h.a_over_b == pytest.approx((1 + delta) ** (2 / 3), rel=max(delta**2, 1e-12) * 10 + 1e-12)
+    e_star = 175e9 / (2 * (1 - 0.28**2))
+    radius = (3 * 1000.0 / (8 * e_star * A)) ** (1 / 3)
+    assert math.sqrt(h.semi_axis_a_m * h.semi_axis_b_m) == pytest.approx(radius, rel=2 * delta + 1e-12)
