@@ -747,23 +747,27 @@ MAX_AXIS_POINTS = 1_000_000
 
 def parse_range(text: str, flag: str = "--crab-velocity") -> np.ndarray:
     """``START:STOP:N`` (N points, inclusive) or a comma list -> array."""
+    bad = UsageError(f"{flag}: expected START:STOP:N or a comma list of numbers, got {text!r}")
     try:
         if ":" in text:
             a, b, n = text.split(":")
-            n = int(n)
+            start, stop, n = float(a), float(b), int(n)
             if n < 1:
-                raise ValueError
+                raise bad
             if n > MAX_AXIS_POINTS:
                 raise UsageError(f"{flag} {text}: {n:,} points is more than a sweep axis takes "
                                  f"({MAX_AXIS_POINTS:,})")
-            values = np.linspace(float(a), float(b), n)
+            values = np.linspace(start, stop, n)
         else:
             values = np.array([float(x) for x in text.split(",")])
+    except UsageError:
+        raise
     except ValueError:
-        raise UsageError(f"{flag}: expected START:STOP:N or a comma list of numbers, got {text!r}") from None
+        raise bad from None
     if not np.all(np.isfinite(values)):
         raise UsageError(f"{flag} values must be finite, got {text!r}")
     return values
+
 
 def sweep(dof, contact, crab_velocities, rolling_speeds, duration: float = 1.5,
           budget: Budget | None = None, progress: Progress | None = None):
@@ -1000,6 +1004,8 @@ def _calibrated_design_path(out: Path, name: str) -> Path:
                              "choose another path (nothing was written)")
     try:
         path.parent.mkdir(parents=True, exist_ok=True)
+        with tempfile.TemporaryFile(dir=path.parent):
+            pass  # the folder takes files: known before the fit runs
     except OSError as exc:
         raise UsageError(f"--out {out} cannot be written ({exc.strerror})") from None
     return path

@@ -19,8 +19,9 @@ from geometry.mesh import estimate_element_count
 
 __all__ = ["SolveCost", "estimate_cost", "harmonics_in_band", "modes_in_band"]
 
-#: Memory of a solve that does almost nothing (bases, probes, temporaries) [bytes].
-_BASE_MEMORY = 40e6
+#: Memory of a solve that does almost nothing (bases, probes, temporaries) [bytes], by
+#: solver: measured as the peak resident memory above the imports in a fresh process.
+_BASE_MEMORY = {"axisym": 25e6, "3d": 45e6, "3d-tet": 40e6}
 #: Axisymmetric solver: bytes per profile triangle (vectorised assembly temporaries at
 #: quadrature order 7) and per mode and revolved-mesh node (the expanded shapes: 64
 #: angles x 3 components x 2 members x 8 bytes).
@@ -33,7 +34,7 @@ _CORNERS_PER_TRIANGLE = 0.6
 #: shift-invert Lanczos; measured from 4k to 70k DOFs).
 _HARMONIC_SECONDS = (0.01, 2.2e-9)
 #: Cyclic 3-D solver: bytes per DOF of the equivalent full problem.
-_CYCLIC_BYTES_PER_DOF = 150.0
+_CYCLIC_BYTES_PER_DOF = 145.0
 #: gmsh tetrahedra: P2 nodes per tet; one sparse factorisation of the whole wheel costs
 #: about 16 kB per DOF at 41k DOFs, growing like N^1.5 (fill of a 3-D problem); the
 #: eigen-solve 6 s at 41k DOFs, growing like N^2.
@@ -94,7 +95,7 @@ def estimate_cost(design: WheelDesign, solver: str, h: float, fmax_hz: float,
     if solver == "axisym":
         tri = estimate_element_count(design, h, 2)
         per_harmonic = 3 * _P2_NODES_PER_TRIANGLE * tri
-        memory = (_BASE_MEMORY + _AXISYM_BYTES_PER_TRIANGLE * tri
+        memory = (_BASE_MEMORY["axisym"] + _AXISYM_BYTES_PER_TRIANGLE * tri
                   + _SHAPE_BYTES_PER_NODE * modes * _CORNERS_PER_TRIANGLE * tri)
         seconds = 0.1 + harmonics * (a + b * per_harmonic**2)
         return SolveCost(tri, int(per_harmonic * harmonics), memory, seconds, modes)
@@ -106,12 +107,12 @@ def estimate_cost(design: WheelDesign, solver: str, h: float, fmax_hz: float,
         owned = 2 * _P2_NODES_PER_TRIANGLE * tri  # face-0 nodes plus the sector interior
         dofs = 3 * owned * sectors
         seconds = 0.3 + harmonics * (a + b * (2 * 3 * owned) ** 2)
-        return SolveCost(3 * tri * sectors, int(dofs), _BASE_MEMORY + _CYCLIC_BYTES_PER_DOF * dofs,
+        return SolveCost(3 * tri * sectors, int(dofs), _BASE_MEMORY["3d"] + _CYCLIC_BYTES_PER_DOF * dofs,
                          seconds, modes)
     if solver == "3d-tet":
         tets = estimate_element_count(design, h, 3)
         dofs = 3 * _TET_NODES_PER_TET * tets
         ratio = dofs / _TET_REFERENCE_DOFS
-        memory = _BASE_MEMORY + _TET_BYTES_PER_DOF * dofs * math.sqrt(ratio)
+        memory = _BASE_MEMORY["3d-tet"] + _TET_BYTES_PER_DOF * dofs * math.sqrt(ratio)
         return SolveCost(tets, int(dofs), memory, _TET_SECONDS * ratio**2, modes)
     raise ValueError(f"unknown solver {solver!r}; use 'axisym', '3d' or '3d-tet'")

@@ -218,7 +218,9 @@ def select_mode(modes: Sequence[Mode], selection: ModeSelection | None = None) -
         what = f"n={sel.nodal_diameters}" + (
             f", {sel.nodal_circles} nodal circles" if sel.nodal_circles is not None else ""
         )
-        raise LookupError(f"no {sel.family or ''} mode with {what} among the computed modes".replace("  ", " "))
+        top = max(m.frequency_hz for m in modes)
+        raise LookupError(f"no {sel.family or ''} mode with {what} among the {len(modes)} computed modes "
+                          f"(up to {top:.0f} Hz): raise the band (fmax) or pick another mode".replace("  ", " "))
     m = cands[0]
     why = (
         f"lowest {m.family} mode with {m.nodal_diameters} nodal diameters and "

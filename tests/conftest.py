@@ -1,0 +1,64 @@
+"""Shared fixtures: the repository's paths, a command-line runner and a sandbox folder."""
+
+from __future__ import annotations
+
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1]
+DESIGNS = ROOT / "designs"
+PIPELINE = ROOT / "pipeline.py"
+
+
+def run_cli(*args: str, cwd: Path | None = None, env: dict | None = None, timeout: float = 600,
+            preexec_fn=None) -> subprocess.CompletedProcess:
+    """``python pipeline.py ARGS`` in a fresh process; ``env`` entries are added to (or,
+    with value None, removed from) the current environment."""
+    full = dict(os.environ)
+    for k, v in (env or {}).items():
+        if v is None:
+            full.pop(k, None)
+        else:
+            full[k] = v
+    return subprocess.run([sys.executable, str(PIPELINE), *map(str, args)], capture_output=True,
+                          text=True, cwd=cwd or ROOT, env=full, timeout=timeout,
+                          preexec_fn=preexec_fn)
+
+
+def one_line_error(r: subprocess.CompletedProcess) -> str:
+    """The single stderr line of a refused request (asserts there is exactly one and no
+    traceback); warnings (``warning: ...``) may precede it."""
+    lines = [ln for ln in r.stderr.splitlines() if ln.strip() and not ln.startswith("warning:")]
+    assert "Traceback" not in r.stderr, r.stderr
+    assert len(lines) == 1, r.stderr
+    return lines[0]
+
+
+@pytest.fixture
+def cli():
+    return run_cli
+
+
+@pytest.fixture
+def sandbox(tmp_path: Path) -> Path:
+    """A working folder with things a user keeps: earlier results, designs, own files."""
+    box = tmp_path / "box"
+    (box / "results" / "keep").mkdir(parents=True)
+    (box / "results" / "keep" / "notes.txt").write_text("mine")
+    (box / "designs").mkdir()
+    (box / "designs" / "mine.toml").write_text((DESIGNS / "thin_web.toml").read_text())
+    (box / "data.npz").write_bytes(b"not a cache entry")
+    (box / "report.tmp").write_text("also mine")
+    return box
+
+
+def snapshot(folder: Path) -> dict[str, bytes | None]:
+    """Every path below ``folder`` with its content (None for folders)."""
+    out: dict[str, bytes | None] = {}
+    for p in sorted(folder.rglob("*")):
+        out[str(p.relative_to(folder))] = None if p.is_dir() else p.read_bytes()
+    return out
