@@ -17,6 +17,8 @@ from dataclasses import dataclass
 from geometry.design import WheelDesign
 from geometry.mesh import estimate_element_count
 
+from .solvers import get_solver
+
 __all__ = ["SolveCost", "estimate_cost", "harmonics_in_band", "modes_in_band"]
 
 #: Memory of a solve that does almost nothing (bases, probes, temporaries) [bytes], by
@@ -115,4 +117,5 @@ def estimate_cost(design: WheelDesign, solver: str, h: float, fmax_hz: float,
         ratio = dofs / _TET_REFERENCE_DOFS
         memory = _BASE_MEMORY["3d-tet"] + _TET_BYTES_PER_DOF * dofs * math.sqrt(ratio)
         return SolveCost(tets, int(dofs), memory, _TET_SECONDS * ratio**2, modes)
-    raise ValueError(f"unknown solver {solver!r}; use 'axisym', '3d' or '3d-tet'")
+    get_solver(solver)  # raises for an unknown name
+    raise NotImplementedError(f"no cost model for solver {solver!r}")

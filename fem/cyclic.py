@@ -18,10 +18,10 @@ eigenvalues come in exact pairs: the cos/sin pair of the wheel. The eigenvalues 
 those of the full 3-D problem on the same mesh (tested against :mod:`fem.solid` to
 round-off), at the cost of ~p_max small problems instead of one large one.
 
-Only sector 0 is assembled (scikit-fem basis, :func:`fem.solid._assemble_elasticity`).
+Only sector 0 is assembled (scikit-fem basis, :func:`fem.elasticity.assemble_elasticity`).
 Labels: n = p exactly; family, nodal circles and the in-plane parity from the mode's
 (complex) amplitude on face 0, which is the profile mesh, with
-:class:`fem.axisym.ProfileLabeller` (the axisymmetric solver's own rules). Contact
+:class:`fem.labels.ProfileLabeller` (the axisymmetric solver's own rules). Contact
 modal mass: the contact point is a node of face 0; a pair is reported with its two
 members ``sqrt(2/N) Re, Im`` of the Bloch wave, so ``m = 1 / (phi_a^2 + phi_b^2) = N /
 (2 |x_z|^2)`` for ``x^H M_p x = 1``: independent of the pair's rotation by construction.
@@ -41,9 +41,13 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.spatial import cKDTree
 
-from .axisym import ProfileLabeller, _solve_band, assemble_harmonic, small_problem_factorization
-from .modes import EmptyBandWarning, Mode, ModeSet, ResolutionWarning, clean_contact
-from .solid import RIGID_TOL, FREE_SHIFT_REL, _assemble_elasticity, _skfem_mesh, reference_frequency
+from .axisym import assemble_harmonic
+from .eigen import blas_threads, small_problem_factorization, solve_band
+from .elasticity import assemble_elasticity
+from .labels import ProfileLabeller
+from .meshes import to_skfem_tet, to_skfem_tri
+from .modes import DEFAULT_FMAX_HZ, EmptyBandWarning, Mode, ModeSet, ResolutionWarning, clean_contact
+from .rules import free_shift, lame, rigid_frequency
 
 #: Default circumferential element length, in units of the profile element size: the
 #: sector elements are smooth along theta (P2, 2 pi R1 / N long), so they can be longer
@@ -70,7 +74,6 @@ class SectorModel:
         if boundary not in ("clamped", "free"):
             raise ValueError(f"boundary must be 'clamped' or 'free', got {boundary!r}")
         from skfem import Basis, ElementTetP1, ElementTetP2, ElementVector  # noqa: PLC0415
-        from skfem.models.elasticity import lame_parameters  # noqa: PLC0415
 
         L = mesh.sector_layout()
         self.layout = L
@@ -89,11 +92,11 @@ class SectorModel:
         inv = np.empty_like(perm)
         inv[perm] = np.arange(len(perm))
         order = 2 if mesh.order == 2 else 1
-        skm, _ = _skfem_mesh(pts[perm], inv[tet], order if tet.shape[1] == 10 else 1)
+        skm, _ = to_skfem_tet(pts[perm], inv[tet], order if tet.shape[1] == 10 else 1)
         elem = ElementVector(ElementTetP2() if order == 2 else ElementTetP1())
         basis = Basis(skm, elem)
-        lam, mu = lame_parameters(design.youngs_modulus, design.poissons_ratio)
-        K, M = _assemble_elasticity(skm, basis, elem, lam, mu, design.density)
+        lam, mu = lame(design.youngs_modulus, design.poissons_ratio)
+        K, M = assemble_elasticity(skm, basis, elem, lam, mu, design.density)
         # scikit-fem DOF -> (slab node, component), by location
         comp = np.empty(basis.N, dtype=np.int64)
         for c in range(3):
@@ -176,7 +179,7 @@ def solve_cyclic(
     n_sectors: int | None = None,
     size: float | None = None,
     elements_through_web: int | None = None,
-    fmax_hz: float | None = 5000.0,
+    fmax_hz: float | None = DEFAULT_FMAX_HZ,
     k: int | None = None,
     boundary: str = "clamped",
     factorization: str | None = None,
@@ -195,7 +198,7 @@ def solve_cyclic(
     boundary: ``"clamped"`` (bore fixed) or ``"free"`` (rigid-body modes dropped: two
         at p = 0, two pairs at p = 1).
     factorization: of each harmonic problem (:func:`fem.eigen.solve_eigen`); default
-        :func:`fem.axisym.small_problem_factorization`.
+        :func:`fem.eigen.small_problem_factorization`.
 
     Returns a :class:`~fem.modes.ModeSet` (``solver="3d-cyclic-p2"``), points and
     ``"tetra"`` cells of the whole wheel's corner nodes, ``shapes[i]`` (members,
@@ -206,36 +209,27 @@ def solve_cyclic(
         raise ValueError("give k or fmax_hz")
     if k is not None and k < 1:
         raise ValueError(f"k must be positive, got {k}")
-    try:
-        from threadpoolctl import threadpool_limits  # noqa: PLC0415
-    except ImportError:  # pragma: no cover
-        threadpool_limits = None
     t0 = time.perf_counter()
     if mesh is None:
-        from geometry.mesh import mesh_profile, revolve_profile  # noqa: PLC0415
+        from geometry.mesh import DEFAULT_ELEMENTS_THROUGH_WEB, mesh_profile, revolve_profile  # noqa: PLC0415
 
         if size is None and elements_through_web is None:
-            elements_through_web = 1
+            elements_through_web = DEFAULT_ELEMENTS_THROUGH_WEB[3]  # as the gmsh 3-D mesh
         prof = mesh_profile(design, size=size, elements_through_web=elements_through_web, order=2)
         mesh = revolve_profile(prof, n_sectors or default_sectors(design, prof.size))
     elif n_sectors is not None and n_sectors != getattr(mesh, "n_sectors", 0):
         raise ValueError(f"n_sectors={n_sectors} but the mesh has {getattr(mesh, 'n_sectors', 0)}")
     t_mesh = time.perf_counter()
-    if threadpool_limits is None:
-        return _solve(design, mesh, fmax_hz, k, boundary, factorization, t0, t_mesh)
-    # small problems: one BLAS thread (see fem.axisym.solve_axisymmetric)
-    with threadpool_limits(limits=1, user_api="blas"):
+    with blas_threads(1):  # small problems (see fem.axisym.solve_axisymmetric)
         return _solve(design, mesh, fmax_hz, k, boundary, factorization, t0, t_mesh)
 
 
 def _profile_labeller(design, mesh, layout, boundary):
     """The axisymmetric labeller on face 0 (the profile mesh) and the map from its
     DOFs (U, V, W at each node) to the owned-local nodes."""
-    import skfem as fe  # noqa: PLC0415
-
     tri = layout.face_triangles  # local indices 0..n-1 = the profile's own numbering
     rz = np.asarray(mesh.points)[layout.owned[: int(tri.max()) + 1]][:, [0, 2]].T.copy()
-    skm = fe.MeshTri2(rz, tri.T) if tri.shape[1] == 6 else fe.MeshTri1(rz, tri.T)
+    skm = to_skfem_tri(rz.T, tri, curved=True)
     model = assemble_harmonic(design, skm, order=2 if tri.shape[1] == 6 else 1, boundary=boundary)
     dist, node = cKDTree(rz.T).query(model.basis.doflocs.T)
     if dist.max() > 1e-9 * design.rolling_radius:
@@ -254,9 +248,8 @@ def _solve(design, mesh, fmax_hz, k, boundary, factorization, t0, t_mesh) -> Mod
     labeller, prof_dof = _profile_labeller(design, mesh, L, boundary)
     t_asm = time.perf_counter()
 
-    f_ref = reference_frequency(design)
-    sigma = 0.0 if boundary == "clamped" else -((2 * math.pi * FREE_SHIFT_REL * f_ref) ** 2)
-    f_rigid = RIGID_TOL * f_ref
+    sigma = 0.0 if boundary == "clamped" else free_shift(design)
+    f_rigid = rigid_frequency(design)
     lam_max = None if fmax_hz is None else (2 * math.pi * fmax_hz) ** 2
     nfree = S.free.size
     raw: list[tuple[float, int, np.ndarray]] = []  # (f, p, complex owned-local vector)
@@ -266,7 +259,7 @@ def _solve(design, mesh, fmax_hz, k, boundary, factorization, t0, t_mesh) -> Mod
     for p in range(p_top + 1):
         K, M, doubled = S.matrices(p)
         mult = 2 if doubled else 1
-        res = _solve_band(K, M, fmax_hz, None if k is None else mult * k, sigma, mult * guess, factorization)
+        res = solve_band(K, M, fmax_hz, None if k is None else mult * k, sigma, mult * guess, factorization)
         if doubled:
             lam, Z = _complex_modes(K, M, res.eigenvalues, res.vectors, nfree)
         else:

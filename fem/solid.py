@@ -1,6 +1,6 @@
 """3-D tetrahedral modal solver for the whole wheel (scikit-fem, P1 or P2).
 
-Linear elasticity ``K`` (``linear_elasticity(*lame_parameters(E, nu))``) and the
+Linear elasticity ``K`` (``linear_elasticity(*fem.rules.lame(E, nu))``) and the
 consistent mass ``M`` (``rho u.v``) are assembled on a tetrahedral mesh of the revolved
 profile (z is the wheel axis, the contact point is the tread apex at (R1, 0, 0)).
 The bore is clamped (every DOF on a boundary facet lying on r = bore_radius, so the
@@ -44,7 +44,7 @@ symmetric and otherwise leaves a spurious u_z at the contact, i.e. modal masses 
 Empty band: nothing at or below ``fmax_hz`` gives an empty ModeSet and an
 ``EmptyBandWarning`` naming the lowest natural frequency (from the eigenpairs the
 solve computed anyway: no extra cost). The free-free shift and the rigid-mode
-threshold are fractions of ``c_s / (2 pi R1)`` (:func:`reference_frequency`).
+threshold are the scale-free rules of :mod:`fem.rules`.
 """
 
 from __future__ import annotations
@@ -57,40 +57,21 @@ from typing import Any
 
 import numpy as np
 import scipy.sparse as sp
-from skfem import Basis, BilinearForm, ElementTetP1, ElementTetP2, ElementVector, MeshTet1, MeshTet2, asm
+from skfem import Basis, BilinearForm, ElementTetP1, ElementTetP2, ElementVector, MeshTet1, asm
 from skfem.helpers import dot
-from skfem.models.elasticity import lame_parameters, linear_elasticity
+from skfem.models.elasticity import linear_elasticity
 
-from .eigen import solve_eigen
-from .modes import EmptyBandWarning, Mode, ModeSet, clean_contact
+from .eigen import blas_threads, solve_eigen
+from .elasticity import assemble_elasticity
+from .meshes import to_skfem_tet
+from .modes import DEFAULT_FMAX_HZ, EmptyBandWarning, Mode, ModeSet, clean_contact
+from .rules import count_sign_changes, free_shift, in_plane_fraction, is_mirror_symmetric, lame, rigid_frequency
 
 #: Relative frequency gap below which two consecutive modes with the same labels
 #: (n >= 1, nodal circles, family) are a degenerate cos/sin pair. The unstructured
 #: mesh splits a pair: measured on the Table 1 wheel up to ~1e-4 with P2 and ~1e-2 with
 #: P1 on the coarse CI mesh (1.2 %); distinct modes with the same labels are much further apart.
 PAIR_RTOL = 2e-2
-
-#: Scale-free frequency thresholds, relative to ``f_ref = c_s / (2 pi R1)`` (c_s the
-#: shear wave speed, R1 the rolling radius; 2.4 kHz for Table 1), as in
-#: :mod:`fem.axisym`, so a 20 mm or a 2 m wheel is treated alike.
-#: Free-free shift: K is singular, so factorise K - sigma M with
-#: sigma = -(2 pi FREE_SHIFT_REL f_ref)^2 (the axisymmetric solver's shift).
-FREE_SHIFT_REL = 0.05
-
-#: A free-free eigenvalue is a rigid-body mode when its frequency is below
-#: ``RIGID_TOL * f_ref`` and its shape lies in the span of the six rigid motions
-#: (numerically the rigid modes come out at ~1e-7 f_ref; the first elastic mode of a
-#: free wheel is at ~0.1 f_ref and more).
-RIGID_TOL = 1e-3
-
-#: A design with |web_offset| below this fraction of the rolling radius is mirror
-#: symmetric about z = 0 (same rule as :data:`fem.axisym.SYMMETRY_RTOL`).
-SYMMETRY_RTOL = 1e-12
-
-
-def reference_frequency(design) -> float:
-    """``c_s / (2 pi R1)`` [Hz]: the frequency scale of the scale-free thresholds."""
-    return math.sqrt(design.shear_modulus / design.density) / (2 * math.pi * design.rolling_radius)
 
 #: Harmonics searched for the nodal-diameter label.
 N_HARMONICS = 40
@@ -109,60 +90,6 @@ class SolidModel:
     curved: bool
 
 
-def _skfem_mesh(points: np.ndarray, tetra: np.ndarray, order: int):
-    """scikit-fem mesh for the requested element order; returns (mesh, curved)."""
-    points = np.asarray(points, dtype=float)
-    tetra = np.asarray(tetra)
-    if tetra.shape[1] == 10 and order == 2:
-        # meshio tetra10 edge order (01, 12, 20, 03, 13, 23) is scikit-fem's P2 order.
-        return MeshTet2(np.ascontiguousarray(points.T), np.ascontiguousarray(tetra.T)), True
-    corners = tetra[:, :4]
-    used, inv = np.unique(corners, return_inverse=True)
-    t = inv.reshape(corners.shape)
-    return MeshTet1(np.ascontiguousarray(points[used].T), np.ascontiguousarray(t.T)), False
-
-
-def _assemble_elasticity(mesh, basis, elem, lam: float, mu: float, rho: float):
-    """K and M of isotropic linear elasticity, vectorised over the elements.
-
-    Equal to scikit-fem's ``asm(linear_elasticity(lam, mu), basis)`` and
-    ``asm(rho u.v)`` (same quadrature, same DOF numbering; tested to 1e-10, measured
-    ~4e-16 relative) but 3-4x faster: the element matrices come from the scalar
-    basis' gradients ``G[e, q, i, a] = d phi_i / d x_a`` (isoparametric, per
-    quadrature point) as one batched product ``B = G^T diag(w) G`` of the pairs
-    ``int dphi_i/dx_a dphi_j/dx_b``, combined as
-    ``K_(ia)(jb) = lam B_iajb + mu B_ibja + mu delta_ab sum_c B_icjc``; the mass is the
-    scalar mass on the diagonal component blocks. ElementVector's local DOF ``3 i + a``
-    is component ``a`` of scalar function ``i``.
-    """
-    sb = Basis(mesh, elem.elem, quadrature=basis.quadrature)
-    nb = sb.Nbfun
-    ne = mesh.t.shape[1]
-    dx = sb.dx  # (ne, nq)
-    G = np.stack([sb.basis[i][0].grad for i in range(nb)])  # (nb, 3, ne, nq)
-    G = np.ascontiguousarray(G.transpose(2, 3, 0, 1)).reshape(ne, dx.shape[1], 3 * nb)
-    B = np.matmul((G * dx[:, :, None]).transpose(0, 2, 1), G).reshape(ne, nb, 3, nb, 3)
-    Kl = lam * B
-    Kl += mu * B.transpose(0, 1, 4, 3, 2)
-    tr = mu * np.einsum("eiaja->eij", B)
-    for a in range(3):
-        Kl[:, :, a, :, a] += tr
-    P = np.stack([np.asarray(sb.basis[i][0]) for i in range(nb)], axis=2)  # (ne, nq, nb)
-    Ml = rho * np.matmul((P * dx[:, :, None]).transpose(0, 2, 1), P)  # (ne, nb, nb)
-    dofs = basis.element_dofs.T  # (ne, 3 nb), local index 3 i + a
-    N = basis.N
-    rows = np.repeat(dofs, 3 * nb, axis=1).ravel()
-    cols = np.tile(dofs, (1, 3 * nb)).ravel()
-    K = sp.coo_matrix((Kl.ravel(), (rows, cols)), shape=(N, N)).tocsr()
-    d3 = dofs.reshape(ne, nb, 3)
-    M = sp.csr_matrix((N, N))
-    for a in range(3):
-        da = d3[:, :, a]
-        M = M + sp.coo_matrix((Ml.ravel(), (np.repeat(da, nb, axis=1).ravel(), np.tile(da, (1, nb)).ravel())),
-                              shape=(N, N)).tocsr()
-    return K, M
-
-
 def assemble(design, points, tetra, order: int = 2, boundary: str = "clamped", fast: bool = True) -> SolidModel:
     """Stiffness and mass of the wheel on a tetrahedral mesh, and the clamped DOFs.
 
@@ -172,10 +99,10 @@ def assemble(design, points, tetra, order: int = 2, boundary: str = "clamped", f
         raise ValueError(f"order must be 1 or 2, got {order}")
     if boundary not in ("clamped", "free"):
         raise ValueError(f"boundary must be 'clamped' or 'free', got {boundary!r}")
-    mesh, curved = _skfem_mesh(points, tetra, order)
+    mesh, curved = to_skfem_tet(points, tetra, order)
     elem = ElementVector(ElementTetP2() if order == 2 else ElementTetP1())
     basis = Basis(mesh, elem)
-    lam, mu = lame_parameters(design.youngs_modulus, design.poissons_ratio)
+    lam, mu = lame(design.youngs_modulus, design.poissons_ratio)
     rho = design.density
 
     @BilinearForm
@@ -183,7 +110,7 @@ def assemble(design, points, tetra, order: int = 2, boundary: str = "clamped", f
         return rho * dot(u, v)
 
     if fast:
-        K, M = _assemble_elasticity(mesh, basis, elem, lam, mu, rho)
+        K, M = assemble_elasticity(mesh, basis, elem, lam, mu, rho)
     else:
         K = asm(linear_elasticity(lam, mu), basis)
         M = asm(mass, basis)
@@ -314,14 +241,6 @@ class _Labeller:
         return count_sign_changes(line)
 
 
-def count_sign_changes(values: np.ndarray, floor: float = 0.05) -> int:
-    """Sign changes along a sampled line, ignoring samples below ``floor * max|v|``."""
-    v = np.asarray(values, dtype=float)
-    big = np.abs(v) >= floor * np.max(np.abs(v)) if v.size and np.max(np.abs(v)) > 0 else np.zeros(v.shape, bool)
-    s = np.sign(v[big])
-    return int(np.count_nonzero(s[1:] != s[:-1]))
-
-
 def straight_basis(asm_: SolidModel):
     """A basis for point evaluation (``probes``) with the same DOF numbering.
 
@@ -389,7 +308,7 @@ def solve_solid(
     order: int = 2,
     size: float | None = None,
     elements_through_web: int | None = None,
-    fmax_hz: float | None = 5000.0,
+    fmax_hz: float | None = DEFAULT_FMAX_HZ,
     k: int | None = None,
     boundary: str = "clamped",
     factorization: str = "auto",
@@ -446,7 +365,7 @@ def solve_model(
     design,
     model: SolidModel,
     *,
-    fmax_hz: float | None = 5000.0,
+    fmax_hz: float | None = DEFAULT_FMAX_HZ,
     k: int | None = None,
     factorization: str = "auto",
 ) -> tuple[ModeSet, list[np.ndarray]]:
@@ -463,8 +382,7 @@ def solve_model(
     Kf = A.K[A.free][:, A.free].tocsr()
     Mf = A.M[A.free][:, A.free].tocsr()
     free_free = A.fixed.size == 0
-    f_ref = reference_frequency(design)
-    sigma = -((2 * math.pi * FREE_SHIFT_REL * f_ref) ** 2) if free_free else 0.0
+    sigma = free_shift(design) if free_free else 0.0
     n_rigid = 6 if free_free else 0
     # Band: solve slightly past fmax so a pair straddling the edge is not split.
     band = None if fmax_hz is None else fmax_hz * (1.0 + PAIR_RTOL)
@@ -480,9 +398,9 @@ def solve_model(
     # Labelling is many small BLAS calls (dots and matvecs on 1e4-1e5 entries): on these
     # shared 2-core machines the default two BLAS threads spin against each other and
     # make it 4x slower (41k DOFs, 25 vectors: 2.7 s vs 0.66 s on one thread, measured).
-    with _blas_threads():
+    with blas_threads():
         if free_free:
-            X, lam = _drop_rigid(A, X, lam, RIGID_TOL * f_ref)
+            X, lam = _drop_rigid(A, X, lam, rigid_frequency(design))
         modes, shapes, groups = _build_modes(design, A, X, lam, fmax_hz, k)
     if not modes and fmax_hz is not None:
         f_low = res.lowest_hz(skip=n_rigid)
@@ -504,19 +422,6 @@ def solve_model(
         timings_s={"eigen": t_eig, "label": t_lab, "total": t_eig + t_lab},
     )
     return ms, [X[:, g] for g in groups]
-
-
-def _blas_threads():
-    """Context limiting BLAS threads to :data:`fem.eigen.BLAS_THREADS` (no-op if None)."""
-    import contextlib  # noqa: PLC0415
-
-    from . import eigen  # noqa: PLC0415
-
-    if eigen.BLAS_THREADS is None:
-        return contextlib.nullcontext()
-    from threadpoolctl import threadpool_limits  # noqa: PLC0415
-
-    return threadpool_limits(limits=eigen.BLAS_THREADS)
 
 
 #: Mesh order requested from ``mesh_wheel`` for each element order when ``mesh`` is None.
@@ -553,7 +458,7 @@ def _mirror_map(design, A: SolidModel):
     not a node; the nearest one (at most about half an element away) is close enough
     for the parity test, which only separates ~1 (in-plane) from ~0 (out-of-plane).
     """
-    if abs(design.web_offset) > SYMMETRY_RTOL * design.rolling_radius:
+    if not is_mirror_symmetric(design):
         return None
     from scipy.spatial import cKDTree  # noqa: PLC0415
 
@@ -566,22 +471,12 @@ def _mirror_map(design, A: SolidModel):
 
 
 def _in_plane_parity(mirror, members: list[np.ndarray]) -> float:
-    """Fraction of the modes' nodal squared amplitude that has u_r, u_theta even and u_z
-    odd in z (the rule of :func:`fem.axisym._in_plane_parity`, here on the 3-D DOF
-    locations and their nearest mirror images): ~1 for an in-plane mode of a
-    mirror-symmetric wheel (u_z = 0 on the plane z = 0, so at the contact), ~0 for an
-    out-of-plane one."""
+    """:func:`fem.rules.in_plane_fraction` of the members, on the 3-D DOF locations and
+    their nearest mirror images."""
     xyz, comp, j = mirror
-    sq_in = sq_out = 0.0
-    for x in members:
-        ur, ut, uz = _cyl(xyz, np.stack([x[c] for c in comp]))
-        for u, even_in in ((ur, True), (ut, True), (uz, False)):
-            ev, od = 0.5 * (u + u[j]), 0.5 * (u - u[j])
-            e2, o2 = float(ev @ ev), float(od @ od)
-            sq_in += e2 if even_in else o2
-            sq_out += o2 if even_in else e2
-    total = sq_in + sq_out
-    return sq_in / total if total > 0 else 0.0
+    u = np.array([_cyl(xyz, np.stack([x[c] for c in comp])) for x in members])  # (m, 3, N): r, t, z
+    u = u[:, [0, 2, 1]]  # (u_r, u_z, u_theta)
+    return in_plane_fraction(u, u[:, :, j])
 
 
 def _build_modes(design, A: SolidModel, X: np.ndarray, lam: np.ndarray, fmax_hz, k):
@@ -640,4 +535,4 @@ def _build_modes(design, A: SolidModel, X: np.ndarray, lam: np.ndarray, fmax_hz,
     return modes, shapes, kept
 
 
-__all__ = ["PAIR_RTOL", "SolidModel", "assemble", "eigen_guess", "count_sign_changes", "solve_model", "solve_solid", "straight_basis"]
+__all__ = ["PAIR_RTOL", "SolidModel", "assemble", "eigen_guess", "solve_model", "solve_solid", "straight_basis"]

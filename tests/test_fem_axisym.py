@@ -27,19 +27,14 @@ import skfem as fe
 from scipy import special as sc
 from scipy.optimize import brentq
 
-from fem.axisym import (
-    assemble_harmonic,
-    count_sign_changes,
-    solve_axisymmetric,
-    to_skfem_mesh,
-)
+from fem.axisym import assemble_harmonic, solve_axisymmetric
 from fem.eigen import solve_eigen
+from fem.meshes import to_skfem_mesh
 from fem.modes import contact_modal_mass
+from fem.rules import count_sign_changes
 from geometry.design import WheelDesign
+from geometry.mesh import mesh_profile
 from geometry.profile import wheel_mass
-
-mesh_mod = pytest.importorskip("geometry.mesh")
-mesh_profile = mesh_mod.mesh_profile
 
 
 # ---------------------------------------------------------------------------------

@@ -20,16 +20,11 @@ import warnings
 import numpy as np
 import pytest
 
-from fem.axisym import (
-    LOCKING_NU,
-    RESOLUTION_ELEMENTS,
-    RIGID_TOL,
-    assemble_harmonic,
-    shortest_wavelength,
-    solve_axisymmetric,
-    to_skfem_mesh,
-)
+from fem.axisym import assemble_harmonic, solve_axisymmetric
 from fem.eigen import solve_eigen
+from fem.fidelity import LOCKING_NU, RESOLUTION_ELEMENTS, shortest_wavelength
+from fem.meshes import to_skfem_mesh
+from fem.rules import RIGID_TOL
 from fem.modes import (
     FAMILIES,
     CONTACT_NODE_RTOL,
@@ -293,7 +288,7 @@ def test_free_free_3d_large_wheel_rigid_modes_and_pairs():
     (solve_solid raises otherwise), the first elastic mode is the (2,0) axial pair
     (multiplicity 2: the pair detection), at the axisymmetric frequency within 1 %
     (measured 0.46 %)."""
-    solid = pytest.importorskip("fem.solid")
+    import fem.solid as solid
     from geometry.mesh import mesh_wheel
 
     s = 2.0 / T1.rolling_radius
@@ -353,7 +348,7 @@ def test_band_with_no_modes(boundary):
 
 
 def test_fmax_beyond_the_mesh_resolution_warns():
-    """The wavelength criterion (fem.axisym.RESOLUTION_ELEMENTS: 6 P2 elements per
+    """The wavelength criterion (fem.fidelity.RESOLUTION_ELEMENTS: 6 P2 elements per
     shortest wavelength, the smaller of the web's bending and the shear wavelength,
     about 1 % frequency error): 50 kHz on the fast mesh (15 mm elements; 52 mm web
     bending wavelength, 3.5 elements) warns; 5 kHz on the default mesh (7.5 mm; 164 mm,

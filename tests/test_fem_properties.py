@@ -29,7 +29,8 @@ from hypothesis import strategies as st
 
 from strategies import unit, wheel_designs
 
-from fem.axisym import assemble_harmonic, solve_axisymmetric, to_skfem_mesh
+from fem.axisym import assemble_harmonic, solve_axisymmetric
+from fem.meshes import to_skfem_mesh
 from fem.modes import FidelityWarning, contact_modal_mass
 from geometry.design import WheelDesign
 from geometry.mesh import mesh_profile

@@ -449,7 +449,7 @@ def test_meshio_node_ordering_and_orientation(dim, order):
 
 @pytest.mark.parametrize("dim,order", CASES)
 def test_scikit_fem_loads_the_mesh(dim, order, caplog):
-    skfem = pytest.importorskip("skfem")
+    import skfem
     from skfem.io.meshio import from_meshio
 
     m = cached_mesh(T1, dim, order, COARSE)

@@ -1,0 +1,58 @@
+"""Mode shapes of the harmonic solver on a revolved mesh (for pictures and VTU).
+
+The profile's corner nodes are rotated to ``n_theta`` angles (meshio "wedge" cells);
+each member of a harmonic mode is expanded there in Cartesian (x, y, z), the contact
+point at (R1, 0, 0), angle 0.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+__all__ = ["expand_harmonic", "revolved_mesh"]
+
+
+def revolved_mesh(points_rz: np.ndarray, triangles: np.ndarray, n_theta: int):
+    """Revolve a profile (corner points (Np, 2), CCW triangles (M, 3)) about z.
+
+    Returns (points (n_theta*Np, 3), wedges (n_theta*M, 6), theta (n_theta,)); point
+    ``j*Np + i`` is profile node i at angle ``theta_j = 2 pi j / n_theta``.
+    """
+    np_ = points_rz.shape[0]
+    th = 2 * math.pi * np.arange(n_theta) / n_theta
+    r, z = points_rz[:, 0], points_rz[:, 1]
+    pts = np.empty((n_theta, np_, 3))
+    pts[:, :, 0] = np.cos(th)[:, None] * r
+    pts[:, :, 1] = np.sin(th)[:, None] * r
+    pts[:, :, 2] = z
+    j = np.arange(n_theta)[:, None, None]
+    # VTK/meshio wedge: (0, 1, 2) and (3, 4, 5) the same triangle one angular step
+    # apart, with (0, 1, 2) ordered so that its right-hand normal points towards (3, 4, 5)
+    # (+t): that is a clockwise triangle in the (r, z) plane (checked: positive
+    # volumes in VTK, total = the revolved volume of the chordal profile).
+    tri = np.asarray(triangles)[None, :, [0, 2, 1]]
+    wedges = np.concatenate([tri + j * np_, tri + ((j + 1) % n_theta) * np_], axis=2)
+    return pts.reshape(-1, 3), wedges.reshape(-1, 6), th
+
+
+def expand_harmonic(UVW: np.ndarray, n: int, theta: np.ndarray, member: str, torsion: bool) -> np.ndarray:
+    """Cartesian displacement (n_theta*Np, 3) of one member from nodal (U, V, W) (Np, 3)."""
+    U, V, W = UVW[:, 0], UVW[:, 1], UVW[:, 2]
+    if n == 0:
+        cr = np.ones_like(theta)
+        ct = np.ones_like(theta)
+    elif member == "cos":
+        cr, ct = np.cos(n * theta), np.sin(n * theta)
+    else:  # sin member: u_r = U sin, u_z = V sin, u_t = -W cos
+        cr, ct = np.sin(n * theta), -np.cos(n * theta)
+    ur = cr[:, None] * U[None, :]
+    uz = cr[:, None] * V[None, :]
+    ut = ct[:, None] * W[None, :]
+    c, s = np.cos(theta)[:, None], np.sin(theta)[:, None]
+    out = np.empty(ur.shape + (3,))
+    out[..., 0] = ur * c - ut * s
+    out[..., 1] = ur * s + ut * c
+    out[..., 2] = uz
+    return out.reshape(-1, 3)
