@@ -266,7 +266,7 @@ class FERung:
         from fem.solid import solve_solid
 
         if self.method == "3d-P2-straight":
-            from geometry.mesh import mesh_wheel
+            from geometry.gmsh_mesh import mesh_wheel
 
             mesh = mesh_wheel(design, elements_through_web=self.etw, order=1)
             return solve_solid(design, mesh, order=2, fmax_hz=FMAX_HZ)

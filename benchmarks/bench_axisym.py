@@ -19,7 +19,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from fem.axisym import solve_axisymmetric  # noqa: E402
 from geometry.design import load_design  # noqa: E402
-from geometry.mesh import mesh_profile  # noqa: E402
+from geometry.gmsh_mesh import mesh_profile  # noqa: E402
 
 
 def key(m):

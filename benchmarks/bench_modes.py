@@ -4,7 +4,7 @@
    - axisymmetric-harmonic solver (``fem.axisym.solve_axisymmetric``, default mesh,
      meshing included);
    - on ONE cyclic curved P2 (tetra10) mesh of the whole wheel
-     (``geometry.mesh.revolve_profile`` of ``mesh_profile(elements_through_web=1,
+     (``geometry.revolve.revolve_profile`` of ``mesh_profile(elements_through_web=1,
      order=2)`` in N = 48 sectors, ~45k DOFs; ``--full`` adds N = 96, ~90k DOFs), the
      mesh given to every solver (its meshing time is printed apart):
      * baseline: scikit-fem form assembly of the full mesh (``fem.solid.assemble(...,
@@ -62,7 +62,7 @@ from fem.cyclic import default_sectors, solve_cyclic  # noqa: E402
 from fem.eigen import available_factorizations  # noqa: E402
 from fem.solid import PAIR_RTOL, assemble, solve_solid  # noqa: E402
 from geometry.design import load_design  # noqa: E402
-from geometry.mesh import mesh_profile, mesh_wheel, revolve_profile  # noqa: E402
+from geometry import mesh_profile, mesh_wheel, revolve_profile  # noqa: E402
 
 try:
     from fem.axisym import solve_axisymmetric  # noqa: E402

@@ -148,7 +148,7 @@ CYCLIC_SECTORS = 48
 
 
 def bench_mesh(design, table: Table, quick: bool) -> None:
-    from geometry.mesh import mesh_profile, mesh_wheel, revolve_profile
+    from geometry import mesh_profile, mesh_wheel, revolve_profile
 
     bal = pipeline.FIDELITIES["balanced"]
     s, m, _ = timed(lambda: mesh_profile(design, elements_through_web=bal.elements_through_web,
@@ -182,7 +182,7 @@ def bench_modes(design, table: Table, quick: bool) -> tuple:
 
     from fem.cyclic import solve_cyclic
     from fem.solid import PAIR_RTOL, solve_solid
-    from geometry.mesh import mesh_profile, mesh_wheel, revolve_profile
+    from geometry import mesh_profile, mesh_wheel, revolve_profile
 
     t = time.perf_counter()
     mesh = revolve_profile(mesh_profile(design, elements_through_web=1, order=2), CYCLIC_SECTORS)

@@ -310,7 +310,7 @@ def solve_axisymmetric(
     design: the wheel (geometry and material, SI).
     mesh: a ``geometry.mesh.ProfileMesh`` or a scikit-fem ``MeshTri1``/``MeshTri2`` of
         the (r, z) half-profile; ``None`` meshes the design with
-        ``geometry.mesh.mesh_profile(design, size, elements_through_web, order)``
+        ``geometry.gmsh_mesh.mesh_profile(design, size, elements_through_web, order)``
         (straight order-1 mesh + P2 unless ``curved``; neither size given: the
         profile default of ``geometry.mesh.DEFAULT_ELEMENTS_THROUGH_WEB``).
     order: 1 or 2, the Lagrange element order (P2 is the baseline; P1 locks).
@@ -353,7 +353,7 @@ def _solve_axisymmetric(design, mesh, *, order, size, elements_through_web, fmax
     if k is not None and k < 1:
         raise ValueError(f"k must be positive, got {k}")
     if mesh is None:
-        from geometry.mesh import mesh_profile  # noqa: PLC0415 (gmsh only when meshing here)
+        from geometry.gmsh_mesh import mesh_profile  # noqa: PLC0415 (gmsh only when meshing here)
 
         mesh = mesh_profile(design, size=size, elements_through_web=elements_through_web,
                             order=2 if (curved and order == 2) else 1)

@@ -1,6 +1,6 @@
 """3-D P2 modes of the whole wheel by cyclic symmetry (the harmonic split in 3-D).
 
-The mesh is :func:`geometry.mesh.revolve_profile`: N identical sectors of curved P2
+The mesh is :func:`geometry.revolve.revolve_profile`: N identical sectors of curved P2
 tetrahedra. Its stiffness and mass are invariant under a rotation by ``Delta = 2 pi /
 N``, so in each sector's own rotated frame the global matrices are block-circulant and
 the full 3-D eigenproblem splits exactly into N/2 + 1 independent sector problems,
@@ -69,7 +69,7 @@ class SectorModel:
 
     def __init__(self, design, mesh, boundary: str = "clamped"):
         if getattr(mesh, "n_sectors", 0) <= 0:
-            raise ValueError("solve_cyclic needs a cyclic mesh from geometry.mesh.revolve_profile "
+            raise ValueError("solve_cyclic needs a cyclic mesh from geometry.revolve.revolve_profile "
                              "(n_sectors > 0); for a gmsh mesh use fem.solid.solve_solid")
         if boundary not in ("clamped", "free"):
             raise ValueError(f"boundary must be 'clamped' or 'free', got {boundary!r}")
@@ -189,8 +189,8 @@ def solve_cyclic(
     Parameters
     ----------
     design: a :class:`~geometry.design.WheelDesign`.
-    mesh: a cyclic ``SolidMesh`` (:func:`geometry.mesh.revolve_profile`); ``None``
-        meshes the profile (``geometry.mesh.mesh_profile(design, size,
+    mesh: a cyclic ``SolidMesh`` (:func:`geometry.revolve.revolve_profile`); ``None``
+        meshes the profile (``geometry.gmsh_mesh.mesh_profile(design, size,
         elements_through_web, order=2)``, default one element across the web as the
         gmsh 3-D mesh) and revolves it in ``n_sectors`` (default
         :func:`default_sectors`).
@@ -211,7 +211,9 @@ def solve_cyclic(
         raise ValueError(f"k must be positive, got {k}")
     t0 = time.perf_counter()
     if mesh is None:
-        from geometry.mesh import DEFAULT_ELEMENTS_THROUGH_WEB, mesh_profile, revolve_profile  # noqa: PLC0415
+        from geometry.gmsh_mesh import mesh_profile
+        from geometry.mesh import DEFAULT_ELEMENTS_THROUGH_WEB
+        from geometry.revolve import revolve_profile  # noqa: PLC0415
 
         if size is None and elements_through_web is None:
             elements_through_web = DEFAULT_ELEMENTS_THROUGH_WEB[3]  # as the gmsh 3-D mesh

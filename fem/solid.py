@@ -319,7 +319,7 @@ def solve_solid(
     ----------
     design: a :class:`~geometry.design.WheelDesign`.
     mesh: a ``SolidMesh`` (``points``, ``tetra`` in meshio order, ``order``); ``None``
-        meshes the design with ``geometry.mesh.mesh_wheel(design, size,
+        meshes the design with ``geometry.gmsh_mesh.mesh_wheel(design, size,
         elements_through_web, order=...)`` (see ``MESH_ORDER`` for the mesh order used).
     order: element order, 1 (P1, locks in bending: diagnostic only) or 2 (P2).
     fmax_hz / k: all modes up to ``fmax_hz``, or the ``k`` lowest modes (a degenerate
@@ -336,7 +336,7 @@ def solve_solid(
     t0 = time.perf_counter()
     timings: dict[str, float] = {}
     if mesh is None:
-        from geometry.mesh import mesh_wheel
+        from geometry.gmsh_mesh import mesh_wheel
 
         mesh = mesh_wheel(design, size=size, elements_through_web=elements_through_web, order=MESH_ORDER.get(order, 1))
     timings["mesh"] = time.perf_counter() - t0

@@ -90,7 +90,7 @@ def solve_modes(design, mesh, solver: str, *, order: int = 2, fmax_hz: float = D
 
         return solve_axisymmetric(design, mesh, order=order, fmax_hz=fmax_hz, curved=mesh.order == 2)
     if solver == "3d":
-        from geometry.mesh import revolve_profile
+        from geometry.revolve import revolve_profile
 
         from .cyclic import default_sectors, solve_cyclic
 

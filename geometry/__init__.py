@@ -1,42 +1,45 @@
-"""Wheel designs and their geometry: parameters, half-profile, gmsh meshes.
+"""Wheel designs and their geometry: parameters, half-profile, meshes.
 
-Knows nothing of finite elements: meshes leave this package as numpy arrays.
+Knows nothing of finite elements: meshes leave this package as numpy arrays
+(:mod:`geometry.mesh`), made by gmsh (:mod:`geometry.gmsh_mesh`) or by revolving the
+profile mesh in identical sectors (:mod:`geometry.revolve`).
 """
 
 from .design import SECTIONS, STRUCTURAL_FIELDS, DesignError, WheelDesign, load_design, tread_radius
+from .gmsh_mesh import mesh_profile, mesh_wheel
 from .mesh import (
     DEFAULT_ELEMENTS_THROUGH_WEB,
     PHYSICAL_TAGS,
     MeshError,
     ProfileMesh,
-    SolidMesh,
-    mesh_profile,
-    mesh_size,
-    mesh_wheel,
-    revolve_profile,
     SectorLayout,
+    SolidMesh,
+    estimate_element_count,
+    mesh_size,
 )
 from .profile import Profile, half_profile, profile_area, revolved_volume, wheel_mass
+from .revolve import revolve_profile
 
 __all__ = [
     "DEFAULT_ELEMENTS_THROUGH_WEB",
     "DesignError",
     "MeshError",
     "PHYSICAL_TAGS",
+    "Profile",
     "ProfileMesh",
+    "SECTIONS",
+    "STRUCTURAL_FIELDS",
+    "SectorLayout",
     "SolidMesh",
+    "WheelDesign",
+    "estimate_element_count",
+    "half_profile",
+    "load_design",
     "mesh_profile",
     "mesh_size",
     "mesh_wheel",
-    "revolve_profile",
-    "SectorLayout",
-    "Profile",
-    "SECTIONS",
-    "STRUCTURAL_FIELDS",
-    "WheelDesign",
-    "half_profile",
-    "load_design",
     "profile_area",
+    "revolve_profile",
     "revolved_volume",
     "tread_radius",
     "wheel_mass",

@@ -15,6 +15,7 @@ from .model import (IntegrationError, ModalDOF, OperatingPoint, TimeHistory, cho
 from .predictor import LimitCyclePrediction, mean_power_per_cycle, predict_limit_cycle
 from .report import (summary_dicts, write_sweep_csv, write_sweep_plot, write_time_history_plots,
                      write_timeseries_csv)
+from .saturate import longest_record_s, simulate_to_limit_cycle
 from .sweep import SweepResult, sweep
 
 __all__ = [
@@ -24,7 +25,7 @@ __all__ = [
     "simulate", "simulate_reference",
     "Cycles", "LimitCycle", "cycles", "limit_cycle", "analytic_growth_rate",
     "LimitCyclePrediction", "mean_power_per_cycle", "predict_limit_cycle",
-    "SweepResult", "sweep",
+    "SweepResult", "sweep", "longest_record_s", "simulate_to_limit_cycle",
     "summary_dicts", "write_timeseries_csv", "write_time_history_plots",
     "write_sweep_csv", "write_sweep_plot",
 ]

@@ -44,7 +44,7 @@ import numpy as np
 
 from . import _kernels
 from .creep import ContactLaw, adhesion_ratio_slope
-from .model import OperatingPoint, TimeHistory, _as_modes
+from .model import OperatingPoint, TimeHistory, as_modes
 
 __all__ = ["Cycles", "LimitCycle", "cycles", "limit_cycle", "analytic_growth_rate"]
 
@@ -106,7 +106,7 @@ def analytic_growth_rate(modes, contact: ContactLaw, op: OperatingPoint) -> floa
     (exact for one mode; for several modes it neglects their coupling through the
     contact, which is small when their frequencies are well separated).
     """
-    modes = _as_modes(modes)
+    modes = as_modes(modes)
     slope = float(adhesion_ratio_slope(op.creepage, contact, op.rolling_speed_m_s))
     friction_damping = contact.normal_load_n / op.rolling_speed_m_s * slope
     return max(-(md.damping_ns_m + friction_damping) / (2.0 * md.mass_kg) for md in modes)

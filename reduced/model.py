@@ -26,8 +26,10 @@ __all__ = [
     "IntegrationError",
     "simulate",
     "simulate_reference",
+    "as_modes",
     "choose_time_step",
     "law_vector",
+    "mode_arrays",
 ]
 
 
@@ -207,7 +209,8 @@ def law_vector(contact: ContactLaw, op: OperatingPoint) -> np.ndarray:
     ], dtype=float)
 
 
-def _as_modes(modes) -> tuple:
+def as_modes(modes) -> tuple:
+    """A ModalDOF or a sequence of them as a non-empty tuple (TypeError otherwise)."""
     if isinstance(modes, ModalDOF):
         return (modes,)
     modes = tuple(modes)
@@ -216,7 +219,8 @@ def _as_modes(modes) -> tuple:
     return modes
 
 
-def _mode_arrays(modes: tuple):
+def mode_arrays(modes: tuple):
+    """(m, c, k) of the modes as float arrays [kg, N s/m, N/m]."""
     m = np.array([md.mass_kg for md in modes], dtype=float)
     c = np.array([md.damping_ns_m for md in modes], dtype=float)
     k = np.array([md.stiffness_n_m for md in modes], dtype=float)
@@ -240,7 +244,7 @@ def choose_time_step(modes, contact: ContactLaw, op: OperatingPoint, steps_per_p
     and (ii) 0.5 / lambda with lambda = max contact damping * sum(1/m_i) + max c_i/m_i,
     which keeps the stiff, strongly damped direction of the creep region far inside
     RK4's stability interval (|lambda h| < 2.78)."""
-    modes = _as_modes(modes)
+    modes = as_modes(modes)
     if steps_per_period < 8:
         raise ValueError(f"steps_per_period must be >= 8, got {steps_per_period}")
     f_max = max(md.frequency_hz for md in modes)
@@ -267,7 +271,7 @@ def _history(t, y_modes, v_modes, modes, contact, op, step, method, mismatch=flo
     v = v_modes.sum(axis=1)
     zeta = (op.crabbing_velocity_m_s + v) / op.rolling_speed_m_s
     Q = -adhesion_ratio(zeta, contact, op.rolling_speed_m_s) * contact.normal_load_n
-    _, c, _ = _mode_arrays(modes)
+    _, c, _ = mode_arrays(modes)
     P = Q * v - (c[None, :] * v_modes ** 2).sum(axis=1)
     return TimeHistory(t=t, y=y, v=v, y_modes=y_modes, v_modes=v_modes, creepage=zeta, Q=Q, P=P,
                        modes=modes, contact=contact, operating_point=op, step_s=float(step),
@@ -323,13 +327,13 @@ def simulate(
     ValueError (before integrating) if the output would exceed MAX_STORED_SAMPLES
     samples (very stiff or light modes over long durations: raise ``store_every``).
     """
-    modes = _as_modes(modes)
+    modes = as_modes(modes)
     duration = _check_duration(duration)
     if store_every < 1:
         raise ValueError(f"store_every must be >= 1, got {store_every}")
     if samples_per_period is not None and samples_per_period < 2:
         raise ValueError(f"samples_per_period must be >= 2, got {samples_per_period}")
-    m, c, k = _mode_arrays(modes)
+    m, c, k = mode_arrays(modes)
     law = law_vector(contact, operating_point)
     y0, u0 = _initial_state(initial_state, len(modes))
     h = choose_time_step(modes, contact, operating_point, steps_per_period) if step_s is None else float(step_s)
@@ -385,10 +389,10 @@ def simulate_reference(
     """
     from scipy.integrate import solve_ivp
 
-    modes = _as_modes(modes)
+    modes = as_modes(modes)
     duration = _check_duration(duration)
     n = len(modes)
-    m, c, k = _mode_arrays(modes)
+    m, c, k = mode_arrays(modes)
     W = contact.normal_load_n
     V0 = operating_point.rolling_speed_m_s
     Vc = operating_point.crabbing_velocity_m_s

@@ -28,8 +28,8 @@ import warnings
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.optimize import brentq
 
+from ._numerics import find_root
 from .creep import ContactLaw, adhesion_ratio
 from .limit_cycle import analytic_growth_rate
 from .model import ModalDOF, OperatingPoint
@@ -94,7 +94,7 @@ def predict_limit_cycle(mode: ModalDOF, contact: ContactLaw, op: OperatingPoint,
 
     Roots of Pbar(V)/V are bracketed on a geometric grid of ``n_grid`` amplitudes
     from 1e-5 m/s up to the amplitude beyond which damping alone outweighs the largest
-    possible friction input (4 mu_s W / (pi c), at most 100 m/s), then refined with brentq.
+    possible friction input (4 mu_s W / (pi c), at most 100 m/s), then refined with Brent's method.
     """
     if not isinstance(mode, ModalDOF):
         raise TypeError("predict_limit_cycle takes one ModalDOF")
@@ -110,7 +110,7 @@ def predict_limit_cycle(mode: ModalDOF, contact: ContactLaw, op: OperatingPoint,
 
     stable, unstable = [], []
     for i in np.nonzero(np.sign(g[:-1]) * np.sign(g[1:]) < 0)[0]:
-        root = brentq(g_scalar, grid[i], grid[i + 1], xtol=1e-12, rtol=1e-10)
+        root = find_root(g_scalar, grid[i], grid[i + 1], xtol=1e-12, rtol=1e-10)
         # Pbar = V g(V); at a root dPbar/dV = V g'(V): the sign of g's change
         (stable if g[i] > 0 else unstable).append(float(root))
     sigma = analytic_growth_rate(mode, contact, op)

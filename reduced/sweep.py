@@ -19,7 +19,7 @@ import numpy as np
 from . import _kernels
 from .creep import ContactLaw
 from .limit_cycle import Cycles, analytic_growth_rate, limit_cycle, metrics_from_cycles
-from .model import OperatingPoint, _as_modes, _mode_arrays, choose_time_step, law_vector, simulate
+from .model import OperatingPoint, as_modes, mode_arrays, choose_time_step, law_vector, simulate
 
 
 def numba_threads() -> int:
@@ -80,14 +80,14 @@ def sweep(modes, contact: ContactLaw, crabbing_velocities, rolling_speeds, durat
     duration : simulated time per case, s (slow growth near Vc = 0.5 m/s needs > 1 s).
     progress : called as ``progress(done, total)`` after each chunk of cases.
     """
-    modes = _as_modes(modes)
+    modes = as_modes(modes)
     vcs = np.atleast_1d(np.asarray(crabbing_velocities, dtype=float))
     v0s = np.atleast_1d(np.asarray(rolling_speeds, dtype=float))
     duration = float(duration)
     if not (math.isfinite(duration) and duration > 0):
         raise ValueError(f"duration must be positive and finite (s), got {duration!r}")
     ops = [OperatingPoint(v0, vc) for vc in vcs for v0 in v0s]  # validates every pair
-    m, c, k = _mode_arrays(modes)
+    m, c, k = mode_arrays(modes)
     laws = np.array([law_vector(contact, op) for op in ops])
     h_nominal = np.array([choose_time_step(modes, contact, op, steps_per_period) for op in ops])
     n_steps = np.ceil(duration / h_nominal - 1e-9).astype(np.int64)

@@ -33,7 +33,7 @@ from fem.meshes import to_skfem_mesh
 from fem.modes import contact_modal_mass
 from fem.rules import count_sign_changes
 from geometry.design import WheelDesign
-from geometry.mesh import mesh_profile
+from geometry.gmsh_mesh import mesh_profile
 from geometry.profile import wheel_mass
 
 

@@ -1,4 +1,4 @@
-"""The cyclic 3-D P2 solver (fem.cyclic) and its mesh (geometry.mesh.revolve_profile).
+"""The cyclic 3-D P2 solver (fem.cyclic) and its mesh (geometry.revolve.revolve_profile).
 
 Three independent checks of the numbers:
 - exactness of the reduction: on the same small cyclic mesh, the full 3-D problem
@@ -24,7 +24,9 @@ from fem.cyclic import default_sectors, solve_cyclic
 from fem.modes import ResolutionWarning
 from fem.solid import solve_solid
 from geometry.design import WheelDesign, load_design
-from geometry.mesh import _inverted, mesh_profile, revolve_profile
+from geometry.gmsh_mesh import mesh_profile
+from geometry.revolve import revolve_profile
+from geometry.simplex import inverted as _inverted
 from geometry.profile import revolved_volume
 
 TABLE1 = load_design("designs/table1.toml")

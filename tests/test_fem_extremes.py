@@ -37,7 +37,7 @@ from fem.modes import (
     select_mode,
 )
 from geometry.design import DesignError, WheelDesign, load_design
-from geometry.mesh import mesh_profile
+from geometry.gmsh_mesh import mesh_profile
 
 #: the Table 1 wheel with the 0.030 m starting rim depth: the values below were measured on it
 T1 = WheelDesign(rim_depth=0.030)
@@ -289,7 +289,7 @@ def test_free_free_3d_large_wheel_rigid_modes_and_pairs():
     (multiplicity 2: the pair detection), at the axisymmetric frequency within 1 %
     (measured 0.46 %)."""
     import fem.solid as solid
-    from geometry.mesh import mesh_wheel
+    from geometry.gmsh_mesh import mesh_wheel
 
     s = 2.0 / T1.rolling_radius
     d = T1.scaled(s)

@@ -33,7 +33,7 @@ from fem.axisym import assemble_harmonic, solve_axisymmetric
 from fem.meshes import to_skfem_mesh
 from fem.modes import FidelityWarning, contact_modal_mass
 from geometry.design import WheelDesign
-from geometry.mesh import mesh_profile
+from geometry.gmsh_mesh import mesh_profile
 
 SETTINGS = dict(
     max_examples=10,

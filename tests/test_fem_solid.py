@@ -20,7 +20,7 @@ from fem.modes import EmptyBandWarning, contact_modal_mass
 from fem.rules import FREE_SHIFT_REL, RIGID_TOL, count_sign_changes, reference_frequency
 from fem.solid import assemble, solve_model, solve_solid
 from geometry.design import WheelDesign
-from geometry.mesh import mesh_wheel
+from geometry.gmsh_mesh import mesh_wheel
 
 TABLE1 = WheelDesign()
 CI_SIZE = 0.015  # m: one element through the web, P2: ~41k DOFs

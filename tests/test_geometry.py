@@ -36,7 +36,8 @@ from geometry import (
     revolved_volume,
     wheel_mass,
 )
-from geometry import mesh as gmesh
+from geometry import gmsh_mesh as gmesh
+from geometry.simplex import EDGES
 
 ROOT = Path(__file__).resolve().parents[1]
 DESIGN_FILES = sorted((ROOT / "designs").glob("*.toml"))
@@ -315,7 +316,7 @@ def test_invalid_mesh_arguments(kwargs, match):
 
 
 def test_mesh_size():
-    assert mesh_size(T1, dim=2) == pytest.approx(T1.web_thickness / 4)
+    assert mesh_size(T1, dim=2) == pytest.approx(T1.web_thickness / 2)  # the one 2-D default
     assert mesh_size(T1, dim=3) == pytest.approx(T1.web_thickness)
     assert mesh_size(T1, elements_through_web=3) == pytest.approx(0.005)
     assert mesh_size(T1, size=0.012) == 0.012
@@ -439,7 +440,7 @@ def test_meshio_node_ordering_and_orientation(dim, order):
     det = np.linalg.det(e) if dim == 3 else e[:, 0, 0] * e[:, 1, 1] - e[:, 0, 1] * e[:, 1, 0]
     assert np.all(det > 0)  # positively oriented (counter-clockwise in (r, z))
     if order == 2:  # mid-node k sits on edge k of the meshio/VTK ordering
-        for k, (i, j) in enumerate(gmesh._EDGES[dim]):
+        for k, (i, j) in enumerate(EDGES[dim]):
             mid = 0.5 * (p[cells[:, i]] + p[cells[:, j]])
             off = np.linalg.norm(p[cells[:, dim + 1 + k]] - mid, axis=1)
             length = np.linalg.norm(p[cells[:, i]] - p[cells[:, j]], axis=1)

@@ -154,3 +154,24 @@ def test_hertz_near_a_circle_is_continuous(delta):
     e_star = 175e9 / (2 * (1 - 0.28**2))
     radius = (3 * 1000.0 / (8 * e_star * A)) ** (1 / 3)
     assert math.sqrt(h.semi_axis_a_m * h.semi_axis_b_m) == pytest.approx(radius, rel=2 * delta + 1e-12)
+
+
+def test_own_numerical_kernels_match_scipy():
+    """reduced._numerics replaces two SciPy imports (half a second of start-up): the
+    AGM elliptic integrals and Brent's root agree with scipy.special / scipy.optimize
+    to round-off."""
+    from scipy.optimize import brentq
+    from scipy.special import ellipe, ellipk
+
+    from reduced._numerics import elliptic_ke, find_root
+
+    ms = np.concatenate([[0.0, 1e-300, 1e-16, 1e-8], np.linspace(0, 1, 201)[1:-1], 1 - np.logspace(-3, -12, 10)])
+    for m in ms:
+        K, E = elliptic_ke(float(m))
+        assert K == pytest.approx(ellipk(m), rel=3e-14) and E == pytest.approx(ellipe(m), rel=3e-14)
+    for f, a, b in [(lambda x: x**3 - 2 * x - 5, 2, 3), (lambda x: math.cos(x) - x, 0, 1),
+                    (lambda x: (x - 0.3) ** 3, 0, 1), (lambda x: math.tanh(50 * (x - 0.123456789)), 0, 1)]:
+        assert find_root(f, a, b) == pytest.approx(brentq(f, a, b, xtol=1e-15, rtol=1e-14, maxiter=1000),
+                                                   rel=1e-13)
+    with pytest.raises(ValueError, match="sign"):
+        find_root(lambda x: x * x + 1, -1, 1)

@@ -21,7 +21,10 @@ else ``$XDG_CACHE_HOME/wheel-squeal`` (``~/.cache/wheel-squeal``).
 from __future__ import annotations
 
 import contextlib
+import functools
 import hashlib
+import importlib.metadata
+import importlib.util
 import io
 import json
 import os
@@ -36,7 +39,8 @@ import numpy as np
 
 from .errors import RequestError
 
-__all__ = ["CacheMiss", "ENV_VAR", "MARKER", "StageCache", "default_cache_root"]
+__all__ = ["CacheMiss", "ENV_VAR", "MARKER", "StageCache", "code_version", "default_cache_root",
+           "library_versions"]
 
 ENV_VAR = "WHEEL_SQUEAL_CACHE"
 #: The file that marks a folder as a stage cache of this tool.
@@ -56,6 +60,35 @@ def default_cache_root() -> Path:
         return Path(env).expanduser()
     base = os.environ.get("XDG_CACHE_HOME", "").strip()
     return (Path(base) if base else Path.home() / ".cache") / "wheel-squeal"
+
+
+@functools.lru_cache(maxsize=None)
+def code_version(*packages: str) -> str:
+    """Hash of the source of the given packages: a change of the code that computes a
+    stage invalidates its entries."""
+    h = hashlib.sha256()
+    for pkg in packages:
+        spec = importlib.util.find_spec(pkg)
+        if spec is None or not spec.submodule_search_locations:
+            raise ValueError(f"{pkg!r} is not a package")
+        root = Path(next(iter(spec.submodule_search_locations)))
+        for f in sorted(root.rglob("*.py")):
+            h.update(f.relative_to(root.parent).as_posix().encode())
+            h.update(f.read_bytes())
+    return h.hexdigest()[:16]
+
+
+@functools.lru_cache(maxsize=None)
+def library_versions(*distributions: str) -> dict[str, str]:
+    """Installed versions of the libraries whose results a stage stores (an upgrade of
+    SciPy or scikit-fem may change the last digits of every mode)."""
+    out = {}
+    for name in distributions:
+        try:
+            out[name] = importlib.metadata.version(name)
+        except importlib.metadata.PackageNotFoundError:
+            out[name] = "absent"
+    return out
 
 
 class CacheMiss(Exception):

@@ -1,0 +1,80 @@
+"""A squeal simulation from rest, run until its outcome is known.
+
+:func:`simulate_to_limit_cycle` integrates the model (:func:`reduced.model.simulate`)
+from rest for the paper's 0.6 s, or longer when the harmonic-balance prediction says the
+oscillation needs longer to saturate (growth from the start transient to the predicted
+amplitude at the linear rate, with margin), and doubles the run while the oscillation
+is still growing, up to ``max_duration``. The record keeps
+``samples_per_period`` samples per period of the highest mode (every RK4 step at the
+default step), so a stiff contact that shortens the step does not lengthen the record.
+"""
+
+from __future__ import annotations
+
+import math
+import warnings
+
+from .creep import ContactLaw
+from .limit_cycle import LimitCycle, limit_cycle
+from .model import MAX_STORED_SAMPLES, ModalDOF, OperatingPoint, TimeHistory, as_modes, simulate
+from .predictor import predict_limit_cycle
+
+__all__ = ["FIRST_DURATION_S", "MAX_DURATION_S", "RECORD_SAMPLES_PER_PERIOD", "longest_record_s",
+           "simulate_to_limit_cycle"]
+
+#: Samples per period of the highest mode kept in the record.
+RECORD_SAMPLES_PER_PERIOD = 48
+#: The first run's length [s] (the paper's Fig. 6), and the longest a run is extended to.
+FIRST_DURATION_S = 0.6
+MAX_DURATION_S = 4.8
+
+
+def longest_record_s(modes, samples_per_period: int = RECORD_SAMPLES_PER_PERIOD) -> float:
+    """The longest duration [s] whose record fits ``MAX_STORED_SAMPLES`` samples."""
+    f_top = max(md.frequency_hz for md in as_modes(modes))
+    return MAX_STORED_SAMPLES / (samples_per_period * f_top)
+
+
+def simulate_to_limit_cycle(modes: ModalDOF | list[ModalDOF], contact: ContactLaw, op: OperatingPoint,
+                            duration: float | None = None, max_duration: float = MAX_DURATION_S,
+                            samples_per_period: int = RECORD_SAMPLES_PER_PERIOD,
+                            ) -> tuple[TimeHistory, LimitCycle]:
+    """Integrate from rest; returns the history and its limit-cycle metrics.
+
+    ``duration`` [s]: a fixed length; None chooses it as the module docstring says.
+    Raises ValueError for a ``duration`` that is not positive or whose record would not
+    fit (:func:`longest_record_s`).
+    """
+    longest = longest_record_s(modes, samples_per_period)
+    if duration is not None:
+        if not (math.isfinite(duration) and duration > 0):
+            raise ValueError(f"duration must be positive, got {duration:g}")
+        if duration > longest:
+            f_top = max(md.frequency_hz for md in as_modes(modes))
+            raise ValueError(f"duration {duration:g} s is too long to record: {samples_per_period} samples "
+                             f"per period of the {f_top:.4g} Hz mode fit at most {longest:.3g} s")
+    max_duration = min(max_duration, longest)
+    t = duration if duration is not None else min(_first_duration(modes, contact, op), max_duration)
+    while True:
+        history = simulate(modes, contact, op, t, samples_per_period=samples_per_period)
+        lc = limit_cycle(history)
+        settled = lc.saturated or (not lc.squeal and lc.growth_rate_analytic_1_s <= 0)
+        if duration is not None or settled or t * 2 > max_duration:
+            return history, lc
+        t *= 2
+
+
+def _first_duration(modes, contact: ContactLaw, op: OperatingPoint) -> float:
+    """The paper's 0.6 s, or the predicted time to saturate with margin (one mode)."""
+    t = FIRST_DURATION_S
+    modes = as_modes(modes)
+    if len(modes) != 1:  # the predictor takes one mode
+        return t
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # distortion warning: only an estimate here
+        pred = predict_limit_cycle(modes[0], contact, op)
+    sigma = pred.growth_rate_analytic_1_s
+    if pred.squeal and sigma > 0 and pred.initial_amplitude_m_s > 0:
+        grow = math.log(max(pred.velocity_amplitude_m_s / pred.initial_amplitude_m_s, 1.0)) / sigma
+        t = max(t, 1.5 * grow + 60.0 / pred.frequency_hz)
+    return t
