@@ -8,13 +8,13 @@ import math
 import numpy as np
 import pytest
 
-import convergence as cv
-import pipeline
+import wheel_squeal.convergence as cv
+import wheel_squeal as ws
 
 
 @pytest.fixture(scope="module")
 def ladder():
-    design = pipeline.load_design()
+    design = ws.load_design()
     rungs = [cv.FERung("axisym-P2", 4, reference=True)] + [cv.FERung("axisym-P2", e) for e in (1, 2, 3)]
     rows, modes = cv.fe_ladder(design, rungs, isolate=False)
     cv.fill_errors(rows, rows[0])
@@ -61,7 +61,7 @@ def test_pareto_front():
 def test_measure_in_child_reports_memory_and_errors():
     out, seconds, mb = cv.measure(lambda: float(np.ones(8_000_000).sum()))  # 64 MB
     assert out == 8e6 and seconds > 0
-    if cv._fork_available():
+    if cv.fork_available():
         assert 40 < mb < 400
         with pytest.raises(RuntimeError, match="ZeroDivisionError"):
             cv.measure(lambda: 1 / 0)

@@ -11,7 +11,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-import pipeline
+import wheel_squeal as ws
+from wheel_squeal.cli import main
 from geometry import WheelDesign
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -87,48 +88,48 @@ def test_failed_run_keeps_previous_results(tmp_path):
 # the cache
 # ---------------------------------------------------------------------------------------
 def test_changing_only_the_operating_point_reuses_mesh_and_modes(tmp_path, monkeypatch):
-    cache = pipeline.StageCache(tmp_path / "cache")
+    cache = ws.StageCache(tmp_path / "cache")
     design = WheelDesign()
-    ms1 = pipeline.compute_modes(design, "fast", cache=cache)
+    ms1 = ws.compute_modes(design, "fast", cache=cache)
     assert cache.misses == ["modes", "mesh2d"] and cache.hits == []
 
     # the second request (different crabbing velocity, friction and damping) must not
     # mesh or solve at all: make both impossible
     import fem.axisym
-    import geometry.mesh
+    import geometry.gmsh_mesh
 
     def boom(*a, **k):
         raise AssertionError("recomputed although cached")
 
-    monkeypatch.setattr(geometry.mesh, "mesh_profile", boom)
+    monkeypatch.setattr(geometry.gmsh_mesh, "mesh_profile", boom)
     monkeypatch.setattr(fem.axisym, "solve_axisymmetric", boom)
     other = design.replace(friction_coefficient=0.25, modal_damping_ratio=2e-3, normal_load=1500.0)
-    ms2 = pipeline.compute_modes(other, "fast", cache=cache)
+    ms2 = ws.compute_modes(other, "fast", cache=cache)
     assert cache.hits == ["modes"]
-    mode1, _ = pipeline.pick_mode(ms1)
-    mode2, _ = pipeline.pick_mode(ms2)
+    mode1, _ = ws.pick_mode(ms1)
+    mode2, _ = ws.pick_mode(ms2)
     assert mode2 == mode1
     for a, b in zip(ms1.shapes, ms2.shapes):
         np.testing.assert_array_equal(a, b)
 
-    dof = pipeline.modal_dof(mode2, other)
-    contact = pipeline.contact_law(other)
+    dof = ws.modal_dof(mode2, other)
+    contact = ws.contact_law(other)
     for vc in (0.2, 0.39):
-        sim = pipeline.simulate(dof, contact, pipeline.operating_point(other, crab_velocity=vc), 0.3)
+        sim = ws.simulate(dof, contact, ws.operating_point(other, crab_velocity=vc), 0.3)
         assert np.all(np.isfinite(sim.history.v))
 
 
 def test_geometry_change_misses_the_cache(tmp_path):
-    cache = pipeline.StageCache(tmp_path / "cache")
-    pipeline.compute_modes(WheelDesign(), "fast", cache=cache)
-    pipeline.compute_modes(WheelDesign(rim_depth=0.032), "fast", cache=cache)
+    cache = ws.StageCache(tmp_path / "cache")
+    ws.compute_modes(WheelDesign(), "fast", cache=cache)
+    ws.compute_modes(WheelDesign(rim_depth=0.032), "fast", cache=cache)
     assert cache.hits == [] and cache.misses.count("modes") == 2
 
 
 def test_corrupt_cache_entry_is_reported_and_recomputed_identically(tmp_path, capsys):
-    cache = pipeline.StageCache(tmp_path / "cache")
+    cache = ws.StageCache(tmp_path / "cache")
     design = WheelDesign()
-    fresh = pipeline.compute_modes(design, "fast", cache=cache)
+    fresh = ws.compute_modes(design, "fast", cache=cache)
     entries = sorted((tmp_path / "cache" / "modes").glob("*.npz"))
     assert len(entries) == 1
     # flip bytes in the middle of the file
@@ -137,36 +138,36 @@ def test_corrupt_cache_entry_is_reported_and_recomputed_identically(tmp_path, ca
     data[mid:mid + 64] = bytes(64)
     entries[0].write_bytes(bytes(data))
 
-    again = pipeline.compute_modes(design, "fast", cache=cache)
+    again = ws.compute_modes(design, "fast", cache=cache)
     err = capsys.readouterr().err
     assert "corrupt" in err and len([ln for ln in err.splitlines() if "corrupt" in ln]) == 1
     assert [m.frequency_hz for m in again.modes] == [m.frequency_hz for m in fresh.modes]
     assert [m.contact_axial for m in again.modes] == [m.contact_axial for m in fresh.modes]
     # the entry was rewritten and now loads cleanly
-    third = pipeline.compute_modes(design, "fast", cache=cache)
+    third = ws.compute_modes(design, "fast", cache=cache)
     assert cache.hits[-1] == "modes"
     assert [m.modal_mass for m in third.modes] == [m.modal_mass for m in fresh.modes]
 
 
 def test_foreign_cache_entry_is_detected(tmp_path, capsys):
-    cache = pipeline.StageCache(tmp_path / "cache")
+    cache = ws.StageCache(tmp_path / "cache")
     a, b = WheelDesign(), WheelDesign(rim_depth=0.035)
-    pipeline.compute_modes(a, "fast", cache=cache)
-    pipeline.compute_modes(b, "fast", cache=cache)
-    key_a = pipeline._modes_key(a, pipeline.fidelity_for("fast"), 5000.0)
-    key_b = pipeline._modes_key(b, pipeline.fidelity_for("fast"), 5000.0)
+    ws.compute_modes(a, "fast", cache=cache)
+    ws.compute_modes(b, "fast", cache=cache)
+    key_a = ws.modes_cache_key(a, ws.fidelity_for("fast"), 5000.0)
+    key_b = ws.modes_cache_key(b, ws.fidelity_for("fast"), 5000.0)
     # put b's entry where a's belongs
     cache.path("modes", key_a).write_bytes(cache.path("modes", key_b).read_bytes())
-    ms = pipeline.compute_modes(a, "fast", cache=cache)
+    ms = ws.compute_modes(a, "fast", cache=cache)
     assert "foreign" in capsys.readouterr().err
-    ref = pipeline.compute_modes(a, "fast", cache=None)
+    ref = ws.compute_modes(a, "fast", cache=None)
     assert [m.frequency_hz for m in ms.modes] == [m.frequency_hz for m in ref.modes]
 
 
 def test_cache_clear_only_removes_cache_entries(tmp_path):
     root = tmp_path / "cache"
-    cache = pipeline.StageCache(root)
-    pipeline.compute_modes(WheelDesign(), "fast", cache=cache)
+    cache = ws.StageCache(root)
+    ws.compute_modes(WheelDesign(), "fast", cache=cache)
     (root / "keep.txt").write_text("user file")
     r = cli("cache", "clear", "--cache-dir", str(root))
     assert r.returncode == 0 and "removed 2" in r.stdout
@@ -178,15 +179,15 @@ def test_cache_clear_only_removes_cache_entries(tmp_path):
 # only what the request needs
 # ---------------------------------------------------------------------------------------
 def test_simulate_with_explicit_modal_parameters_builds_no_mesh(tmp_path, monkeypatch):
-    import geometry.mesh
+    import geometry.gmsh_mesh
 
     def boom(*a, **k):
         raise AssertionError("meshed although m, k, c were given")
 
-    monkeypatch.setattr(geometry.mesh, "mesh_profile", boom)
-    monkeypatch.setattr(geometry.mesh, "mesh_wheel", boom)
+    monkeypatch.setattr(geometry.gmsh_mesh, "mesh_profile", boom)
+    monkeypatch.setattr(geometry.gmsh_mesh, "mesh_wheel", boom)
     out = tmp_path / "sim"
-    rc = pipeline.main(["simulate", "--mass", "3.1", "--stiffness", "1.6e8", "--damping", "42",
+    rc = main(["simulate", "--mass", "3.1", "--stiffness", "1.6e8", "--damping", "42",
                         "--rpm", "800", "--crab-velocity", "0.39", "--duration", "0.6",
                         "--out", str(out), "--quiet", "--cache-dir", str(tmp_path / "c")])
     assert rc == 0
@@ -294,16 +295,16 @@ def test_3d_solver_agrees_with_axisym_preset(tmp_path):
     axisymmetric default, within 0.5 % in frequency and 2 % in modal mass; the modes.vtu
     holds the whole wheel's tetrahedra."""
     d = WheelDesign()
-    ax = pipeline.compute_modes(d, "fast", fmax_hz=2000.0)
-    cy = pipeline.compute_modes(d, "fast", solver="3d", fmax_hz=2000.0)
+    ax = ws.compute_modes(d, "fast", fmax_hz=2000.0)
+    cy = ws.compute_modes(d, "fast", solver="3d", fmax_hz=2000.0)
     assert cy.solver == "3d-cyclic-p2" and cy.dofs > 10 * ax.dofs
-    a, c = pipeline.pick_mode(ax)[0], pipeline.pick_mode(cy)[0]
+    a, c = ws.pick_mode(ax)[0], ws.pick_mode(cy)[0]
     assert (c.nodal_diameters, c.nodal_circles, c.family) == (3, 0, "axial")
     assert c.frequency_hz == pytest.approx(a.frequency_hz, rel=5e-3)
     assert c.modal_mass == pytest.approx(a.modal_mass, rel=2e-2)
-    with pytest.raises(pipeline.UsageError, match="3d-tet"):
-        pipeline.fidelity_for("fast", "4d")
-    assert pipeline.fidelity_for("fast", "3d-tet").mesh_order == 2
+    with pytest.raises(ws.RequestError, match="3d-tet"):
+        ws.fidelity_for("fast", "4d")
+    assert ws.fidelity_for("fast", "3d-tet").mesh_order == 2
 
 def test_sweep_command(tmp_path):
     out = tmp_path / "sweep"

@@ -21,11 +21,11 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from conftest import DESIGNS, one_line_error, run_cli, snapshot
+from conftest import DESIGNS, ROOT, one_line_error, run_cli, snapshot
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-import pipeline
+import wheel_squeal as ws
 import wheel_squeal.outputs as outputs
 from geometry import WheelDesign
 from geometry.design import SECTIONS
@@ -263,7 +263,7 @@ def test_read_only_cache_still_gives_results(tmp_path, monkeypatch, capsys):
     root = tmp_path / "cache"
     design = WheelDesign()
     warm = StageCache(root)
-    pipeline.compute_modes(design, "fast", cache=warm)  # fills mesh and modes
+    ws.compute_modes(design, "fast", cache=warm)  # fills mesh and modes
     import wheel_squeal.cache as cache_module
 
     def read_only(*a, **k):
@@ -271,9 +271,9 @@ def test_read_only_cache_still_gives_results(tmp_path, monkeypatch, capsys):
 
     monkeypatch.setattr(cache_module.tempfile, "mkstemp", read_only)
     cache = StageCache(root)
-    ms = pipeline.compute_modes(design, "fast", cache=cache)  # a hit
+    ms = ws.compute_modes(design, "fast", cache=cache)  # a hit
     assert cache.hits == ["modes"]
-    other = pipeline.compute_modes(design, "balanced", cache=cache)  # misses: warn once, go on
+    other = ws.compute_modes(design, "balanced", cache=cache)  # misses: warn once, go on
     assert other.modes and ms.modes
     err = capsys.readouterr().err
     assert err.count("cannot be written") == 1
@@ -284,7 +284,7 @@ def test_cache_entry_taken_by_a_folder_is_recomputed(tmp_path, capsys):
     cache = StageCache(tmp_path / "cache")
     key = {"k": 2}
     cache.path("modes", key).mkdir(parents=True)
-    with pytest.raises(pipeline.CacheMiss):
+    with pytest.raises(ws.CacheMiss):
         cache.load("modes", key)
     cache.store("modes", key, {"a": np.zeros(1)})  # cannot replace a folder: warned, not raised
     err = capsys.readouterr().err
@@ -348,12 +348,13 @@ def test_the_dof_limit_is_a_setting(tmp_path):
                 "--cache-dir", tmp_path / "c", env={"WHEEL_SQUEAL_MAX_DOFS": "100"})
     assert r.returncode == 2 and "limit 100 DOFs" in one_line_error(r)
     with pytest.raises(BudgetError):
-        pipeline.compute_modes(WheelDesign(), "fast", budget=Budget(max_dofs=100))
+        ws.compute_modes(WheelDesign(), "fast", budget=Budget(max_dofs=100))
 
 
 _MEASURE = """
 import json, sys
-import fem.axisym, fem.cyclic, pipeline
+import fem.axisym, fem.cyclic
+import wheel_squeal as ws
 
 def peak():  # VmHWM: the peak resident set of this process (ru_maxrss survives exec)
     for line in open("/proc/self/status"):
@@ -362,7 +363,7 @@ def peak():  # VmHWM: the peak resident set of this process (ru_maxrss survives 
 
 fidelity, solver = sys.argv[1], (sys.argv[2] or None)
 r0 = peak()
-ms = pipeline.compute_modes(pipeline.load_design(), fidelity, solver=solver)
+ms = ws.compute_modes(ws.load_design(), fidelity, solver=solver)
 print(json.dumps([ms.dofs, peak() - r0]))
 """
 
@@ -375,10 +376,10 @@ def test_estimate_is_within_2x_of_measured_dofs_and_memory(fidelity, solver):
     import subprocess
     import sys
 
-    fid = pipeline.fidelity_for(fidelity, solver)
-    cost = pipeline.check_modes_budget(WheelDesign(), fid, 5000.0, Budget())
+    fid = ws.fidelity_for(fidelity, solver)
+    cost = ws.check_modes_budget(WheelDesign(), fid, 5000.0, Budget())
     r = subprocess.run([sys.executable, "-c", _MEASURE, fidelity, solver or ""], capture_output=True,
-                       text=True, timeout=300, cwd=pipeline.ROOT)
+                       text=True, timeout=300, cwd=ROOT)
     assert r.returncode == 0, r.stderr
     dofs, memory = json.loads(r.stdout.splitlines()[-1])
     assert 0.5 <= cost.dofs / dofs <= 2.0, (cost.dofs, dofs)
@@ -413,8 +414,8 @@ def test_empty_design_file_says_it_is_the_default(tmp_path):
     assert r.returncode == 0, r.stderr
     assert "default Table 1 wheel" in r.stderr
     s = json.loads((tmp_path / "m" / "summary.json").read_text())
-    ref = pipeline.compute_modes(WheelDesign(), "fast")
-    assert s["selected_mode"]["frequency_hz"] == pytest.approx(pipeline.pick_mode(ref)[0].frequency_hz)
+    ref = ws.compute_modes(WheelDesign(), "fast")
+    assert s["selected_mode"]["frequency_hz"] == pytest.approx(ws.pick_mode(ref)[0].frequency_hz)
 
 
 # --------------------------------------------------------------------------------------

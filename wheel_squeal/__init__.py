@@ -1,0 +1,67 @@
+"""wheel-squeal: a railway test-rig wheel design -> gmsh mesh -> scikit-fem modes ->
+contact modal parameters -> curve-squeal limit cycle, as a Python API and a command line.
+
+This package is the application layer, the only one that knows every stage; below it
+``geometry`` (designs, meshes), ``fem`` (modes), ``reduced`` (the squeal model) know
+nothing of those downstream of them. The notebook API (plain functions on plain
+objects, :mod:`wheel_squeal.api`)::
+
+    import wheel_squeal as ws
+    design = ws.load_design()                       # designs/table1.toml
+    modes = ws.compute_modes(design, "balanced")    # fem.ModeSet
+    mode, why = ws.pick_mode(modes, "n=3")
+    sim = ws.simulate(ws.modal_dof(mode, design), ws.contact_law(design),
+                      ws.operating_point(design, rpm=800, crab_velocity=0.39))
+
+The command line: ``wheel-squeal --help`` (:mod:`wheel_squeal.cli`).
+"""
+
+from .api import (
+    Simulation,
+    build_mesh,
+    check_modes_budget,
+    compute_modes,
+    contact_law,
+    explicit_dof,
+    load_design,
+    modal_dof,
+    mode_views,
+    modes_cache_key,
+    operating_point,
+    pick_mode,
+    simulate,
+    sweep,
+)
+from .budget import Budget
+from .cache import CacheMiss, StageCache
+from .errors import BudgetError, RequestError
+from .presets import DEFAULT_DESIGN, DEFAULT_FIDELITY, FIDELITIES, Fidelity, fidelity_for
+from .progress import Progress
+
+__all__ = [
+    "Budget",
+    "BudgetError",
+    "CacheMiss",
+    "DEFAULT_DESIGN",
+    "DEFAULT_FIDELITY",
+    "FIDELITIES",
+    "Fidelity",
+    "Progress",
+    "RequestError",
+    "Simulation",
+    "StageCache",
+    "build_mesh",
+    "check_modes_budget",
+    "compute_modes",
+    "contact_law",
+    "explicit_dof",
+    "fidelity_for",
+    "load_design",
+    "modal_dof",
+    "mode_views",
+    "modes_cache_key",
+    "operating_point",
+    "pick_mode",
+    "simulate",
+    "sweep",
+]

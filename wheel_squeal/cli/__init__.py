@@ -1,0 +1,63 @@
+"""The command line: ``wheel-squeal COMMAND`` (or ``python pipeline.py COMMAND``).
+
+:func:`main` parses the arguments (:mod:`.parser`), runs the command (:mod:`.commands`)
+and turns the errors a user can act on into one line on stderr: a refused request
+(``RequestError``, ``DesignError``) exits with status 2, a computation that failed
+(``MeshError``, ``EigenError``, ``IntegrationError``) with status 1. Anything else is a
+bug: its traceback is shown, exit status 1.
+"""
+
+from __future__ import annotations
+
+import os
+import sys
+import warnings
+from typing import Sequence
+
+from geometry import DesignError
+
+from ..errors import RequestError
+from .parser import build_parser
+
+__all__ = ["main"]
+
+#: The anticipated failures of a computation: (module, exception name).
+_COMPUTATION_FAILURES = (("geometry.mesh", "MeshError"), ("fem.eigen", "EigenError"),
+                         ("reduced.model", "IntegrationError"))
+
+
+def _computation_failures() -> tuple[type, ...]:
+    """Those failure types whose modules are loaded (one not loaded cannot have been
+    raised), so that catching them imports nothing."""
+    return tuple(getattr(sys.modules[m], name) for m, name in _COMPUTATION_FAILURES if m in sys.modules)
+
+
+def _one_line_warning(message, category, filename, lineno, file=None, line=None) -> None:
+    print(f"warning: {str(message).splitlines()[0]}", file=sys.stderr)
+
+
+def main(argv: Sequence[str] | None = None, prog: str | None = None) -> int:
+    """Run the command line; returns the exit status (0 done, 1 computation failed or a
+    bug, 2 request refused)."""
+    from .commands import COMMANDS
+
+    args = build_parser(prog or os.path.basename(sys.argv[0]) or "wheel-squeal").parse_args(argv)
+    if not os.environ.get("DISPLAY"):
+        # Without an X server VTK tries X first and warns before falling back to EGL;
+        # go straight to EGL (off-screen) so the terminal stays clean.
+        os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkEGLRenderWindow")
+    with warnings.catch_warnings():
+        warnings.showwarning = _one_line_warning
+        try:
+            return COMMANDS[args.command](args)
+        except (RequestError, DesignError) as exc:
+            print(f"error: {exc}", file=sys.stderr)
+            return 2
+        except KeyboardInterrupt:
+            print("interrupted", file=sys.stderr)
+            return 130
+        except Exception as exc:
+            if isinstance(exc, _computation_failures()):
+                print(f"error: {exc}", file=sys.stderr)
+                return 1
+            raise

@@ -1,0 +1,175 @@
+"""What the commands write and print: summaries (JSON-ready dicts), tables and plots.
+
+Functions here take the plain objects of the stages (:mod:`wheel_squeal.api`) and either
+return text / dicts or write files into a folder they are given (the caller makes the
+folder atomic, :mod:`wheel_squeal.outputs`).
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+from typing import Sequence
+
+import numpy as np
+
+from geometry import WheelDesign
+
+from .presets import Fidelity
+
+__all__ = [
+    "compare_row",
+    "compare_table",
+    "dof_summary",
+    "modes_summary",
+    "modes_table",
+    "plot_times",
+    "squeal_report",
+    "sweep_table",
+    "write_compare_plot",
+    "write_simulation_files",
+]
+
+
+def dof_summary(dof) -> dict:
+    """The modal parameters of a ``reduced.ModalDOF`` (SI units)."""
+    return {"mass_kg": dof.mass_kg, "stiffness_n_m": dof.stiffness_n_m,
+            "damping_ns_m": dof.damping_ns_m, "frequency_hz": dof.frequency_hz}
+
+
+def modes_summary(design: WheelDesign, modeset, selected, fid: Fidelity, why: str | None = None) -> dict:
+    """``summary.json``'s modal part: every mode with its labels and contact m, k, c, the
+    selected mode (and why), the solver, DOFs and timings."""
+    zeta = design.modal_damping_ratio
+    sel = selected.to_dict(zeta)
+    if why is not None:
+        sel["why"] = why
+    return {
+        "design": design.name,
+        "fidelity": fid.name,
+        "solver": modeset.solver,
+        "dofs": int(modeset.dofs),
+        "modes": [m.to_dict(zeta) for m in modeset.modes],
+        "selected_mode": sel,
+        "timings_s": dict(modeset.timings_s),
+    }
+
+
+def modes_table(modes, damping_ratio: float, selected=None) -> str:
+    """The modes as a text table, the selected one marked."""
+    lines = [f"{'#':>3} {'f [Hz]':>9} {'n':>2} {'c':>2} {'family':<15} {'m [kg]':>10} "
+             f"{'k [N/m]':>10} {'c [Ns/m]':>9}"]
+    for m in modes:
+        d = m.to_dict(damping_ratio)
+        mass = f"{d['modal_mass_kg']:10.3f}" if d["modal_mass_kg"] is not None else f"{'node':>10}"
+        k = f"{d['modal_stiffness_n_m']:10.3e}" if d["modal_stiffness_n_m"] is not None else f"{'-':>10}"
+        c = f"{d['modal_damping_ns_m']:9.2f}" if d["modal_damping_ns_m"] is not None else f"{'-':>9}"
+        mark = " <- selected" if selected is not None and m.index == selected.index else ""
+        lines.append(f"{m.index:>3} {m.frequency_hz:9.1f} {m.nodal_diameters:>2} "
+                     f"{m.nodal_circles:>2} {m.family:<15} {mass} {k} {c}{mark}")
+    return "\n".join(lines)
+
+
+def squeal_report(sim, dof) -> str:
+    """Modal parameters, contact ellipse, operating point and the verdict, as text."""
+    s = sim.summary()
+    lc, op, ct = s["limit_cycle"], s["operating_point"], s["contact"]
+    lines = [
+        f"modal parameters: f = {dof.frequency_hz:.1f} Hz, m = {dof.mass_kg:.3f} kg, "
+        f"k = {dof.stiffness_n_m:.4g} N/m, c = {dof.damping_ns_m:.2f} N s/m",
+        f"contact ellipse: a = {ct['semi_axis_a_m'] * 1e3:.3f} mm (rolling), "
+        f"b = {ct['semi_axis_b_m'] * 1e3:.3f} mm, C22 = {ct['c22']:.3g}, mu = {ct['friction_coefficient']:.3g}",
+        f"operating point: V0 = {op['rolling_speed_m_s']:.2f} m/s, "
+        f"Vc = {op['crabbing_velocity_m_s']:.4g} m/s, creepage = {op['creepage']:.4g}",
+    ]
+    if lc["squeal"]:
+        state = "limit cycle" if sim.limit_cycle.saturated else "still growing at the end of the run"
+        tsat = lc["time_to_saturation_s"]
+        lines.append(f"SQUEAL: velocity amplitude {lc['velocity_amplitude_m_s']:.4g} m/s ({state}), "
+                     f"{lc['frequency_hz']:.1f} Hz, growth rate {lc['growth_rate_1_s']:.3g} 1/s"
+                     + (f", saturated after {tsat:.3f} s" if tsat is not None else ""))
+    else:
+        lines.append(f"no squeal (linear growth rate {sim.limit_cycle.growth_rate_analytic_1_s:.3g} 1/s)")
+    return "\n".join(lines)
+
+
+def plot_times(sim) -> tuple[float, float]:
+    """Windows [s] for the paper's Fig. 7-10: while growing (0.2 s) and at the limit
+    cycle (0.4 s in the paper; later when this mode saturates later), inside the record."""
+    lc = sim.limit_cycle
+    end = float(sim.history.t[-1])
+    if not (lc.saturated and math.isfinite(lc.time_to_saturation_s)):
+        return (min(0.2, end / 3), min(0.4, end))
+    period = 1.0 / lc.frequency_hz
+    t_lc = max(0.4, lc.time_to_saturation_s + 20 * period)
+    growing = min(0.2, 0.5 * lc.time_to_saturation_s)
+    return (round(growing, 2), round(max(min(t_lc, end - 5 * period), 0.0), 2))
+
+
+def write_simulation_files(directory: Path, sim) -> None:
+    """``timeseries.csv`` and the Fig. 4, 6-10 counterparts (PNG) of a simulation."""
+    from reduced import write_time_history_plots, write_timeseries_csv
+
+    write_timeseries_csv(sim.history, directory)
+    write_time_history_plots(sim.history, directory, times_s=plot_times(sim))
+
+
+def sweep_table(crab_velocities: np.ndarray, rpms: np.ndarray, result) -> str:
+    """The limit-cycle amplitude over the sweep grid as text ('-' = no squeal)."""
+    lines = [f"{'Vc [m/s]':>9} " + " ".join(f"{r:>9.0f}rpm" for r in rpms)]
+    for i, vc in enumerate(crab_velocities):
+        cells = [f"{result.velocity_amplitude_m_s[i, j]:12.4f}" if result.squeal[i, j] else f"{'-':>12}"
+                 for j in range(len(rpms))]
+        lines.append(f"{vc:9.4f} " + " ".join(cells))
+    return "\n".join(lines)
+
+
+def compare_row(design: WheelDesign, mode, dof, sim) -> dict:
+    """One design's line of ``compare.csv``."""
+    lc = sim.summary()["limit_cycle"]
+    return {"design": design.name, "mode_index": mode.index, "mode": mode.label(),
+            "frequency_hz": mode.frequency_hz, "modal_mass_kg": dof.mass_kg,
+            "modal_stiffness_n_m": dof.stiffness_n_m, "modal_damping_ns_m": dof.damping_ns_m,
+            "growth_rate_1_s": lc["growth_rate_1_s"], "squeal": lc["squeal"],
+            "velocity_amplitude_m_s": lc["velocity_amplitude_m_s"],
+            "time_to_saturation_s": lc["time_to_saturation_s"]}
+
+
+def compare_table(rows: Sequence[dict]) -> str:
+    """The designs side by side, as text."""
+    lines = [f"{'design':<16} {'mode':<14} {'f [Hz]':>8} {'m [kg]':>7} {'k [N/m]':>10} "
+             f"{'growth [1/s]':>12} {'amp [m/s]':>9}"]
+    for r in rows:
+        amp = f"{r['velocity_amplitude_m_s']:9.4f}" if r["squeal"] else f"{'-':>9}"
+        g = r["growth_rate_1_s"]
+        lines.append(f"{r['design']:<16} {r['mode']:<14} {r['frequency_hz']:8.1f} {r['modal_mass_kg']:7.3f} "
+                     f"{r['modal_stiffness_n_m']:10.4g} {(g if g is not None else float('nan')):12.3g} {amp}")
+    return "\n".join(lines)
+
+
+def write_compare_plot(path: Path, rows: Sequence[dict], sims: Sequence) -> Path:
+    """Growth to the limit cycle, frequency and contact modal mass of each design."""
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=(14, 4.2))
+    axes = fig.subplots(1, 3)
+    for r, sim in zip(rows, sims):
+        cyc = sim.limit_cycle.cycles
+        axes[0].plot(cyc.start_s, cyc.amplitude_m_s, label=f"{r['design']} ({r['frequency_hz']:.0f} Hz)")
+    vc = abs(sims[0].operating_point.crabbing_velocity_m_s)
+    axes[0].axhline(vc, color="k", ls=":", lw=1, label="Vc")
+    axes[0].set_ylim(0, 1.1 * max([vc] + [float(np.max(s.limit_cycle.cycles.amplitude_m_s, initial=0))
+                                          for s in sims]))
+    axes[0].set(xlabel="time [s]", ylabel="velocity amplitude [m/s]", title="growth to the limit cycle")
+    axes[0].legend(fontsize=8)
+    x = np.arange(len(rows))
+    names = [r["design"] for r in rows]
+    axes[1].bar(x, [r["frequency_hz"] for r in rows], color="tab:blue")
+    axes[1].set(xticks=x, ylabel="frequency [Hz]", title="squeal mode frequency")
+    axes[1].set_xticklabels(names, rotation=30, ha="right")
+    axes[2].bar(x, [r["modal_mass_kg"] for r in rows], color="tab:orange")
+    axes[2].set(xticks=x, ylabel="modal mass at contact [kg]", title="contact modal mass")
+    axes[2].set_xticklabels(names, rotation=30, ha="right")
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    return path
