@@ -10,10 +10,8 @@ its notebook API too::
     python pipeline.py sweep --crab-velocity 0:0.5:26 --rpm 400,600,800
 """
 
-import sys
-
 from wheel_squeal import *  # noqa: F403  (the notebook API: ``import pipeline as wp``)
-from wheel_squeal.cli import main
+from wheel_squeal.cli import main, run  # noqa: F401
 
 if __name__ == "__main__":
-    sys.exit(main(prog="pipeline.py"))
+    run(prog="pipeline.py")

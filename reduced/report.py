@@ -73,11 +73,14 @@ def write_timeseries_csv(history: TimeHistory, directory: Path, name: str = "tim
 
 
 def _figure(width_in: float, height_in: float, rows: int = 1, cols: int = 1, **kwargs):
-    """A new Agg figure and its axes (object API: nothing global)."""
+    """A new Agg figure and its axes (object API: nothing global), with fixed margins
+    for tick labels, axis labels and a title (tight_layout would draw every figure twice)."""
     from matplotlib.figure import Figure
 
     fig = Figure(figsize=(width_in, height_in))
     axes = fig.subplots(rows, cols, **kwargs)
+    fig.subplots_adjust(left=0.85 / width_in, right=1 - 0.2 / width_in, bottom=0.55 / height_in,
+                        top=1 - 0.4 / height_in, hspace=0.3 if rows > 1 else None)
     return fig, axes
 
 
@@ -113,16 +116,33 @@ def _window(history: TimeHistory, centre_s: float, n_cycles: float = 6.0):
     return sel, centre
 
 
-def write_time_history_plots(history: TimeHistory, directory: Path,
-                             times_s: tuple = (0.2, 0.4)) -> list:
+#: The figures of a time history (:func:`write_time_history_plots`), by name.
+TIME_HISTORY_FIGURES = ("creep_curve", "velocity_history", "force_velocity", "power")
+
+
+def write_time_history_plots(history: TimeHistory, directory: Path, times_s: tuple = (0.2, 0.4),
+                             figures: tuple = TIME_HISTORY_FIGURES) -> list:
     """PNG plots: creep_curve.png (Fig. 4), velocity_history.png (Fig. 6),
     force_velocity_<t>s.png (Fig. 7, 9) and power_<t>s.png (Fig. 8, 10) for each
-    time in ``times_s`` (clamped to the record). Returns the written paths."""
+    time in ``times_s`` (clamped to the record); ``figures`` chooses which of
+    :data:`TIME_HISTORY_FIGURES` to draw. Returns the written paths."""
     directory = Path(directory)
-    op, law = history.operating_point, history.contact
     paths = []
+    if "creep_curve" in figures:
+        paths.append(_creep_curve(history, directory))
+    if "velocity_history" in figures:
+        paths.append(_velocity_history(history, directory))
+    for t0 in times_s:
+        if "force_velocity" in figures:
+            paths.append(_force_velocity(history, directory, t0))
+        if "power" in figures:
+            paths.append(_power(history, directory, t0))
+    return paths
 
-    # Fig. 4: creep curve
+
+def _creep_curve(history: TimeHistory, directory: Path) -> Path:
+    """Fig. 4: the creep curve at the operating point."""
+    op, law = history.operating_point, history.contact
     sat = law.saturation_creepage
     zeta = np.linspace(-6 * max(sat, abs(op.creepage)), 6 * max(sat, abs(op.creepage)), 2001)
     fig, ax = _figure(6, 4)
@@ -135,9 +155,12 @@ def write_time_history_plots(history: TimeHistory, directory: Path,
     ax.set_title(f"Creep curve (Eq. 3), V0 = {op.rolling_speed_m_s:.2f} m/s; saturation at {sat:.4f}")
     ax.legend(loc="lower right")
     ax.grid(alpha=0.3)
-    paths.append(_save(fig, directory / "creep_curve.png"))
+    return _save(fig, directory / "creep_curve.png")
 
-    # Fig. 6: velocity history
+
+def _velocity_history(history: TimeHistory, directory: Path) -> Path:
+    """Fig. 6: the contact velocity from rest."""
+    op = history.operating_point
     fig, ax = _figure(7, 4)
     ax.plot(*decimate(history.t, history.v), lw=0.4)
     for s in (1, -1):
@@ -146,36 +169,39 @@ def write_time_history_plots(history: TimeHistory, directory: Path,
     ax.set_ylabel("lateral vibration velocity y' (m/s)")
     ax.set_title(f"Velocity from rest; Vc = {op.crabbing_velocity_m_s:.3f} m/s (dashed: +/- Vc)")
     ax.grid(alpha=0.3)
-    paths.append(_save(fig, directory / "velocity_history.png"))
+    return _save(fig, directory / "velocity_history.png")
 
-    for t0 in times_s:
-        sel, centre = _window(history, t0)
-        tag = f"{centre:.2f}s"
-        t = history.t[sel]
-        fig, (a1, a2) = _figure(7, 5, 2, 1, sharex=True)
-        a1.plot(t, history.v[sel], lw=1)
-        a1.set_ylabel("y' (m/s)")
-        a1.set_title(f"Velocity and lateral force around {centre:.3f} s (Fig. 7/9)")
-        a2.plot(t, history.Q[sel], color="C1", lw=1)
-        a2.set_ylabel("Q (N)")
-        a2.set_xlabel("time (s)")
-        for a in (a1, a2):
-            a.grid(alpha=0.3)
-        paths.append(_save(fig, directory / f"force_velocity_{tag}.png"))
 
-        fig, ax = _figure(7, 3.5)
-        ax.plot(t, history.P[sel], color="C2", lw=1)
-        ax.axhline(0.0, color="k", lw=0.5)
-        ax.set_xlabel("time (s)")
-        ax.set_ylabel("P = Q y' - c y'^2 (W)")
-        ax.set_title(f"Power input around {centre:.3f} s (Fig. 8/10); window mean {history.P[sel].mean():.3g} W")
-        ax.grid(alpha=0.3)
-        paths.append(_save(fig, directory / f"power_{tag}.png"))
-    return paths
+def _force_velocity(history: TimeHistory, directory: Path, t0: float) -> Path:
+    """Fig. 7 / 9: velocity and lateral force over a few cycles around ``t0``."""
+    sel, centre = _window(history, t0)
+    t = history.t[sel]
+    fig, (a1, a2) = _figure(7, 5, 2, 1, sharex=True)
+    a1.plot(t, history.v[sel], lw=1)
+    a1.set_ylabel("y' (m/s)")
+    a1.set_title(f"Velocity and lateral force around {centre:.3f} s (Fig. 7/9)")
+    a2.plot(t, history.Q[sel], color="C1", lw=1)
+    a2.set_ylabel("Q (N)")
+    a2.set_xlabel("time (s)")
+    for a in (a1, a2):
+        a.grid(alpha=0.3)
+    return _save(fig, directory / f"force_velocity_{centre:.2f}s.png")
+
+
+def _power(history: TimeHistory, directory: Path, t0: float) -> Path:
+    """Fig. 8 / 10: the power input over a few cycles around ``t0``."""
+    sel, centre = _window(history, t0)
+    fig, ax = _figure(7, 3.5)
+    ax.plot(history.t[sel], history.P[sel], color="C2", lw=1)
+    ax.axhline(0.0, color="k", lw=0.5)
+    ax.set_xlabel("time (s)")
+    ax.set_ylabel("P = Q y' - c y'^2 (W)")
+    ax.set_title(f"Power input around {centre:.3f} s (Fig. 8/10); window mean {history.P[sel].mean():.3g} W")
+    ax.grid(alpha=0.3)
+    return _save(fig, directory / f"power_{centre:.2f}s.png")
 
 
 def _save(fig, path: Path) -> Path:
-    fig.tight_layout()
     fig.savefig(path, dpi=110)
     return path
 

@@ -7,9 +7,12 @@ folder atomic, :mod:`wheel_squeal.outputs`).
 
 from __future__ import annotations
 
+import contextlib
 import math
+import multiprocessing
+from concurrent.futures import Executor, Future, ProcessPoolExecutor
 from pathlib import Path
-from typing import Sequence
+from typing import Iterator, Sequence
 
 import numpy as np
 
@@ -18,11 +21,13 @@ from geometry import WheelDesign
 from .presets import Fidelity
 
 __all__ = [
+    "PlotWorkers",
     "compare_row",
     "compare_table",
     "dof_summary",
     "modes_summary",
     "modes_table",
+    "plot_workers",
     "plot_times",
     "squeal_report",
     "sweep_table",
@@ -106,12 +111,65 @@ def plot_times(sim) -> tuple[float, float]:
     return (round(growing, 2), round(max(min(t_lc, end - 5 * period), 0.0), 2))
 
 
-def write_simulation_files(directory: Path, sim) -> None:
-    """``timeseries.csv`` and the Fig. 4, 6-10 counterparts (PNG) of a simulation."""
-    from reduced import write_time_history_plots, write_timeseries_csv
+#: Processes that draw plots (:func:`plot_workers`): both cores of a small machine.
+PLOT_PROCESSES = 2
 
+
+class PlotWorkers:
+    """Draws plots in child processes that import matplotlib as soon as they start.
+
+    matplotlib's import (a third of a second) then overlaps the simulation, and the
+    figures are drawn side by side while the other files are written, instead of one
+    after the other. ``submit(fn, *args)`` runs ``fn(*args)`` in a child;
+    :func:`plot_workers` waits for every plot and re-raises a plot's error. Without
+    ``fork`` (not POSIX) the plots are drawn in this process, in order.
+    """
+
+    def __init__(self, executor: Executor | None):
+        self.executor = executor
+        self.futures: list[Future] = []
+
+    def submit(self, fn, *args, **kwargs) -> None:
+        if self.executor is None:
+            fn(*args, **kwargs)
+        else:
+            self.futures.append(self.executor.submit(fn, *args, **kwargs))
+
+    def wait(self) -> None:
+        """Wait for every plot submitted so far; re-raise the first error."""
+        while self.futures:
+            self.futures.pop(0).result()
+
+
+def _import_matplotlib() -> None:
+    import matplotlib.backends.backend_agg  # noqa: F401
+    import matplotlib.figure  # noqa: F401
+
+
+@contextlib.contextmanager
+def plot_workers(processes: int = PLOT_PROCESSES) -> Iterator[PlotWorkers]:
+    """:class:`PlotWorkers` for the ``with`` block; leaving it waits for the plots."""
+    if "fork" not in multiprocessing.get_all_start_methods():
+        yield PlotWorkers(None)
+        return
+    with ProcessPoolExecutor(max_workers=processes, mp_context=multiprocessing.get_context("fork"),
+                             initializer=_import_matplotlib) as ex:
+        ex.submit(int)  # the first task starts the processes (and their matplotlib imports) now
+        workers = PlotWorkers(ex)
+        yield workers
+        workers.wait()
+
+
+def write_simulation_files(directory: Path, sim, plots: PlotWorkers | None = None) -> None:
+    """``timeseries.csv`` and the Fig. 4, 6-10 counterparts (PNG) of a simulation; the
+    plots drawn by ``plots`` when given, one task per figure (see :class:`PlotWorkers`)."""
+    from reduced import write_time_history_plots, write_timeseries_csv
+    from reduced.report import TIME_HISTORY_FIGURES
+
+    plots = plots or PlotWorkers(None)
+    for figure in TIME_HISTORY_FIGURES:
+        plots.submit(write_time_history_plots, sim.history, directory, plot_times(sim), (figure,))
     write_timeseries_csv(sim.history, directory)
-    write_time_history_plots(sim.history, directory, times_s=plot_times(sim))
 
 
 def sweep_table(crab_velocities: np.ndarray, rpms: np.ndarray, result) -> str:

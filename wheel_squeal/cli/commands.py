@@ -3,6 +3,7 @@ writes its result folder (:mod:`wheel_squeal.outputs`) and prints a short report
 
 from __future__ import annotations
 
+import contextlib
 import tempfile
 import time
 from pathlib import Path
@@ -64,19 +65,22 @@ def cmd_run(args) -> int:
     out = args.out or Path("results") / design.name
     progress = Progress(args.quiet)
     t0 = time.perf_counter()
-    with result_folder(out, "run") as tmp:
+    with result_folder(out, "run") as tmp, contextlib.ExitStack() as stack:
         cache = _cache(args)
         op = _operating_point(args, design)
         contact = api.contact_law(design, args.c22)
         dof, (ms, mode, msum) = _squeal_mode(args, design, progress, cache)
+        plots = stack.enter_context(writers.plot_workers())  # after numba's import: children need it
         with progress.stage("squeal model"):
             sim = api.simulate(dof, contact, op, args.duration)
         with progress.stage("report"):
-            writers.write_simulation_files(tmp, sim)
+            writers.write_simulation_files(tmp, sim, plots)
         indices = {"selected": [mode.index], "none": [], "all": list(range(len(ms.modes)))}[args.render]
         with progress.stage("mode views"):
             fid = fidelity_for(args.fidelity, args.solver)
             _write_files(tmp, api.mode_views(design, fid, args.fmax, ms, indices, cache))
+        with progress.stage("plots"):
+            plots.wait()
         write_json(tmp / "summary.json", {
             **msum, **sim.summary(), "modal_parameters": writers.dof_summary(dof),
             "timings_s": {**progress.timings, "total": time.perf_counter() - t0},
@@ -157,9 +161,10 @@ def cmd_modes(args) -> int:
 
 def cmd_simulate(args) -> int:
     progress = Progress(args.quiet)
-    with result_folder(args.out, "simulate") as tmp:
+    with result_folder(args.out, "simulate") as tmp, contextlib.ExitStack() as stack:
         design = _design(args)
         dof, modes_info = _squeal_mode(args, design, progress, _cache(args))
+        plots = stack.enter_context(writers.plot_workers())  # after numba's import: children need it
         contact = api.contact_law(design, args.c22)
         op = _operating_point(args, design)
         with progress.stage("squeal model"):
@@ -168,8 +173,10 @@ def cmd_simulate(args) -> int:
                    "timings_s": progress.timings}
         if modes_info is not None:
             summary["selected_mode"] = modes_info[2]["selected_mode"]
-        writers.write_simulation_files(tmp, sim)
+        writers.write_simulation_files(tmp, sim, plots)
         write_json(tmp / "summary.json", summary)
+        with progress.stage("plots"):
+            plots.wait()
     print(writers.squeal_report(sim, dof))
     print(f"-> {args.out}")
     return 0
