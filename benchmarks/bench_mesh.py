@@ -64,10 +64,15 @@ def main(argv=None) -> int:
         print(json.dumps({"design": design.name, "results": rows}, indent=2))
         return 0
     print(f"design {design.name}: median of {args.repeat}")
-    print(f"{'dim':>3} {'P':>2} {'size':>12} {'mm':>6} {'seconds':>8} {'nodes':>8} {'elements':>9} {'rel.err':>9}")
+    print(
+        f"{'dim':>3} {'P':>2} {'size':>12} {'mm':>6} {'seconds':>8} {'nodes':>8} {'elements':>9} "
+        f"{'rel.err':>9}"
+    )
     for r in rows:
-        print(f"{r['dim']:>3} {r['order']:>2} {r['label']:>12} {1e3 * r['size_m']:6.2f} "
-              f"{r['seconds']:8.3f} {r['nodes']:8d} {r['elements']:9d} {r['rel_error']:+9.1e}")
+        print(
+            f"{r['dim']:>3} {r['order']:>2} {r['label']:>12} {1e3 * r['size_m']:6.2f} "
+            f"{r['seconds']:8.3f} {r['nodes']:8d} {r['elements']:9d} {r['rel_error']:+9.1e}"
+        )
     return 0
 
 

@@ -38,7 +38,8 @@
 Run: ``python benchmarks/bench_modes.py [--quick] [--full] [--reps 3] [--base-reps N]
 [--no-convergence] [--tet] [--design FILE]`` (default design ``WheelDesign()``: Table 1
 values with the 30 mm rim depth; ``designs/table1.toml``, what ``run_all.py`` uses, has
-the calibrated 33.5 mm rim and ~6 % more DOFs on the same mesh settings). ``--quick``: one repetition, convergence ladder
+the calibrated 33.5 mm rim and ~6 % more DOFs on the same mesh settings). ``--quick``: one repetition,
+convergence ladder
 elements-across-web 1 and 2 only (and the 15 mm tet mesh with ``--tet``): a smoke
 test, not figures to quote.
 """
@@ -61,8 +62,8 @@ import scipy.sparse.linalg as spla  # noqa: E402
 from fem.cyclic import default_sectors, solve_cyclic  # noqa: E402
 from fem.eigen import available_factorizations  # noqa: E402
 from fem.solid import PAIR_RTOL, assemble, solve_solid  # noqa: E402
-from geometry.design import load_design  # noqa: E402
 from geometry import mesh_profile, mesh_wheel, revolve_profile  # noqa: E402
+from geometry.design import load_design  # noqa: E402
 
 try:
     from fem.axisym import solve_axisymmetric  # noqa: E402
@@ -185,13 +186,15 @@ def time_cyclic(d, etw, n_sectors, fmax, reps, base_reps):
         (f"3-D P2 {tag} chosen: solve_cyclic total (mesh given)", nd, c_tot, nc, nm),
     ]
     b_tot = b_asm + b_eig
-    line = (f"{tag} {nd} DOFs, {nev} eigenvalues <= {band:g} Hz ({nm} modes <= {fmax:g} Hz): "
-            f"solve_cyclic vs plain eigsh+SuperLU/COLAMD on the same mesh: eigen-solve "
-            f"{b_eig / c_eig:.0f}x ({b_eig:.1f} s -> {c_eig:.2f} s), whole path {b_tot / c_tot:.0f}x "
-            f"({b_tot:.1f} s skfem assembly + eigsh -> {c_tot:.2f} s solve_cyclic incl. labels); "
-            f"vs solve_solid {s_tot / c_tot:.0f}x ({s_tot:.1f} s); eigsh eigenvalues = cyclic to "
-            f"{dev:.1e} (max rel.), solve_solid frequencies to {dev_s:.1e}; baseline and "
-            f"solve_solid: median of {n_base} run(s) (slow), solve_cyclic of {nc}")
+    line = (
+        f"{tag} {nd} DOFs, {nev} eigenvalues <= {band:g} Hz ({nm} modes <= {fmax:g} Hz): "
+        f"solve_cyclic vs plain eigsh+SuperLU/COLAMD on the same mesh: eigen-solve "
+        f"{b_eig / c_eig:.0f}x ({b_eig:.1f} s -> {c_eig:.2f} s), whole path {b_tot / c_tot:.0f}x "
+        f"({b_tot:.1f} s skfem assembly + eigsh -> {c_tot:.2f} s solve_cyclic incl. labels); "
+        f"vs solve_solid {s_tot / c_tot:.0f}x ({s_tot:.1f} s); eigsh eigenvalues = cyclic to "
+        f"{dev:.1e} (max rel.), solve_solid frequencies to {dev_s:.1e}; baseline and "
+        f"solve_solid: median of {n_base} run(s) (slow), solve_cyclic of {nc}"
+    )
     return rows, line
 
 
@@ -232,10 +235,13 @@ def convergence(d, args, ax):
     fcut = 3000.0
     band = args.fmax * (1 + PAIR_RTOL)
     t = time.perf_counter()
-    axr = solve_axisymmetric(d, mesh_profile(d, elements_through_web=etw_ref, order=2), curved=True,
-                             fmax_hz=band, n_theta=8)
-    print(f"\n## Convergence vs axisymmetric reference (curved P2, {etw_ref} elements across "
-          f"the web, {axr.dofs} DOFs, {time.perf_counter() - t:.1f} s)")
+    axr = solve_axisymmetric(
+        d, mesh_profile(d, elements_through_web=etw_ref, order=2), curved=True, fmax_hz=band, n_theta=8
+    )
+    print(
+        f"\n## Convergence vs axisymmetric reference (curved P2, {etw_ref} elements across "
+        f"the web, {axr.dofs} DOFs, {time.perf_counter() - t:.1f} s)"
+    )
     fref = {key(m): m.frequency_hz for m in axr.modes}
     if len(fref) != len(axr.modes):
         print("  (reference has modes with identical labels: per-mode comparison by label is partial)")
@@ -243,8 +249,10 @@ def convergence(d, args, ax):
     low = {k: f for k, f in fref.items() if f < fcut}
     top = {k: f for k, f in fref.items() if f <= args.fmax}
 
-    head = (f"{'mesh':<22} {'DOFs':>8} {'mesh s':>6} {'solve s':>7} {'modes':>5} {'max<3k':>7} "
-            f"{'mean<3k':>7} {'max<5k':>7} {'f(3,0) Hz':>9} {'dm(3,0)':>8} labels")
+    head = (
+        f"{'mesh':<22} {'DOFs':>8} {'mesh s':>6} {'solve s':>7} {'modes':>5} {'max<3k':>7} "
+        f"{'mean<3k':>7} {'max<5k':>7} {'f(3,0) Hz':>9} {'dm(3,0)':>8} labels"
+    )
     rungs = [(1, 1), (2, 1)] if args.quick else [(1, 1), (1, 2), (2, 1), (2, 2), (4, 1)]
     per_mode, names, finest = {}, [], None
 
@@ -253,14 +261,18 @@ def convergence(d, args, ax):
         r3 = [v for k, v in rel.items() if k in low]
         r5 = [v for k, v in rel.items() if k in top]
         s30 = got[K30]
-        print(f"{name:<22} {ms.dofs:8d} {t_mesh:6.2f} {t_solve:7.2f} {len(r3):5d} "
-              f"{max(map(abs, r3)):7.3%} {np.mean(r3):+7.3%} {max(map(abs, r5)):7.3%} "
-              f"{s30.frequency_hz:9.2f} {s30.modal_mass / m30 - 1:+8.3%} {'same' if same else 'DIFFER'}")
+        print(
+            f"{name:<22} {ms.dofs:8d} {t_mesh:6.2f} {t_solve:7.2f} {len(r3):5d} "
+            f"{max(map(abs, r3)):7.3%} {np.mean(r3):+7.3%} {max(map(abs, r5)):7.3%} "
+            f"{s30.frequency_hz:9.2f} {s30.modal_mass / m30 - 1:+8.3%} {'same' if same else 'DIFFER'}"
+        )
         per_mode[name] = rel
         names.append(name)
 
-    print(f"\n3-D P2 cyclic (solve_cyclic, mesh_profile(etw, order=2) revolved in N sectors), "
-          f"modes <= {band:g} Hz solved; max/mean |df/f| vs the reference:")
+    print(
+        f"\n3-D P2 cyclic (solve_cyclic, mesh_profile(etw, order=2) revolved in N sectors), "
+        f"modes <= {band:g} Hz solved; max/mean |df/f| vs the reference:"
+    )
     print(head)
     for etw, mult in rungs:
         mesh, t_mesh = cyclic_mesh(d, etw)
@@ -299,10 +311,13 @@ def convergence(d, args, ax):
         fax = {key(m): m.frequency_hz for m in ax.modes}
         rel = [f / got[k] - 1 for k, f in fax.items() if k in got]
         missing = sorted(set(fax) - set(got))
-        print(f"\naxisymmetric as timed above ({ax.dofs} DOFs, {len(ax.modes)} modes <= {args.fmax:g} Hz) "
-              f"vs the finest 3-D ({name}, {ms.dofs} DOFs): max |df/f| {max(map(abs, rel)):.3%}, "
-              f"mean {np.mean(rel):+.3%} over {len(rel)} modes"
-              + (f"; not matched by label: {missing}" if missing else "") + " (target: within 0.5 %)")
+        print(
+            f"\naxisymmetric as timed above ({ax.dofs} DOFs, {len(ax.modes)} modes <= {args.fmax:g} Hz) "
+            f"vs the finest 3-D ({name}, {ms.dofs} DOFs): max |df/f| {max(map(abs, rel)):.3%}, "
+            f"mean {np.mean(rel):+.3%} over {len(rel)} modes"
+            + (f"; not matched by label: {missing}" if missing else "")
+            + " (target: within 0.5 %)"
+        )
 
 
 # ------------------------------------------------------------------------------ main
@@ -313,19 +328,34 @@ def main(argv=None) -> int:
     ap.add_argument("--no-convergence", action="store_true", help="timing section only")
     ap.add_argument("--tet", action="store_true", help="add the (slow) gmsh tetra10 convergence ladder")
     ap.add_argument("--reps", type=int, default=3)
-    ap.add_argument("--base-reps", type=int, default=None,
-                    help="runs of the slow baseline and solve_solid (default: --reps below 60k DOFs, else 1)")
+    ap.add_argument(
+        "--base-reps",
+        type=int,
+        default=None,
+        help="runs of the slow baseline and solve_solid (default: --reps below 60k DOFs, else 1)",
+    )
     ap.add_argument("--fmax", type=float, default=5000.0)
-    ap.add_argument("--design", type=Path, default=None,
-                    help="design TOML (default: WheelDesign(), rim depth 30 mm; designs/table1.toml is the "
-                         "calibrated 33.5 mm rim run_all.py and the pipeline use)")
-    ap.add_argument("--sectors", type=int, nargs="*", default=None,
-                    help="N of the 1/web cyclic timing meshes (default 48; --full: 48 96)")
+    ap.add_argument(
+        "--design",
+        type=Path,
+        default=None,
+        help="design TOML (default: WheelDesign(), rim depth 30 mm; designs/table1.toml is the "
+        "calibrated 33.5 mm rim run_all.py and the pipeline use)",
+    )
+    ap.add_argument(
+        "--sectors",
+        type=int,
+        nargs="*",
+        default=None,
+        help="N of the 1/web cyclic timing meshes (default 48; --full: 48 96)",
+    )
     args = ap.parse_args(argv)
     reps = 1 if args.quick else args.reps
     d = load_design(args.design)
-    print(f"design: {args.design or 'WheelDesign() (Table 1 values, rim depth 30 mm)'}; "
-          f"factorisations available: {', '.join(available_factorizations())}")
+    print(
+        f"design: {args.design or 'WheelDesign() (Table 1 values, rim depth 30 mm)'}; "
+        f"factorisations available: {', '.join(available_factorizations())}"
+    )
 
     # ---------------------------------------------------------------- 1. timing
     rows, summary, ax = [], [], None
@@ -338,8 +368,10 @@ def main(argv=None) -> int:
         summary.append(line)
     rows += time_tet(d, 0.015, args.fmax, 1 if args.quick else min(reps, 2))
 
-    print(f"\n## Wall time, all modes <= {args.fmax:g} Hz (median of n runs; modes: a pair counts once, "
-          f"except eigsh rows: eigenvalues)")
+    print(
+        f"\n## Wall time, all modes <= {args.fmax:g} Hz (median of n runs; modes: a pair counts once, "
+        f"except eigsh rows: eigenvalues)"
+    )
     w = max(len(r[0]) for r in rows)
     print(f"{'solver':<{w}} {'DOFs':>8} {'time s':>8} {'n':>2} {'modes':>5}")
     for label, dofs, t_s, n, nm in rows:

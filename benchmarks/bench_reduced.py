@@ -38,6 +38,7 @@ def main() -> None:
     import reduced as r
     from reduced import _kernels
     from reduced.model import choose_time_step, law_vector
+
     t_import = time.perf_counter() - t0
 
     law = r.ContactLaw.from_hertz(r.hertz_contact(0.213, 0.300, 0.085, 0.040, 175e9, 0.28, 1000.0), 0.3)
@@ -53,30 +54,41 @@ def main() -> None:
     t0 = time.perf_counter()
     r.sweep(mode, law, [0.39], [speeds[2]], 0.01)
     t_first_sweep = time.perf_counter() - t0
-    print(f"import reduced: {t_import:.2f} s; first simulate+limit_cycle (numba compile or cache load): "
-          f"{t_first_sim:.2f} s; first sweep (parallel kernel): {t_first_sweep:.2f} s")
+    print(
+        f"import reduced: {t_import:.2f} s; first simulate+limit_cycle (numba compile or cache load): "
+        f"{t_first_sim:.2f} s; first sweep (parallel kernel): {t_first_sweep:.2f} s"
+    )
 
     t_ref, ref = median_time(lambda: r.simulate_reference(mode, law, op, 0.6, method="DOP853", rtol=1e-8), 3)
     t_prod, prod = median_time(lambda: r.simulate(mode, law, op, 0.6), 15)
     a_ref = r.limit_cycle(ref).velocity_amplitude_m_s
     a_prod = r.limit_cycle(prod).velocity_amplitude_m_s
-    print(f"Fig. 6 case, 0.6 s simulated: solve_ivp DOP853 rtol 1e-8: {t_ref:.3f} s (median of 3); "
-          f"production numba RK4 (48 steps/period, incl. Q, P post-processing): {t_prod * 1e3:.1f} ms (median of 15)")
-    print(f"  speed-up: {t_ref / t_prod:.0f}x; amplitude ref {a_ref:.6f} m/s, production {a_prod:.6f} m/s, "
-          f"difference {abs(a_prod / a_ref - 1) * 100:.4f} %")
+    print(
+        f"Fig. 6 case, 0.6 s simulated: solve_ivp DOP853 rtol 1e-8: {t_ref:.3f} s (median of 3); "
+        f"production numba RK4 (48 steps/period, incl. Q, P post-processing): {t_prod * 1e3:.1f} ms "
+        "(median of 15)"
+    )
+    print(
+        f"  speed-up: {t_ref / t_prod:.0f}x; amplitude ref {a_ref:.6f} m/s, production {a_prod:.6f} m/s, "
+        f"difference {abs(a_prod / a_ref - 1) * 100:.4f} %"
+    )
 
     # pure-numpy RK4 (same step, same scheme) for the single case and for the whole grid
     h = choose_time_step(mode, law, op)
     n = int(math.ceil(0.6 / h))
     one = law_vector(law, op)[None, :]
     t_np1, v_np = median_time(lambda: _kernels.rk4_numpy_batch(3.1, 42.0, 1.6e8, one, 0.6 / n, n), 1)
-    tail = v_np[int(0.9 * n):, 0]
-    print(f"  numpy RK4 (no numba), same case: {t_np1:.2f} s ({t_np1 / t_prod:.0f}x slower than numba), "
-          f"amplitude {0.5 * (tail.max() - tail.min()):.6f} m/s (raw samples)")
+    tail = v_np[int(0.9 * n) :, 0]
+    print(
+        f"  numpy RK4 (no numba), same case: {t_np1:.2f} s ({t_np1 / t_prod:.0f}x slower than numba), "
+        f"amplitude {0.5 * (tail.max() - tail.min()):.6f} m/s (raw samples)"
+    )
 
     t_sweep, res = median_time(lambda: r.sweep(mode, law, vcs, speeds, 0.6), 5)
-    print(f"sweep 50 x 3 (Vc x speed), 0.6 s each, numba prange: {t_sweep:.2f} s (median of 5); "
-          f"{int(res.squeal.sum())} of 150 cases squeal")
+    print(
+        f"sweep 50 x 3 (Vc x speed), 0.6 s each, numba prange: {t_sweep:.2f} s (median of 5); "
+        f"{int(res.squeal.sum())} of 150 cases squeal"
+    )
     laws = np.array([law_vector(law, r.OperatingPoint(v0, vc)) for vc in vcs for v0 in speeds])
     t_np, _ = median_time(lambda: _kernels.rk4_numpy_batch(3.1, 42.0, 1.6e8, laws, 0.6 / n, n), 1)
     print(f"  numpy RK4 vectorised over the 150 cases (no cycle reduction): {t_np:.2f} s")
@@ -89,12 +101,16 @@ def main() -> None:
                 p = r.predict_limit_cycle(mode, law, r.OperatingPoint(v0, vc))
                 errs.append(abs(p.velocity_amplitude_m_s / long.velocity_amplitude_m_s[i, j] - 1))
     t_pred, _ = median_time(lambda: r.predict_limit_cycle(mode, law, op), 5)
-    print(f"predictor vs time domain (1.6 s runs) over {len(errs)} saturated cases of 150: "
-          f"max error {max(errs) * 100:.3f} %, {t_pred * 1e3:.1f} ms per prediction")
+    print(
+        f"predictor vs time domain (1.6 s runs) over {len(errs)} saturated cases of 150: "
+        f"max error {max(errs) * 100:.3f} %, {t_pred * 1e3:.1f} ms per prediction"
+    )
     h1 = r.hertz_contact(0.213, 0.300, 0.085, 0.040, 175e9, 0.28, 1000.0)
-    print(f"Hertz: a = {h1.semi_axis_a_m * 1e3:.4f} mm (Table 1: 0.853), b = {h1.semi_axis_b_m * 1e3:.4f} mm "
-          f"(0.594), a/b = {h1.a_over_b:.3f}; Kalker C22(a/b, nu 0.28) = {r.kalker_c22(h1.a_over_b, 0.28):.3f} "
-          f"(paper uses 3.14); saturation creepage {law.saturation_creepage:.5f}")
+    print(
+        f"Hertz: a = {h1.semi_axis_a_m * 1e3:.4f} mm (Table 1: 0.853), b = {h1.semi_axis_b_m * 1e3:.4f} mm "
+        f"(0.594), a/b = {h1.a_over_b:.3f}; Kalker C22(a/b, nu 0.28) = {r.kalker_c22(h1.a_over_b, 0.28):.3f} "
+        f"(paper uses 3.14); saturation creepage {law.saturation_creepage:.5f}"
+    )
 
 
 if __name__ == "__main__":

@@ -47,8 +47,9 @@ import subprocess
 import sys
 import tempfile
 import time
+from collections.abc import Callable
 from pathlib import Path
-from typing import Any, Callable
+from typing import Any
 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
@@ -84,17 +85,25 @@ def machine_info() -> dict:
     except AttributeError:  # pragma: no cover
         affinity = os.cpu_count()
     try:
-        commit = subprocess.run(["git", "rev-parse", "--short", "HEAD"], cwd=ROOT, capture_output=True,
-                                text=True, timeout=10).stdout.strip() or "unknown"
+        commit = (
+            subprocess.run(
+                ["git", "rev-parse", "--short", "HEAD"], cwd=ROOT, capture_output=True, text=True, timeout=10
+            ).stdout.strip()
+            or "unknown"
+        )
     except (OSError, subprocess.SubprocessError):
         commit = "unknown"
     import scipy
 
     return {
         "date": _dt.datetime.now().astimezone().strftime("%Y-%m-%d %H:%M %Z"),
-        "nproc": affinity, "cpu": cpu, "memory_gb": mem_gb,
+        "nproc": affinity,
+        "cpu": cpu,
+        "memory_gb": mem_gb,
         "loadavg": os.getloadavg() if hasattr(os, "getloadavg") else (float("nan"),) * 3,
-        "python": platform.python_version(), "numpy": np.__version__, "scipy": scipy.__version__,
+        "python": platform.python_version(),
+        "numpy": np.__version__,
+        "scipy": scipy.__version__,
         "commit": commit,
     }
 
@@ -113,21 +122,33 @@ class Table:
     def __init__(self) -> None:
         self.rows: list[tuple] = []
 
-    def add(self, section: str, what: str, n: int, seconds: float, baseline: str = "",
-            baseline_s: float | None = None, baseline_n: int | None = None, note: str = "") -> None:
+    def add(
+        self,
+        section: str,
+        what: str,
+        n: int,
+        seconds: float,
+        baseline: str = "",
+        baseline_s: float | None = None,
+        baseline_n: int | None = None,
+        note: str = "",
+    ) -> None:
         self.rows.append((section, what, n, seconds, baseline, baseline_s, baseline_n, note))
         ratio = f", {baseline_s / seconds:.1f}x faster than {baseline}" if baseline_s else ""
-        print(f"  {section}: {what}: {_fmt_s(seconds)} (median of {n}){ratio}", file=sys.stderr,
-              flush=True)
+        print(f"  {section}: {what}: {_fmt_s(seconds)} (median of {n}){ratio}", file=sys.stderr, flush=True)
 
     def render(self) -> str:
-        head = (f"{'section':<10} {'benchmark':<46} {'n':>2} {'median':>9} "
-                f"{'baseline (same run)':<34} {'n':>2} {'median':>9} {'ratio':>7}  notes")
+        head = (
+            f"{'section':<10} {'benchmark':<46} {'n':>2} {'median':>9} "
+            f"{'baseline (same run)':<34} {'n':>2} {'median':>9} {'ratio':>7}  notes"
+        )
         lines = [head, "-" * len(head)]
         for sec, what, n, s, base, bs, bn, note in self.rows:
             ratio = f"{bs / s:6.1f}x" if bs else ""
-            lines.append(f"{sec:<10} {what:<46} {n:>2} {_fmt_s(s):>9} {base:<34} "
-                         f"{bn if bn else '':>2} {_fmt_s(bs) if bs else '':>9} {ratio:>7}  {note}")
+            lines.append(
+                f"{sec:<10} {what:<46} {n:>2} {_fmt_s(s):>9} {base:<34} "
+                f"{bn if bn else '':>2} {_fmt_s(bs) if bs else '':>9} {ratio:>7}  {note}"
+            )
         lines.append("ratio = baseline median / median (how many times faster than the baseline)")
         return "\n".join(lines)
 
@@ -151,32 +172,54 @@ def bench_mesh(design, table: Table, quick: bool) -> None:
     from geometry import mesh_profile, mesh_wheel, revolve_profile
 
     bal = pipeline.FIDELITIES["balanced"]
-    s, m, _ = timed(lambda: mesh_profile(design, elements_through_web=bal.elements_through_web,
-                                         order=bal.mesh_order), 3 if quick else 5)
-    table.add("mesh", f"2-D profile ({bal.elements_through_web}/web, order {bal.mesh_order})",
-              3 if quick else 5, s, note=f"{m.n_nodes} nodes, {m.n_elements} triangles")
+    s, m, _ = timed(
+        lambda: mesh_profile(design, elements_through_web=bal.elements_through_web, order=bal.mesh_order),
+        3 if quick else 5,
+    )
+    table.add(
+        "mesh",
+        f"2-D profile ({bal.elements_through_web}/web, order {bal.mesh_order})",
+        3 if quick else 5,
+        s,
+        note=f"{m.n_nodes} nodes, {m.n_elements} triangles",
+    )
     n = 3 if quick else 5
-    s, m, _ = timed(lambda: revolve_profile(mesh_profile(design, elements_through_web=1, order=2),
-                                            CYCLIC_SECTORS), n)
-    table.add("mesh", f"3-D cyclic wheel (1/web, tetra10, N={CYCLIC_SECTORS})", n, s,
-              note=f"profile + revolve_profile: {m.n_nodes} nodes, {m.n_elements} tetrahedra")
+    s, m, _ = timed(
+        lambda: revolve_profile(mesh_profile(design, elements_through_web=1, order=2), CYCLIC_SECTORS), n
+    )
+    table.add(
+        "mesh",
+        f"3-D cyclic wheel (1/web, tetra10, N={CYCLIC_SECTORS})",
+        n,
+        s,
+        note=f"profile + revolve_profile: {m.n_nodes} nodes, {m.n_elements} tetrahedra",
+    )
     n = 1 if quick else 3
     s, m, _ = timed(lambda: mesh_wheel(design, elements_through_web=1, order=2), n)
-    table.add("mesh", "3-D gmsh wheel (1/web, curved tetra10)", n, s,
-              note=f"{m.n_nodes} nodes, {m.n_elements} tetrahedra")
+    table.add(
+        "mesh",
+        "3-D gmsh wheel (1/web, curved tetra10)",
+        n,
+        s,
+        note=f"{m.n_nodes} nodes, {m.n_elements} tetrahedra",
+    )
 
 
 def bench_modes(design, table: Table, quick: bool) -> tuple:
     n = 3 if quick else 5
     results = {}
     for name in ("fast", "balanced", "accurate"):
-        s, ms, _ = timed(lambda: pipeline.compute_modes(design, name), n)
+        s, ms, _ = timed(lambda name=name: pipeline.compute_modes(design, name), n)
         mode, _ = pipeline.pick_mode(ms)
         results[name] = (s, ms, mode)
         fid = pipeline.FIDELITIES[name]
-        table.add("modes", f"{fid.solver} P{fid.order} {name} ({fid.elements_through_web}/web), mesh+modes",
-                  n, s, note=f"{ms.dofs} DOFs, {len(ms.modes)} modes <= 5 kHz, "
-                             f"(3,0) {mode.frequency_hz:.2f} Hz")
+        table.add(
+            "modes",
+            f"{fid.solver} P{fid.order} {name} ({fid.elements_through_web}/web), mesh+modes",
+            n,
+            s,
+            note=f"{ms.dofs} DOFs, {len(ms.modes)} modes <= 5 kHz, (3,0) {mode.frequency_hz:.2f} Hz",
+        )
 
     from bench_modes import eigenvalue_list, eigsh_baseline
 
@@ -210,22 +253,41 @@ def bench_modes(design, table: Table, quick: bool) -> tuple:
     c_eig, c_tot = med(c[0] for c in cyc), med(c[1] for c in cyc)
     dev = max(float(np.max(np.abs(b[2] - lam) / lam)) for b in base)
     tag = f"3-D P2 cyclic 1/web N={N}:"
-    table.add("modes", f"{tag} eigen-solve (cyclic)", n_fast, c_eig,
-              "eigsh + SuperLU/COLAMD (plain)", b_eig, n_base,
-              note=f"{ms.dofs} DOFs (same mesh), {nev} eigenvalues <= {5000 * (1 + PAIR_RTOL):g} Hz; "
-                   f"eigenvalues agree to {dev:.0e}")
+    table.add(
+        "modes",
+        f"{tag} eigen-solve (cyclic)",
+        n_fast,
+        c_eig,
+        "eigsh + SuperLU/COLAMD (plain)",
+        b_eig,
+        n_base,
+        note=f"{ms.dofs} DOFs (same mesh), {nev} eigenvalues <= {5000 * (1 + PAIR_RTOL):g} Hz; "
+        f"eigenvalues agree to {dev:.0e}",
+    )
     s_bal = results["balanced"][0]
-    table.add("modes", f"{tag} whole solve_cyclic", n_fast, c_tot,
-              "skfem assembly + eigsh (plain)", b_tot, n_base,
-              note=f"mesh given; {len(ms.modes)} modes <= 5 kHz, labelled; with meshing {_fmt_s(t_mesh + c_tot)}, "
-                   f"axisym balanced (mesh + modes) {_fmt_s(s_bal)} is {(t_mesh + c_tot) / s_bal:.1f}x faster")
+    table.add(
+        "modes",
+        f"{tag} whole solve_cyclic",
+        n_fast,
+        c_tot,
+        "skfem assembly + eigsh (plain)",
+        b_tot,
+        n_base,
+        note=f"mesh given; {len(ms.modes)} modes <= 5 kHz, labelled; with meshing {_fmt_s(t_mesh + c_tot)}, "
+        f"axisym balanced (mesh + modes) {_fmt_s(s_bal)} is {(t_mesh + c_tot) / s_bal:.1f}x faster",
+    )
 
     gm = mesh_wheel(design, elements_through_web=1, order=2)
     n_tet = 1 if quick else 2
     s_full, full, _ = timed(lambda: solve_solid(design, gm, order=2, fmax_hz=5000.0), n_tet)
-    table.add("modes", "3-D P2 gmsh tet (1/web) solve_solid", n_tet, s_full,
-              note=f"unstructured check (full matrices): {full.dofs} DOFs; solve_cyclic on "
-                   f"{ms.dofs} DOFs is {s_full / c_tot:.0f}x faster")
+    table.add(
+        "modes",
+        "3-D P2 gmsh tet (1/web) solve_solid",
+        n_tet,
+        s_full,
+        note=f"unstructured check (full matrices): {full.dofs} DOFs; solve_cyclic on "
+        f"{ms.dofs} DOFs is {s_full / c_tot:.0f}x faster",
+    )
     return results
 
 
@@ -241,16 +303,33 @@ def bench_simulation(design, mode, table: Table, quick: bool):
     duration = float(sim.history.t[-1])
     s_rk4, hist, _ = timed(lambda: reduced.simulate(dof, contact, op, duration), n)
     n_ivp = 1 if quick else 3
-    s_ivp, ref, _ = timed(lambda: reduced.simulate_reference(dof, contact, op, duration,
-                                                             method="DOP853", rtol=1e-8), n_ivp)
+    s_ivp, ref, _ = timed(
+        lambda: reduced.simulate_reference(dof, contact, op, duration, method="DOP853", rtol=1e-8), n_ivp
+    )
     a_ref = reduced.limit_cycle(ref).velocity_amplitude_m_s
     a_rk4 = reduced.limit_cycle(hist).velocity_amplitude_m_s
     base = "solve_ivp DOP853 rtol 1e-8"
-    table.add("simulate", f"pipeline.simulate (RK4 48/period, auto length)", n, s_prod, base, s_ivp,
-              n_ivp, note=f"length from the harmonic-balance growth estimate: {duration:g} s "
-                          f"(baseline: {duration:g} s once)")
-    table.add("simulate", f"RK4 48/period, same {duration:g} s", n, s_rk4, base, s_ivp, n_ivp,
-              note=f"amplitude {a_rk4:.5f} vs {a_ref:.5f} m/s ({a_rk4 / a_ref - 1:+.1e})")
+    table.add(
+        "simulate",
+        "pipeline.simulate (RK4 48/period, auto length)",
+        n,
+        s_prod,
+        base,
+        s_ivp,
+        n_ivp,
+        note=f"length from the harmonic-balance growth estimate: {duration:g} s "
+        f"(baseline: {duration:g} s once)",
+    )
+    table.add(
+        "simulate",
+        f"RK4 48/period, same {duration:g} s",
+        n,
+        s_rk4,
+        base,
+        s_ivp,
+        n_ivp,
+        note=f"amplitude {a_rk4:.5f} vs {a_ref:.5f} m/s ({a_rk4 / a_ref - 1:+.1e})",
+    )
     return dof, contact
 
 
@@ -275,9 +354,16 @@ def bench_sweep(design, dof, contact, table: Table, quick: bool) -> None:
         return out
 
     s_ser, _, _ = timed(serial, 1)
-    table.add("sweep", "pipeline.sweep 50 x 3, 0.6 s (numba prange)", n, s,
-              "150 x simulate+limit_cycle, serial", s_ser, 1,
-              note=f"{int(res.squeal.sum())}/150 squeal; first call {t_first:.2f} s (compile/cache load)")
+    table.add(
+        "sweep",
+        "pipeline.sweep 50 x 3, 0.6 s (numba prange)",
+        n,
+        s,
+        "150 x simulate+limit_cycle, serial",
+        s_ser,
+        1,
+        note=f"{int(res.squeal.sum())}/150 squeal; first call {t_first:.2f} s (compile/cache load)",
+    )
 
 
 def bench_run(design_path: Path | None, table: Table, quick: bool) -> None:
@@ -288,10 +374,16 @@ def bench_run(design_path: Path | None, table: Table, quick: bool) -> None:
     n = 1 if quick else 3
     tmp = Path(tempfile.mkdtemp(prefix="bench-run-"))
     try:
+
         def run(cache: Path, out: Path) -> float:
             t = time.perf_counter()
-            p = subprocess.run(base_args + ["--cache-dir", str(cache), "--out", str(out)],
-                               capture_output=True, text=True, cwd=ROOT, timeout=1800)
+            p = subprocess.run(
+                base_args + ["--cache-dir", str(cache), "--out", str(out)],
+                capture_output=True,
+                text=True,
+                cwd=ROOT,
+                timeout=1800,
+            )
             dt = time.perf_counter() - t
             if p.returncode != 0:
                 raise RuntimeError(f"pipeline.py run failed ({p.returncode}): {p.stderr.strip()[-300:]}")
@@ -303,10 +395,23 @@ def bench_run(design_path: Path | None, table: Table, quick: bool) -> None:
     finally:
         shutil.rmtree(tmp, ignore_errors=True)
     s_cold, s_warm = statistics.median(cold), statistics.median(warm)
-    table.add("run", "pipeline.py run, cold cache (subprocess)", n, s_cold,
-              note="fresh empty cache each time: mesh + modes (balanced) + squeal + report + render")
-    table.add("run", "pipeline.py run, warm cache (subprocess)", n, s_warm, "cold cache", s_cold, n,
-              note="mesh and modes loaded from the cache")
+    table.add(
+        "run",
+        "pipeline.py run, cold cache (subprocess)",
+        n,
+        s_cold,
+        note="fresh empty cache each time: mesh + modes (balanced) + squeal + report + render",
+    )
+    table.add(
+        "run",
+        "pipeline.py run, warm cache (subprocess)",
+        n,
+        s_warm,
+        "cold cache",
+        s_cold,
+        n,
+        note="mesh and modes loaded from the cache",
+    )
 
 
 def main(argv=None) -> int:
@@ -319,8 +424,11 @@ def main(argv=None) -> int:
     t0 = time.perf_counter()
     design = pipeline.load_design(args.design)
     table = Table()
-    print(f"benchmarks/run_all.py{' --quick' if args.quick else ''}: design {design.name} ...",
-          file=sys.stderr, flush=True)
+    print(
+        f"benchmarks/run_all.py{' --quick' if args.quick else ''}: design {design.name} ...",
+        file=sys.stderr,
+        flush=True,
+    )
     bench_mesh(design, table, args.quick)
     results = bench_modes(design, table, args.quick)
     dof, contact = bench_simulation(design, results["balanced"][2], table, args.quick)
@@ -334,8 +442,11 @@ def main(argv=None) -> int:
         f"python {info['python']}, numpy {info['numpy']}, scipy {info['scipy']}",
         f"load average at start: {la[0]:.2f} {la[1]:.2f} {la[2]:.2f}; at end: "
         f"{load_end[0]:.2f} {load_end[1]:.2f} {load_end[2]:.2f}"
-        + (f"   (shared/busy machine: load at start above {0.5 * info['nproc']:g}; expect noisy times)"
-           if la[0] > 0.5 * info["nproc"] else ""),
+        + (
+            f"   (shared/busy machine: load at start above {0.5 * info['nproc']:g}; expect noisy times)"
+            if la[0] > 0.5 * info["nproc"]
+            else ""
+        ),
         f"command: .venv/bin/python benchmarks/run_all.py{' --quick' if args.quick else ''}"
         + (f" --design {args.design}" if args.design else ""),
         f"total wall time: {time.perf_counter() - t0:.0f} s",

@@ -169,8 +169,7 @@ def _assemble_forms(basis: fe.CellBasis, E: float, nu: float, rho: float):
     return tuple(f.assemble(basis).tocsr() for f in (k0, k1, k2, mass))
 
 
-def _assemble_einsum(mesh: fe.Mesh, scalar: fe.Element, intorder: int, E: float, nu: float,
-                     rho: float):
+def _assemble_einsum(mesh: fe.Mesh, scalar: fe.Element, intorder: int, E: float, nu: float, rho: float):
     """The same matrices as :func:`_assemble_forms`, with the element matrices of all
     elements computed at once (numpy einsum over quadrature points) from the scalar
     basis, then scattered. The local vector DOF ``3 i + c`` is component c of scalar
@@ -227,8 +226,12 @@ def _assemble_einsum(mesh: fe.Mesh, scalar: fe.Element, intorder: int, E: float,
 
 
 def assemble_harmonic(
-    design: WheelDesign, mesh: fe.Mesh, order: int = 2, boundary: str = "clamped",
-    intorder: int | None = None, method: str = "einsum",
+    design: WheelDesign,
+    mesh: fe.Mesh,
+    order: int = 2,
+    boundary: str = "clamped",
+    intorder: int | None = None,
+    method: str = "einsum",
 ) -> HarmonicModel:
     """Assemble K0, K1, K2 (K_n = K0 + n K1 + n^2 K2) and M, r-weighted, without the
     pi / 2 pi factor. ``method``: "einsum" (vectorised, default) or "forms" (scikit-fem
@@ -263,8 +266,9 @@ def assemble_harmonic(
     return HarmonicModel(mesh, basis, K0, K1, K2, M, free, comp)
 
 
-def _lowest_frequency(model: "HarmonicModel", boundary: str, sigma: float, f_rigid: float,
-                      factorization: str, n_last: int) -> float:
+def _lowest_frequency(
+    model: HarmonicModel, boundary: str, sigma: float, f_rigid: float, factorization: str, n_last: int
+) -> float:
     """The lowest natural frequency [Hz] over the harmonics 0..n_last (for messages)."""
     comp = model.comp
     best = math.inf
@@ -275,8 +279,7 @@ def _lowest_frequency(model: "HarmonicModel", boundary: str, sigma: float, f_rig
             sets = [model.free]
         for dofs in sets:
             K, M = model.matrices(n, dofs)
-            res = solve_eigen(K, M, k=min(4, K.shape[0] - 2), sigma=sigma,
-                              factorization=factorization)
+            res = solve_eigen(K, M, k=min(4, K.shape[0] - 2), sigma=sigma, factorization=factorization)
             f = res.frequencies_hz
             f = f[f >= f_rigid] if boundary == "free" else f
             if f.size:
@@ -336,15 +339,39 @@ def solve_axisymmetric(
     # synchronisation cost there, several times the work on a loaded 2-core machine
     # (measured: 0.12 s vs 0.85 s for Table 1).
     with blas_threads(1):
-        return _solve_axisymmetric(design, mesh, order=order, size=size,
-                                   elements_through_web=elements_through_web,
-                                   fmax_hz=fmax_hz, k=k, n_max=n_max, boundary=boundary,
-                                   n_theta=n_theta, curved=curved, intorder=intorder,
-                                   factorization=factorization)
+        return _solve_axisymmetric(
+            design,
+            mesh,
+            order=order,
+            size=size,
+            elements_through_web=elements_through_web,
+            fmax_hz=fmax_hz,
+            k=k,
+            n_max=n_max,
+            boundary=boundary,
+            n_theta=n_theta,
+            curved=curved,
+            intorder=intorder,
+            factorization=factorization,
+        )
 
 
-def _solve_axisymmetric(design, mesh, *, order, size, elements_through_web, fmax_hz, k,
-                        n_max, boundary, n_theta, curved, intorder, factorization) -> ModeSet:
+def _solve_axisymmetric(
+    design,
+    mesh,
+    *,
+    order,
+    size,
+    elements_through_web,
+    fmax_hz,
+    k,
+    n_max,
+    boundary,
+    n_theta,
+    curved,
+    intorder,
+    factorization,
+) -> ModeSet:
     t_start = time.perf_counter()
     if factorization is None:
         factorization = small_problem_factorization()
@@ -355,8 +382,12 @@ def _solve_axisymmetric(design, mesh, *, order, size, elements_through_web, fmax
     if mesh is None:
         from geometry.gmsh_mesh import mesh_profile  # noqa: PLC0415 (gmsh only when meshing here)
 
-        mesh = mesh_profile(design, size=size, elements_through_web=elements_through_web,
-                            order=2 if (curved and order == 2) else 1)
+        mesh = mesh_profile(
+            design,
+            size=size,
+            elements_through_web=elements_through_web,
+            order=2 if (curved and order == 2) else 1,
+        )
     h = mesh_element_size(mesh)
     skm = to_skfem_mesh(mesh, curved=curved)
     t_mesh = time.perf_counter()
@@ -425,7 +456,9 @@ def _solve_axisymmetric(design, mesh, *, order, size, elements_through_web, fmax
             f"no natural frequency at or below fmax_hz = {fmax_hz:g} Hz ({boundary} wheel "
             f"{design.name!r}): the lowest is {f_low:.4g} Hz; returning an empty ModeSet "
             "(raise fmax_hz)",
-            EmptyBandWarning, stacklevel=3)
+            EmptyBandWarning,
+            stacklevel=3,
+        )
 
     points, wedges, theta = revolved_mesh(pts_rz, tris, n_theta)
 
@@ -455,4 +488,3 @@ def _solve_axisymmetric(design, mesh, *, order, size, elements_through_web, fmax
             "total": t_end - t_start,
         },
     )
-

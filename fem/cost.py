@@ -87,8 +87,9 @@ def modes_in_band(design: WheelDesign, fmax_hz: float) -> int:
     return int(0.6 * area * _bending_wavenumber(design, fmax_hz) ** 2 / (4 * math.pi) + 5)
 
 
-def estimate_cost(design: WheelDesign, solver: str, h: float, fmax_hz: float,
-                  n_sectors: int | None = None) -> SolveCost:
+def estimate_cost(
+    design: WheelDesign, solver: str, h: float, fmax_hz: float, n_sectors: int | None = None
+) -> SolveCost:
     """Estimated cost of ``solver`` ("axisym", "3d" for the cyclic 3-D solver, "3d-tet"
     for gmsh tetrahedra) at element size ``h`` [m] for the modes up to ``fmax_hz``."""
     modes = modes_in_band(design, fmax_hz)
@@ -97,8 +98,11 @@ def estimate_cost(design: WheelDesign, solver: str, h: float, fmax_hz: float,
     if solver == "axisym":
         tri = estimate_element_count(design, h, 2)
         per_harmonic = 3 * _P2_NODES_PER_TRIANGLE * tri
-        memory = (_BASE_MEMORY["axisym"] + _AXISYM_BYTES_PER_TRIANGLE * tri
-                  + _SHAPE_BYTES_PER_NODE * modes * _CORNERS_PER_TRIANGLE * tri)
+        memory = (
+            _BASE_MEMORY["axisym"]
+            + _AXISYM_BYTES_PER_TRIANGLE * tri
+            + _SHAPE_BYTES_PER_NODE * modes * _CORNERS_PER_TRIANGLE * tri
+        )
         seconds = 0.1 + harmonics * (a + b * per_harmonic**2)
         return SolveCost(tri, int(per_harmonic * harmonics), memory, seconds, modes)
     if solver == "3d":
@@ -109,8 +113,9 @@ def estimate_cost(design: WheelDesign, solver: str, h: float, fmax_hz: float,
         owned = 2 * _P2_NODES_PER_TRIANGLE * tri  # face-0 nodes plus the sector interior
         dofs = 3 * owned * sectors
         seconds = 0.3 + harmonics * (a + b * (2 * 3 * owned) ** 2)
-        return SolveCost(3 * tri * sectors, int(dofs), _BASE_MEMORY["3d"] + _CYCLIC_BYTES_PER_DOF * dofs,
-                         seconds, modes)
+        return SolveCost(
+            3 * tri * sectors, int(dofs), _BASE_MEMORY["3d"] + _CYCLIC_BYTES_PER_DOF * dofs, seconds, modes
+        )
     if solver == "3d-tet":
         tets = estimate_element_count(design, h, 3)
         dofs = 3 * _TET_NODES_PER_TET * tets

@@ -69,8 +69,10 @@ class SectorModel:
 
     def __init__(self, design, mesh, boundary: str = "clamped"):
         if getattr(mesh, "n_sectors", 0) <= 0:
-            raise ValueError("solve_cyclic needs a cyclic mesh from geometry.revolve.revolve_profile "
-                             "(n_sectors > 0); for a gmsh mesh use fem.solid.solve_solid")
+            raise ValueError(
+                "solve_cyclic needs a cyclic mesh from geometry.revolve.revolve_profile "
+                "(n_sectors > 0); for a gmsh mesh use fem.solid.solve_solid"
+            )
         if boundary not in ("clamped", "free"):
             raise ValueError(f"boundary must be 'clamped' or 'free', got {boundary!r}")
         from skfem import Basis, ElementTetP1, ElementTetP2, ElementVector  # noqa: PLC0415
@@ -113,12 +115,14 @@ class SectorModel:
         R = np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
         rot = sp.block_diag([sp.identity(3 * no), sp.block_diag([R] * nf)], format="csr")
         T = P.T @ rot  # skfem DOFs <- local-frame slab DOFs
-        J = sp.csr_matrix((np.ones(3 * nf), (np.arange(3 * nf), (3 * L.next_face_local[:, None] + np.arange(3)).ravel())),
-                          shape=(3 * nf, 3 * no))
+        J = sp.csr_matrix(
+            (np.ones(3 * nf), (np.arange(3 * nf), (3 * L.next_face_local[:, None] + np.arange(3)).ravel())),
+            shape=(3 * nf, 3 * no),
+        )
         self.parts = {}
         for name, A in (("K", K), ("M", M)):
             Al = (T.T @ A @ T).tocsr()
-            E00, E01, E11 = Al[: 3 * no, : 3 * no], Al[: 3 * no, 3 * no:], Al[3 * no:, 3 * no:]
+            E00, E01, E11 = Al[: 3 * no, : 3 * no], Al[: 3 * no, 3 * no :], Al[3 * no :, 3 * no :]
             X = (E01 @ J).tocsr()
             self.parts[name] = ((E00 + J.T @ E11 @ J).tocsr(), X)
         xyz = pts[:no]
@@ -283,7 +287,9 @@ def _solve(design, mesh, fmax_hz, k, boundary, factorization, t0, t_mesh) -> Mod
             warnings.warn(
                 f"modes in the band at the highest harmonic the {N}-sector mesh represents "
                 f"(p = {p_top}): higher nodal diameters alias onto lower ones; use more sectors",
-                ResolutionWarning, stacklevel=3)
+                ResolutionWarning,
+                stacklevel=3,
+            )
         if p >= 2:
             if not found:
                 break
@@ -300,7 +306,9 @@ def _solve(design, mesh, fmax_hz, k, boundary, factorization, t0, t_mesh) -> Mod
         warnings.warn(
             f"no natural frequency at or below fmax_hz = {fmax_hz:g} Hz ({boundary} wheel "
             f"{getattr(design, 'name', '')!r}): returning an empty ModeSet (raise fmax_hz)",
-            EmptyBandWarning, stacklevel=3)
+            EmptyBandWarning,
+            stacklevel=3,
+        )
 
     nv = mesh.n_vertices // N
     theta = S.delta * np.arange(N)
@@ -350,8 +358,13 @@ def _solve(design, mesh, fmax_hz, k, boundary, factorization, t0, t_mesh) -> Mod
         shapes=shapes,
         solver=f"3d-cyclic-p{2 if mesh.order == 2 else 1}",
         dofs=int(N * nfree),
-        timings_s={"mesh": t_mesh - t0, "assemble": t_asm - t_mesh, "eigen": t_eig - t_asm,
-                   "label": t_end - t_eig, "total": t_end - t0},
+        timings_s={
+            "mesh": t_mesh - t0,
+            "assemble": t_asm - t_mesh,
+            "eigen": t_eig - t_asm,
+            "label": t_end - t_eig,
+            "total": t_end - t0,
+        },
     )
 
 

@@ -181,8 +181,9 @@ def _factorize(A: sp.spmatrix, factorization: str, definite: bool = False):
     if factorization == "superlu-sym":
         # symmetric mode: MMD on A^T + A and diagonal pivots (threshold 0), stable for
         # a definite matrix; for an indefinite one SuperLU still pivots where needed.
-        lu = spla.splu(A.tocsc(), permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0,
-                       options={"SymmetricMode": True})
+        lu = spla.splu(
+            A.tocsc(), permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0, options={"SymmetricMode": True}
+        )
         return lu.solve
     if factorization == "superlu-colamd":
         lu = spla.splu(A.tocsc())
@@ -238,7 +239,14 @@ def _solve_eigen(K, M, k, fmax_hz, sigma, factorization, tol, guess) -> EigenRes
     while True:
         nev = min(want, n - 2)
         vals, vecs = spla.eigsh(
-            K, k=nev, M=M, sigma=sigma, which="LM", OPinv=OPinv, v0=v0, tol=tol,
+            K,
+            k=nev,
+            M=M,
+            sigma=sigma,
+            which="LM",
+            OPinv=OPinv,
+            v0=v0,
+            tol=tol,
             ncv=min(n - 1, max(2 * nev + 1, nev + 20)),
         )
         order = np.argsort(vals)
@@ -309,7 +317,16 @@ def solve_band(K, M, fmax_hz, k, sigma, guess, factorization="splu"):
         want = 2 * want + 2
 
 
-
-__all__ = ["AUTO_ORDER", "FACTORIZATIONS", "SCIPY_AUTO_DEFINITE", "EigenError", "EigenResult",
-           "auto_factorization", "available_factorizations", "blas_threads", "small_problem_factorization",
-           "solve_band", "solve_eigen"]
+__all__ = [
+    "AUTO_ORDER",
+    "FACTORIZATIONS",
+    "SCIPY_AUTO_DEFINITE",
+    "EigenError",
+    "EigenResult",
+    "auto_factorization",
+    "available_factorizations",
+    "blas_threads",
+    "small_problem_factorization",
+    "solve_band",
+    "solve_eigen",
+]

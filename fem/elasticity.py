@@ -45,6 +45,10 @@ def assemble_elasticity(mesh, basis, elem, lam: float, mu: float, rho: float):
     M = sp.csr_matrix((N, N))
     for a in range(3):
         da = d3[:, :, a]
-        M = M + sp.coo_matrix((Ml.ravel(), (np.repeat(da, nb, axis=1).ravel(), np.tile(da, (1, nb)).ravel())),
-                              shape=(N, N)).tocsr()
+        M = (
+            M
+            + sp.coo_matrix(
+                (Ml.ravel(), (np.repeat(da, nb, axis=1).ravel(), np.tile(da, (1, nb)).ravel())), shape=(N, N)
+            ).tocsr()
+        )
     return K, M

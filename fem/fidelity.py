@@ -22,8 +22,14 @@ from geometry.design import WheelDesign
 from .meshes import to_skfem_mesh
 from .modes import LockingWarning, ResolutionWarning
 
-__all__ = ["LOCKING_NU", "P1_ELEMENTS_THROUGH_WEB", "RESOLUTION_ELEMENTS", "fidelity_warnings",
-           "mesh_element_size", "shortest_wavelength"]
+__all__ = [
+    "LOCKING_NU",
+    "P1_ELEMENTS_THROUGH_WEB",
+    "RESOLUTION_ELEMENTS",
+    "fidelity_warnings",
+    "mesh_element_size",
+    "shortest_wavelength",
+]
 
 #: Elements of size h per shortest wavelength at fmax_hz needed for about 1 % frequency
 #: error, by element order. The shortest wavelength is ``shortest_wavelength``: the
@@ -75,8 +81,7 @@ def mesh_element_size(mesh: Any) -> float:
     return float(np.median(edges.max(axis=0)))
 
 
-def fidelity_warnings(design: WheelDesign, h: float, order: int, f_top: float | None,
-                       before: bool) -> None:
+def fidelity_warnings(design: WheelDesign, h: float, order: int, f_top: float | None, before: bool) -> None:
     """Warn (FidelityWarning subclasses) when the discretisation cannot give ~1 %.
     ``before``: the checks that do not need the solution (mesh, order, material);
     otherwise only the wavelength check at ``f_top``."""
@@ -88,20 +93,26 @@ def fidelity_warnings(design: WheelDesign, h: float, order: int, f_top: float | 
                 f"nu = {design.poissons_ratio:g} > {LOCKING_NU:g} with linear (P1) elements: "
                 "volumetric locking makes the frequencies too high (Table 1: +7 % at "
                 "nu = 0.49, +47 % at 0.499); use order=2",
-                LockingWarning, stacklevel=4)
+                LockingWarning,
+                stacklevel=4,
+            )
         if order == 1 and per_web < P1_ELEMENTS_THROUGH_WEB * (1 - 1e-9):
             warnings.warn(
                 f"linear (P1) elements with {per_web:.3g} elements through the "
                 f"{t * 1e3:.3g} mm web lock in bending: frequencies too high by more than "
                 f"1 % (Table 1: +3 % with 4, +0.8 % with {P1_ELEMENTS_THROUGH_WEB}); use order=2",
-                LockingWarning, stacklevel=4)
+                LockingWarning,
+                stacklevel=4,
+            )
         elif order == 2 and h > t * (1 + 1e-9):
             warnings.warn(
                 f"mesh size {h * 1e3:.3g} mm exceeds the web thickness {t * 1e3:.3g} mm "
                 "(fewer than one element through the web): frequency errors of several % "
                 "(Table 1: 1.4 % at twice the thickness, 6 % at 8 times); use "
                 "elements_through_web >= 1",
-                ResolutionWarning, stacklevel=4)
+                ResolutionWarning,
+                stacklevel=4,
+            )
     if f_top is not None and f_top > 0:
         lam = shortest_wavelength(design, f_top)
         need = RESOLUTION_ELEMENTS[order]
@@ -112,4 +123,6 @@ def fidelity_warnings(design: WheelDesign, h: float, order: int, f_top: float | 
                 f"bending or shear) spans {lam / h:.2g} elements, fewer than {need:g} "
                 f"(about 1 % frequency error); refine the mesh to size <= "
                 f"{lam / need * 1e3:.3g} mm or lower fmax_hz",
-                ResolutionWarning, stacklevel=4)
+                ResolutionWarning,
+                stacklevel=4,
+            )

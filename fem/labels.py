@@ -50,8 +50,11 @@ class ProfileLabeller:
         self.pts_rz, self.tris = corner_mesh(skm)
         self.nodal = basis.nodal_dofs[:, : skm.nvertices]  # (3, Nv) DOFs at the corners
         self.symmetric = is_mirror_symmetric(design)
-        self.P_mirror = (probe_matrix(basis, np.vstack([self.pts_rz[:, 0], -self.pts_rz[:, 1]]))
-                         if self.symmetric else None)
+        self.P_mirror = (
+            probe_matrix(basis, np.vstack([self.pts_rz[:, 0], -self.pts_rz[:, 1]]))
+            if self.symmetric
+            else None
+        )
         self.split = [np.nonzero(model.comp == c)[0] for c in range(3)]
         self.M_blocks = [model.M[idx][:, idx] for idx in self.split]
 

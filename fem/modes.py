@@ -12,8 +12,8 @@ from __future__ import annotations
 import dataclasses
 import json
 import math
+from collections.abc import Iterable, Sequence
 from dataclasses import dataclass, field
-from typing import Iterable, Sequence
 
 import numpy as np
 
@@ -159,7 +159,7 @@ class ModeSelection:
     near_hz: float | None = None
 
     @classmethod
-    def parse(cls, text: str) -> "ModeSelection":
+    def parse(cls, text: str) -> ModeSelection:
         """Parse ``auto``, an index ``5``, a label ``n=3`` / ``n=3,c=1`` or ``f=1100``."""
         t = text.strip().lower().replace(" ", "")
         if t in ("", "auto", "default"):
@@ -168,9 +168,7 @@ class ModeSelection:
             return cls(index=int(t), nodal_diameters=None, nodal_circles=None, family=None)
         parts = dict(p.split("=", 1) for p in t.split(",") if "=" in p)
         if not parts or len(parts) != len(t.split(",")):
-            raise ValueError(
-                f"unknown mode {text!r}: use auto, an index (e.g. 4), n=3[,c=0] or f=1100"
-            )
+            raise ValueError(f"unknown mode {text!r}: use auto, an index (e.g. 4), n=3[,c=0] or f=1100")
         try:
             if "f" in parts:
                 near = float(parts["f"])
@@ -224,12 +222,13 @@ def select_mode(modes: Sequence[Mode], selection: ModeSelection | None = None) -
             f", {sel.nodal_circles} nodal circles" if sel.nodal_circles is not None else ""
         )
         top = max(m.frequency_hz for m in modes)
-        raise LookupError(f"no {sel.family or ''} mode with {what} among the {len(modes)} computed modes "
-                          f"(up to {top:.0f} Hz): raise the band (fmax) or pick another mode".replace("  ", " "))
+        raise LookupError(
+            f"no {sel.family or ''} mode with {what} among the {len(modes)} computed modes "
+            f"(up to {top:.0f} Hz): raise the band (fmax) or pick another mode".replace("  ", " ")
+        )
     m = cands[0]
     why = (
-        f"lowest {m.family} mode with {m.nodal_diameters} nodal diameters and "
-        f"{m.nodal_circles} nodal circles"
+        f"lowest {m.family} mode with {m.nodal_diameters} nodal diameters and {m.nodal_circles} nodal circles"
     )
     return m, why
 
@@ -270,7 +269,7 @@ class ModeSet:
         return arrays
 
     @classmethod
-    def from_arrays(cls, arrays: dict[str, np.ndarray]) -> "ModeSet":
+    def from_arrays(cls, arrays: dict[str, np.ndarray]) -> ModeSet:
         """The mode set :meth:`to_arrays` wrote."""
         meta = json.loads(str(arrays["meta"]))
         modes = [Mode(**{**m, "contact_axial": tuple(m["contact_axial"])}) for m in meta["modes"]]

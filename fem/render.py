@@ -31,7 +31,8 @@ use the combination of the pair whose displacement at the contact point is large
 ``phi = (a_c a + b_c b) / sqrt(a_c^2 + b_c^2)`` with ``a_c``, ``b_c`` the axial contact
 displacements of the members (for radial / circumferential modes, whose axial contact
 value is round-off, the combination maximising the whole contact displacement
-vector). It is mass-normalised like the members, does not depend on how the solver rotated the pair, and is the shape the contact
+vector). It is mass-normalised like the members, does not depend on how the solver rotated the pair, and
+is the shape the contact
 actually excites: its contact displacement squared is 1 / (contact modal mass), so the
 contact point sits on an antinode and the nodal diameters are placed where the squeal
 model sees them. Its partner (the orthogonal combination, a node at the contact) is kept
@@ -43,10 +44,10 @@ from __future__ import annotations
 import math
 import os
 import tempfile
+from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 from io import BytesIO
 from pathlib import Path
-from typing import Iterable, Sequence
 
 import numpy as np
 
@@ -361,8 +362,15 @@ class _Scene:
 
 def _add_label(pl, point: np.ndarray, text: str, name: str, fs: float) -> None:
     pl.add_point_labels(
-        np.asarray(point, dtype=float)[None, :], [text], font_size=max(8, round(18 * fs)), text_color="darkred",
-        shape=None, show_points=False, always_visible=True, bold=True, name=name,
+        np.asarray(point, dtype=float)[None, :],
+        [text],
+        font_size=max(8, round(18 * fs)),
+        text_color="darkred",
+        shape=None,
+        show_points=False,
+        always_visible=True,
+        bold=True,
+        name=name,
         reset_camera=False,
     )
 
@@ -412,9 +420,7 @@ def _build_scene(
     grid.point_data["u"] = u_all
     grid.point_data["comp"] = _cylindrical_component(pts, u_all, mode.family)
     grid.point_data["r"] = r_all
-    surf = grid.extract_surface(
-        pass_pointid=False, pass_cellid=False, algorithm="dataset_surface"
-    )
+    surf = grid.extract_surface(pass_pointid=False, pass_cellid=False, algorithm="dataset_surface")
     surf.point_data["|u|"] = np.linalg.norm(surf.point_data["u"], axis=1)
 
     pl = pv.Plotter(off_screen=True, window_size=list(window_size))
@@ -451,13 +457,18 @@ def _build_scene(
 
         # the bar's own title collides with its labels when horizontal: a text above it
         pl.add_text(
-            "displacement magnitude [m/sqrt(kg)]", position=(0.3, 0.118), viewport=True,
-            font_size=max(6, round(9 * fs)), color="black",
+            "displacement magnitude [m/sqrt(kg)]",
+            position=(0.3, 0.118),
+            viewport=True,
+            font_size=max(6, round(9 * fs)),
+            color="black",
         )
 
         if show_outline:
             edges = surf.extract_feature_edges(
-                feature_angle=30.0, boundary_edges=True, non_manifold_edges=False,
+                feature_angle=30.0,
+                boundary_edges=True,
+                non_manifold_edges=False,
                 manifold_edges=False,
             )
             if edges.n_points:
@@ -479,8 +490,12 @@ def _build_scene(
                 segs = []
                 for t in angles:
                     c, s = math.cos(t), math.sin(t)
-                    segs.append([(1.04 * radius * c, 1.04 * radius * s, 0.0),
-                                 (1.22 * radius * c, 1.22 * radius * s, 0.0)])
+                    segs.append(
+                        [
+                            (1.04 * radius * c, 1.04 * radius * s, 0.0),
+                            (1.22 * radius * c, 1.22 * radius * s, 0.0),
+                        ]
+                    )
                 ticks = pv.line_segments_from_points(np.array(segs).reshape(-1, 3))
                 pl.add_mesh(ticks, color="#1f3fbf", line_width=5.0)
 
@@ -495,8 +510,12 @@ def _build_scene(
             pl.add_mesh(sphere, color="red", smooth_shading=True)
             # an arrow pointing radially at the contact point, as the roller presses on it
             arrow = pv.Arrow(
-                start=p0 + [0.30 * radius, 0.0, 0.0], direction=(-1.0, 0.0, 0.0),
-                scale=0.26 * radius, tip_length=0.3, tip_radius=0.12, shaft_radius=0.04,
+                start=p0 + [0.30 * radius, 0.0, 0.0],
+                direction=(-1.0, 0.0, 0.0),
+                scale=0.26 * radius,
+                tip_length=0.3,
+                tip_radius=0.12,
+                shaft_radius=0.04,
             )
             ap0 = np.array(arrow.points)
             au = np.tile(u_all[k], (arrow.n_points, 1))
@@ -507,12 +526,16 @@ def _build_scene(
             labels.append((lab0, u_all[k], "contact"))
             _add_label(pl, lab0 + scale * u_all[k], "contact", f"label{len(labels) - 1}", fs)
 
-        pl.add_text(mode_title(modeset, i), position="upper_edge", font_size=max(7, round(14 * fs)), color="black")
+        pl.add_text(
+            mode_title(modeset, i), position="upper_edge", font_size=max(7, round(14 * fs)), color="black"
+        )
         member_txt = "contact-aligned combination" if member == "contact" else f"member {member}"
         pl.add_text(
             f"deformation x{scale:.3g} (peak = {100 * scale * umax / radius:.0f} % of R); "
             f"{member_txt}; white: nodal lines, blue ticks: nodal diameters",
-            position="lower_left", font_size=max(5, round(8 * fs)), color="#444444",
+            position="lower_left",
+            font_size=max(5, round(8 * fs)),
+            color="#444444",
         )
         pl.camera_position = _camera(camera, radius, float(np.ptp(pts[:, 2])))
         pl.reset_camera()
@@ -552,9 +575,17 @@ def render_mode(
     notebook displays as a picture.
     """
     sc = _build_scene(
-        modeset, i, scale=scale, amplitude=amplitude, member=member,
-        window_size=window_size, show_outline=show_outline, show_contact=show_contact,
-        show_nodal_lines=show_nodal_lines, camera=camera, cmap=cmap,
+        modeset,
+        i,
+        scale=scale,
+        amplitude=amplitude,
+        member=member,
+        window_size=window_size,
+        show_outline=show_outline,
+        show_contact=show_contact,
+        show_nodal_lines=show_nodal_lines,
+        camera=camera,
+        cmap=cmap,
     )
     try:
         img = np.asarray(sc.plotter.screenshot(return_img=True))[..., :3].copy()
@@ -586,8 +617,14 @@ def render_modes(
     out_dir.mkdir(parents=True, exist_ok=True)
     idx = range(len(modeset.modes)) if indices is None else list(indices)
     opts = dict(
-        scale=None, amplitude=0.08, member="contact", window_size=(1024, 768),
-        show_outline=True, show_contact=True, show_nodal_lines=True, camera="iso",
+        scale=None,
+        amplitude=0.08,
+        member="contact",
+        window_size=(1024, 768),
+        show_outline=True,
+        show_contact=True,
+        show_nodal_lines=True,
+        camera="iso",
         cmap="turbo",
     )
     unknown = set(kwargs) - set(opts)
@@ -605,8 +642,9 @@ def render_modes(
         written.append(_write_bytes_atomic(out_dir / f"{stem}.png", _png_bytes(img)))
         if gif:
             written.append(
-                _animate(modeset, i, out_dir / f"{stem}.gif", frames, fps,
-                         {**opts, "window_size": gif_window_size})
+                _animate(
+                    modeset, i, out_dir / f"{stem}.gif", frames, fps, {**opts, "window_size": gif_window_size}
+                )
             )
     return written
 

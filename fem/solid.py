@@ -65,7 +65,14 @@ from .eigen import blas_threads, solve_eigen
 from .elasticity import assemble_elasticity
 from .meshes import to_skfem_tet
 from .modes import DEFAULT_FMAX_HZ, EmptyBandWarning, Mode, ModeSet, clean_contact
-from .rules import count_sign_changes, free_shift, in_plane_fraction, is_mirror_symmetric, lame, rigid_frequency
+from .rules import (
+    count_sign_changes,
+    free_shift,
+    in_plane_fraction,
+    is_mirror_symmetric,
+    lame,
+    rigid_frequency,
+)
 
 #: Relative frequency gap below which two consecutive modes with the same labels
 #: (n >= 1, nodal circles, family) are a degenerate cos/sin pair. The unstructured
@@ -90,7 +97,9 @@ class SolidModel:
     curved: bool
 
 
-def assemble(design, points, tetra, order: int = 2, boundary: str = "clamped", fast: bool = True) -> SolidModel:
+def assemble(
+    design, points, tetra, order: int = 2, boundary: str = "clamped", fast: bool = True
+) -> SolidModel:
     """Stiffness and mass of the wheel on a tetrahedral mesh, and the clamped DOFs.
 
     ``fast``: vectorised assembly (:func:`_assemble_elasticity`); ``False`` uses
@@ -120,9 +129,7 @@ def assemble(design, points, tetra, order: int = 2, boundary: str = "clamped", f
         # Bore facets: boundary facets whose corner centroid lies on (or, for straight
         # chords, just inside) r = bore_radius; interior facets are h away.
         tol = 1e-6 * design.rolling_radius
-        facets = mesh.facets_satisfying(
-            lambda x: np.hypot(x[0], x[1]) <= rb + tol, boundaries_only=True
-        )
+        facets = mesh.facets_satisfying(lambda x: np.hypot(x[0], x[1]) <= rb + tol, boundaries_only=True)
         if len(facets) == 0:
             raise ValueError("no boundary facet found on the bore (r = bore_radius)")
         fixed = np.unique(basis.get_dofs(facets).all())
@@ -206,7 +213,11 @@ class _Labeller:
             ur, ut, uz = _cyl(self.xyz, self.vectors(phi))
             th = self.theta
             for i, (vx, vy, vz) in enumerate(
-                ((ur * np.cos(th), ur * np.sin(th), 0 * ur), (-ut * np.sin(th), ut * np.cos(th), 0 * ut), (0 * uz, 0 * uz, uz))
+                (
+                    (ur * np.cos(th), ur * np.sin(th), 0 * ur),
+                    (-ut * np.sin(th), ut * np.cos(th), 0 * ut),
+                    (0 * uz, 0 * uz, uz),
+                )
             ):
                 v = np.zeros_like(phi)
                 v[self.comp[0]], v[self.comp[1]], v[self.comp[2]] = vx, vy, vz
@@ -338,7 +349,9 @@ def solve_solid(
     if mesh is None:
         from geometry.gmsh_mesh import mesh_wheel
 
-        mesh = mesh_wheel(design, size=size, elements_through_web=elements_through_web, order=MESH_ORDER.get(order, 1))
+        mesh = mesh_wheel(
+            design, size=size, elements_through_web=elements_through_web, order=MESH_ORDER.get(order, 1)
+        )
     timings["mesh"] = time.perf_counter() - t0
 
     t1 = time.perf_counter()
@@ -409,7 +422,9 @@ def solve_model(
             f"no natural frequency at or below fmax_hz = {fmax_hz:g} Hz "
             f"({'free' if free_free else 'clamped'} wheel {getattr(design, 'name', '')!r}): "
             f"{low}; returning an empty ModeSet (raise fmax_hz)",
-            EmptyBandWarning, stacklevel=3)
+            EmptyBandWarning,
+            stacklevel=3,
+        )
     t_lab = time.perf_counter() - t3
     order = 2 if A.basis.edge_dofs.size else 1
     ms = ModeSet(
@@ -428,10 +443,15 @@ def solve_model(
 MESH_ORDER = {1: 1, 2: 2}
 
 
-def _drop_rigid(A: SolidModel, X: np.ndarray, lam: np.ndarray, f_rigid: float) -> tuple[np.ndarray, np.ndarray]:
+def _drop_rigid(
+    A: SolidModel, X: np.ndarray, lam: np.ndarray, f_rigid: float
+) -> tuple[np.ndarray, np.ndarray]:
     """Remove the six rigid-body modes of a free-free solve (checked, not assumed)."""
     b = A.basis
-    comp = [np.concatenate([b.nodal_dofs[c], b.edge_dofs[c]]) if b.edge_dofs.size else b.nodal_dofs[c] for c in range(3)]
+    comp = [
+        np.concatenate([b.nodal_dofs[c], b.edge_dofs[c]]) if b.edge_dofs.size else b.nodal_dofs[c]
+        for c in range(3)
+    ]
     xyz = b.doflocs[:, comp[0]]
     R = _rigid_modes([xyz[0], xyz[1], xyz[2]], comp, b.N)
     # M-orthonormal basis of the rigid space
@@ -463,7 +483,10 @@ def _mirror_map(design, A: SolidModel):
     from scipy.spatial import cKDTree  # noqa: PLC0415
 
     b = A.basis
-    comp = [np.concatenate([b.nodal_dofs[c], b.edge_dofs[c]]) if b.edge_dofs.size else b.nodal_dofs[c] for c in range(3)]
+    comp = [
+        np.concatenate([b.nodal_dofs[c], b.edge_dofs[c]]) if b.edge_dofs.size else b.nodal_dofs[c]
+        for c in range(3)
+    ]
     xyz = b.doflocs[:, comp[0]]
     mirrored = xyz * np.array([[1.0], [1.0], [-1.0]])
     _, j = cKDTree(xyz.T).query(mirrored.T)
@@ -535,4 +558,12 @@ def _build_modes(design, A: SolidModel, X: np.ndarray, lam: np.ndarray, fmax_hz,
     return modes, shapes, kept
 
 
-__all__ = ["PAIR_RTOL", "SolidModel", "assemble", "eigen_guess", "solve_model", "solve_solid", "straight_basis"]
+__all__ = [
+    "PAIR_RTOL",
+    "SolidModel",
+    "assemble",
+    "eigen_guess",
+    "solve_model",
+    "solve_solid",
+    "straight_basis",
+]

@@ -78,8 +78,15 @@ def parse_method(label: str) -> tuple[str, int, int]:
     return base, order, mesh_order
 
 
-def solve_modes(design, mesh, solver: str, *, order: int = 2, fmax_hz: float = DEFAULT_FMAX_HZ,
-                n_sectors: int | None = None) -> ModeSet:
+def solve_modes(
+    design,
+    mesh,
+    solver: str,
+    *,
+    order: int = 2,
+    fmax_hz: float = DEFAULT_FMAX_HZ,
+    n_sectors: int | None = None,
+) -> ModeSet:
     """Modes up to ``fmax_hz`` [Hz] of ``solver`` on a mesh from :mod:`geometry.mesh`: a
     ``ProfileMesh`` for "axisym" (curved elements if it is second order) and "3d"
     (revolved in ``n_sectors``, default :func:`fem.cyclic.default_sectors`), a

@@ -111,11 +111,11 @@ class WheelDesign:
         return self.youngs_modulus / (2.0 * (1.0 + self.poissons_ratio))
 
     # -- copies and hashes ------------------------------------------------------------
-    def replace(self, **changes: Any) -> "WheelDesign":
+    def replace(self, **changes: Any) -> WheelDesign:
         """A validated copy with some fields changed."""
         return dataclasses.replace(self, **changes)
 
-    def scaled(self, factor: float) -> "WheelDesign":
+    def scaled(self, factor: float) -> WheelDesign:
         """The same wheel with every length (wheel and roller) multiplied by ``factor``."""
         lengths = SECTIONS["wheel"] + SECTIONS["roller"]
         return self.replace(**{k: getattr(self, k) * factor for k in lengths})
@@ -142,7 +142,7 @@ class WheelDesign:
 
     # -- TOML -------------------------------------------------------------------------
     @classmethod
-    def from_toml(cls, path: str | Path) -> "WheelDesign":
+    def from_toml(cls, path: str | Path) -> WheelDesign:
         """Load a design; missing keys take the Table 1 defaults, unknown keys are errors."""
         path = Path(path)
         try:
@@ -158,18 +158,21 @@ class WheelDesign:
         if "name" not in data and not _NAME.fullmatch(path.stem):
             raise DesignError(
                 f"{path}: the file name {path.stem!r} is not a usable design name ({_NAME_RULE}); "
-                "set name = \"...\" in the file"
+                'set name = "..." in the file'
             )
         design = cls.from_mapping(data, default_name=path.stem, source=str(path))
         if not set(data) & set(SECTIONS):
-            warnings.warn(f"design file {path} gives no [wheel], [material], [roller], [contact] "
-                          "or [damping] values: it is the default Table 1 wheel", stacklevel=2)
+            warnings.warn(
+                f"design file {path} gives no [wheel], [material], [roller], [contact] "
+                "or [damping] values: it is the default Table 1 wheel",
+                stacklevel=2,
+            )
         return design
 
     @classmethod
     def from_mapping(
         cls, data: dict[str, Any], default_name: str = "design", source: str = "design"
-    ) -> "WheelDesign":
+    ) -> WheelDesign:
         """Build from a nested mapping shaped like the TOML file."""
         values: dict[str, Any] = {}
         for key, value in data.items():
@@ -199,9 +202,7 @@ class WheelDesign:
                 continue
             # bool is an int subclass: reject it explicitly.
             if isinstance(v, bool) or not isinstance(v, (int, float)):
-                raise DesignError(
-                    f"{source}: '{key}' must be a number, got {type(v).__name__} {v!r}"
-                )
+                raise DesignError(f"{source}: '{key}' must be a number, got {type(v).__name__} {v!r}")
             values[key] = float(v)
         return cls(**values)
 
@@ -256,16 +257,26 @@ _UNIT_RANGES: dict[str, tuple[float, float, tuple[tuple[float, str], ...]]] = {
 #: Largest size of a wheel or roller [m] before it reads as millimetres (the crown radii
 #: are curvatures, not sizes: a nearly flat tread has a very large one).
 MAX_LENGTH_M = 10.0
-_SIZES = ("rolling_radius", "rim_width", "rim_depth", "web_thickness", "bore_radius",
-          "web_offset", "roller_rolling_radius")
+_SIZES = (
+    "rolling_radius",
+    "rim_width",
+    "rim_depth",
+    "web_thickness",
+    "bore_radius",
+    "web_offset",
+    "roller_rolling_radius",
+)
 
 
-def _unit_hint(name: str, value: float, low: float, high: float,
-               guesses: tuple[tuple[float, str], ...], unit: str) -> str:
+def _unit_hint(
+    name: str, value: float, low: float, high: float, guesses: tuple[tuple[float, str], ...], unit: str
+) -> str:
     for factor, guess in guesses:
         if low <= value * factor <= high:
-            return (f"{name} = {value:g} {unit} is outside the range of wheel materials "
-                    f"({low:g} to {high:g} {unit}): it looks like {guess}; write {value * factor:g}")
+            return (
+                f"{name} = {value:g} {unit} is outside the range of wheel materials "
+                f"({low:g} to {high:g} {unit}): it looks like {guess}; write {value * factor:g}"
+            )
     return f"{name} = {value:g} {unit} is outside the range of wheel materials ({low:g} to {high:g} {unit})"
 
 
@@ -299,12 +310,12 @@ def validate(d: WheelDesign) -> None:
     for key in _SIZES:
         v = getattr(d, key)
         if abs(v) > MAX_LENGTH_M:
-            raise DesignError(f"{key} = {v:g} m is longer than any wheel ({MAX_LENGTH_M:g} m): "
-                              f"it looks like millimetres; write {v / 1000:g}")
+            raise DesignError(
+                f"{key} = {v:g} m is longer than any wheel ({MAX_LENGTH_M:g} m): "
+                f"it looks like millimetres; write {v / 1000:g}"
+            )
     if d.rim_depth >= d.rolling_radius:
-        raise DesignError(
-            f"rim_depth must be below rolling_radius ({d.rolling_radius} m), got {d.rim_depth}"
-        )
+        raise DesignError(f"rim_depth must be below rolling_radius ({d.rolling_radius} m), got {d.rim_depth}")
     if d.crown_radius < d.rim_width / 2:
         raise DesignError(
             f"crown_radius must be at least rim_width/2 = {d.rim_width / 2} m, got {d.crown_radius}"
@@ -315,9 +326,7 @@ def validate(d: WheelDesign) -> None:
             f"(rolling_radius - rim_depth = {d.rim_inner_radius:.6g} m), got {d.bore_radius}"
         )
     if d.web_thickness > d.rim_width:
-        raise DesignError(
-            f"web_thickness must not exceed rim_width ({d.rim_width} m), got {d.web_thickness}"
-        )
+        raise DesignError(f"web_thickness must not exceed rim_width ({d.rim_width} m), got {d.web_thickness}")
     limit = (d.rim_width - d.web_thickness) / 2
     if abs(d.web_offset) > limit * (1 + 1e-12):
         raise DesignError(

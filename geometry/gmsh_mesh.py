@@ -14,14 +14,23 @@ from __future__ import annotations
 import math
 import os
 import threading
+from collections.abc import Iterator
 from contextlib import contextmanager
-from typing import Iterator
 
 import numpy as np
 
 from .design import WheelDesign, validate
-from .mesh import (MAX_ELEMENTS, PHYSICAL_TAGS, MeshError, ProfileMesh, SolidMesh, bore_size,
-                   estimate_element_count, mesh_size, readonly)
+from .mesh import (
+    MAX_ELEMENTS,
+    PHYSICAL_TAGS,
+    MeshError,
+    ProfileMesh,
+    SolidMesh,
+    bore_size,
+    estimate_element_count,
+    mesh_size,
+    readonly,
+)
 from .profile import half_profile, profile_area, revolved_volume
 from .simplex import inverted, jacobians, orient, straighten
 
@@ -35,18 +44,17 @@ _LOCK = threading.RLock()  # gmsh is a process-wide singleton and not thread-saf
 #: to the exact one; otherwise the mesh is refined locally instead.
 _STRAIGHT_TOL = 2e-3
 
+
 def _measure_error(points, cells, dim, order, design) -> float:
     det, _, w = jacobians(points, cells, dim, order)
     exact = profile_area(design) if dim == 2 else revolved_volume(design)
     return abs(float((det @ w).sum()) / exact - 1.0)
 
 
-
 def _check_order(order: int) -> int:
     if isinstance(order, bool) or order not in (1, 2):
         raise ValueError(f"order must be 1 or 2, got {order!r}")
     return int(order)
-
 
 
 def _check_count(design: WheelDesign, h: float, dim: int) -> None:
@@ -56,7 +64,6 @@ def _check_count(design: WheelDesign, h: float, dim: int) -> None:
             f"size {h:.3g} m would give about {est:.3g} elements (limit {MAX_ELEMENTS:.0e}); "
             "use a larger size or fewer elements through the web"
         )
-
 
 
 @contextmanager
@@ -92,7 +99,6 @@ def _gmsh_session(verbose: bool) -> Iterator[object]:
                         gmsh.option.setNumber(name, value)
 
 
-
 _OPTIONS_TOUCHED = (
     "General.Terminal",
     "General.NumThreads",
@@ -109,6 +115,7 @@ _OPTIONS_TOUCHED = (
     "Mesh.MeshSizeExtendFromBoundary",
     "Mesh.Optimize",
 )
+
 
 def _outline(design: WheelDesign) -> tuple[list[tuple[float, float]], list[str]]:
     """Profile vertices and segment kinds ('bore', 'line', 'arc'), with segments shorter
@@ -141,7 +148,6 @@ def _outline(design: WheelDesign) -> tuple[list[tuple[float, float]], list[str]]
             del kinds[i]
         else:
             raise MeshError(f"design {design.name!r}: degenerate profile near {verts[i]}")
-
 
 
 def _build_profile_surface(gmsh, design: WheelDesign, h: float, dim: int):
@@ -181,7 +187,6 @@ def _build_profile_surface(gmsh, design: WheelDesign, h: float, dim: int):
     return surface, bore, tread
 
 
-
 def _classify_surfaces(gmsh, design: WheelDesign, volume: int):
     """Bore and tread surfaces of the revolved solid, found by sampling each boundary
     surface: all samples at r = bore_radius, or all on the crown circle."""
@@ -209,7 +214,6 @@ def _classify_surfaces(gmsh, design: WheelDesign, volume: int):
     return bore, tread
 
 
-
 def _set_options(gmsh, h: float, order: int, dim: int) -> None:
     opt = gmsh.option.setNumber
     opt("General.NumThreads", 1)  # deterministic meshes
@@ -228,7 +232,6 @@ def _set_options(gmsh, h: float, order: int, dim: int) -> None:
     opt("Mesh.HighOrderOptimize", 0)
 
 
-
 def _attempts(dim: int, order: int) -> list[int]:
     """The 3-D algorithm of each meshing attempt, tried until no curved element has a
     non-positive Jacobian. Delaunay (1) sometimes leaves a flat tet with all four
@@ -242,8 +245,8 @@ def _attempts(dim: int, order: int) -> list[int]:
     return [1, 10] + [1] * _REFINEMENTS
 
 
-
 _REFINEMENTS = 4  # local halvings of the size around inverted curved elements
+
 
 class _Sizer:
     """gmsh size callback (gmsh units = rolling radius): the uniform size h, at least 16
@@ -284,7 +287,6 @@ class _Sizer:
         self.rings = np.concatenate([self.rings, new[first]])
 
 
-
 def _extract(gmsh, dim: int, order: int, bore: list[int], tread: list[int]):
     """Nodes, elements and boundary facets as compact numpy arrays (meshio ordering)."""
     cell_type = {(2, 1): 2, (2, 2): 9, (3, 1): 4, (3, 2): 11}[(dim, order)]
@@ -302,8 +304,7 @@ def _extract(gmsh, dim: int, order: int, bore: list[int], tread: list[int]):
 
     def facets_of(entities: list[int]) -> np.ndarray:
         blocks = [
-            np.asarray(gmsh.model.mesh.getElementsByType(facet_type, e)[1], dtype=np.int64)
-            for e in entities
+            np.asarray(gmsh.model.mesh.getElementsByType(facet_type, e)[1], dtype=np.int64) for e in entities
         ]
         return np.concatenate(blocks).reshape(-1, nn_f)
 
@@ -324,7 +325,6 @@ def _extract(gmsh, dim: int, order: int, bore: list[int], tread: list[int]):
     return points, cells, bore_f, tread_f
 
 
-
 def _contact_node(points: np.ndarray, design: WheelDesign) -> int:
     target = np.zeros(points.shape[1])
     target[0] = design.rolling_radius
@@ -333,7 +333,6 @@ def _contact_node(points: np.ndarray, design: WheelDesign) -> int:
     if dist[k] > 1e-9 * design.rolling_radius:
         raise MeshError(f"no mesh node at the contact point (nearest {dist[k]:.3g} m away)")
     return k
-
 
 
 def _run(design: WheelDesign, size, elements_through_web, order, verbose, dim):
@@ -391,24 +390,27 @@ def _run(design: WheelDesign, size, elements_through_web, order, verbose, dim):
                 if bad.any():
                     keep = np.union1d(bore_f, tread_f)
                     fixed, moved = straighten(points, cells, bad, keep, dim)
-                    if (not inverted(fixed, cells, dim, order).any()
-                            and _measure_error(fixed, cells, dim, order, design) <= _STRAIGHT_TOL):
+                    if (
+                        not inverted(fixed, cells, dim, order).any()
+                        and _measure_error(fixed, cells, dim, order, design) <= _STRAIGHT_TOL
+                    ):
                         points, straight, bad = fixed, moved, bad & False
                 if not bad.any():
                     break
-                failures.append(f"attempt {attempt}: {np.count_nonzero(bad)} inverted curved "
-                                "element(s)")
+                failures.append(f"attempt {attempt}: {np.count_nonzero(bad)} inverted curved element(s)")
                 sizer.refine(points, cells[bad], dim)
             else:
                 raise MeshError("; ".join(failures))
     except (MeshError, ValueError, TypeError) as exc:
         if isinstance(exc, MeshError) and not str(exc).startswith("design"):
-            raise MeshError(f"design {design.name!r} ({dim}-D, size {h:.4g} m, order {order}): "
-                            f"{exc}") from exc
+            raise MeshError(
+                f"design {design.name!r} ({dim}-D, size {h:.4g} m, order {order}): {exc}"
+            ) from exc
         raise
     except Exception as exc:  # gmsh raises plain Exception with its last error message
-        raise MeshError(f"gmsh failed to mesh design {design.name!r} ({dim}-D, size {h:.4g} m, "
-                        f"order {order}): {exc}") from exc
+        raise MeshError(
+            f"gmsh failed to mesh design {design.name!r} ({dim}-D, size {h:.4g} m, order {order}): {exc}"
+        ) from exc
     contact = _contact_node(points, design)
     common = dict(
         points=readonly(points),
@@ -427,7 +429,6 @@ def _run(design: WheelDesign, size, elements_through_web, order, verbose, dim):
     return SolidMesh(tetra=readonly(cells), **common)
 
 
-
 def mesh_profile(
     design: WheelDesign,
     size: float | None = None,
@@ -443,7 +444,6 @@ def mesh_profile(
     return _run(design, size, elements_through_web, order, verbose, dim=2)
 
 
-
 def mesh_wheel(
     design: WheelDesign,
     size: float | None = None,
@@ -457,5 +457,3 @@ def mesh_wheel(
     Raises ValueError for a bad size/order, MeshError if gmsh fails.
     """
     return _run(design, size, elements_through_web, order, verbose, dim=3)
-
-

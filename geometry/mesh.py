@@ -112,9 +112,7 @@ class _MeshBase:
         ``cells[:, :dim + 1]`` is the straight-sided first-order mesh."""
         return int(self.cells[:, : self.dim + 1].max()) + 1
 
-    def write(
-        self, path: str | Path, include_boundaries: bool = True, binary: bool | None = None
-    ) -> Path:
+    def write(self, path: str | Path, include_boundaries: bool = True, binary: bool | None = None) -> Path:
         """Write ``.msh`` (MSH 2.2, physical groups "wheel", "bore", "tread" with the tags
         of :data:`PHYSICAL_TAGS`) or ``.vtu`` through meshio, chosen by the extension.
         ``binary``: default ASCII for .msh, binary (compressed) for .vtu."""
@@ -275,7 +273,7 @@ class SectorLayout:
     face_triangles: np.ndarray
 
 
-def _sector_layout(m: "SolidMesh") -> SectorLayout:
+def _sector_layout(m: SolidMesh) -> SectorLayout:
     n = m.n_sectors
     nv = m.n_vertices // n
     q = (m.n_nodes - n * nv) // n  # mid nodes per sector: ne (face) + nv (C) + ne (D)
@@ -352,4 +350,3 @@ def estimate_element_count(design: WheelDesign, h: float, dim: int) -> int:
         if hb < h:
             est += 2600.0 * (t / hb) ** 0.62 * (t / h) ** 1.6
     return int(math.ceil(est))
-

@@ -56,9 +56,11 @@ def revolve_profile(profile: ProfileMesh, n_sectors: int) -> SolidMesh:
         mids = local[rows, perm[:, :, None], perm[:, None, :]]  # mids[t, i, j]: sorted i, j
 
     # the three tetrahedra of a prism: (corner, layer) of each vertex
-    split = (((0, 0), (1, 0), (2, 0), (2, 1)),
-             ((0, 0), (1, 0), (1, 1), (2, 1)),
-             ((0, 0), (0, 1), (1, 1), (2, 1)))
+    split = (
+        ((0, 0), (1, 0), (2, 0), (2, 1)),
+        ((0, 0), (1, 0), (1, 1), (2, 1)),
+        ((0, 0), (0, 1), (1, 1), (2, 1)),
+    )
     edges = ((0, 1), (1, 2), (2, 0), (0, 3), (1, 3), (2, 3))  # meshio tetra10
     s_all = np.arange(n)[:, None]
 
@@ -96,11 +98,14 @@ def revolve_profile(profile: ProfileMesh, n_sectors: int) -> SolidMesh:
     parts = [ring(pts[:nv, 0], pts[:nv, 1], th)]
     if order == 2:
         mp = pts[nv:]
-        blocks = np.concatenate([
-            ring(mp[:, 0], mp[:, 1], th).reshape(n, ne, 3),
-            ring(pts[:nv, 0], pts[:nv, 1], th + dth / 2).reshape(n, nv, 3),
-            ring(mp[:, 0], mp[:, 1], th + dth / 2).reshape(n, ne, 3),
-        ], axis=1)
+        blocks = np.concatenate(
+            [
+                ring(mp[:, 0], mp[:, 1], th).reshape(n, ne, 3),
+                ring(pts[:nv, 0], pts[:nv, 1], th + dth / 2).reshape(n, nv, 3),
+                ring(mp[:, 0], mp[:, 1], th + dth / 2).reshape(n, ne, 3),
+            ],
+            axis=1,
+        )
         parts.append(blocks.reshape(-1, 3))
     points = np.concatenate(parts)
     points[np.abs(points) < 1e-15 * float(np.abs(pts).max())] = 0.0
@@ -144,4 +149,3 @@ def revolve_profile(profile: ProfileMesh, n_sectors: int) -> SolidMesh:
         straight_mid_nodes=readonly(straight.astype(np.int64)),
         n_sectors=n,
     )
-

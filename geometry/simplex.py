@@ -105,4 +105,3 @@ def straighten(points, cells, bad, keep, dim) -> tuple[np.ndarray, np.ndarray]:
         points[mid[move]] = 0.5 * (points[e[:, i]] + points[e[:, j]])
         moved.append(mid[move])
     return points, np.unique(np.concatenate(moved))
-

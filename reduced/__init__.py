@@ -10,22 +10,56 @@ All quantities are SI (m, s, kg, N, Pa, W, Hz).
 from .contact import HertzContact, hertz_contact, kalker_c22
 from .creep import ContactLaw, adhesion_ratio, adhesion_ratio_slope, falling_friction_factor
 from .limit_cycle import Cycles, LimitCycle, analytic_growth_rate, cycles, limit_cycle
-from .model import (IntegrationError, ModalDOF, OperatingPoint, TimeHistory, choose_time_step,
-                    simulate, simulate_reference)
+from .model import (
+    IntegrationError,
+    ModalDOF,
+    OperatingPoint,
+    TimeHistory,
+    choose_time_step,
+    simulate,
+    simulate_reference,
+)
 from .predictor import LimitCyclePrediction, mean_power_per_cycle, predict_limit_cycle
-from .report import (summary_dicts, write_sweep_csv, write_sweep_plot, write_time_history_plots,
-                     write_timeseries_csv)
+from .report import (
+    summary_dicts,
+    write_sweep_csv,
+    write_sweep_plot,
+    write_time_history_plots,
+    write_timeseries_csv,
+)
 from .saturate import longest_record_s, simulate_to_limit_cycle
 from .sweep import SweepResult, sweep
 
 __all__ = [
-    "HertzContact", "hertz_contact", "kalker_c22",
-    "ContactLaw", "adhesion_ratio", "adhesion_ratio_slope", "falling_friction_factor",
-    "ModalDOF", "OperatingPoint", "TimeHistory", "IntegrationError", "choose_time_step",
-    "simulate", "simulate_reference",
-    "Cycles", "LimitCycle", "cycles", "limit_cycle", "analytic_growth_rate",
-    "LimitCyclePrediction", "mean_power_per_cycle", "predict_limit_cycle",
-    "SweepResult", "sweep", "longest_record_s", "simulate_to_limit_cycle",
-    "summary_dicts", "write_timeseries_csv", "write_time_history_plots",
-    "write_sweep_csv", "write_sweep_plot",
+    "HertzContact",
+    "hertz_contact",
+    "kalker_c22",
+    "ContactLaw",
+    "adhesion_ratio",
+    "adhesion_ratio_slope",
+    "falling_friction_factor",
+    "ModalDOF",
+    "OperatingPoint",
+    "TimeHistory",
+    "IntegrationError",
+    "choose_time_step",
+    "simulate",
+    "simulate_reference",
+    "Cycles",
+    "LimitCycle",
+    "cycles",
+    "limit_cycle",
+    "analytic_growth_rate",
+    "LimitCyclePrediction",
+    "mean_power_per_cycle",
+    "predict_limit_cycle",
+    "SweepResult",
+    "sweep",
+    "longest_record_s",
+    "simulate_to_limit_cycle",
+    "summary_dicts",
+    "write_timeseries_csv",
+    "write_time_history_plots",
+    "write_sweep_csv",
+    "write_sweep_plot",
 ]

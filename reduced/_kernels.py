@@ -103,11 +103,18 @@ def _rk4_step_1(y, u, m, c, k, law, h):
     a4 = u + h * b3
     q4 = lateral_force(a4, law)
     b4 = (q4 - c * a4 - k * (y + h * a3)) / m
-    work = h / 6.0 * ((q1 - c * a1) * a1 + 2.0 * (q2 - c * a2) * a2 + 2.0 * (q3 - c * a3) * a3 + (q4 - c * a4) * a4)
+    work = (
+        h
+        / 6.0
+        * ((q1 - c * a1) * a1 + 2.0 * (q2 - c * a2) * a2 + 2.0 * (q3 - c * a3) * a3 + (q4 - c * a4) * a4)
+    )
     absqv = h / 6.0 * (abs(q1 * a1) + 2.0 * abs(q2 * a2) + 2.0 * abs(q3 * a3) + abs(q4 * a4))
-    return (y + h / 6.0 * (a1 + 2.0 * a2 + 2.0 * a3 + a4),
-            u + h / 6.0 * (b1 + 2.0 * b2 + 2.0 * b3 + b4),
-            work, absqv)
+    return (
+        y + h / 6.0 * (a1 + 2.0 * a2 + 2.0 * a3 + a4),
+        u + h / 6.0 * (b1 + 2.0 * b2 + 2.0 * b3 + b4),
+        work,
+        absqv,
+    )
 
 
 @nb.njit(cache=True)
@@ -240,9 +247,24 @@ def extract_cycles(t, v, cum_p, cum_qv, out_start, out_amp, out_period, out_powe
 
 
 @nb.njit(cache=True, parallel=True)
-def sweep_kernel(m, c, k, laws, h_per_case, n_steps_per_case, cap,
-                 out_start, out_amp, out_period, out_power, out_absqv, out_ncycles,
-                 out_status, out_mismatch, out_emax):
+def sweep_kernel(
+    m,
+    c,
+    k,
+    laws,
+    h_per_case,
+    n_steps_per_case,
+    cap,
+    out_start,
+    out_amp,
+    out_period,
+    out_power,
+    out_absqv,
+    out_ncycles,
+    out_status,
+    out_mismatch,
+    out_emax,
+):
     """Run every case (row of ``laws``) from rest in parallel (prange) and reduce
     each time history to its cycles (see extract_cycles) without keeping it.
     The power integrals use the RK4 stage values (no extra force evaluation)."""
@@ -296,9 +318,17 @@ def sweep_kernel(m, c, k, laws, h_per_case, n_steps_per_case, cap,
         out_status[ic] = status
         out_emax[ic] = emax
         out_mismatch[ic] = abs(e_end - cp[last]) if status == 0 else np.inf
-        out_ncycles[ic] = extract_cycles(t[: last + 1], v[: last + 1], cp[: last + 1], cq[: last + 1],
-                                         out_start[ic], out_amp[ic], out_period[ic],
-                                         out_power[ic], out_absqv[ic])
+        out_ncycles[ic] = extract_cycles(
+            t[: last + 1],
+            v[: last + 1],
+            cp[: last + 1],
+            cq[: last + 1],
+            out_start[ic],
+            out_amp[ic],
+            out_period[ic],
+            out_power[ic],
+            out_absqv[ic],
+        )
 
 
 def rk4_numpy_batch(m, c, k, laws, h, n_steps):

@@ -15,7 +15,7 @@ Both are tested against SciPy to round-off (tests/test_reduced_contact_creep.py)
 from __future__ import annotations
 
 import math
-from typing import Callable
+from collections.abc import Callable
 
 __all__ = ["elliptic_ke", "find_root"]
 
@@ -39,8 +39,15 @@ def elliptic_ke(m: float) -> tuple[float, float]:
     return K, K * (1.0 - total)
 
 
-def find_root(f: Callable[[float], float], a: float, b: float, *, xtol: float = 1e-15,
-              rtol: float = 1e-14, maxiter: int = 200) -> float:
+def find_root(
+    f: Callable[[float], float],
+    a: float,
+    b: float,
+    *,
+    xtol: float = 1e-15,
+    rtol: float = 1e-14,
+    maxiter: int = 200,
+) -> float:
     """A root of ``f`` in [a, b], where ``f(a)`` and ``f(b)`` differ in sign, to within
     ``xtol + rtol |x|`` (Brent's method)."""
     fa, fb = f(a), f(b)

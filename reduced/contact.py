@@ -17,6 +17,7 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
+
 from ._numerics import elliptic_ke, find_root
 
 __all__ = ["HertzContact", "hertz_contact", "kalker_c22"]
@@ -84,7 +85,9 @@ def _curvature_excess(m: float) -> float:
     """B'/A' - 1 = [E/(1 - m) - K] / (K - E) - 1 of the Hertz ellipse with parameter m
     (Johnson eq. 4.39), ~ 3m/4 for a near circle."""
     if m < _M_SERIES:  # ratio of the two series, truncated at m^4 (error < 1e-12)
-        return 0.75 * m * (1 + m * (1.25 + m * 175 / 128)) / (1 + m * (0.375 + m * (15 / 64 + m * 175 / 1024)))
+        return (
+            0.75 * m * (1 + m * (1.25 + m * 175 / 128)) / (1 + m * (0.375 + m * (15 / 64 + m * 175 / 1024)))
+        )
     K, Ee = elliptic_ke(m)
     return (Ee / (1.0 - m) - K) / (K - Ee) - 1.0
 
@@ -142,8 +145,11 @@ def hertz_contact(
     e_star = E / (2.0 * (1.0 - nu * nu))
     small, large = (A, B) if A <= B else (B, A)
     excess = large / small - 1.0
-    m = 0.0 if excess <= 0.0 else find_root(lambda x: _curvature_excess(x) - excess, 0.0, 1.0 - 1e-15,
-                                            xtol=1e-300, rtol=1e-14)
+    m = (
+        0.0
+        if excess <= 0.0
+        else find_root(lambda x: _curvature_excess(x) - excess, 0.0, 1.0 - 1e-15, xtol=1e-300, rtol=1e-14)
+    )
     major = (3.0 * W * _k_minus_e_over_m(m) / (2.0 * math.pi * e_star * small)) ** (1.0 / 3.0)
     minor = major * math.sqrt(1.0 - m)
     # the major axis lies along the direction of the smaller curvature sum
@@ -173,17 +179,33 @@ def hertz_contact(
 # a: semi-axis along rolling, b: lateral. Rows first for a/b = 0.1 .. 0.9 (a < b),
 # then the circle, then b/a = 0.9 .. 0.1 (a > b).
 _KALKER_NU = np.array([0.0, 0.25, 0.5])
-_KALKER_C22_A_LT_B = np.array([  # a/b = 0.1, 0.2, ..., 0.9
-    [2.51, 2.52, 2.53], [2.59, 2.63, 2.66], [2.68, 2.75, 2.81], [2.78, 2.88, 2.98],
-    [2.88, 3.01, 3.14], [2.98, 3.14, 3.31], [3.09, 3.28, 3.48], [3.19, 3.41, 3.65],
-    [3.29, 3.54, 3.82],
-])
+_KALKER_C22_A_LT_B = np.array(
+    [  # a/b = 0.1, 0.2, ..., 0.9
+        [2.51, 2.52, 2.53],
+        [2.59, 2.63, 2.66],
+        [2.68, 2.75, 2.81],
+        [2.78, 2.88, 2.98],
+        [2.88, 3.01, 3.14],
+        [2.98, 3.14, 3.31],
+        [3.09, 3.28, 3.48],
+        [3.19, 3.41, 3.65],
+        [3.29, 3.54, 3.82],
+    ]
+)
 _KALKER_C22_CIRCLE = np.array([3.40, 3.67, 3.98])
-_KALKER_C22_A_GT_B = np.array([  # b/a = 0.9, 0.8, ..., 0.1
-    [3.51, 3.81, 4.16], [3.65, 3.99, 4.39], [3.82, 4.21, 4.67], [4.06, 4.50, 5.04],
-    [4.37, 4.90, 5.56], [4.84, 5.48, 6.31], [5.57, 6.40, 7.51], [6.96, 8.14, 9.79],
-    [10.7, 12.8, 16.0],
-])
+_KALKER_C22_A_GT_B = np.array(
+    [  # b/a = 0.9, 0.8, ..., 0.1
+        [3.51, 3.81, 4.16],
+        [3.65, 3.99, 4.39],
+        [3.82, 4.21, 4.67],
+        [4.06, 4.50, 5.04],
+        [4.37, 4.90, 5.56],
+        [4.84, 5.48, 6.31],
+        [5.57, 6.40, 7.51],
+        [6.96, 8.14, 9.79],
+        [10.7, 12.8, 16.0],
+    ]
+)
 # abscissa u: u = a/b - 1 for a <= b (-0.9 .. 0), u = 1 - b/a for a >= b (0 .. 0.9)
 _KALKER_U = np.concatenate([np.arange(1, 10) / 10.0 - 1.0, [0.0], 1.0 - np.arange(9, 0, -1) / 10.0])
 _KALKER_C22 = np.vstack([_KALKER_C22_A_LT_B, _KALKER_C22_CIRCLE, _KALKER_C22_A_GT_B])

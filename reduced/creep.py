@@ -61,9 +61,17 @@ class ContactLaw:
     decay_speed_2_m_s: float = 6.9
 
     def __post_init__(self) -> None:
-        for name in ("normal_load_n", "friction_coefficient", "stationary_friction_coefficient",
-                     "shear_modulus_pa", "semi_axis_a_m", "semi_axis_b_m", "c22",
-                     "decay_speed_1_m_s", "decay_speed_2_m_s"):
+        for name in (
+            "normal_load_n",
+            "friction_coefficient",
+            "stationary_friction_coefficient",
+            "shear_modulus_pa",
+            "semi_axis_a_m",
+            "semi_axis_b_m",
+            "c22",
+            "decay_speed_1_m_s",
+            "decay_speed_2_m_s",
+        ):
             value = getattr(self, name)
             if not (math.isfinite(value) and value > 0.0):
                 raise ValueError(f"ContactLaw.{name} must be positive and finite, got {value!r}")
@@ -75,7 +83,7 @@ class ContactLaw:
         friction_coefficient: float = 0.3,
         stationary_friction_coefficient: float | None = None,
         c22: float | str = TABLE1_C22,
-    ) -> "ContactLaw":
+    ) -> ContactLaw:
         """Build from a Hertz contact (which carries W, E, nu, a, b).
 
         ``c22`` is a number (Table 1: 3.14) or ``"kalker"`` for Kalker's table
@@ -85,7 +93,11 @@ class ContactLaw:
             if c22.lower() != "kalker":
                 raise ValueError(f"c22 must be a number or 'kalker', got {c22!r}")
             c22 = kalker_c22(hertz.a_over_b, hertz.poissons_ratio)
-        mu0 = friction_coefficient if stationary_friction_coefficient is None else stationary_friction_coefficient
+        mu0 = (
+            friction_coefficient
+            if stationary_friction_coefficient is None
+            else stationary_friction_coefficient
+        )
         return cls(
             normal_load_n=hertz.normal_load_n,
             friction_coefficient=float(friction_coefficient),
@@ -99,8 +111,13 @@ class ContactLaw:
     @property
     def normalised_creepage_per_creepage(self) -> float:
         """dz'/d|zeta| = G a b C22 / (mu_0 W) of Eq. 6, dimensionless."""
-        return (self.shear_modulus_pa * self.semi_axis_a_m * self.semi_axis_b_m * self.c22
-                / (self.stationary_friction_coefficient * self.normal_load_n))
+        return (
+            self.shear_modulus_pa
+            * self.semi_axis_a_m
+            * self.semi_axis_b_m
+            * self.c22
+            / (self.stationary_friction_coefficient * self.normal_load_n)
+        )
 
     @property
     def saturation_creepage(self) -> float:

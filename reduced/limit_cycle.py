@@ -156,23 +156,27 @@ def metrics_from_cycles(
         final = float(amp[-1]) if n else 0.0
         return LimitCycle(False, False, final, nan, nan, nan, growth_rate_analytic_1_s, cyc)
     w = min(window_cycles, n)
-    tail = amp[n - w:]
+    tail = amp[n - w :]
     final = float(tail.mean())
     spread = float(tail.max() - tail.min())
-    ceased = bool(record_end_s is not None and
-                  record_end_s - (cyc.start_s[-1] + cyc.period_s[-1]) > CEASED_PERIODS * cyc.period_s[-1])
+    ceased = bool(
+        record_end_s is not None
+        and record_end_s - (cyc.start_s[-1] + cyc.period_s[-1]) > CEASED_PERIODS * cyc.period_s[-1]
+    )
     if ceased:
         final = 0.0
     threshold = squeal_threshold * max(abs(crabbing_velocity_m_s), 1e-3)
     # the period of an oscillation decayed to round-off level means nothing
-    frequency = float(1.0 / cyc.period_s[n - w:].mean()) if final > threshold else nan
-    late_slope = _fit_log_slope(cyc.start_s[n - w:], tail)
+    frequency = float(1.0 / cyc.period_s[n - w :].mean()) if final > threshold else nan
+    late_slope = _fit_log_slope(cyc.start_s[n - w :], tail)
     # a flat envelope is a limit cycle only if it is flat compared with the linear rate:
     # a slow linear growth/decay near the stability boundary has slope ~ sigma
-    flat = not math.isfinite(late_slope) or \
-        abs(late_slope) <= LINEAR_RATE_FRACTION * abs(growth_rate_analytic_1_s)
-    saturated = bool(n >= window_cycles and final > threshold and spread <= saturation_tolerance * final
-                     and flat)
+    flat = not math.isfinite(late_slope) or abs(late_slope) <= LINEAR_RATE_FRACTION * abs(
+        growth_rate_analytic_1_s
+    )
+    saturated = bool(
+        n >= window_cycles and final > threshold and spread <= saturation_tolerance * final and flat
+    )
     squeal = bool(final > threshold and (saturated or (math.isfinite(late_slope) and late_slope > 0.0)))
     t_sat = nan
     if saturated:
@@ -184,8 +188,11 @@ def metrics_from_cycles(
         above = np.nonzero(amp >= 0.3 * final)[0]
         stop = int(above[0]) if len(above) else n
         lo = 1 if stop - 1 >= 3 else 0
-        growth = _fit_log_slope(cyc.start_s[lo:stop], amp[lo:stop]) if stop - lo >= 3 else \
-            _fit_log_slope(cyc.start_s[: min(n, 10)], amp[: min(n, 10)])
+        growth = (
+            _fit_log_slope(cyc.start_s[lo:stop], amp[lo:stop])
+            if stop - lo >= 3
+            else _fit_log_slope(cyc.start_s[: min(n, 10)], amp[: min(n, 10)])
+        )
     else:
         # decaying: fit down to DECAY_FIT_FLOOR of the largest envelope, not the round-off tail
         keep = amp >= DECAY_FIT_FLOOR * amp.max()
@@ -203,7 +210,12 @@ def limit_cycle(
     """Limit-cycle metrics of a TimeHistory (definitions in the module docstring)."""
     cyc = cycles(history)
     sigma = analytic_growth_rate(history.modes, history.contact, history.operating_point)
-    return metrics_from_cycles(cyc, history.operating_point.crabbing_velocity_m_s, sigma,
-                               window_cycles=window_cycles, saturation_tolerance=saturation_tolerance,
-                               squeal_threshold=squeal_threshold,
-                               record_end_s=float(history.t[-1]) if len(history.t) else None)
+    return metrics_from_cycles(
+        cyc,
+        history.operating_point.crabbing_velocity_m_s,
+        sigma,
+        window_cycles=window_cycles,
+        saturation_tolerance=saturation_tolerance,
+        squeal_threshold=squeal_threshold,
+        record_end_s=float(history.t[-1]) if len(history.t) else None,
+    )

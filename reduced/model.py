@@ -64,13 +64,13 @@ class ModalDOF:
         _finite_positive("ModalDOF", "damping_ns_m", self.damping_ns_m, allow_zero=True)
 
     @classmethod
-    def from_damping_ratio(cls, mass_kg: float, stiffness_n_m: float, damping_ratio: float) -> "ModalDOF":
+    def from_damping_ratio(cls, mass_kg: float, stiffness_n_m: float, damping_ratio: float) -> ModalDOF:
         """c = 2 zeta_d sqrt(k m); damping_ratio dimensionless (Table 1: 9.4e-4 -> 42 N s/m)."""
         _finite_positive("ModalDOF", "damping_ratio", damping_ratio, allow_zero=True)
         return cls(mass_kg, stiffness_n_m, 2.0 * damping_ratio * math.sqrt(stiffness_n_m * mass_kg))
 
     @classmethod
-    def from_frequency(cls, mass_kg: float, frequency_hz: float, damping_ratio: float) -> "ModalDOF":
+    def from_frequency(cls, mass_kg: float, frequency_hz: float, damping_ratio: float) -> ModalDOF:
         """k = (2 pi f)^2 m, c = 2 zeta_d sqrt(k m); f in Hz."""
         k = (2.0 * math.pi * frequency_hz) ** 2 * mass_kg
         return cls.from_damping_ratio(mass_kg, k, damping_ratio)
@@ -114,7 +114,7 @@ class OperatingPoint:
             raise ValueError(f"crabbing_velocity_m_s must be finite, got {self.crabbing_velocity_m_s!r}")
 
     @classmethod
-    def from_rpm(cls, rpm: float, wheel_radius_m: float, crabbing_velocity_m_s: float) -> "OperatingPoint":
+    def from_rpm(cls, rpm: float, wheel_radius_m: float, crabbing_velocity_m_s: float) -> OperatingPoint:
         """V0 = rpm 2 pi / 60 * R (R: rolling radius in m). 800 RPM on R = 0.213 m -> 17.84 m/s."""
         if not math.isfinite(float(rpm)) or rpm <= 0.0:
             raise ValueError(f"rpm must be > 0 and finite, got {rpm!r}")
@@ -122,7 +122,7 @@ class OperatingPoint:
         return cls(rpm * 2.0 * math.pi / 60.0 * wheel_radius_m, crabbing_velocity_m_s)
 
     @classmethod
-    def from_angle_of_attack(cls, rolling_speed_m_s: float, angle_of_attack_rad: float) -> "OperatingPoint":
+    def from_angle_of_attack(cls, rolling_speed_m_s: float, angle_of_attack_rad: float) -> OperatingPoint:
         """Vc = theta V0 (Eq. 5, small angle), theta in rad."""
         if not math.isfinite(float(angle_of_attack_rad)):
             raise ValueError(f"angle_of_attack_rad must be finite, got {angle_of_attack_rad!r}")
@@ -143,22 +143,33 @@ class IntegrationError(RuntimeError):
 MAX_STORED_SAMPLES = 10_000_000
 
 
-def _check_storage(n_out: int, n_modes: int, n_steps: int, h: float, duration: float,
-                   store_every: int, f_max: float, error=ValueError) -> None:
+def _check_storage(
+    n_out: int,
+    n_modes: int,
+    n_steps: int,
+    h: float,
+    duration: float,
+    store_every: int,
+    f_max: float,
+    error=ValueError,
+) -> None:
     if n_out <= MAX_STORED_SAMPLES:
         return
     need = int(math.ceil(n_steps / (MAX_STORED_SAMPLES - 1)))
     per_period = 1.0 / (f_max * h * need)
     gb = n_out * (2 * n_modes + 12) * 8 / 1e9
     # limit-cycle metrics need >= 16 samples per period of the highest mode
-    fix = (f"pass store_every >= {need} (keeps {per_period:.0f} samples per period)"
-           if per_period >= 16 else
-           f"shorten the duration to at most {MAX_STORED_SAMPLES / (16 * f_max):.3g} s (16 samples "
-           f"per period, store_every = {max(1, int(1 / (16 * f_max * h)))})")
+    fix = (
+        f"pass store_every >= {need} (keeps {per_period:.0f} samples per period)"
+        if per_period >= 16
+        else f"shorten the duration to at most {MAX_STORED_SAMPLES / (16 * f_max):.3g} s (16 samples "
+        f"per period, store_every = {max(1, int(1 / (16 * f_max * h)))})"
+    )
     raise error(
         f"simulate would store {n_out:,} samples (~{gb:.1f} GB): {n_steps:,} RK4 steps of "
         f"{h:.3g} s over {duration:g} s with store_every={store_every} (highest mode "
-        f"{f_max:.4g} Hz); {fix} (limit MAX_STORED_SAMPLES = {MAX_STORED_SAMPLES:,})")
+        f"{f_max:.4g} Hz); {fix} (limit MAX_STORED_SAMPLES = {MAX_STORED_SAMPLES:,})"
+    )
 
 
 @dataclass(frozen=True, eq=False)
@@ -198,15 +209,18 @@ class TimeHistory:
 
 def law_vector(contact: ContactLaw, op: OperatingPoint) -> np.ndarray:
     """Pack the creep law and operating point for the compiled kernels."""
-    return np.array([
-        contact.normal_load_n,
-        contact.friction_coefficient,
-        contact.normalised_creepage_per_creepage,
-        contact.decay_speed_1_m_s,
-        contact.decay_speed_2_m_s,
-        op.rolling_speed_m_s,
-        op.crabbing_velocity_m_s,
-    ], dtype=float)
+    return np.array(
+        [
+            contact.normal_load_n,
+            contact.friction_coefficient,
+            contact.normalised_creepage_per_creepage,
+            contact.decay_speed_1_m_s,
+            contact.decay_speed_2_m_s,
+            op.rolling_speed_m_s,
+            op.crabbing_velocity_m_s,
+        ],
+        dtype=float,
+    )
 
 
 def as_modes(modes) -> tuple:
@@ -233,7 +247,10 @@ def max_contact_damping_ns_m(contact: ContactLaw, op: OperatingPoint) -> float:
     max_s |dF/ds| <= 2 e^-2 (1/s1 + 1/s2))."""
     dmu = contact.friction_coefficient * (
         contact.normalised_creepage_per_creepage
-        + op.rolling_speed_m_s * 2.0 * math.exp(-2.0) * (1.0 / contact.decay_speed_1_m_s + 1.0 / contact.decay_speed_2_m_s)
+        + op.rolling_speed_m_s
+        * 2.0
+        * math.exp(-2.0)
+        * (1.0 / contact.decay_speed_1_m_s + 1.0 / contact.decay_speed_2_m_s)
     )
     return contact.normal_load_n / op.rolling_speed_m_s * dmu
 
@@ -272,10 +289,23 @@ def _history(t, y_modes, v_modes, modes, contact, op, step, method, mismatch=flo
     zeta = (op.crabbing_velocity_m_s + v) / op.rolling_speed_m_s
     Q = -adhesion_ratio(zeta, contact, op.rolling_speed_m_s) * contact.normal_load_n
     _, c, _ = mode_arrays(modes)
-    P = Q * v - (c[None, :] * v_modes ** 2).sum(axis=1)
-    return TimeHistory(t=t, y=y, v=v, y_modes=y_modes, v_modes=v_modes, creepage=zeta, Q=Q, P=P,
-                       modes=modes, contact=contact, operating_point=op, step_s=float(step),
-                       method=method, energy_mismatch_j=float(mismatch))
+    P = Q * v - (c[None, :] * v_modes**2).sum(axis=1)
+    return TimeHistory(
+        t=t,
+        y=y,
+        v=v,
+        y_modes=y_modes,
+        v_modes=v_modes,
+        creepage=zeta,
+        Q=Q,
+        P=P,
+        modes=modes,
+        contact=contact,
+        operating_point=op,
+        step_s=float(step),
+        method=method,
+        energy_mismatch_j=float(mismatch),
+    )
 
 
 def _check_duration(duration: float) -> float:
@@ -336,7 +366,11 @@ def simulate(
     m, c, k = mode_arrays(modes)
     law = law_vector(contact, operating_point)
     y0, u0 = _initial_state(initial_state, len(modes))
-    h = choose_time_step(modes, contact, operating_point, steps_per_period) if step_s is None else float(step_s)
+    h = (
+        choose_time_step(modes, contact, operating_point, steps_per_period)
+        if step_s is None
+        else float(step_s)
+    )
     if not (math.isfinite(h) and h > 0.0):
         raise ValueError(f"step_s must be positive and finite, got {step_s!r}")
     attempts = 1 + (max_refinements if refine else 0)
@@ -347,27 +381,41 @@ def simulate(
         if samples_per_period is not None:
             store_every = max(1, int(1.0 / (f_max * h_eff * samples_per_period)))
         n_out = n_steps // store_every + 1
-        _check_storage(n_out, len(modes), n_steps, h_eff, duration, store_every, f_max,
-                       ValueError if attempt == 0 else IntegrationError)
+        _check_storage(
+            n_out,
+            len(modes),
+            n_steps,
+            h_eff,
+            duration,
+            store_every,
+            f_max,
+            ValueError if attempt == 0 else IntegrationError,
+        )
         out_y = np.empty((n_out, len(modes)))
         out_u = np.empty((n_out, len(modes)))
         if len(modes) == 1:
             status, mismatch, emax, _work, _done = _kernels.integrate_store_1(
-                y0[0], u0[0], m[0], c[0], k[0], law, h_eff, n_steps, store_every, out_y[:, 0], out_u[:, 0])
+                y0[0], u0[0], m[0], c[0], k[0], law, h_eff, n_steps, store_every, out_y[:, 0], out_u[:, 0]
+            )
         else:
             status, mismatch, emax, _work, _done = _kernels.integrate_store(
-                y0, u0, m, c, k, law, h_eff, n_steps, store_every, out_y, out_u)
+                y0, u0, m, c, k, law, h_eff, n_steps, store_every, out_y, out_u
+            )
         ok = status == 0 and mismatch <= energy_tolerance * emax + 1e-300
         if ok:
             t = np.arange(n_out) * (h_eff * store_every)
             return _history(t, out_y, out_u, modes, contact, operating_point, h_eff, "rk4-numba", mismatch)
-        reason = ("non-finite state" if status != 0 else
-                  f"energy balance violated (|dE - int P dt| = {mismatch:.3g} J vs max energy {emax:.3g} J)")
+        reason = (
+            "non-finite state"
+            if status != 0
+            else f"energy balance violated (|dE - int P dt| = {mismatch:.3g} J vs max energy {emax:.3g} J)"
+        )
         h = 0.5 * h_eff
     raise IntegrationError(
         f"RK4 integration unstable with step {h_eff:.3g} s ({reason}) after {attempts} attempt(s); "
         f"reduce step_s / raise steps_per_period, or check the parameters "
-        f"(contact damping up to {max_contact_damping_ns_m(contact, operating_point):.3g} N s/m)")
+        f"(contact damping up to {max_contact_damping_ns_m(contact, operating_point):.3g} N s/m)"
+    )
 
 
 def simulate_reference(
@@ -410,9 +458,18 @@ def simulate_reference(
     n_out = int(math.ceil(duration * f_max * samples_per_period)) + 1
     t_eval = np.linspace(0.0, duration, n_out)
     atol = np.concatenate([np.full(n, 1e-14), np.full(n, 1e-10)])
-    sol = solve_ivp(rhs, (0.0, duration), np.concatenate([y0, u0]), method=method,
-                    t_eval=t_eval, rtol=rtol, atol=atol)
+    sol = solve_ivp(
+        rhs, (0.0, duration), np.concatenate([y0, u0]), method=method, t_eval=t_eval, rtol=rtol, atol=atol
+    )
     if not sol.success:
         raise IntegrationError(f"solve_ivp({method}) failed: {sol.message}")
-    return _history(sol.t, sol.y[:n].T.copy(), sol.y[n:].T.copy(), modes, contact, operating_point,
-                    duration / (n_out - 1), method)
+    return _history(
+        sol.t,
+        sol.y[:n].T.copy(),
+        sol.y[n:].T.copy(),
+        modes,
+        contact,
+        operating_point,
+        duration / (n_out - 1),
+        method,
+    )

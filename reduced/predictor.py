@@ -40,16 +40,23 @@ __all__ = ["LimitCyclePrediction", "mean_power_per_cycle", "predict_limit_cycle"
 DISTORTION_WARNING = 0.1
 
 
-def harmonic_distortion(amplitude_m_s: float, mode: ModalDOF, contact: ContactLaw, op: OperatingPoint,
-                        n_phase: int = 1024) -> float:
+def harmonic_distortion(
+    amplitude_m_s: float, mode: ModalDOF, contact: ContactLaw, op: OperatingPoint, n_phase: int = 1024
+) -> float:
     """rms of Q(V sin th) without its mean and fundamental, over sqrt(k m) V (dimensionless)."""
     th = 2.0 * np.pi * (np.arange(n_phase) + 0.5) / n_phase
     sin, cos = np.sin(th), np.cos(th)
     vel = amplitude_m_s * sin
-    Q = -adhesion_ratio((op.crabbing_velocity_m_s + vel) / op.rolling_speed_m_s, contact,
-                        op.rolling_speed_m_s) * contact.normal_load_n
+    Q = (
+        -adhesion_ratio(
+            (op.crabbing_velocity_m_s + vel) / op.rolling_speed_m_s, contact, op.rolling_speed_m_s
+        )
+        * contact.normal_load_n
+    )
     rest = Q - Q.mean() - 2.0 * (Q * sin).mean() * sin - 2.0 * (Q * cos).mean() * cos
-    return float(np.sqrt((rest * rest).mean()) / (math.sqrt(mode.stiffness_n_m * mode.mass_kg) * amplitude_m_s))
+    return float(
+        np.sqrt((rest * rest).mean()) / (math.sqrt(mode.stiffness_n_m * mode.mass_kg) * amplitude_m_s)
+    )
 
 
 @dataclass(frozen=True)
@@ -76,8 +83,9 @@ class LimitCyclePrediction:
     squeal: bool
 
 
-def mean_power_per_cycle(amplitude_m_s, mode: ModalDOF, contact: ContactLaw, op: OperatingPoint,
-                         n_phase: int = 1024):
+def mean_power_per_cycle(
+    amplitude_m_s, mode: ModalDOF, contact: ContactLaw, op: OperatingPoint, n_phase: int = 1024
+):
     """Pbar(V) in W for velocity amplitude(s) V in m/s (array-broadcast)."""
     V = np.asarray(amplitude_m_s, dtype=float)
     th = 2.0 * np.pi * (np.arange(n_phase) + 0.5) / n_phase
@@ -88,8 +96,9 @@ def mean_power_per_cycle(amplitude_m_s, mode: ModalDOF, contact: ContactLaw, op:
     return (Q * vel).mean(axis=-1) - 0.5 * mode.damping_ns_m * V * V
 
 
-def predict_limit_cycle(mode: ModalDOF, contact: ContactLaw, op: OperatingPoint, *,
-                        n_phase: int = 1024, n_grid: int = 240) -> LimitCyclePrediction:
+def predict_limit_cycle(
+    mode: ModalDOF, contact: ContactLaw, op: OperatingPoint, *, n_phase: int = 1024, n_grid: int = 240
+) -> LimitCyclePrediction:
     """Limit-cycle amplitudes from the mean-power balance (see module docstring).
 
     Roots of Pbar(V)/V are bracketed on a geometric grid of ``n_grid`` amplitudes
@@ -137,6 +146,9 @@ def predict_limit_cycle(mode: ModalDOF, contact: ContactLaw, op: OperatingPoint,
                 f"{math.sqrt(mode.stiffness_n_m * mode.mass_kg) * worst:.3g} N (limit "
                 f"{100 * DISTORTION_WARNING:.0f} %; errors of 5 % and more): the contact dominates "
                 f"this mode (light or soft mode, high load); use the time-domain simulate()",
-                RuntimeWarning, stacklevel=2)
-    return LimitCyclePrediction(tuple(stable), tuple(unstable), mode.frequency_hz, sigma, a0, amp,
-                                bool(amp > 0.0))
+                RuntimeWarning,
+                stacklevel=2,
+            )
+    return LimitCyclePrediction(
+        tuple(stable), tuple(unstable), mode.frequency_hz, sigma, a0, amp, bool(amp > 0.0)
+    )

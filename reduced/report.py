@@ -66,8 +66,10 @@ def write_timeseries_csv(history: TimeHistory, directory: Path, name: str = "tim
     """Write t_s, y_m, v_m_s, creepage, Q_N, P_W (contact-point totals) as CSV."""
     path = Path(directory) / name
     data = np.column_stack([history.t, history.y, history.v, history.creepage, history.Q, history.P])
-    header = ("# Liu & Meehan squeal model time history at the contact point; SI units\n"
-              "t_s,y_m,v_m_s,creepage,Q_N,P_W")
+    header = (
+        "# Liu & Meehan squeal model time history at the contact point; SI units\n"
+        "t_s,y_m,v_m_s,creepage,Q_N,P_W"
+    )
     np.savetxt(path, data, delimiter=",", header=header, comments="", fmt="%.9g")
     return path
 
@@ -79,8 +81,13 @@ def _figure(width_in: float, height_in: float, rows: int = 1, cols: int = 1, **k
 
     fig = Figure(figsize=(width_in, height_in))
     axes = fig.subplots(rows, cols, **kwargs)
-    fig.subplots_adjust(left=0.85 / width_in, right=1 - 0.2 / width_in, bottom=0.55 / height_in,
-                        top=1 - 0.4 / height_in, hspace=0.3 if rows > 1 else None)
+    fig.subplots_adjust(
+        left=0.85 / width_in,
+        right=1 - 0.2 / width_in,
+        bottom=0.55 / height_in,
+        top=1 - 0.4 / height_in,
+        hspace=0.3 if rows > 1 else None,
+    )
     return fig, axes
 
 
@@ -120,8 +127,9 @@ def _window(history: TimeHistory, centre_s: float, n_cycles: float = 6.0):
 TIME_HISTORY_FIGURES = ("creep_curve", "velocity_history", "force_velocity", "power")
 
 
-def write_time_history_plots(history: TimeHistory, directory: Path, times_s: tuple = (0.2, 0.4),
-                             figures: tuple = TIME_HISTORY_FIGURES) -> list:
+def write_time_history_plots(
+    history: TimeHistory, directory: Path, times_s: tuple = (0.2, 0.4), figures: tuple = TIME_HISTORY_FIGURES
+) -> list:
     """PNG plots: creep_curve.png (Fig. 4), velocity_history.png (Fig. 6),
     force_velocity_<t>s.png (Fig. 7, 9) and power_<t>s.png (Fig. 8, 10) for each
     time in ``times_s`` (clamped to the record); ``figures`` chooses which of
@@ -212,31 +220,45 @@ def _rpm(speeds_m_s: np.ndarray, wheel_radius_m: float | None) -> np.ndarray:
     return speeds_m_s / wheel_radius_m * 60.0 / (2.0 * math.pi)
 
 
-def write_sweep_csv(result: SweepResult, directory: Path, wheel_radius_m: float | None = None,
-                    name: str = "sweep.csv") -> Path:
+def write_sweep_csv(
+    result: SweepResult, directory: Path, wheel_radius_m: float | None = None, name: str = "sweep.csv"
+) -> Path:
     """sweep.csv: crab_velocity_m_s, rpm, rolling_speed_m_s, squeal, velocity_amplitude_m_s,
     frequency_hz, growth_rate_1_s, time_to_saturation_s (one row per case; NaN -> empty;
     rpm needs the wheel rolling radius in m, else empty)."""
     path = Path(directory) / name
     rpm = _rpm(result.rolling_speeds_m_s, wheel_radius_m)
-    lines = ["crab_velocity_m_s,rpm,rolling_speed_m_s,squeal,velocity_amplitude_m_s,"
-             "frequency_hz,growth_rate_1_s,time_to_saturation_s"]
+    lines = [
+        "crab_velocity_m_s,rpm,rolling_speed_m_s,squeal,velocity_amplitude_m_s,"
+        "frequency_hz,growth_rate_1_s,time_to_saturation_s"
+    ]
 
     def fmt(x) -> str:
         return "" if not math.isfinite(float(x)) else f"{float(x):.9g}"
 
     for i, vc in enumerate(result.crabbing_velocities_m_s):
         for j, v0 in enumerate(result.rolling_speeds_m_s):
-            lines.append(",".join([
-                fmt(vc), fmt(rpm[j]), fmt(v0), str(bool(result.squeal[i, j])).lower(),
-                fmt(result.velocity_amplitude_m_s[i, j]), fmt(result.frequency_hz[i, j]),
-                fmt(result.growth_rate_1_s[i, j]), fmt(result.time_to_saturation_s[i, j])]))
+            lines.append(
+                ",".join(
+                    [
+                        fmt(vc),
+                        fmt(rpm[j]),
+                        fmt(v0),
+                        str(bool(result.squeal[i, j])).lower(),
+                        fmt(result.velocity_amplitude_m_s[i, j]),
+                        fmt(result.frequency_hz[i, j]),
+                        fmt(result.growth_rate_1_s[i, j]),
+                        fmt(result.time_to_saturation_s[i, j]),
+                    ]
+                )
+            )
     path.write_text("\n".join(lines) + "\n")
     return path
 
 
-def write_sweep_plot(result: SweepResult, directory: Path, wheel_radius_m: float | None = None,
-                     name: str = "sweep.png") -> Path:
+def write_sweep_plot(
+    result: SweepResult, directory: Path, wheel_radius_m: float | None = None, name: str = "sweep.png"
+) -> Path:
     """Model counterpart of the paper's Fig. 5: limit-cycle velocity amplitude vs
     crabbing velocity, one curve per rolling speed (top), and the velocity level
     20 log10(V / 5e-8 m/s) in dB (bottom). Open markers: still growing at the end of
@@ -248,15 +270,16 @@ def write_sweep_plot(result: SweepResult, directory: Path, wheel_radius_m: float
         amp = np.where(result.squeal[:, j], result.velocity_amplitude_m_s[:, j], 0.0)
         unsat = result.squeal[:, j] & ~result.saturated[:, j]
         label = f"{v0:.1f} m/s" + (f" ({rpm[j]:.0f} RPM)" if math.isfinite(rpm[j]) else "")
-        line, = a1.plot(vc, np.where(unsat, np.nan, amp), "-o", ms=3, label=label)
+        (line,) = a1.plot(vc, np.where(unsat, np.nan, amp), "-o", ms=3, label=label)
         a1.plot(vc[unsat], amp[unsat], "o", mfc="white", mec=line.get_color(), ms=6)
         with np.errstate(divide="ignore"):
             level = 20.0 * np.log10(np.where(amp > 0, amp, np.nan) / VELOCITY_REFERENCE_M_S)
         a2.plot(vc, np.where(unsat, np.nan, level), "-o", ms=3, color=line.get_color())
         a2.plot(vc[unsat], level[unsat], "o", mfc="white", mec=line.get_color(), ms=6)
     if np.any(result.squeal & ~result.saturated):
-        a1.plot([], [], "o", mfc="white", mec="0.4", ms=6,
-                label="still growing at the end (not a limit cycle)")
+        a1.plot(
+            [], [], "o", mfc="white", mec="0.4", ms=6, label="still growing at the end (not a limit cycle)"
+        )
     a1.plot(vc, np.abs(vc), "k--", lw=0.8, label="|Vc|")
     a1.set_ylabel("limit-cycle velocity amplitude (m/s)")
     a1.set_title(f"Squeal amplitude vs crabbing velocity ({result.duration_s:g} s runs from rest)")

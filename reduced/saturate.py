@@ -19,8 +19,13 @@ from .limit_cycle import LimitCycle, limit_cycle
 from .model import MAX_STORED_SAMPLES, ModalDOF, OperatingPoint, TimeHistory, as_modes, simulate
 from .predictor import predict_limit_cycle
 
-__all__ = ["FIRST_DURATION_S", "MAX_DURATION_S", "RECORD_SAMPLES_PER_PERIOD", "longest_record_s",
-           "simulate_to_limit_cycle"]
+__all__ = [
+    "FIRST_DURATION_S",
+    "MAX_DURATION_S",
+    "RECORD_SAMPLES_PER_PERIOD",
+    "longest_record_s",
+    "simulate_to_limit_cycle",
+]
 
 #: Samples per period of the highest mode kept in the record.
 RECORD_SAMPLES_PER_PERIOD = 48
@@ -35,10 +40,14 @@ def longest_record_s(modes, samples_per_period: int = RECORD_SAMPLES_PER_PERIOD)
     return MAX_STORED_SAMPLES / (samples_per_period * f_top)
 
 
-def simulate_to_limit_cycle(modes: ModalDOF | list[ModalDOF], contact: ContactLaw, op: OperatingPoint,
-                            duration: float | None = None, max_duration: float = MAX_DURATION_S,
-                            samples_per_period: int = RECORD_SAMPLES_PER_PERIOD,
-                            ) -> tuple[TimeHistory, LimitCycle]:
+def simulate_to_limit_cycle(
+    modes: ModalDOF | list[ModalDOF],
+    contact: ContactLaw,
+    op: OperatingPoint,
+    duration: float | None = None,
+    max_duration: float = MAX_DURATION_S,
+    samples_per_period: int = RECORD_SAMPLES_PER_PERIOD,
+) -> tuple[TimeHistory, LimitCycle]:
     """Integrate from rest; returns the history and its limit-cycle metrics.
 
     ``duration`` [s]: a fixed length; None chooses it as the module docstring says.
@@ -51,8 +60,10 @@ def simulate_to_limit_cycle(modes: ModalDOF | list[ModalDOF], contact: ContactLa
             raise ValueError(f"duration must be positive, got {duration:g}")
         if duration > longest:
             f_top = max(md.frequency_hz for md in as_modes(modes))
-            raise ValueError(f"duration {duration:g} s is too long to record: {samples_per_period} samples "
-                             f"per period of the {f_top:.4g} Hz mode fit at most {longest:.3g} s")
+            raise ValueError(
+                f"duration {duration:g} s is too long to record: {samples_per_period} samples "
+                f"per period of the {f_top:.4g} Hz mode fit at most {longest:.3g} s"
+            )
     max_duration = min(max_duration, longest)
     t = duration if duration is not None else min(_first_duration(modes, contact, op), max_duration)
     while True:

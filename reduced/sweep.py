@@ -11,15 +11,15 @@ violated) is re-run through :func:`reduced.model.simulate`, which refines the st
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Callable
 
 import numpy as np
 
 from . import _kernels
 from .creep import ContactLaw
 from .limit_cycle import Cycles, analytic_growth_rate, limit_cycle, metrics_from_cycles
-from .model import OperatingPoint, as_modes, mode_arrays, choose_time_step, law_vector, simulate
+from .model import OperatingPoint, as_modes, choose_time_step, law_vector, mode_arrays, simulate
 
 
 def numba_threads() -> int:
@@ -27,6 +27,7 @@ def numba_threads() -> int:
     import numba
 
     return int(numba.get_num_threads())
+
 
 __all__ = ["SweepResult", "sweep", "sweep_steps"]
 
@@ -60,15 +61,24 @@ class SweepResult:
     duration_s: float
 
 
-def sweep_steps(modes, contact: ContactLaw, op: OperatingPoint, duration: float,
-                steps_per_period: int = 48) -> int:
+def sweep_steps(
+    modes, contact: ContactLaw, op: OperatingPoint, duration: float, steps_per_period: int = 48
+) -> int:
     """RK4 steps one sweep case at ``op`` takes over ``duration`` s."""
     return int(math.ceil(duration / choose_time_step(modes, contact, op, steps_per_period) - 1e-9))
 
 
-def sweep(modes, contact: ContactLaw, crabbing_velocities, rolling_speeds, duration: float, *,
-          steps_per_period: int = 48, energy_tolerance: float = 1e-2,
-          progress: Callable[[int, int], None] | None = None) -> SweepResult:
+def sweep(
+    modes,
+    contact: ContactLaw,
+    crabbing_velocities,
+    rolling_speeds,
+    duration: float,
+    *,
+    steps_per_period: int = 48,
+    energy_tolerance: float = 1e-2,
+    progress: Callable[[int, int], None] | None = None,
+) -> SweepResult:
     """Run every (Vc, V0) pair from rest for ``duration`` s and return the metrics.
 
     Parameters
@@ -94,11 +104,13 @@ def sweep(modes, contact: ContactLaw, crabbing_velocities, rolling_speeds, durat
     worst = int(np.argmax(n_steps))
     if n_steps[worst] > MAX_SWEEP_STEPS:
         raise ValueError(
-            f"sweep case Vc = {ops[worst].crabbing_velocity_m_s:g} m/s, V0 = {ops[worst].rolling_speed_m_s:g} m/s "
-            f"needs {int(n_steps[worst]):,} RK4 steps of {h_nominal[worst]:.3g} s over {duration:g} s "
-            f"(each running case keeps 4 arrays of that length; limit MAX_SWEEP_STEPS = {MAX_SWEEP_STEPS:,}): "
+            f"sweep case Vc = {ops[worst].crabbing_velocity_m_s:g} m/s, "
+            f"V0 = {ops[worst].rolling_speed_m_s:g} m/s needs {int(n_steps[worst]):,} RK4 steps of "
+            f"{h_nominal[worst]:.3g} s over {duration:g} s (each running case keeps 4 arrays of that "
+            f"length; limit MAX_SWEEP_STEPS = {MAX_SWEEP_STEPS:,}): "
             f"a very stiff or very light mode, or a very low rolling speed; shorten the duration "
-            f"or run the case with simulate(..., store_every=...)")
+            f"or run the case with simulate(..., store_every=...)"
+        )
     h = duration / n_steps
     f_max = max(md.frequency_hz for md in modes)
     cap = int(duration * f_max * 2.0) + 16
@@ -114,18 +126,41 @@ def sweep(modes, contact: ContactLaw, crabbing_velocities, rolling_speeds, durat
     for lo in range(0, n_cases, chunk):
         hi = min(lo + chunk, n_cases)
         bufs = [np.zeros((hi - lo, cap)) for _ in range(5)]
-        _kernels.sweep_kernel(m, c, k, laws[lo:hi], h[lo:hi], n_steps[lo:hi], cap, *bufs,
-                              ncyc[lo:hi], status[lo:hi], mismatch[lo:hi], emax[lo:hi])
+        _kernels.sweep_kernel(
+            m,
+            c,
+            k,
+            laws[lo:hi],
+            h[lo:hi],
+            n_steps[lo:hi],
+            cap,
+            *bufs,
+            ncyc[lo:hi],
+            status[lo:hi],
+            mismatch[lo:hi],
+            emax[lo:hi],
+        )
         for i in range(lo, hi):
             op = ops[i]
             if status[i] != 0 or mismatch[i] > energy_tolerance * emax[i] + 1e-300:
-                lc = limit_cycle(simulate(modes, contact, op, duration, steps_per_period=steps_per_period,
-                                          energy_tolerance=energy_tolerance))
+                lc = limit_cycle(
+                    simulate(
+                        modes,
+                        contact,
+                        op,
+                        duration,
+                        steps_per_period=steps_per_period,
+                        energy_tolerance=energy_tolerance,
+                    )
+                )
             else:
-                cyc = Cycles(*(b[i - lo, :int(ncyc[i])] for b in bufs))
-                lc = metrics_from_cycles(cyc, op.crabbing_velocity_m_s,
-                                         analytic_growth_rate(modes, contact, op),
-                                         record_end_s=float(n_steps[i] * h[i]))
+                cyc = Cycles(*(b[i - lo, : int(ncyc[i])] for b in bufs))
+                lc = metrics_from_cycles(
+                    cyc,
+                    op.crabbing_velocity_m_s,
+                    analytic_growth_rate(modes, contact, op),
+                    record_end_s=float(n_steps[i] * h[i]),
+                )
             out["amp"][i] = lc.velocity_amplitude_m_s
             out["freq"][i] = lc.frequency_hz
             out["growth"][i] = lc.growth_rate_1_s
@@ -137,8 +172,14 @@ def sweep(modes, contact: ContactLaw, crabbing_velocities, rolling_speeds, durat
             progress(hi, n_cases)
     shape = (len(vcs), len(v0s))
     return SweepResult(
-        crabbing_velocities_m_s=vcs, rolling_speeds_m_s=v0s,
-        velocity_amplitude_m_s=out["amp"].reshape(shape), frequency_hz=out["freq"].reshape(shape),
-        growth_rate_1_s=out["growth"].reshape(shape), growth_rate_analytic_1_s=out["sigma"].reshape(shape),
-        squeal=squeal.reshape(shape), saturated=saturated.reshape(shape),
-        time_to_saturation_s=out["tsat"].reshape(shape), duration_s=duration)
+        crabbing_velocities_m_s=vcs,
+        rolling_speeds_m_s=v0s,
+        velocity_amplitude_m_s=out["amp"].reshape(shape),
+        frequency_hz=out["freq"].reshape(shape),
+        growth_rate_1_s=out["growth"].reshape(shape),
+        growth_rate_analytic_1_s=out["sigma"].reshape(shape),
+        squeal=squeal.reshape(shape),
+        saturated=saturated.reshape(shape),
+        time_to_saturation_s=out["tsat"].reshape(shape),
+        duration_s=duration,
+    )

@@ -14,8 +14,9 @@ DESIGNS = ROOT / "designs"
 PIPELINE = ROOT / "pipeline.py"
 
 
-def run_cli(*args: str, cwd: Path | None = None, env: dict | None = None, timeout: float = 600,
-            preexec_fn=None) -> subprocess.CompletedProcess:
+def run_cli(
+    *args: str, cwd: Path | None = None, env: dict | None = None, timeout: float = 600, preexec_fn=None
+) -> subprocess.CompletedProcess:
     """``python pipeline.py ARGS`` in a fresh process; ``env`` entries are added to (or,
     with value None, removed from) the current environment."""
     full = dict(os.environ)
@@ -24,9 +25,15 @@ def run_cli(*args: str, cwd: Path | None = None, env: dict | None = None, timeou
             full.pop(k, None)
         else:
             full[k] = v
-    return subprocess.run([sys.executable, str(PIPELINE), *map(str, args)], capture_output=True,
-                          text=True, cwd=cwd or ROOT, env=full, timeout=timeout,
-                          preexec_fn=preexec_fn)
+    return subprocess.run(
+        [sys.executable, str(PIPELINE), *map(str, args)],
+        capture_output=True,
+        text=True,
+        cwd=cwd or ROOT,
+        env=full,
+        timeout=timeout,
+        preexec_fn=preexec_fn,
+    )
 
 
 def one_line_error(r: subprocess.CompletedProcess) -> str:

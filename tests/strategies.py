@@ -15,8 +15,9 @@ def unit(lo: float = 0.0, hi: float = 1.0):
 
 
 @st.composite
-def wheel_designs(draw, *, web=(0.3, 1.0), min_rim=0.001, bore=(0.05, 0.85), nu=(-0.9, 0.49),
-                  symmetric_often: bool = False) -> WheelDesign:
+def wheel_designs(
+    draw, *, web=(0.3, 1.0), min_rim=0.001, bore=(0.05, 0.85), nu=(-0.9, 0.49), symmetric_often: bool = False
+) -> WheelDesign:
     """Realistic wheels, built so that every constraint holds: rolling radius 0.1-0.4 m,
     rim 10-50 mm wide, web a fraction ``web`` of the rim, any web offset that keeps the
     web inside the rim (a symmetric wheel one time in three if ``symmetric_often``),
@@ -35,6 +36,13 @@ def wheel_designs(draw, *, web=(0.3, 1.0), min_rim=0.001, bore=(0.05, 0.85), nu=
     rb = (R1 - depth) * draw(unit(*bore))
     poisson = draw(unit(*nu))
     return WheelDesign(
-        name="h", rolling_radius=R1, rim_width=w, web_thickness=t, web_offset=offset,
-        crown_radius=crown, rim_depth=depth, bore_radius=rb, poissons_ratio=poisson,
+        name="h",
+        rolling_radius=R1,
+        rim_width=w,
+        web_thickness=t,
+        web_offset=offset,
+        crown_radius=crown,
+        rim_depth=depth,
+        bore_radius=rb,
+        poissons_ratio=poisson,
     )

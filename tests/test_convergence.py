@@ -8,8 +8,8 @@ import math
 import numpy as np
 import pytest
 
-import wheel_squeal.convergence as cv
 import wheel_squeal as ws
+import wheel_squeal.convergence as cv
 
 
 @pytest.fixture(scope="module")
@@ -40,9 +40,22 @@ def test_csv_has_the_columns(ladder, tmp_path):
     path = tmp_path / "convergence.csv"
     cv.write_csv(rows, path)
     header = path.read_text().splitlines()[0].split(",")
-    for col in ("study", "method", "parameter", "dofs", "seconds", "peak_memory_mb", "frequency_hz",
-                "modal_mass_kg", "amplitude_m_s", "time_to_saturation_s", "frequency_rel_error",
-                "modal_mass_rel_error", "amplitude_rel_error", "time_to_saturation_rel_error"):
+    for col in (
+        "study",
+        "method",
+        "parameter",
+        "dofs",
+        "seconds",
+        "peak_memory_mb",
+        "frequency_hz",
+        "modal_mass_kg",
+        "amplitude_m_s",
+        "time_to_saturation_s",
+        "frequency_rel_error",
+        "modal_mass_rel_error",
+        "amplitude_rel_error",
+        "time_to_saturation_rel_error",
+    ):
         assert col in header
     back = cv.read_csv(path)
     assert len(back) == len(rows)

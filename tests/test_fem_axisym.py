@@ -57,10 +57,7 @@ def kirchhoff_det(lam: float, n: int, beta: float, nu: float) -> float:
         [F(n, xb) for F, D, s in fams],
         [k * D(n, xb, 1) for F, D, s in fams],
         [k * k * D(n, xa, 2) + nu * (k * D(n, xa, 1) - n * n * F(n, xa)) for F, D, s in fams],
-        [
-            s * k**3 * D(n, xa, 1) - (1 - nu) * n * n * (k * D(n, xa, 1) - F(n, xa))
-            for F, D, s in fams
-        ],
+        [s * k**3 * D(n, xa, 1) - (1 - nu) * n * n * (k * D(n, xa, 1) - F(n, xa)) for F, D, s in fams],
     ]
     return float(np.linalg.det(np.array(rows)))
 
@@ -83,6 +80,7 @@ def torsion_exact_hz(b: float, a: float, G: float, rho: float) -> float:
     d/dr Z1(kr) - Z1(kr)/r = -k Z2(kr) for Z = J, Y. Hence
     J1(kb) Y2(ka) - Y1(kb) J2(ka) = 0, f = k c_s / (2 pi), c_s = sqrt(G / rho).
     """
+
     def g(k):
         return sc.jv(1, k * b) * sc.yv(2, k * a) - sc.yv(1, k * b) * sc.jv(2, k * a)
 
@@ -312,7 +310,7 @@ def test_refinement_lowers_frequencies_monotonically():
     d = TABLE1
     m = to_skfem_mesh(mesh_profile(d, elements_through_web=1, order=1))
     prev = None
-    for level in range(3):
+    for _ in range(3):
         ms = solve_axisymmetric(d, m, fmax_hz=None, k=8, n_theta=8)
         f = {(x.nodal_diameters, x.family, x.nodal_circles): x.frequency_hz for x in ms.modes}
         if prev is not None:
@@ -327,7 +325,9 @@ def test_refinement_lowers_frequencies_monotonically():
 def test_table1_n3_axial_converged_between_moderate_meshes():
     d = TABLE1
     f = [
-        find(solve_axisymmetric(d, elements_through_web=e, fmax_hz=1500.0, n_theta=8).modes, 3, "axial").frequency_hz
+        find(
+            solve_axisymmetric(d, elements_through_web=e, fmax_hz=1500.0, n_theta=8).modes, 3, "axial"
+        ).frequency_hz
         for e in (2, 3)
     ]
     assert f[1] <= f[0]
@@ -428,9 +428,10 @@ def test_count_sign_changes_ignores_small_samples():
 def test_print_table1_mode_table(table1_modes):
     """Prints (does not assert) the Table 1 modes: f, n, circles, family, contact m."""
     ms = table1_modes
-    print(f"\nTable 1 wheel, axisym P2, {ms.dofs} DOFs summed over harmonics, "
-          f"{ms.timings_s['total']:.3f} s")
+    print(f"\nTable 1 wheel, axisym P2, {ms.dofs} DOFs summed over harmonics, {ms.timings_s['total']:.3f} s")
     print(f"{'f [Hz]':>9} {'n':>3} {'c':>3} {'family':<16} {'m [kg]':>10}")
     for m in ms.modes:
-        print(f"{m.frequency_hz:9.1f} {m.nodal_diameters:3d} {m.nodal_circles:3d} "
-              f"{m.family:<16} {m.modal_mass:10.4g}")
+        print(
+            f"{m.frequency_hz:9.1f} {m.nodal_diameters:3d} {m.nodal_circles:3d} "
+            f"{m.family:<16} {m.modal_mass:10.4g}"
+        )

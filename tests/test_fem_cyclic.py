@@ -25,9 +25,9 @@ from fem.modes import ResolutionWarning
 from fem.solid import solve_solid
 from geometry.design import WheelDesign, load_design
 from geometry.gmsh_mesh import mesh_profile
+from geometry.profile import revolved_volume
 from geometry.revolve import revolve_profile
 from geometry.simplex import inverted as _inverted
-from geometry.profile import revolved_volume
 
 TABLE1 = load_design("designs/table1.toml")
 
@@ -73,8 +73,8 @@ def test_revolved_mesh_is_cyclic(profile1, n):
     d = 2 * math.pi / n
     R = np.array([[math.cos(d), -math.sin(d), 0], [math.sin(d), math.cos(d), 0], [0, 0, 1]])
     for s in (0, n - 1):
-        a = m.points[m.tetra[s * per:(s + 1) * per]]
-        b = m.points[m.tetra[((s + 1) % n) * per:((s + 1) % n + 1) * per]]
+        a = m.points[m.tetra[s * per : (s + 1) * per]]
+        b = m.points[m.tetra[((s + 1) % n) * per : ((s + 1) % n + 1) * per]]
         assert np.abs(a @ R.T - b).max() < 1e-14 * TABLE1.rolling_radius
 
 
@@ -180,8 +180,12 @@ def test_cyclic_converges_to_axisym_on_the_same_profile(profile2):
 def test_cyclic_agrees_with_converged_axisym(profile2):
     """The issue's criterion at CI size: every mode below 3 kHz within 0.5 %, the (3,0)
     axial contact modal mass within 2 % (measured 0.16 % / 0.04 %, bench_modes.py)."""
-    ref = by_key(solve_axisymmetric(TABLE1, mesh_profile(TABLE1, elements_through_web=6, order=2),
-                                    curved=True, fmax_hz=3100.0), 3000)
+    ref = by_key(
+        solve_axisymmetric(
+            TABLE1, mesh_profile(TABLE1, elements_through_web=6, order=2), curved=True, fmax_hz=3100.0
+        ),
+        3000,
+    )
     cy = by_key(solve_cyclic(TABLE1, revolve_profile(profile2, 96), fmax_hz=3100.0), 3000)
     assert sorted(cy) == sorted(ref)
     for k, m in ref.items():
@@ -224,8 +228,9 @@ def test_cyclic_k_lowest_and_band_agree(profile1):
     band = solve_cyclic(TABLE1, m, fmax_hz=3000.0)
     low = solve_cyclic(TABLE1, m, k=5, fmax_hz=None)
     assert [key(a) for a in low.modes] == [key(a) for a in band.modes[:5]]
-    np.testing.assert_allclose([a.frequency_hz for a in low.modes],
-                               [a.frequency_hz for a in band.modes[:5]], rtol=1e-9)
+    np.testing.assert_allclose(
+        [a.frequency_hz for a in low.modes], [a.frequency_hz for a in band.modes[:5]], rtol=1e-9
+    )
 
 
 def test_too_few_sectors_warns(profile1):

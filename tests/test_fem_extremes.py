@@ -24,10 +24,9 @@ from fem.axisym import assemble_harmonic, solve_axisymmetric
 from fem.eigen import solve_eigen
 from fem.fidelity import LOCKING_NU, RESOLUTION_ELEMENTS, shortest_wavelength
 from fem.meshes import to_skfem_mesh
-from fem.rules import RIGID_TOL
 from fem.modes import (
-    FAMILIES,
     CONTACT_NODE_RTOL,
+    FAMILIES,
     EmptyBandWarning,
     FidelityWarning,
     LockingWarning,
@@ -36,6 +35,7 @@ from fem.modes import (
     clean_contact,
     select_mode,
 )
+from fem.rules import RIGID_TOL
 from geometry.design import DesignError, WheelDesign, load_design
 from geometry.gmsh_mesh import mesh_profile
 
@@ -136,8 +136,9 @@ def test_rim_depth_near_the_crown_sagitta(depth, table1_fast):
     assert_sane(ms, 5000.0)
     ref = quiet_solve(T1.replace(rim_depth=1.05 * SAG), fmax_hz=5000.0, **FAST)
     assert labels(ms) == labels(ref)
-    np.testing.assert_allclose([m.frequency_hz for m in ms.modes],
-                               [m.frequency_hz for m in ref.modes], rtol=1e-3)
+    np.testing.assert_allclose(
+        [m.frequency_hz for m in ms.modes], [m.frequency_hz for m in ref.modes], rtol=1e-3
+    )
     assert find(ms.modes, 3).modal_mass < find(table1_fast.modes, 3).modal_mass
     with pytest.raises(DesignError, match="rim_depth too small for the crown"):
         T1.replace(rim_depth=SAG * 0.99)
@@ -212,11 +213,18 @@ def test_nu_near_half_p2_is_sane_and_p1_warns():
 def test_locking_threshold_is_on_nu_and_order():
     """The volumetric warning depends on nu and the element order only: P1 at
     nu = LOCKING_NU with 8 per web is quiet, just above it warns; P2 never."""
-    quiet_solve(T1.replace(poissons_ratio=LOCKING_NU), order=1, fmax_hz=None, k=2,
-                elements_through_web=8, n_theta=8)
+    quiet_solve(
+        T1.replace(poissons_ratio=LOCKING_NU), order=1, fmax_hz=None, k=2, elements_through_web=8, n_theta=8
+    )
     with pytest.warns(LockingWarning, match="volumetric"):
-        solve_axisymmetric(T1.replace(poissons_ratio=LOCKING_NU + 0.01), order=1, fmax_hz=None,
-                           k=2, elements_through_web=8, n_theta=8)
+        solve_axisymmetric(
+            T1.replace(poissons_ratio=LOCKING_NU + 0.01),
+            order=1,
+            fmax_hz=None,
+            k=2,
+            elements_through_web=8,
+            n_theta=8,
+        )
     quiet_solve(T1.replace(poissons_ratio=0.4999), fmax_hz=None, k=2, **FAST)
 
 
@@ -264,8 +272,9 @@ def test_free_free_rigid_modes_axisym(s):
     assert labels(ms)[0] == "(2,0) axial"
     f_ref = math.sqrt(d.shear_modulus / d.density) / (2 * math.pi * d.rolling_radius)
     assert ms.modes[0].frequency_hz > 30 * RIGID_TOL * f_ref
-    model = assemble_harmonic(d, to_skfem_mesh(mesh_profile(d, elements_through_web=1, order=1)),
-                              boundary="free")
+    model = assemble_harmonic(
+        d, to_skfem_mesh(mesh_profile(d, elements_through_web=1, order=1)), boundary="free"
+    )
     sigma = -((2 * math.pi * 0.05 * f_ref) ** 2)
     comp = model.comp
     problems = [
@@ -293,8 +302,9 @@ def test_free_free_3d_large_wheel_rigid_modes_and_pairs():
 
     s = 2.0 / T1.rolling_radius
     d = T1.scaled(s)
-    ms = solid.solve_solid(d, mesh_wheel(d, size=0.04 * s, order=2), order=2, boundary="free",
-                           fmax_hz=None, k=1)
+    ms = solid.solve_solid(
+        d, mesh_wheel(d, size=0.04 * s, order=2), order=2, boundary="free", fmax_hz=None, k=1
+    )
     first = ms.modes[0]
     assert first.label() == "(2,0) axial" and first.multiplicity == 2
     ax = quiet_solve(d, boundary="free", fmax_hz=None, k=1, **FAST)
@@ -321,8 +331,7 @@ def test_repeated_frequencies_are_one_mode_with_two_members(table1_fast):
             uz_sin = sh[1, :, 2] / np.sin(n * ang)
         ok = (np.abs(np.cos(n * ang)) > 0.3) & (np.abs(np.sin(n * ang)) > 0.3)
         if ok.sum() > 10:  # same V(r, z) behind both members
-            np.testing.assert_allclose(uz_cos[ok], uz_sin[ok], rtol=1e-9,
-                                       atol=1e-12 * np.abs(sh).max())
+            np.testing.assert_allclose(uz_cos[ok], uz_sin[ok], rtol=1e-9, atol=1e-12 * np.abs(sh).max())
     assert len(th) == 8
     a, b = find(ms.modes, 1, "circumferential"), find(ms.modes, 2, "axial", 1)
     assert abs(a.frequency_hz / b.frequency_hz - 1) < 5e-3 and a.index != b.index
@@ -334,8 +343,10 @@ def test_band_with_no_modes(boundary):
     answer; a sweep over designs goes on) plus an EmptyBandWarning naming the band and
     the lowest natural frequency; select_mode then raises a LookupError that says the
     set is empty and to raise fmax (the pipeline turns it into a one-line error)."""
-    with pytest.warns(EmptyBandWarning, match=r"no natural frequency at or below fmax_hz = 10 Hz "
-                                              r"\(%s wheel .*raise fmax_hz" % boundary) as rec:
+    with pytest.warns(
+        EmptyBandWarning,
+        match=rf"no natural frequency at or below fmax_hz = 10 Hz \({boundary} wheel .*raise fmax_hz",
+    ) as rec:
         ms = solve_axisymmetric(T1, fmax_hz=10.0, boundary=boundary, **FAST)
     # the lowest mode: clamped (1,0) axial 263.7 Hz, free (2,0) axial (measured 431 Hz)
     ref = quiet_solve(T1, fmax_hz=None, k=1, boundary=boundary, **FAST).modes[0]

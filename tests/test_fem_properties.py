@@ -26,7 +26,6 @@ import numpy as np
 import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
-
 from strategies import unit, wheel_designs
 
 from fem.axisym import assemble_harmonic, solve_axisymmetric
@@ -47,8 +46,9 @@ def designs():
     """Realistic wheels (tests/strategies.py) in a box that keeps the coarse P2 meshes
     accurate and free of warnings: web 40-100 % of the rim, 2 mm of rim at least, bore
     10-80 % of the rim inner radius, nu in [-0.5, 0.45], symmetric one time in three."""
-    return wheel_designs(web=(0.4, 1.0), min_rim=0.002, bore=(0.10, 0.80), nu=(-0.5, 0.45),
-                         symmetric_often=True)
+    return wheel_designs(
+        web=(0.4, 1.0), min_rim=0.002, bore=(0.10, 0.80), nu=(-0.5, 0.45), symmetric_often=True
+    )
 
 
 def solve(design, mesh=None, **kw):
@@ -109,12 +109,13 @@ def test_modal_mass_positive_and_independent_of_pair_rotation(d, alpha):
             assert mass == math.inf, m  # in-plane mode of a symmetric wheel: a node
         if math.isfinite(mass):
             # the interpolated contact values are the nodal values of the shapes
-            np.testing.assert_allclose(sh[:, c, 2], m.contact_axial, rtol=1e-9,
-                                       atol=1e-9 * np.abs(sh).max())
+            np.testing.assert_allclose(sh[:, c, 2], m.contact_axial, rtol=1e-9, atol=1e-9 * np.abs(sh).max())
         if m.multiplicity == 2:
             ca, cb = m.contact_axial
-            turned = (math.cos(alpha) * ca + math.sin(alpha) * cb,
-                      -math.sin(alpha) * ca + math.cos(alpha) * cb)
+            turned = (
+                math.cos(alpha) * ca + math.sin(alpha) * cb,
+                -math.sin(alpha) * ca + math.cos(alpha) * cb,
+            )
             if math.isfinite(mass):
                 rs = rotate(sh, alpha)
                 for values in (turned, (rs[0, c, 2], rs[1, c, 2])):

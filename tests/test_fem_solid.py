@@ -136,8 +136,9 @@ def test_free_free_rigid_modes():
     # exactly six dropped: solving with the rigid modes kept shows six near zero
     model = assemble(TABLE1, mesh.points, mesh.tetra, order=2, boundary="free")
     f_ref = reference_frequency(TABLE1)
-    res = solve_eigen(model.K, model.M, k=9, sigma=-((2 * math.pi * FREE_SHIFT_REL * f_ref) ** 2),
-                      factorization="auto")
+    res = solve_eigen(
+        model.K, model.M, k=9, sigma=-((2 * math.pi * FREE_SHIFT_REL * f_ref) ** 2), factorization="auto"
+    )
     f = res.frequencies_hz
     assert np.count_nonzero(f < RIGID_TOL * f_ref) == 6, f
     assert f[5] < 1e-2 * RIGID_TOL * f_ref  # the threshold has margin on both sides
@@ -163,9 +164,10 @@ def test_factorisations_agree(name, small_km):
     np.testing.assert_allclose(got.eigenvalues, ref.eigenvalues, rtol=1e-9)
     # same vectors up to sign (fixed start vector and sign convention), away from pairs
     cos = np.abs(np.einsum("ij,ij->j", got.vectors, M @ ref.vectors))
-    single = np.r_[np.diff(ref.eigenvalues) / ref.eigenvalues[1:] > 1e-3, True] & np.r_[
-        True, np.diff(ref.eigenvalues) / ref.eigenvalues[1:] > 1e-3
-    ]
+    single = (
+        np.r_[np.diff(ref.eigenvalues) / ref.eigenvalues[1:] > 1e-3, True]
+        & np.r_[True, np.diff(ref.eigenvalues) / ref.eigenvalues[1:] > 1e-3]
+    )
     np.testing.assert_allclose(cos[single], 1.0, atol=1e-6)
 
 
@@ -233,6 +235,7 @@ def test_against_axisymmetric(p2):
     The (3,0) contact modal masses agree within 1 % (0.26 % measured).
     """
     import fem.axisym as axisym
+
     _, ms3, _ = p2
     ax = axisym.solve_axisymmetric(TABLE1, fmax_hz=3000.0)
     # same set of labels (close modes may swap order between the two meshes)

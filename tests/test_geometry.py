@@ -60,7 +60,7 @@ DEGENERATE = {
 COARSE = 0.03  # [m] size for the tests that do not need the default resolution
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def cached_mesh(design: WheelDesign, dim: int, order: int, size: float | None = None):
     fn = mesh_profile if dim == 2 else mesh_wheel
     return fn(design, size=size, order=order)
@@ -92,7 +92,11 @@ def test_table1_file_is_the_default_design():
     assert (d.youngs_modulus, d.poissons_ratio, d.density) == (175e9, 0.28, 7800.0)
     assert (d.roller_rolling_radius, d.roller_crown_radius) == (0.085, 0.040)
     assert (d.normal_load, d.c22, d.friction_coefficient, d.modal_damping_ratio) == (
-        1000.0, 3.14, 0.3, 9.4e-4)
+        1000.0,
+        3.14,
+        0.3,
+        9.4e-4,
+    )
 
 
 def test_design_variants_differ_as_described():
@@ -144,8 +148,8 @@ def _numeric_area_volume(d: WheelDesign) -> tuple[float, float]:
             continue
         mid = 0.5 * (a + b)
         rin = r_in(mid)
-        area += quad(lambda z: r_out(z) - rin, a, b, epsabs=0, epsrel=1e-13)[0]
-        vol += quad(lambda z: math.pi * (r_out(z) ** 2 - rin**2), a, b, epsabs=0, epsrel=1e-13)[0]
+        area += quad(lambda z, rin=rin: r_out(z) - rin, a, b, epsabs=0, epsrel=1e-13)[0]
+        vol += quad(lambda z, rin=rin: math.pi * (r_out(z) ** 2 - rin**2), a, b, epsabs=0, epsrel=1e-13)[0]
     return area, vol
 
 
@@ -162,8 +166,11 @@ def _polygon_area_volume(d: WheelDesign, n_arc: int = 20000) -> tuple[float, flo
             ta = math.atan2(a[1] - centre[1], a[0] - centre[0])
             tb = math.atan2(b[1] - centre[1], b[0] - centre[0])
             t = np.linspace(ta, tb, n_arc, endpoint=False)
-            pts.append(np.column_stack([centre[0] + d.crown_radius * np.cos(t),
-                                        centre[1] + d.crown_radius * np.sin(t)]))
+            pts.append(
+                np.column_stack(
+                    [centre[0] + d.crown_radius * np.cos(t), centre[1] + d.crown_radius * np.sin(t)]
+                )
+            )
         else:
             pts.append(a[None, :])
     p = np.concatenate(pts)
@@ -454,14 +461,24 @@ def test_scikit_fem_loads_the_mesh(dim, order, caplog):
     from skfem.io.meshio import from_meshio
 
     m = cached_mesh(T1, dim, order, COARSE)
-    expected = {(2, 1): skfem.MeshTri1, (2, 2): skfem.MeshTri2,
-                (3, 1): skfem.MeshTet1, (3, 2): skfem.MeshTet2}[(dim, order)]
-    for sk in (from_meshio(m.to_meshio(include_boundaries=False)),
-               from_meshio(m.to_meshio()),  # with the boundary facets (their tags are lost)
-               expected(m.points.T.copy(), m.cells.T.copy())):
+    expected = {
+        (2, 1): skfem.MeshTri1,
+        (2, 2): skfem.MeshTri2,
+        (3, 1): skfem.MeshTet1,
+        (3, 2): skfem.MeshTet2,
+    }[(dim, order)]
+    for sk in (
+        from_meshio(m.to_meshio(include_boundaries=False)),
+        from_meshio(m.to_meshio()),  # with the boundary facets (their tags are lost)
+        expected(m.points.T.copy(), m.cells.T.copy()),
+    ):
         assert type(sk) is expected
-        elem = {(2, 1): skfem.ElementTriP1, (2, 2): skfem.ElementTriP2,
-                (3, 1): skfem.ElementTetP1, (3, 2): skfem.ElementTetP2}[(dim, order)]()
+        elem = {
+            (2, 1): skfem.ElementTriP1,
+            (2, 2): skfem.ElementTriP2,
+            (3, 1): skfem.ElementTetP1,
+            (3, 2): skfem.ElementTetP2,
+        }[(dim, order)]()
         basis = skfem.Basis(sk, elem)
         one = skfem.Functional(lambda w: 1.0 + 0.0 * w.x[0]).assemble(basis)
         assert one == pytest.approx(m.area() if dim == 2 else m.volume(), rel=1e-12)
@@ -617,8 +634,9 @@ def test_meshing_off_the_main_thread():
 
 def test_geometry_knows_nothing_of_fe():
     code = "import sys, geometry; print('skfem' in sys.modules)"
-    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
-                         cwd=ROOT, check=True).stdout.strip()
+    out = subprocess.run(
+        [sys.executable, "-c", code], capture_output=True, text=True, cwd=ROOT, check=True
+    ).stdout.strip()
     assert out == "False"
     for path in Path(geometry.__file__).parent.glob("*.py"):
         assert "skfem" not in path.read_text(), path

@@ -10,7 +10,6 @@ import numpy as np
 import pytest
 from hypothesis import HealthCheck, event, example, given, settings
 from hypothesis import strategies as st
-
 from strategies import unit, wheel_designs
 
 from geometry import (
@@ -63,8 +62,15 @@ def test_valid_designs_mesh_in_3d(d):
 # their default, plus zero, infinities and NaN. Most draws are invalid; the valid ones
 # must mesh.
 SPECIAL = st.sampled_from([0.0, -0.0, math.inf, -math.inf, math.nan])
-LENGTHS = {"rolling_radius", "crown_radius", "rim_width", "rim_depth", "web_thickness",
-           "bore_radius", "web_offset"}
+LENGTHS = {
+    "rolling_radius",
+    "crown_radius",
+    "rim_width",
+    "rim_depth",
+    "web_thickness",
+    "bore_radius",
+    "web_offset",
+}
 
 
 def wide_value(name: str):
@@ -104,17 +110,19 @@ def test_wide_box_raises_design_error_or_meshes(params):
 @settings(**SETTINGS)
 @given(
     d=valid_designs(),
-    broken=st.sampled_from([
-        ("rolling_radius", lambda d: -d.rolling_radius),
-        ("rim_width", lambda d: 0.0),
-        ("web_thickness", lambda d: d.rim_width * 1.01),
-        ("bore_radius", lambda d: d.rim_inner_radius),
-        ("web_offset", lambda d: (d.rim_width - d.web_thickness) / 2 + 1e-4),
-        ("crown_radius", lambda d: d.rim_width / 2 * 0.99),
-        ("poissons_ratio", lambda d: 0.5),
-        ("density", lambda d: math.nan),
-        ("rim_depth", lambda d: math.inf),
-    ]),
+    broken=st.sampled_from(
+        [
+            ("rolling_radius", lambda d: -d.rolling_radius),
+            ("rim_width", lambda d: 0.0),
+            ("web_thickness", lambda d: d.rim_width * 1.01),
+            ("bore_radius", lambda d: d.rim_inner_radius),
+            ("web_offset", lambda d: (d.rim_width - d.web_thickness) / 2 + 1e-4),
+            ("crown_radius", lambda d: d.rim_width / 2 * 0.99),
+            ("poissons_ratio", lambda d: 0.5),
+            ("density", lambda d: math.nan),
+            ("rim_depth", lambda d: math.inf),
+        ]
+    ),
 )
 def test_breaking_one_rule_names_it(d, broken):
     name, value = broken

@@ -12,16 +12,21 @@ import numpy as np
 import pytest
 
 import wheel_squeal as ws
-from wheel_squeal.cli import main
 from geometry import WheelDesign
+from wheel_squeal.cli import main
 
 ROOT = Path(__file__).resolve().parents[1]
 DESIGNS = ROOT / "designs"
 
 
 def cli(*args: str, cwd: Path | None = None) -> subprocess.CompletedProcess:
-    return subprocess.run([sys.executable, str(ROOT / "pipeline.py"), *args],
-                          capture_output=True, text=True, cwd=cwd or ROOT, timeout=600)
+    return subprocess.run(
+        [sys.executable, str(ROOT / "pipeline.py"), *args],
+        capture_output=True,
+        text=True,
+        cwd=cwd or ROOT,
+        timeout=600,
+    )
 
 
 # ---------------------------------------------------------------------------------------
@@ -67,8 +72,7 @@ def test_bad_requests_exit_2_with_one_line_and_no_output(tmp_path):
 
 
 def test_every_command_has_help():
-    for command in ["run", "mesh", "modes", "simulate", "sweep", "compare", "render",
-                    "calibrate", "cache"]:
+    for command in ["run", "mesh", "modes", "simulate", "sweep", "compare", "render", "calibrate", "cache"]:
         r = cli(command, "--help")
         assert r.returncode == 0 and "usage" in r.stdout, command
 
@@ -78,8 +82,7 @@ def test_failed_run_keeps_previous_results(tmp_path):
     out = tmp_path / "res"
     out.mkdir()
     (out / "summary.json").write_text('{"precious": true}')
-    r = cli("run", "--mode", "n=17", "--out", str(out), "--quiet",
-            "--cache-dir", str(tmp_path / "cache"))
+    r = cli("run", "--mode", "n=17", "--out", str(out), "--quiet", "--cache-dir", str(tmp_path / "cache"))
     assert r.returncode == 2
     assert json.loads((out / "summary.json").read_text()) == {"precious": True}
 
@@ -135,7 +138,7 @@ def test_corrupt_cache_entry_is_reported_and_recomputed_identically(tmp_path, ca
     # flip bytes in the middle of the file
     data = bytearray(entries[0].read_bytes())
     mid = len(data) // 2
-    data[mid:mid + 64] = bytes(64)
+    data[mid : mid + 64] = bytes(64)
     entries[0].write_bytes(bytes(data))
 
     again = ws.compute_modes(design, "fast", cache=cache)
@@ -187,13 +190,37 @@ def test_simulate_with_explicit_modal_parameters_builds_no_mesh(tmp_path, monkey
     monkeypatch.setattr(geometry.gmsh_mesh, "mesh_profile", boom)
     monkeypatch.setattr(geometry.gmsh_mesh, "mesh_wheel", boom)
     out = tmp_path / "sim"
-    rc = main(["simulate", "--mass", "3.1", "--stiffness", "1.6e8", "--damping", "42",
-                        "--rpm", "800", "--crab-velocity", "0.39", "--duration", "0.6",
-                        "--out", str(out), "--quiet", "--cache-dir", str(tmp_path / "c")])
+    rc = main(
+        [
+            "simulate",
+            "--mass",
+            "3.1",
+            "--stiffness",
+            "1.6e8",
+            "--damping",
+            "42",
+            "--rpm",
+            "800",
+            "--crab-velocity",
+            "0.39",
+            "--duration",
+            "0.6",
+            "--out",
+            str(out),
+            "--quiet",
+            "--cache-dir",
+            str(tmp_path / "c"),
+        ]
+    )
     assert rc == 0
     s = json.loads((out / "summary.json").read_text())
-    assert set(s["limit_cycle"]) == {"squeal", "velocity_amplitude_m_s", "frequency_hz",
-                                     "time_to_saturation_s", "growth_rate_1_s"}
+    assert set(s["limit_cycle"]) == {
+        "squeal",
+        "velocity_amplitude_m_s",
+        "frequency_hz",
+        "time_to_saturation_s",
+        "growth_rate_1_s",
+    }
     assert set(s["operating_point"]) == {"rolling_speed_m_s", "crabbing_velocity_m_s", "creepage"}
     assert set(s["contact"]) == {"semi_axis_a_m", "semi_axis_b_m", "c22", "friction_coefficient"}
     # the paper's case: limit cycle marginally below Vc (MODEL.md section 5: ~0.367 m/s)
@@ -204,8 +231,14 @@ def test_simulate_with_explicit_modal_parameters_builds_no_mesh(tmp_path, monkey
     header = (out / "timeseries.csv").read_text().splitlines()[1]
     assert header == "t_s,y_m,v_m_s,creepage,Q_N,P_W"
     # Fig. 7-10 windows: growing (0.2 s) and on the limit cycle (saturated at ~0.41 s here)
-    for png in ["creep_curve", "velocity_history", "force_velocity_0.20s", "force_velocity_0.43s",
-                "power_0.20s", "power_0.43s"]:
+    for png in [
+        "creep_curve",
+        "velocity_history",
+        "force_velocity_0.20s",
+        "force_velocity_0.43s",
+        "power_0.20s",
+        "power_0.43s",
+    ]:
         assert (out / f"{png}.png").stat().st_size > 10_000, png
     assert not (tmp_path / "c").exists(), "no cache entry for a run without FE"
 
@@ -215,16 +248,27 @@ def test_run_default_writes_the_full_report(tmp_path):
     r = cli("run", "--out", str(out), "--quiet", "--cache-dir", str(tmp_path / "cache"))
     assert r.returncode == 0, r.stderr
     s = json.loads((out / "summary.json").read_text())
-    for key in ("design", "fidelity", "modes", "selected_mode", "contact", "operating_point",
-                "limit_cycle", "timings_s"):
+    for key in (
+        "design",
+        "fidelity",
+        "modes",
+        "selected_mode",
+        "contact",
+        "operating_point",
+        "limit_cycle",
+        "timings_s",
+    ):
         assert key in s, key
     sel = s["selected_mode"]
     assert (sel["nodal_diameters"], sel["nodal_circles"], sel["family"]) == (3, 0, "axial")
     # MODEL.md section 2: the (3,0) axial mode near 1.1 kHz with a contact modal mass near 4 kg
     assert 1000 < sel["frequency_hz"] < 1250
     assert 2.5 < sel["modal_mass_kg"] < 5.0
-    assert math.isclose(sel["modal_stiffness_n_m"],
-                        (2 * math.pi * sel["frequency_hz"]) ** 2 * sel["modal_mass_kg"], rel_tol=1e-9)
+    assert math.isclose(
+        sel["modal_stiffness_n_m"],
+        (2 * math.pi * sel["frequency_hz"]) ** 2 * sel["modal_mass_kg"],
+        rel_tol=1e-9,
+    )
     assert s["limit_cycle"]["squeal"] is True
     assert (out / "modes.vtu").exists() and (out / "timeseries.csv").exists()
     assert list(out.glob("mode_*_n3_c0_axial.png"))
@@ -233,8 +277,9 @@ def test_run_default_writes_the_full_report(tmp_path):
 
     # only the crabbing velocity changes: mesh, modes and mode views come from the cache
     out2 = tmp_path / "run2"
-    r = cli("run", "--crab-velocity", "0.3", "--out", str(out2), "--quiet",
-            "--cache-dir", str(tmp_path / "cache"))
+    r = cli(
+        "run", "--crab-velocity", "0.3", "--out", str(out2), "--quiet", "--cache-dir", str(tmp_path / "cache")
+    )
     assert r.returncode == 0, r.stderr
     s2 = json.loads((out2 / "summary.json").read_text())
     assert s2["cache"] == {"hits": ["modes", "views"], "misses": []}
@@ -247,8 +292,18 @@ def test_run_default_writes_the_full_report(tmp_path):
 
 def test_compare_shows_geometry_moves_the_squeal_prediction(tmp_path):
     out = tmp_path / "cmp"
-    r = cli("compare", str(DESIGNS / "thin_web.toml"), str(DESIGNS / "thick_web.toml"),
-            "--fidelity", "fast", "--out", str(out), "--quiet", "--cache-dir", str(tmp_path / "c"))
+    r = cli(
+        "compare",
+        str(DESIGNS / "thin_web.toml"),
+        str(DESIGNS / "thick_web.toml"),
+        "--fidelity",
+        "fast",
+        "--out",
+        str(out),
+        "--quiet",
+        "--cache-dir",
+        str(tmp_path / "c"),
+    )
     assert r.returncode == 0, r.stderr
     rows = {row["design"]: row for row in json.loads((out / "summary.json").read_text())["designs"]}
     thin, thick = rows["thin_web"], rows["thick_web"]
@@ -272,12 +327,30 @@ def test_mesh_command_summary(tmp_path):
 
 def test_modes_command_summary(tmp_path):
     out = tmp_path / "modes"
-    r = cli("modes", "--fidelity", "fast", "--fmax", "3000", "--out", str(out), "--quiet",
-            "--cache-dir", str(tmp_path / "c"))
+    r = cli(
+        "modes",
+        "--fidelity",
+        "fast",
+        "--fmax",
+        "3000",
+        "--out",
+        str(out),
+        "--quiet",
+        "--cache-dir",
+        str(tmp_path / "c"),
+    )
     assert r.returncode == 0, r.stderr
     s = json.loads((out / "summary.json").read_text())
-    keys = {"index", "frequency_hz", "nodal_diameters", "nodal_circles", "family",
-            "modal_mass_kg", "modal_stiffness_n_m", "modal_damping_ns_m"}
+    keys = {
+        "index",
+        "frequency_hz",
+        "nodal_diameters",
+        "nodal_circles",
+        "family",
+        "modal_mass_kg",
+        "modal_stiffness_n_m",
+        "modal_damping_ns_m",
+    }
     assert all(set(m) == keys for m in s["modes"])
     assert {"selected_mode", "fidelity", "solver", "dofs", "timings_s"} <= set(s)
     assert all(m["frequency_hz"] <= 3000 for m in s["modes"])
@@ -287,7 +360,6 @@ def test_modes_command_summary(tmp_path):
 
     vtu = meshio.read(out / "modes.vtu")
     assert len([k for k in vtu.point_data if k.startswith("mode_")]) >= len(s["modes"])
-
 
 
 def test_3d_solver_agrees_with_axisym_preset(tmp_path):
@@ -306,15 +378,33 @@ def test_3d_solver_agrees_with_axisym_preset(tmp_path):
         ws.fidelity_for("fast", "4d")
     assert ws.fidelity_for("fast", "3d-tet").mesh_order == 2
 
+
 def test_sweep_command(tmp_path):
     out = tmp_path / "sweep"
-    r = cli("sweep", "--mass", "3.1", "--stiffness", "1.6e8", "--damping", "42",
-            "--crab-velocity", "0:0.4:5", "--rpm", "400,800", "--duration", "0.8",
-            "--out", str(out), "--quiet")
+    r = cli(
+        "sweep",
+        "--mass",
+        "3.1",
+        "--stiffness",
+        "1.6e8",
+        "--damping",
+        "42",
+        "--crab-velocity",
+        "0:0.4:5",
+        "--rpm",
+        "400,800",
+        "--duration",
+        "0.8",
+        "--out",
+        str(out),
+        "--quiet",
+    )
     assert r.returncode == 0, r.stderr
     lines = (out / "sweep.csv").read_text().splitlines()
-    assert lines[0] == ("crab_velocity_m_s,rpm,rolling_speed_m_s,squeal,velocity_amplitude_m_s,"
-                        "frequency_hz,growth_rate_1_s,time_to_saturation_s")
+    assert lines[0] == (
+        "crab_velocity_m_s,rpm,rolling_speed_m_s,squeal,velocity_amplitude_m_s,"
+        "frequency_hz,growth_rate_1_s,time_to_saturation_s"
+    )
     assert len(lines) == 1 + 5 * 2
     first = lines[1].split(",")
     assert float(first[0]) == 0.0 and first[3] == "false"  # Vc = 0: no squeal

@@ -10,8 +10,9 @@ from hypothesis import strategies as st
 
 import reduced as r
 
-TABLE1 = dict(R1=0.213, R1t=0.300, R2=0.085, R2t=0.040, youngs_modulus=175e9, poissons_ratio=0.28,
-              normal_load=1000.0)
+TABLE1 = dict(
+    R1=0.213, R1t=0.300, R2=0.085, R2t=0.040, youngs_modulus=175e9, poissons_ratio=0.28, normal_load=1000.0
+)
 V0_800 = 800 * 2 * math.pi / 60 * 0.213
 
 
@@ -41,15 +42,22 @@ def test_hertz_sphere_matches_closed_form():
     # two equal spheres R: relative radius R/2, a = (3 W (R/2) / (4 E*))^(1/3), E* = E/2(1-nu^2)
     R, E, nu, W = 0.1, 200e9, 0.3, 100.0
     h = r.hertz_contact(R, R, R, R, E, nu, W)
-    a_exact = (3 * W * (R / 2) / (4 * E / (2 * (1 - nu ** 2)))) ** (1 / 3)
+    a_exact = (3 * W * (R / 2) / (4 * E / (2 * (1 - nu**2)))) ** (1 / 3)
     assert h.semi_axis_a_m == pytest.approx(a_exact, rel=1e-12)
     assert h.semi_axis_b_m == pytest.approx(a_exact, rel=1e-12)
 
 
 def test_hertz_swapping_directions_swaps_axes(hertz):
     # exchanging rolling and transverse radii must exchange a and b and rotate the ellipse
-    s = r.hertz_contact(TABLE1["R1t"], TABLE1["R1"], TABLE1["R2t"], TABLE1["R2"],
-                        TABLE1["youngs_modulus"], TABLE1["poissons_ratio"], TABLE1["normal_load"])
+    s = r.hertz_contact(
+        TABLE1["R1t"],
+        TABLE1["R1"],
+        TABLE1["R2t"],
+        TABLE1["R2"],
+        TABLE1["youngs_modulus"],
+        TABLE1["poissons_ratio"],
+        TABLE1["normal_load"],
+    )
     assert s.semi_axis_a_m == pytest.approx(hertz.semi_axis_b_m, rel=1e-10)
     assert s.semi_axis_b_m == pytest.approx(hertz.semi_axis_a_m, rel=1e-10)
     assert s.orientation == "major axis across rolling"
@@ -165,13 +173,20 @@ def test_own_numerical_kernels_match_scipy():
 
     from reduced._numerics import elliptic_ke, find_root
 
-    ms = np.concatenate([[0.0, 1e-300, 1e-16, 1e-8], np.linspace(0, 1, 201)[1:-1], 1 - np.logspace(-3, -12, 10)])
+    ms = np.concatenate(
+        [[0.0, 1e-300, 1e-16, 1e-8], np.linspace(0, 1, 201)[1:-1], 1 - np.logspace(-3, -12, 10)]
+    )
     for m in ms:
         K, E = elliptic_ke(float(m))
         assert K == pytest.approx(ellipk(m), rel=3e-14) and E == pytest.approx(ellipe(m), rel=3e-14)
-    for f, a, b in [(lambda x: x**3 - 2 * x - 5, 2, 3), (lambda x: math.cos(x) - x, 0, 1),
-                    (lambda x: (x - 0.3) ** 3, 0, 1), (lambda x: math.tanh(50 * (x - 0.123456789)), 0, 1)]:
-        assert find_root(f, a, b) == pytest.approx(brentq(f, a, b, xtol=1e-15, rtol=1e-14, maxiter=1000),
-                                                   rel=1e-13)
+    for f, a, b in [
+        (lambda x: x**3 - 2 * x - 5, 2, 3),
+        (lambda x: math.cos(x) - x, 0, 1),
+        (lambda x: (x - 0.3) ** 3, 0, 1),
+        (lambda x: math.tanh(50 * (x - 0.123456789)), 0, 1),
+    ]:
+        assert find_root(f, a, b) == pytest.approx(
+            brentq(f, a, b, xtol=1e-15, rtol=1e-14, maxiter=1000), rel=1e-13
+        )
     with pytest.raises(ValueError, match="sign"):
         find_root(lambda x: x * x + 1, -1, 1)

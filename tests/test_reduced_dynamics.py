@@ -38,7 +38,9 @@ def test_operating_point_and_mode_constructors():
     op = r.OperatingPoint.from_rpm(800, 0.213, 0.39)
     assert op.rolling_speed_m_s == pytest.approx(17.84, abs=0.01)  # Table 1: 17.8 m/s
     assert op.creepage == pytest.approx(0.022, abs=5e-4)  # paper: quasi-static creepage 0.022
-    assert r.OperatingPoint.from_angle_of_attack(17.84, 0.022).crabbing_velocity_m_s == pytest.approx(0.022 * 17.84, rel=1e-12)
+    assert r.OperatingPoint.from_angle_of_attack(17.84, 0.022).crabbing_velocity_m_s == pytest.approx(
+        0.022 * 17.84, rel=1e-12
+    )
     md = r.ModalDOF.from_damping_ratio(3.1, 1.6e8, 9.4e-4)
     assert md.damping_ns_m == pytest.approx(42.0, rel=0.01)  # MODEL.md: 9.4e-4 gives 42 N s/m
     assert TABLE1_MODE.frequency_hz == pytest.approx(1143.0, rel=5e-4)

@@ -62,7 +62,8 @@ def test_vc_zero_is_at_rest_and_finite(law):
     assert pred.stable_amplitudes_m_s == () and pred.unstable_amplitudes_m_s == ()
     # creep region: the contact adds W/V0 mu_s K ~ 6.1e3 N s/m of damping
     assert lc.growth_rate_analytic_1_s == pytest.approx(
-        -(42.0 + 1000.0 / V0_800 * 0.3 * law.normalised_creepage_per_creepage) / (2 * 3.1), rel=1e-12)
+        -(42.0 + 1000.0 / V0_800 * 0.3 * law.normalised_creepage_per_creepage) / (2 * 3.1), rel=1e-12
+    )
 
 
 def test_vc_tiny_decays_to_round_off_and_mirrors(law):
@@ -158,7 +159,7 @@ def test_rolling_speed_tiny_step_adapts(law):
     op = r.OperatingPoint(0.05, 0.05)
     hist = _strict(r.simulate, MODE, law, op, 0.3, store_every=8)
     _assert_finite(hist)
-    assert hist.energy_mismatch_j < 1e-3 * 0.5 * 3.1 * 0.05 ** 2
+    assert hist.energy_mismatch_j < 1e-3 * 0.5 * 3.1 * 0.05**2
     lc = r.limit_cycle(hist)
     pred = _strict(r.predict_limit_cycle, MODE, law, op)
     assert lc.squeal and lc.saturated and pred.squeal
@@ -256,7 +257,7 @@ def test_damping_very_large_no_squeal(law):
         assert lc.growth_rate_analytic_1_s < 0 and not lc.squeal and not pred.squeal
         assert pred.stable_amplitudes_m_s == ()
         assert lc.velocity_amplitude_m_s < 1e-12  # decayed to round-off (1e-17) / never oscillated
-        assert np.abs(hist.v[-len(hist.v) // 10:]).max() < 1e-15
+        assert np.abs(hist.v[-len(hist.v) // 10 :]).max() < 1e-15
     # the underdamped one decays at the analytic rate (fit stops above the round-off floor)
     lc = r.limit_cycle(r.simulate(r.ModalDOF(3.1, 1.6e8, 955.0), law, op, 0.3))
     assert lc.growth_rate_1_s == pytest.approx(lc.growth_rate_analytic_1_s, rel=0.01)
@@ -274,12 +275,13 @@ def test_very_stiff_mode_resolved_and_on_the_predicted_cycle(law):
     op = r.OperatingPoint(V0_800, 0.39)
     pred = _strict(r.predict_limit_cycle, mode, law, op)
     assert pred.velocity_amplitude_m_s == pytest.approx(
-        r.predict_limit_cycle(MODE, law, op).velocity_amplitude_m_s, rel=1e-12)
+        r.predict_limit_cycle(MODE, law, op).velocity_amplitude_m_s, rel=1e-12
+    )
     # from rest it takes ~1 s (8.7e6 steps) to grow: start on the cycle, run 900 periods
     hist = _strict(r.simulate, mode, law, op, 0.01, initial_state=(0.0, pred.velocity_amplitude_m_s))
     _assert_finite(hist)
     assert hist.step_s <= 1.0 / (48 * mode.frequency_hz) * (1 + 1e-9)
-    emax = 0.5 * 3.1 * pred.velocity_amplitude_m_s ** 2
+    emax = 0.5 * 3.1 * pred.velocity_amplitude_m_s**2
     assert hist.energy_mismatch_j < 1e-2 * emax  # measured 3e-3
     lc = r.limit_cycle(hist)
     assert lc.saturated and lc.frequency_hz == pytest.approx(mode.frequency_hz, rel=0.01)
@@ -337,7 +339,7 @@ def test_light_mode_at_squeal_frequency_sticks_to_the_roller(law):
 def test_long_run_10s_no_drift(law):
     op = r.OperatingPoint(V0_800, 0.39)
     hist = r.simulate(MODE, law, op, 10.0)
-    assert hist.energy_mismatch_j < 1e-4 * 0.5 * 3.1 * 0.39 ** 2  # measured 2.5e-6 J
+    assert hist.energy_mismatch_j < 1e-4 * 0.5 * 3.1 * 0.39**2  # measured 2.5e-6 J
     lc = r.limit_cycle(hist)
     assert lc.saturated and lc.time_to_saturation_s < 0.5
     c = lc.cycles

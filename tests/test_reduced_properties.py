@@ -20,17 +20,19 @@ import reduced as r
 from reduced import _kernels
 from reduced.model import law_vector
 
-TABLE1_LAW = r.ContactLaw.from_hertz(r.hertz_contact(0.213, 0.300, 0.085, 0.040, 175e9, 0.28, 1000.0),
-                                     friction_coefficient=0.3)
+TABLE1_LAW = r.ContactLaw.from_hertz(
+    r.hertz_contact(0.213, 0.300, 0.085, 0.040, 175e9, 0.28, 1000.0), friction_coefficient=0.3
+)
 
 
 def _pos(lo, hi):
     """Log-uniform-ish positive floats in [lo, hi]."""
-    return st.floats(math.log10(lo), math.log10(hi)).map(lambda e: 10.0 ** e)
+    return st.floats(math.log10(lo), math.log10(hi)).map(lambda e: 10.0**e)
 
 
-creepage = st.one_of(st.floats(-10.0, 10.0), st.floats(-1e-6, 1e-6),
-                     _pos(1e-300, 1e-3), st.sampled_from([0.0, -0.0, 5e-324]))
+creepage = st.one_of(
+    st.floats(-10.0, 10.0), st.floats(-1e-6, 1e-6), _pos(1e-300, 1e-3), st.sampled_from([0.0, -0.0, 5e-324])
+)
 
 contact_laws = st.builds(
     r.ContactLaw,
@@ -66,8 +68,12 @@ def test_creep_law_odd_bounded_and_opposing_sliding(zetas, law, v0):
     for zi, mi in zip(z[:3], mu[:3]):
         q = _kernels.lateral_force(float(zi) * v0, lv)
         # (absolute: F(s) = 1 - e/2 - e/2 cancels when s >> s1, s2, amplifying round-off in s)
-        assert math.isclose(q, -mi * law.normal_load_n, rel_tol=1e-12,
-                            abs_tol=1e-12 * law.friction_coefficient * law.normal_load_n)
+        assert math.isclose(
+            q,
+            -mi * law.normal_load_n,
+            rel_tol=1e-12,
+            abs_tol=1e-12 * law.friction_coefficient * law.normal_load_n,
+        )
 
 
 @settings(max_examples=10, deadline=None)
@@ -114,7 +120,7 @@ def test_energy_balance_and_predictor_at_the_limit_cycle(m, f, vc, v0):
     t_grow = math.log(pred.velocity_amplitude_m_s / pred.initial_amplitude_m_s) / sigma
     duration = min(3.0, 1.6 * t_grow + 100.0 / f)
     hist = r.simulate(mode, TABLE1_LAW, op, duration)
-    emax = 0.5 * m * pred.velocity_amplitude_m_s ** 2
+    emax = 0.5 * m * pred.velocity_amplitude_m_s**2
     assert hist.energy_mismatch_j < 1e-2 * emax
     lc = r.limit_cycle(hist)
     assert lc.saturated, (m, f, vc, v0, duration)

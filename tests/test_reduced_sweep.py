@@ -108,13 +108,21 @@ def test_report_files_and_json(tmp_path, law, grid):
     text = json.dumps(d, allow_nan=False)
     back = json.loads(text)
     assert set(back) == {"limit_cycle", "operating_point", "contact"}
-    assert set(back["limit_cycle"]) == {"squeal", "velocity_amplitude_m_s", "frequency_hz",
-                                        "time_to_saturation_s", "growth_rate_1_s"}
+    assert set(back["limit_cycle"]) == {
+        "squeal",
+        "velocity_amplitude_m_s",
+        "frequency_hz",
+        "time_to_saturation_s",
+        "growth_rate_1_s",
+    }
     assert back["contact"]["c22"] == 3.14 and back["contact"]["friction_coefficient"] == 0.3
     assert back["operating_point"]["creepage"] == pytest.approx(0.0219, abs=1e-4)
     # a no-squeal case has no frequency: None, not NaN, in JSON
     lc0 = r.limit_cycle(r.simulate(MODE, law, r.OperatingPoint.from_rpm(800, RADIUS, 0.0), 0.05))
-    assert json.loads(json.dumps(r.summary_dicts(lc0, op, law), allow_nan=False))["limit_cycle"]["frequency_hz"] is None
+    assert (
+        json.loads(json.dumps(r.summary_dicts(lc0, op, law), allow_nan=False))["limit_cycle"]["frequency_hz"]
+        is None
+    )
 
     csv = r.write_timeseries_csv(hist, tmp_path)
     lines = csv.read_text().splitlines()
@@ -124,15 +132,23 @@ def test_report_files_and_json(tmp_path, law, grid):
     np.testing.assert_allclose(data[:, 2], hist.v, rtol=1e-8, atol=1e-12)
     pngs = r.write_time_history_plots(hist, tmp_path)
     names = {p.name for p in pngs}
-    assert {"creep_curve.png", "velocity_history.png", "force_velocity_0.20s.png",
-            "power_0.20s.png", "force_velocity_0.40s.png", "power_0.40s.png"} <= names
+    assert {
+        "creep_curve.png",
+        "velocity_history.png",
+        "force_velocity_0.20s.png",
+        "power_0.20s.png",
+        "force_velocity_0.40s.png",
+        "power_0.40s.png",
+    } <= names
     for p in pngs:
         assert p.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
 
     sc = r.write_sweep_csv(grid, tmp_path, wheel_radius_m=RADIUS)
     rows = sc.read_text().splitlines()
-    assert rows[0] == ("crab_velocity_m_s,rpm,rolling_speed_m_s,squeal,velocity_amplitude_m_s,"
-                       "frequency_hz,growth_rate_1_s,time_to_saturation_s")
+    assert rows[0] == (
+        "crab_velocity_m_s,rpm,rolling_speed_m_s,squeal,velocity_amplitude_m_s,"
+        "frequency_hz,growth_rate_1_s,time_to_saturation_s"
+    )
     assert len(rows) == 1 + grid.squeal.size
     assert rows[-1].split(",")[1] == "800"
     sp = r.write_sweep_plot(grid, tmp_path, wheel_radius_m=RADIUS)

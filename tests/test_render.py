@@ -7,7 +7,6 @@ analytic shapes), so these tests do not depend on the FE solvers.
 from __future__ import annotations
 
 import math
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -95,8 +94,9 @@ def synthetic_modeset(n_theta: int = 72) -> ModeSet:
         S = np.stack(members) * 0.05  # "mass-normalised" scale [m / sqrt(kg)]
         shapes.append(S)
         modes.append(Mode(i, f, n, c, fam, tuple(float(m[contact, 2]) for m in S)))
-    return ModeSet(modes=modes, points=pts, cells={"wedge": wedges}, shapes=shapes,
-                   solver="synthetic", dofs=3 * len(pts))
+    return ModeSet(
+        modes=modes, points=pts, cells={"wedge": wedges}, shapes=shapes, solver="synthetic", dofs=3 * len(pts)
+    )
 
 
 @pytest.fixture(scope="module")
@@ -139,9 +139,14 @@ def test_contact_aligned_pair_is_rotation_invariant(modeset):
     i = 2
     c, s = math.cos(0.7), math.sin(0.7)
     a, b = modeset.shapes[i]
-    rotated = ModeSet(modeset.modes, modeset.points, modeset.cells,
-                      [*modeset.shapes[:i], np.stack([c * a + s * b, -s * a + c * b]),
-                       *modeset.shapes[i + 1:]], "synthetic", modeset.dofs)
+    rotated = ModeSet(
+        modeset.modes,
+        modeset.points,
+        modeset.cells,
+        [*modeset.shapes[:i], np.stack([c * a + s * b, -s * a + c * b]), *modeset.shapes[i + 1 :]],
+        "synthetic",
+        modeset.dofs,
+    )
     assert np.allclose(mode_shape(rotated, i), mode_shape(modeset, i), atol=1e-12)
     # the analytic n = 3 shape aligned to the contact: u_z ~ cos(3 theta) at the rim
     th = np.arctan2(modeset.points[:, 1], modeset.points[:, 0])
@@ -192,8 +197,15 @@ def test_render_modes_png_and_gif(modeset, tmp_path):
 
     from fem.render import render_modes
 
-    paths = render_modes(modeset, tmp_path / "out", indices=[2], gif=True, frames=8,
-                         window_size=(480, 360), gif_window_size=(320, 240))
+    paths = render_modes(
+        modeset,
+        tmp_path / "out",
+        indices=[2],
+        gif=True,
+        frames=8,
+        window_size=(480, 360),
+        gif_window_size=(320, 240),
+    )
     assert [p.name for p in paths] == ["mode_02_n3_c0_axial.png", "mode_02_n3_c0_axial.gif"]
     assert Image.open(paths[0]).size == (480, 360)
     gif = Image.open(paths[1])
@@ -252,9 +264,8 @@ def test_tetra_cells(modeset):
 def test_real_table1_mode(tmp_path):
     """The axisymmetric solver's Table 1 mode set renders (if that solver is present)."""
     import fem.axisym as axisym
+    from fem.render import contact_point_index, mode_shape, render_mode
     from geometry.design import WheelDesign
-
-    from fem.render import mode_shape, render_mode, contact_point_index
 
     ms = axisym.solve_axisymmetric(WheelDesign(), fmax_hz=1500.0)
     i = next(j for j, m in enumerate(ms.modes) if m.nodal_diameters == 3 and m.family == "axial")

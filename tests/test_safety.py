@@ -62,17 +62,41 @@ def _bad_runs(box: Path) -> list[tuple[list[str], dict, str]]:
         (["modes", "--out", "r", "--cache-dir", "designs/mine.toml"], {}, "not a folder"),
         (["modes", "--out", "r", "--cache-dir", "designs"], {}, "not a wheel-squeal cache"),
         (["modes", "--out", "/proc/x"], {}, "cannot be written"),
-        (["sweep", "--mass", "3.1", "--stiffness", "1.6e8", "--damping", "42", "--out", "/sys/x"],
-         {}, "cannot be written"),
-        (["calibrate", "--free", "rim_depth", "--target-frequency", "1143", "--out", "/proc/x.toml"],
-         {}, "cannot be written"),
-        (["calibrate", "--free", "rim_depth", "--target-frequency", "1143", "--out",
-          "designs/mine.toml"], {}, "not a design written by calibrate"),
+        (
+            ["sweep", "--mass", "3.1", "--stiffness", "1.6e8", "--damping", "42", "--out", "/sys/x"],
+            {},
+            "cannot be written",
+        ),
+        (
+            ["calibrate", "--free", "rim_depth", "--target-frequency", "1143", "--out", "/proc/x.toml"],
+            {},
+            "cannot be written",
+        ),
+        (
+            ["calibrate", "--free", "rim_depth", "--target-frequency", "1143", "--out", "designs/mine.toml"],
+            {},
+            "not a design written by calibrate",
+        ),
         (["run", "--mode", "f=inf", "--out", "r"], {}, "positive frequency"),
         (["run", "--mode", "f=nan", "--out", "r"], {}, "positive frequency"),
         (["run", "--mode", "f=-5", "--out", "r"], {}, "positive frequency"),
-        (["simulate", "--mass", "3.1", "--stiffness", "1.6e8", "--damping", "42",
-          "--duration", "1000", "--out", "r"], {}, "at most"),
+        (
+            [
+                "simulate",
+                "--mass",
+                "3.1",
+                "--stiffness",
+                "1.6e8",
+                "--damping",
+                "42",
+                "--duration",
+                "1000",
+                "--out",
+                "r",
+            ],
+            {},
+            "at most",
+        ),
     ]
 
 
@@ -94,13 +118,21 @@ def test_bad_runs_change_nothing_outside_out_and_cache(sandbox, tmp_path):
 
 
 def test_empty_cache_variable_is_unset_and_never_the_working_folder(sandbox):
-    r = run_cli("cache", "info", cwd=sandbox, env={"WHEEL_SQUEAL_CACHE": "", "XDG_CACHE_HOME":
-                                                 str(sandbox.parent / "xdg")})
+    r = run_cli(
+        "cache",
+        "info",
+        cwd=sandbox,
+        env={"WHEEL_SQUEAL_CACHE": "", "XDG_CACHE_HOME": str(sandbox.parent / "xdg")},
+    )
     assert r.returncode == 0, r.stderr
     assert str(sandbox.parent / "xdg" / "wheel-squeal") in r.stdout
     before = snapshot(sandbox)
-    r = run_cli("cache", "clear", cwd=sandbox, env={"WHEEL_SQUEAL_CACHE": "", "XDG_CACHE_HOME":
-                                                  str(sandbox.parent / "xdg")})
+    r = run_cli(
+        "cache",
+        "clear",
+        cwd=sandbox,
+        env={"WHEEL_SQUEAL_CACHE": "", "XDG_CACHE_HOME": str(sandbox.parent / "xdg")},
+    )
     assert r.returncode == 0 and snapshot(sandbox) == before
 
 
@@ -311,8 +343,9 @@ RUNAWAY = [
 def test_runaway_designs_are_refused_at_once(tmp_path, text, needle):
     design = write(tmp_path / "d.toml", text)
     t = time.perf_counter()
-    r = run_cli("run", "--design", design, "--out", tmp_path / "out", "--quiet",
-                "--cache-dir", tmp_path / "c")
+    r = run_cli(
+        "run", "--design", design, "--out", tmp_path / "out", "--quiet", "--cache-dir", tmp_path / "c"
+    )
     elapsed = time.perf_counter() - t
     assert r.returncode == 2, r.stderr
     assert needle in one_line_error(r)
@@ -334,18 +367,48 @@ def test_unbounded_sweeps_are_refused(tmp_path):
     r = run_cli(*base, "--crab-velocity", "0:1:1000000", "--out", tmp_path / "b")
     assert r.returncode == 2 and "--max-seconds" in one_line_error(r)
     # the limit can be lifted (here lowered: the same sweep that runs by default is refused)
-    r = run_cli(*base, "--crab-velocity", "0:0.4:3", "--rpm", "800", "--duration", "0.5",
-                "--max-seconds", "0.001", "--out", tmp_path / "c")
+    r = run_cli(
+        *base,
+        "--crab-velocity",
+        "0:0.4:3",
+        "--rpm",
+        "800",
+        "--duration",
+        "0.5",
+        "--max-seconds",
+        "0.001",
+        "--out",
+        tmp_path / "c",
+    )
     assert r.returncode == 2 and "limit" in one_line_error(r)
     assert not any((tmp_path / x).exists() for x in "abc")
 
 
 def test_the_dof_limit_is_a_setting(tmp_path):
-    r = run_cli("modes", "--fidelity", "fast", "--max-dofs", "100", "--out", tmp_path / "m",
-                "--quiet", "--cache-dir", tmp_path / "c")
+    r = run_cli(
+        "modes",
+        "--fidelity",
+        "fast",
+        "--max-dofs",
+        "100",
+        "--out",
+        tmp_path / "m",
+        "--quiet",
+        "--cache-dir",
+        tmp_path / "c",
+    )
     assert r.returncode == 2 and "--max-dofs" in one_line_error(r)
-    r = run_cli("modes", "--fidelity", "fast", "--out", tmp_path / "m", "--quiet",
-                "--cache-dir", tmp_path / "c", env={"WHEEL_SQUEAL_MAX_DOFS": "100"})
+    r = run_cli(
+        "modes",
+        "--fidelity",
+        "fast",
+        "--out",
+        tmp_path / "m",
+        "--quiet",
+        "--cache-dir",
+        tmp_path / "c",
+        env={"WHEEL_SQUEAL_MAX_DOFS": "100"},
+    )
     assert r.returncode == 2 and "limit 100 DOFs" in one_line_error(r)
     with pytest.raises(BudgetError):
         ws.compute_modes(WheelDesign(), "fast", budget=Budget(max_dofs=100))
@@ -368,8 +431,10 @@ print(json.dumps([ms.dofs, peak() - r0]))
 """
 
 
-@pytest.mark.parametrize("fidelity,solver", [("fast", None), ("balanced", None), ("accurate", None),
-                                             ("fast", "3d"), ("balanced", "3d")])
+@pytest.mark.parametrize(
+    "fidelity,solver",
+    [("fast", None), ("balanced", None), ("accurate", None), ("fast", "3d"), ("balanced", "3d")],
+)
 def test_estimate_is_within_2x_of_measured_dofs_and_memory(fidelity, solver):
     """The budget's estimate against the solve measured in a fresh process (its peak
     resident memory above what the imports took)."""
@@ -378,8 +443,13 @@ def test_estimate_is_within_2x_of_measured_dofs_and_memory(fidelity, solver):
 
     fid = ws.fidelity_for(fidelity, solver)
     cost = ws.check_modes_budget(WheelDesign(), fid, 5000.0, Budget())
-    r = subprocess.run([sys.executable, "-c", _MEASURE, fidelity, solver or ""], capture_output=True,
-                       text=True, timeout=300, cwd=ROOT)
+    r = subprocess.run(
+        [sys.executable, "-c", _MEASURE, fidelity, solver or ""],
+        capture_output=True,
+        text=True,
+        timeout=300,
+        cwd=ROOT,
+    )
     assert r.returncode == 0, r.stderr
     dofs, memory = json.loads(r.stdout.splitlines()[-1])
     assert 0.5 <= cost.dofs / dofs <= 2.0, (cost.dofs, dofs)
@@ -390,18 +460,44 @@ def test_estimate_is_within_2x_of_measured_dofs_and_memory(fidelity, solver):
 # messages a user can act on
 # --------------------------------------------------------------------------------------
 def test_compare_names_the_design_that_failed(tmp_path):
-    bad = write(tmp_path / "nothree.toml", (DESIGNS / "thin_web.toml").read_text().replace(
-        'name = "thin_web"', 'name = "nothree"'))
-    r = run_cli("compare", DESIGNS / "table1.toml", bad, "--fidelity", "fast", "--fmax", "600",
-                "--out", tmp_path / "cmp", "--quiet", "--cache-dir", tmp_path / "c")
+    bad = write(
+        tmp_path / "nothree.toml",
+        (DESIGNS / "thin_web.toml").read_text().replace('name = "thin_web"', 'name = "nothree"'),
+    )
+    r = run_cli(
+        "compare",
+        DESIGNS / "table1.toml",
+        bad,
+        "--fidelity",
+        "fast",
+        "--fmax",
+        "600",
+        "--out",
+        tmp_path / "cmp",
+        "--quiet",
+        "--cache-dir",
+        tmp_path / "c",
+    )
     assert r.returncode == 2 and one_line_error(r).startswith("error: design ")
 
 
 def test_plot_windows_stay_inside_the_record(tmp_path):
     """A very soft mode (0.0036 Hz): the Fig. 7-10 windows are clamped to the record."""
     out = tmp_path / "soft"
-    r = run_cli("simulate", "--mass", "3.1", "--stiffness", "1e-3", "--damping", "0", "--duration",
-                "0.5", "--out", out, "--quiet")
+    r = run_cli(
+        "simulate",
+        "--mass",
+        "3.1",
+        "--stiffness",
+        "1e-3",
+        "--damping",
+        "0",
+        "--duration",
+        "0.5",
+        "--out",
+        out,
+        "--quiet",
+    )
     assert r.returncode == 0, r.stderr
     names = [p.name for p in out.glob("force_velocity_*.png")]
     times = [float(n.removeprefix("force_velocity_").removesuffix("s.png")) for n in names]
@@ -409,8 +505,18 @@ def test_plot_windows_stay_inside_the_record(tmp_path):
 
 
 def test_empty_design_file_says_it_is_the_default(tmp_path):
-    r = run_cli("modes", "--design", "/dev/null", "--fidelity", "fast", "--out", tmp_path / "m",
-                "--cache-dir", tmp_path / "c", "--quiet")
+    r = run_cli(
+        "modes",
+        "--design",
+        "/dev/null",
+        "--fidelity",
+        "fast",
+        "--out",
+        tmp_path / "m",
+        "--cache-dir",
+        tmp_path / "c",
+        "--quiet",
+    )
     assert r.returncode == 0, r.stderr
     assert "default Table 1 wheel" in r.stderr
     s = json.loads((tmp_path / "m" / "summary.json").read_text())
@@ -421,8 +527,12 @@ def test_empty_design_file_says_it_is_the_default(tmp_path):
 # --------------------------------------------------------------------------------------
 # any design near Table 1: a result or one line, never a traceback, under a memory cap
 # --------------------------------------------------------------------------------------
-_NUMERIC = {k: getattr(WheelDesign(), k) for keys in SECTIONS.values() for k in keys
-            if getattr(WheelDesign(), k) != 0.0}
+_NUMERIC = {
+    k: getattr(WheelDesign(), k)
+    for keys in SECTIONS.values()
+    for k in keys
+    if getattr(WheelDesign(), k) != 0.0
+}
 _MEMORY_CAP = 4 << 30
 
 
@@ -440,16 +550,35 @@ def _toml(values: dict) -> str:
     return "\n".join(lines) + "\n"
 
 
-@settings(max_examples=10, deadline=None, derandomize=True,
-          suppress_health_check=[HealthCheck.function_scoped_fixture])
+@settings(
+    max_examples=10,
+    deadline=None,
+    derandomize=True,
+    suppress_health_check=[HealthCheck.function_scoped_fixture],
+)
 @given(st.dictionaries(st.sampled_from(sorted(_NUMERIC)), st.floats(-1.0, 1.0), min_size=1, max_size=6))
 def test_designs_within_a_decade_of_table1_end_in_a_result_or_one_line(tmp_path, exponents):
     values = {k: _NUMERIC[k] * 10.0**e for k, e in exponents.items()}
     design = write(tmp_path / "probe.toml", _toml(values))
     out = tmp_path / "out"
-    r = run_cli("run", "--design", design, "--fidelity", "fast", "--render", "none", "--fmax", "3000",
-                "--out", out, "--quiet", "--no-cache", preexec_fn=_cap_memory,
-                env={"WHEEL_SQUEAL_MAX_SECONDS": "30"}, timeout=300)
+    r = run_cli(
+        "run",
+        "--design",
+        design,
+        "--fidelity",
+        "fast",
+        "--render",
+        "none",
+        "--fmax",
+        "3000",
+        "--out",
+        out,
+        "--quiet",
+        "--no-cache",
+        preexec_fn=_cap_memory,
+        env={"WHEEL_SQUEAL_MAX_SECONDS": "30"},
+        timeout=300,
+    )
     msg = f"{values}: rc={r.returncode} {r.stderr[-2000:]}"
     assert r.returncode in (0, 1, 2), msg
     if r.returncode == 0:
@@ -465,10 +594,14 @@ def test_designs_within_a_decade_of_table1_end_in_a_result_or_one_line(tmp_path,
 
 def test_default_run_writes_into_results_of_the_working_folder(sandbox, tmp_path):
     before = snapshot(sandbox / "results" / "keep")
-    r = run_cli("run", "--fidelity", "fast", "--render", "none", "--quiet", "--cache-dir",
-                tmp_path / "c", cwd=sandbox)
+    r = run_cli(
+        "run", "--fidelity", "fast", "--render", "none", "--quiet", "--cache-dir", tmp_path / "c", cwd=sandbox
+    )
     assert r.returncode == 0, r.stderr
     assert (sandbox / "results" / "table1" / "summary.json").is_file()
     assert snapshot(sandbox / "results" / "keep") == before
-    assert math.isfinite(json.loads((sandbox / "results" / "table1" / "summary.json").read_text())
-                         ["limit_cycle"]["velocity_amplitude_m_s"])
+    assert math.isfinite(
+        json.loads((sandbox / "results" / "table1" / "summary.json").read_text())["limit_cycle"][
+            "velocity_amplitude_m_s"
+        ]
+    )

@@ -13,9 +13,10 @@ from __future__ import annotations
 
 import math
 import tempfile
+from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, Sequence
+from typing import Any
 
 import numpy as np
 
@@ -25,8 +26,17 @@ from geometry import load_design as _read_design
 from .budget import Budget
 from .cache import CacheMiss, StageCache, code_version, library_versions
 from .errors import RequestError
-from .presets import (DEFAULT_CRAB_VELOCITY_M_S, DEFAULT_DESIGN, DEFAULT_FIDELITY, DEFAULT_FMAX_HZ,
-                      DEFAULT_RPM, FIDELITIES, Fidelity, fidelity_for, rpm_to_speed)
+from .presets import (
+    DEFAULT_CRAB_VELOCITY_M_S,
+    DEFAULT_DESIGN,
+    DEFAULT_FIDELITY,
+    DEFAULT_FMAX_HZ,
+    DEFAULT_RPM,
+    FIDELITIES,
+    Fidelity,
+    fidelity_for,
+    rpm_to_speed,
+)
 from .progress import Progress
 
 __all__ = [
@@ -55,8 +65,9 @@ def load_design(path: str | Path | None = None) -> WheelDesign:
 # --------------------------------------------------------------------------------------
 # mesh and modes (cached)
 # --------------------------------------------------------------------------------------
-def _mesh_key(design: WheelDesign, dim: int, order: int, size: float | None,
-              elements_through_web: int | None) -> dict:
+def _mesh_key(
+    design: WheelDesign, dim: int, order: int, size: float | None, elements_through_web: int | None
+) -> dict:
     return {
         "stage": f"mesh{dim}d",
         "design": design.content_hash("structure"),
@@ -68,8 +79,14 @@ def _mesh_key(design: WheelDesign, dim: int, order: int, size: float | None,
     }
 
 
-def build_mesh(design: WheelDesign, dim: int = 2, order: int = 2, size: float | None = None,
-               elements_through_web: int | None = None, cache: StageCache | None = None):
+def build_mesh(
+    design: WheelDesign,
+    dim: int = 2,
+    order: int = 2,
+    size: float | None = None,
+    elements_through_web: int | None = None,
+    cache: StageCache | None = None,
+):
     """Mesh the design: the 2-D half-profile (``dim=2``) or the revolved solid (``dim=3``);
     ``size`` [m] or ``elements_through_web`` (default ``geometry.mesh.mesh_size``)."""
     from geometry import gmsh_mesh
@@ -114,18 +131,32 @@ def check_modes_budget(design: WheelDesign, fid: Fidelity, fmax_hz: float, budge
     h = mesh_size(design, elements_through_web=fid.elements_through_web)
     cost = estimate_cost(design, fid.solver, h, fmax_hz)
     cheaper = [n for n, f in FIDELITIES.items() if f.elements_through_web < fid.elements_through_web]
-    remedy = (f"use the {cheaper[0]} preset" if cheaper else "use a coarser preset") + \
-        (", the axisymmetric solver" if fid.solver != "axisym" else "") + " or a lower fmax"
-    budget.check_solve(f"{design.name} with the {fid.name} preset ({fid.solver}, "
-                       f"{fid.elements_through_web} per web, {h * 1e3:.3g} mm elements, "
-                       f"modes <= {fmax_hz:g} Hz)", cost.dofs, cost.memory_bytes, cost.seconds, remedy)
+    remedy = (
+        (f"use the {cheaper[0]} preset" if cheaper else "use a coarser preset")
+        + (", the axisymmetric solver" if fid.solver != "axisym" else "")
+        + " or a lower fmax"
+    )
+    budget.check_solve(
+        f"{design.name} with the {fid.name} preset ({fid.solver}, "
+        f"{fid.elements_through_web} per web, {h * 1e3:.3g} mm elements, "
+        f"modes <= {fmax_hz:g} Hz)",
+        cost.dofs,
+        cost.memory_bytes,
+        cost.seconds,
+        remedy,
+    )
     return cost
 
 
-def compute_modes(design: WheelDesign, fidelity: str | Fidelity = DEFAULT_FIDELITY,
-                  solver: str | None = None, fmax_hz: float = DEFAULT_FMAX_HZ,
-                  cache: StageCache | None = None, progress: Progress | None = None,
-                  budget: Budget | None = None):
+def compute_modes(
+    design: WheelDesign,
+    fidelity: str | Fidelity = DEFAULT_FIDELITY,
+    solver: str | None = None,
+    fmax_hz: float = DEFAULT_FMAX_HZ,
+    cache: StageCache | None = None,
+    progress: Progress | None = None,
+    budget: Budget | None = None,
+):
     """Eigenmodes of the bore-clamped wheel up to ``fmax_hz`` [Hz] as a ``fem.ModeSet``.
 
     ``fidelity`` is a preset name (fast | balanced | accurate) or a :class:`Fidelity`;
@@ -153,8 +184,9 @@ def compute_modes(design: WheelDesign, fidelity: str | Fidelity = DEFAULT_FIDELI
     check_modes_budget(design, fid, fmax_hz, budget or Budget.from_environment())
     dim = SOLVERS[fid.solver].mesh_dim
     with progress.stage(f"mesh ({dim}-D, {fid.name})"):
-        mesh = build_mesh(design, dim=dim, order=fid.mesh_order,
-                          elements_through_web=fid.elements_through_web, cache=cache)
+        mesh = build_mesh(
+            design, dim=dim, order=fid.mesh_order, elements_through_web=fid.elements_through_web, cache=cache
+        )
     with progress.stage(f"modes ({fid.method}, f <= {fmax_hz:g} Hz)"):
         ms = solve_modes(design, mesh, fid.solver, order=fid.order, fmax_hz=fmax_hz)
     if cache is not None and ms.modes:
@@ -173,13 +205,23 @@ def pick_mode(modeset, mode: str = "auto"):
         raise RequestError(str(exc).strip("'\"")) from None
 
 
-def mode_views(design: WheelDesign, fid: Fidelity, fmax_hz: float, modeset, indices: Sequence[int],
-               cache: StageCache | None) -> dict[str, bytes]:
+def mode_views(
+    design: WheelDesign,
+    fid: Fidelity,
+    fmax_hz: float,
+    modeset,
+    indices: Sequence[int],
+    cache: StageCache | None,
+) -> dict[str, bytes]:
     """``modes.vtu`` (every mode, for ParaView) and a PNG of each mode in ``indices``, as
     {file name: bytes}. They depend on the modes only, so they are cached beside them:
     a run that changes the operating point copies them instead of starting VTK."""
-    key = {**modes_cache_key(design, fid, fmax_hz), "stage": "views", "indices": list(indices),
-           "view_libraries": library_versions("pyvista", "vtk", "meshio")}
+    key = {
+        **modes_cache_key(design, fid, fmax_hz),
+        "stage": "views",
+        "indices": list(indices),
+        "view_libraries": library_versions("pyvista", "vtk", "meshio"),
+    }
     if cache is not None:
         try:
             return {name: arr.tobytes() for name, arr in cache.load("views", key).items()}
@@ -207,8 +249,10 @@ def modal_dof(mode, design: WheelDesign):
     from reduced import ModalDOF
 
     if not math.isfinite(mode.modal_mass):
-        raise RequestError(f"mode {mode.index} ({mode.label()}) has a node at the contact point: "
-                           "it cannot be excited there; pick another mode")
+        raise RequestError(
+            f"mode {mode.index} ({mode.label()}) has a node at the contact point: "
+            "it cannot be excited there; pick another mode"
+        )
     return ModalDOF.from_damping_ratio(mode.modal_mass, mode.modal_stiffness, design.modal_damping_ratio)
 
 
@@ -216,8 +260,11 @@ def explicit_dof(mass_kg: float, stiffness_n_m: float, damping_ns_m: float):
     """A mode given directly by its modal mass [kg], stiffness [N/m] and damping [N s/m]."""
     from reduced import ModalDOF
 
-    for name, v, zero_ok in (("mass_kg", mass_kg, False), ("stiffness_n_m", stiffness_n_m, False),
-                             ("damping_ns_m", damping_ns_m, True)):
+    for name, v, zero_ok in (
+        ("mass_kg", mass_kg, False),
+        ("stiffness_n_m", stiffness_n_m, False),
+        ("damping_ns_m", damping_ns_m, True),
+    ):
         if not (math.isfinite(v) and (v > 0 or (zero_ok and v == 0))):
             raise RequestError(f"{name} must be {'non-negative' if zero_ok else 'positive'}, got {v:g}")
     return ModalDOF(mass_kg, stiffness_n_m, damping_ns_m)
@@ -236,15 +283,28 @@ def contact_law(design: WheelDesign, c22: float | str | None = None):
         c22 = "kalker"
     elif c22 is not None and not (math.isfinite(c22) and c22 > 0):
         raise RequestError(f"c22 must be a positive number or 'kalker', got {c22}")
-    hertz = hertz_contact(design.rolling_radius, design.crown_radius,
-                          design.roller_rolling_radius, design.roller_crown_radius,
-                          design.youngs_modulus, design.poissons_ratio, design.normal_load)
-    return ContactLaw.from_hertz(hertz, friction_coefficient=design.friction_coefficient,
-                                 c22=design.c22 if c22 is None else c22)
+    hertz = hertz_contact(
+        design.rolling_radius,
+        design.crown_radius,
+        design.roller_rolling_radius,
+        design.roller_crown_radius,
+        design.youngs_modulus,
+        design.poissons_ratio,
+        design.normal_load,
+    )
+    return ContactLaw.from_hertz(
+        hertz, friction_coefficient=design.friction_coefficient, c22=design.c22 if c22 is None else c22
+    )
 
 
-def operating_point(design: WheelDesign, *, rpm: float | None = None, speed: float | None = None,
-                    crab_velocity: float | None = None, angle_of_attack: float | None = None):
+def operating_point(
+    design: WheelDesign,
+    *,
+    rpm: float | None = None,
+    speed: float | None = None,
+    crab_velocity: float | None = None,
+    angle_of_attack: float | None = None,
+):
     """Rolling speed (``rpm`` of the wheel or ``speed`` [m/s]; default 800 RPM) and
     crabbing velocity (``crab_velocity`` [m/s] or ``angle_of_attack`` [rad]; default
     0.39 m/s) as a ``reduced.OperatingPoint``."""
@@ -260,8 +320,11 @@ def operating_point(design: WheelDesign, *, rpm: float | None = None, speed: flo
     for name, v in (("crab_velocity", crab_velocity), ("angle_of_attack", angle_of_attack)):
         if v is not None and not math.isfinite(v):
             raise RequestError(f"{name} must be finite, got {v}")
-    v0 = speed if speed is not None else rpm_to_speed(DEFAULT_RPM if rpm is None else rpm,
-                                                         design.rolling_radius)
+    v0 = (
+        speed
+        if speed is not None
+        else rpm_to_speed(DEFAULT_RPM if rpm is None else rpm, design.rolling_radius)
+    )
     if angle_of_attack is not None:
         return OperatingPoint.from_angle_of_attack(v0, angle_of_attack)
     return OperatingPoint(v0, DEFAULT_CRAB_VELOCITY_M_S if crab_velocity is None else crab_velocity)
@@ -293,14 +356,23 @@ def simulate(dof, contact, op, duration: float | None = None) -> Simulation:
             raise RequestError(f"duration must be positive, got {duration:g}")
         longest = longest_record_s(dof)
         if duration > longest:
-            raise RequestError(f"duration {duration:g} s is too long to record: at most {longest:.3g} s "
-                               "fit (48 samples per period of the highest mode, 10 million samples)")
+            raise RequestError(
+                f"duration {duration:g} s is too long to record: at most {longest:.3g} s "
+                "fit (48 samples per period of the highest mode, 10 million samples)"
+            )
     history, lc = simulate_to_limit_cycle(dof, contact, op, duration)
     return Simulation(history, lc, contact, op)
 
 
-def sweep(dof, contact, crab_velocities, rolling_speeds, duration: float = 1.5,
-          budget: Budget | None = None, progress: Progress | None = None):
+def sweep(
+    dof,
+    contact,
+    crab_velocities,
+    rolling_speeds,
+    duration: float = 1.5,
+    budget: Budget | None = None,
+    progress: Progress | None = None,
+):
     """Limit cycles over a grid of crabbing velocities x rolling speeds [m/s] from rest,
     each run ``duration`` [s]; estimated first and refused beyond the ``budget``
     (default: this machine's). Long sweeps report progress."""
@@ -316,10 +388,13 @@ def sweep(dof, contact, crab_velocities, rolling_speeds, duration: float = 1.5,
         raise RequestError("crabbing velocities must be finite and rolling speeds positive")
     steps = max(sweep_steps(dof, contact, OperatingPoint(float(v0), 0.0), duration) for v0 in speeds)
     if steps > MAX_SWEEP_STEPS:
-        raise RequestError(f"a sweep case needs {steps:,} RK4 steps (limit {MAX_SWEEP_STEPS:,}): a very "
-                           "stiff or light mode or a very low rolling speed; shorten the duration")
+        raise RequestError(
+            f"a sweep case needs {steps:,} RK4 steps (limit {MAX_SWEEP_STEPS:,}): a very "
+            "stiff or light mode or a very low rolling speed; shorten the duration"
+        )
     n_modes = len(dof) if isinstance(dof, (list, tuple)) else 1
     seconds = (budget or Budget.from_environment()).check_sweep(
-        len(vcs) * len(speeds), steps, n_modes, numba_threads(), "use fewer points or a shorter duration")
+        len(vcs) * len(speeds), steps, n_modes, numba_threads(), "use fewer points or a shorter duration"
+    )
     report = progress.counter("sweep", "cases") if progress is not None and seconds > 2.0 else None
     return run_sweep(dof, contact, vcs, speeds, duration, progress=report)

@@ -107,43 +107,56 @@ class Budget:
     max_memory_bytes: float = math.inf
 
     @classmethod
-    def from_environment(cls, max_dofs: float | None = None,
-                         max_seconds: float | None = None) -> "Budget":
+    def from_environment(cls, max_dofs: float | None = None, max_seconds: float | None = None) -> Budget:
         """The budget of this machine: explicit limits, else the environment, else the
         defaults; memory from what is available now."""
-        return cls(_limit(max_dofs, ENV_MAX_DOFS, DEFAULT_MAX_DOFS, "max_dofs"),
-                   _limit(max_seconds, ENV_MAX_SECONDS, DEFAULT_MAX_SECONDS, "max_seconds"),
-                   MEMORY_FRACTION * available_memory())
+        return cls(
+            _limit(max_dofs, ENV_MAX_DOFS, DEFAULT_MAX_DOFS, "max_dofs"),
+            _limit(max_seconds, ENV_MAX_SECONDS, DEFAULT_MAX_SECONDS, "max_seconds"),
+            MEMORY_FRACTION * available_memory(),
+        )
 
-    def check_solve(self, what: str, dofs: float, memory_bytes: float, seconds: float,
-                    remedy: str) -> None:
+    def check_solve(self, what: str, dofs: float, memory_bytes: float, seconds: float, remedy: str) -> None:
         """Refuse a modal solve of ``dofs`` DOFs estimated at ``memory_bytes`` and
         ``seconds``; ``what`` names the request, ``remedy`` the cheaper alternative."""
-        cost = (f"{what} would need about {dofs:,.0f} DOFs, {_human_bytes(memory_bytes)} "
-                f"and {_human_time(seconds)}")
+        cost = (
+            f"{what} would need about {dofs:,.0f} DOFs, {_human_bytes(memory_bytes)} "
+            f"and {_human_time(seconds)}"
+        )
         if memory_bytes > self.max_memory_bytes:
-            raise BudgetError(f"{cost}: more memory than this machine has free "
-                              f"({_human_bytes(self.max_memory_bytes)} usable); {remedy}")
+            raise BudgetError(
+                f"{cost}: more memory than this machine has free "
+                f"({_human_bytes(self.max_memory_bytes)} usable); {remedy}"
+            )
         if dofs > self.max_dofs:
-            raise BudgetError(f"{cost} (limit {self.max_dofs:,.0f} DOFs); {remedy}, or raise the "
-                              f"limit with --max-dofs N ({ENV_MAX_DOFS})")
+            raise BudgetError(
+                f"{cost} (limit {self.max_dofs:,.0f} DOFs); {remedy}, or raise the "
+                f"limit with --max-dofs N ({ENV_MAX_DOFS})"
+            )
         self._check_time(cost, seconds, remedy)
 
-    def check_sweep(self, n_cases: int, steps_per_case: float, n_modes: int, threads: int,
-                    remedy: str) -> float:
+    def check_sweep(
+        self, n_cases: int, steps_per_case: float, n_modes: int, threads: int, remedy: str
+    ) -> float:
         """Refuse a sweep of ``n_cases`` RK4 runs of ``steps_per_case`` steps each;
         returns the estimated run time [s]."""
         seconds = n_cases * steps_per_case * n_modes * SWEEP_SECONDS_PER_STEP / max(threads, 1)
         memory = threads * steps_per_case * SWEEP_BYTES_PER_STEP
-        cost = (f"the sweep ({n_cases:,} cases of {steps_per_case:,.0f} RK4 steps) would need "
-                f"about {_human_bytes(memory)} and {_human_time(seconds)}")
+        cost = (
+            f"the sweep ({n_cases:,} cases of {steps_per_case:,.0f} RK4 steps) would need "
+            f"about {_human_bytes(memory)} and {_human_time(seconds)}"
+        )
         if memory > self.max_memory_bytes:
-            raise BudgetError(f"{cost}: more memory than this machine has free "
-                              f"({_human_bytes(self.max_memory_bytes)} usable); {remedy}")
+            raise BudgetError(
+                f"{cost}: more memory than this machine has free "
+                f"({_human_bytes(self.max_memory_bytes)} usable); {remedy}"
+            )
         self._check_time(cost, seconds, remedy)
         return seconds
 
     def _check_time(self, cost: str, seconds: float, remedy: str) -> None:
         if seconds > self.max_seconds:
-            raise BudgetError(f"{cost} (limit {_human_time(self.max_seconds)}); {remedy}, or raise "
-                              f"the limit with --max-seconds S ({ENV_MAX_SECONDS})")
+            raise BudgetError(
+                f"{cost} (limit {_human_time(self.max_seconds)}); {remedy}, or raise "
+                f"the limit with --max-seconds S ({ENV_MAX_SECONDS})"
+            )

@@ -32,15 +32,22 @@ import re
 import sys
 import tempfile
 import zipfile
+from collections.abc import Callable
 from pathlib import Path
-from typing import Callable
 
 import numpy as np
 
 from .errors import RequestError
 
-__all__ = ["CacheMiss", "ENV_VAR", "MARKER", "StageCache", "code_version", "default_cache_root",
-           "library_versions"]
+__all__ = [
+    "CacheMiss",
+    "ENV_VAR",
+    "MARKER",
+    "StageCache",
+    "code_version",
+    "default_cache_root",
+    "library_versions",
+]
 
 ENV_VAR = "WHEEL_SQUEAL_CACHE"
 #: The file that marks a folder as a stage cache of this tool.
@@ -62,7 +69,7 @@ def default_cache_root() -> Path:
     return (Path(base) if base else Path.home() / ".cache") / "wheel-squeal"
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def code_version(*packages: str) -> str:
     """Hash of the source of the given packages: a change of the code that computes a
     stage invalidates its entries."""
@@ -78,7 +85,7 @@ def code_version(*packages: str) -> str:
     return h.hexdigest()[:16]
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def library_versions(*distributions: str) -> dict[str, str]:
     """Installed versions of the libraries whose results a stage stores (an upgrade of
     SciPy or scikit-fem may change the last digits of every mode)."""
@@ -114,8 +121,9 @@ class StageCache:
     ``hits`` / ``misses`` list the stages served and recomputed, in order.
     """
 
-    def __init__(self, root: Path | str | None = None, enabled: bool = True,
-                 warn: Callable[[str], None] | None = None) -> None:
+    def __init__(
+        self, root: Path | str | None = None, enabled: bool = True, warn: Callable[[str], None] | None = None
+    ) -> None:
         self.root = Path(root).expanduser() if root is not None else default_cache_root()
         self.enabled = enabled
         self.warn = warn or (lambda msg: print(f"warning: {msg}", file=sys.stderr))
@@ -141,7 +149,8 @@ class StageCache:
             if children - _LEGACY_STAGES:
                 raise RequestError(
                     f"cache folder {root} is not empty and not a wheel-squeal cache (no {MARKER}): "
-                    f"choose an empty or new folder (--cache-dir or {ENV_VAR})")
+                    f"choose an empty or new folder (--cache-dir or {ENV_VAR})"
+                )
 
     def _ensure_root(self) -> bool:
         """Create the root and its marker on the first store; False if it cannot be."""
@@ -157,8 +166,10 @@ class StageCache:
 
     def _cannot_store(self, exc: OSError) -> None:
         if self.writable:
-            self.warn(f"cache folder {self.root} cannot be written ({exc.strerror or exc}); "
-                      "going on without storing results")
+            self.warn(
+                f"cache folder {self.root} cannot be written ({exc.strerror or exc}); "
+                "going on without storing results"
+            )
         self.writable = False
 
     # -- entries ------------------------------------------------------------------------
@@ -220,8 +231,11 @@ class StageCache:
             return []
         out = []
         for stage_dir in sorted(p for p in self.root.iterdir() if p.is_dir() and not p.is_symlink()):
-            out += [f for f in sorted(stage_dir.iterdir()) if f.is_file() and _ENTRY.fullmatch(f.name)
-                    and _is_entry(f)]
+            out += [
+                f
+                for f in sorted(stage_dir.iterdir())
+                if f.is_file() and _ENTRY.fullmatch(f.name) and _is_entry(f)
+            ]
         return out
 
     def info(self) -> tuple[int, int]:

@@ -40,8 +40,9 @@ import shutil
 import socket
 import tempfile
 import time
+from collections.abc import Iterator
 from pathlib import Path
-from typing import Any, Iterator
+from typing import Any
 
 from .errors import RequestError
 
@@ -151,8 +152,9 @@ class ResultFolder:
         except OSError as exc:
             raise RequestError(f"--out {out}: {exc.strerror}") from None
         if resolved == cwd or resolved in cwd.parents:
-            raise RequestError(f"--out {out} is the current folder or one of its parents: "
-                               "name a folder for the results")
+            raise RequestError(
+                f"--out {out} is the current folder or one of its parents: name a folder for the results"
+            )
         if out.is_symlink() and not out.exists():
             raise RequestError(f"--out {out} is a broken symbolic link")
         if out.exists():
@@ -161,7 +163,8 @@ class ResultFolder:
             if not is_result(out):
                 raise RequestError(
                     f"--out {out} is a folder with other files in it, not a result of this tool "
-                    f"(no {MARKER}): choose a new or empty folder (nothing was written)")
+                    f"(no {MARKER}): choose a new or empty folder (nothing was written)"
+                )
 
     def open(self) -> Path:
         """Check ``out``, tidy what dead runs left beside it and create the staging folder."""
@@ -197,7 +200,7 @@ class ResultFolder:
             for prefix in (prefix_tmp, prefix_old):
                 if not entry.name.startswith(prefix):
                     continue
-                pid_text = entry.name[len(prefix):].split("-", 1)[0]
+                pid_text = entry.name[len(prefix) :].split("-", 1)[0]
                 if not pid_text.isdigit() or _pid_alive(int(pid_text)):
                     continue
                 path = Path(entry.path)
@@ -214,8 +217,7 @@ class ResultFolder:
         if self.staging is None:
             raise RuntimeError("publish() before open()")
         staging = self.staging
-        marker = {"tool": "wheel-squeal", "command": command,
-                  "written": time.strftime("%Y-%m-%dT%H:%M:%S%z")}
+        marker = {"tool": "wheel-squeal", "command": command, "written": time.strftime("%Y-%m-%dT%H:%M:%S%z")}
         (staging / MARKER).write_text(json.dumps(marker) + "\n")
         out = self.out
         for _ in range(100):  # only another writer racing for the same name repeats this
@@ -227,8 +229,9 @@ class ResultFolder:
                 if exc.errno not in (errno.EEXIST, errno.ENOTEMPTY):
                     raise
             if out.is_dir() and not is_result(out):
-                raise RequestError(f"--out {out} was filled with other files during the run; "
-                                   f"the result is left in {staging}")
+                raise RequestError(
+                    f"--out {out} was filled with other files during the run; the result is left in {staging}"
+                )
             try:
                 _exchange(staging, out)
             except OSError as exc:

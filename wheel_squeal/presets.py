@@ -22,8 +22,18 @@ from fem.solvers import SOLVERS, method_label
 
 from .errors import RequestError
 
-__all__ = ["DEFAULT_CRAB_VELOCITY_M_S", "DEFAULT_DESIGN", "DEFAULT_FIDELITY", "DEFAULT_FMAX_HZ",
-           "DEFAULT_RPM", "FIDELITIES", "Fidelity", "designs_folder", "fidelity_for", "rpm_to_speed"]
+__all__ = [
+    "DEFAULT_CRAB_VELOCITY_M_S",
+    "DEFAULT_DESIGN",
+    "DEFAULT_FIDELITY",
+    "DEFAULT_FMAX_HZ",
+    "DEFAULT_RPM",
+    "FIDELITIES",
+    "Fidelity",
+    "designs_folder",
+    "fidelity_for",
+    "rpm_to_speed",
+]
 
 DEFAULT_RPM = 800.0
 DEFAULT_CRAB_VELOCITY_M_S = 0.39

@@ -5,7 +5,7 @@ from __future__ import annotations
 import contextlib
 import sys
 import time
-from typing import Callable, Iterator
+from collections.abc import Callable, Iterator
 
 __all__ = ["Progress"]
 
@@ -45,7 +45,9 @@ class Progress:
             last[0] = now
             rate = done / max(now - start, 1e-9)
             left = (total - done) / rate if rate > 0 else float("inf")
-            self.say(f"{name}: {done:,}/{total:,} {unit} ({100 * done / total:.0f} %), "
-                     f"{rate:.3g} {unit}/s, ~{left:.0f} s left")
+            self.say(
+                f"{name}: {done:,}/{total:,} {unit} ({100 * done / total:.0f} %), "
+                f"{rate:.3g} {unit}/s, ~{left:.0f} s left"
+            )
 
         return report

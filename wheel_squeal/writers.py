@@ -10,9 +10,9 @@ from __future__ import annotations
 import contextlib
 import math
 import multiprocessing
+from collections.abc import Iterator, Sequence
 from concurrent.futures import Executor, Future, ProcessPoolExecutor
 from pathlib import Path
-from typing import Iterator, Sequence
 
 import numpy as np
 
@@ -38,8 +38,12 @@ __all__ = [
 
 def dof_summary(dof) -> dict:
     """The modal parameters of a ``reduced.ModalDOF`` (SI units)."""
-    return {"mass_kg": dof.mass_kg, "stiffness_n_m": dof.stiffness_n_m,
-            "damping_ns_m": dof.damping_ns_m, "frequency_hz": dof.frequency_hz}
+    return {
+        "mass_kg": dof.mass_kg,
+        "stiffness_n_m": dof.stiffness_n_m,
+        "damping_ns_m": dof.damping_ns_m,
+        "frequency_hz": dof.frequency_hz,
+    }
 
 
 def modes_summary(design: WheelDesign, modeset, selected, fid: Fidelity, why: str | None = None) -> dict:
@@ -62,16 +66,20 @@ def modes_summary(design: WheelDesign, modeset, selected, fid: Fidelity, why: st
 
 def modes_table(modes, damping_ratio: float, selected=None) -> str:
     """The modes as a text table, the selected one marked."""
-    lines = [f"{'#':>3} {'f [Hz]':>9} {'n':>2} {'c':>2} {'family':<15} {'m [kg]':>10} "
-             f"{'k [N/m]':>10} {'c [Ns/m]':>9}"]
+    lines = [
+        f"{'#':>3} {'f [Hz]':>9} {'n':>2} {'c':>2} {'family':<15} {'m [kg]':>10} "
+        f"{'k [N/m]':>10} {'c [Ns/m]':>9}"
+    ]
     for m in modes:
         d = m.to_dict(damping_ratio)
         mass = f"{d['modal_mass_kg']:10.3f}" if d["modal_mass_kg"] is not None else f"{'node':>10}"
         k = f"{d['modal_stiffness_n_m']:10.3e}" if d["modal_stiffness_n_m"] is not None else f"{'-':>10}"
         c = f"{d['modal_damping_ns_m']:9.2f}" if d["modal_damping_ns_m"] is not None else f"{'-':>9}"
         mark = " <- selected" if selected is not None and m.index == selected.index else ""
-        lines.append(f"{m.index:>3} {m.frequency_hz:9.1f} {m.nodal_diameters:>2} "
-                     f"{m.nodal_circles:>2} {m.family:<15} {mass} {k} {c}{mark}")
+        lines.append(
+            f"{m.index:>3} {m.frequency_hz:9.1f} {m.nodal_diameters:>2} "
+            f"{m.nodal_circles:>2} {m.family:<15} {mass} {k} {c}{mark}"
+        )
     return "\n".join(lines)
 
 
@@ -83,16 +91,19 @@ def squeal_report(sim, dof) -> str:
         f"modal parameters: f = {dof.frequency_hz:.1f} Hz, m = {dof.mass_kg:.3f} kg, "
         f"k = {dof.stiffness_n_m:.4g} N/m, c = {dof.damping_ns_m:.2f} N s/m",
         f"contact ellipse: a = {ct['semi_axis_a_m'] * 1e3:.3f} mm (rolling), "
-        f"b = {ct['semi_axis_b_m'] * 1e3:.3f} mm, C22 = {ct['c22']:.3g}, mu = {ct['friction_coefficient']:.3g}",
+        f"b = {ct['semi_axis_b_m'] * 1e3:.3f} mm, C22 = {ct['c22']:.3g}, "
+        f"mu = {ct['friction_coefficient']:.3g}",
         f"operating point: V0 = {op['rolling_speed_m_s']:.2f} m/s, "
         f"Vc = {op['crabbing_velocity_m_s']:.4g} m/s, creepage = {op['creepage']:.4g}",
     ]
     if lc["squeal"]:
         state = "limit cycle" if sim.limit_cycle.saturated else "still growing at the end of the run"
         tsat = lc["time_to_saturation_s"]
-        lines.append(f"SQUEAL: velocity amplitude {lc['velocity_amplitude_m_s']:.4g} m/s ({state}), "
-                     f"{lc['frequency_hz']:.1f} Hz, growth rate {lc['growth_rate_1_s']:.3g} 1/s"
-                     + (f", saturated after {tsat:.3f} s" if tsat is not None else ""))
+        lines.append(
+            f"SQUEAL: velocity amplitude {lc['velocity_amplitude_m_s']:.4g} m/s ({state}), "
+            f"{lc['frequency_hz']:.1f} Hz, growth rate {lc['growth_rate_1_s']:.3g} 1/s"
+            + (f", saturated after {tsat:.3f} s" if tsat is not None else "")
+        )
     else:
         lines.append(f"no squeal (linear growth rate {sim.limit_cycle.growth_rate_analytic_1_s:.3g} 1/s)")
     return "\n".join(lines)
@@ -152,8 +163,9 @@ def plot_workers(processes: int = PLOT_PROCESSES) -> Iterator[PlotWorkers]:
     if "fork" not in multiprocessing.get_all_start_methods():
         yield PlotWorkers(None)
         return
-    with ProcessPoolExecutor(max_workers=processes, mp_context=multiprocessing.get_context("fork"),
-                             initializer=_import_matplotlib) as ex:
+    with ProcessPoolExecutor(
+        max_workers=processes, mp_context=multiprocessing.get_context("fork"), initializer=_import_matplotlib
+    ) as ex:
         ex.submit(int)  # the first task starts the processes (and their matplotlib imports) now
         workers = PlotWorkers(ex)
         yield workers
@@ -176,8 +188,10 @@ def sweep_table(crab_velocities: np.ndarray, rpms: np.ndarray, result) -> str:
     """The limit-cycle amplitude over the sweep grid as text ('-' = no squeal)."""
     lines = [f"{'Vc [m/s]':>9} " + " ".join(f"{r:>9.0f}rpm" for r in rpms)]
     for i, vc in enumerate(crab_velocities):
-        cells = [f"{result.velocity_amplitude_m_s[i, j]:12.4f}" if result.squeal[i, j] else f"{'-':>12}"
-                 for j in range(len(rpms))]
+        cells = [
+            f"{result.velocity_amplitude_m_s[i, j]:12.4f}" if result.squeal[i, j] else f"{'-':>12}"
+            for j in range(len(rpms))
+        ]
         lines.append(f"{vc:9.4f} " + " ".join(cells))
     return "\n".join(lines)
 
@@ -185,23 +199,34 @@ def sweep_table(crab_velocities: np.ndarray, rpms: np.ndarray, result) -> str:
 def compare_row(design: WheelDesign, mode, dof, sim) -> dict:
     """One design's line of ``compare.csv``."""
     lc = sim.summary()["limit_cycle"]
-    return {"design": design.name, "mode_index": mode.index, "mode": mode.label(),
-            "frequency_hz": mode.frequency_hz, "modal_mass_kg": dof.mass_kg,
-            "modal_stiffness_n_m": dof.stiffness_n_m, "modal_damping_ns_m": dof.damping_ns_m,
-            "growth_rate_1_s": lc["growth_rate_1_s"], "squeal": lc["squeal"],
-            "velocity_amplitude_m_s": lc["velocity_amplitude_m_s"],
-            "time_to_saturation_s": lc["time_to_saturation_s"]}
+    return {
+        "design": design.name,
+        "mode_index": mode.index,
+        "mode": mode.label(),
+        "frequency_hz": mode.frequency_hz,
+        "modal_mass_kg": dof.mass_kg,
+        "modal_stiffness_n_m": dof.stiffness_n_m,
+        "modal_damping_ns_m": dof.damping_ns_m,
+        "growth_rate_1_s": lc["growth_rate_1_s"],
+        "squeal": lc["squeal"],
+        "velocity_amplitude_m_s": lc["velocity_amplitude_m_s"],
+        "time_to_saturation_s": lc["time_to_saturation_s"],
+    }
 
 
 def compare_table(rows: Sequence[dict]) -> str:
     """The designs side by side, as text."""
-    lines = [f"{'design':<16} {'mode':<14} {'f [Hz]':>8} {'m [kg]':>7} {'k [N/m]':>10} "
-             f"{'growth [1/s]':>12} {'amp [m/s]':>9}"]
+    lines = [
+        f"{'design':<16} {'mode':<14} {'f [Hz]':>8} {'m [kg]':>7} {'k [N/m]':>10} "
+        f"{'growth [1/s]':>12} {'amp [m/s]':>9}"
+    ]
     for r in rows:
         amp = f"{r['velocity_amplitude_m_s']:9.4f}" if r["squeal"] else f"{'-':>9}"
         g = r["growth_rate_1_s"]
-        lines.append(f"{r['design']:<16} {r['mode']:<14} {r['frequency_hz']:8.1f} {r['modal_mass_kg']:7.3f} "
-                     f"{r['modal_stiffness_n_m']:10.4g} {(g if g is not None else float('nan')):12.3g} {amp}")
+        lines.append(
+            f"{r['design']:<16} {r['mode']:<14} {r['frequency_hz']:8.1f} {r['modal_mass_kg']:7.3f} "
+            f"{r['modal_stiffness_n_m']:10.4g} {(g if g is not None else float('nan')):12.3g} {amp}"
+        )
     return "\n".join(lines)
 
 
@@ -216,8 +241,9 @@ def write_compare_plot(path: Path, rows: Sequence[dict], sims: Sequence) -> Path
         axes[0].plot(cyc.start_s, cyc.amplitude_m_s, label=f"{r['design']} ({r['frequency_hz']:.0f} Hz)")
     vc = abs(sims[0].operating_point.crabbing_velocity_m_s)
     axes[0].axhline(vc, color="k", ls=":", lw=1, label="Vc")
-    axes[0].set_ylim(0, 1.1 * max([vc] + [float(np.max(s.limit_cycle.cycles.amplitude_m_s, initial=0))
-                                          for s in sims]))
+    axes[0].set_ylim(
+        0, 1.1 * max([vc] + [float(np.max(s.limit_cycle.cycles.amplitude_m_s, initial=0)) for s in sims])
+    )
     axes[0].set(xlabel="time [s]", ylabel="velocity amplitude [m/s]", title="growth to the limit cycle")
     axes[0].legend(fontsize=8)
     x = np.arange(len(rows))

@@ -12,7 +12,7 @@ from __future__ import annotations
 import os
 import sys
 import warnings
-from typing import Sequence
+from collections.abc import Sequence
 
 from geometry import DesignError
 
@@ -22,8 +22,11 @@ from .parser import build_parser
 __all__ = ["main", "run"]
 
 #: The anticipated failures of a computation: (module, exception name).
-_COMPUTATION_FAILURES = (("geometry.mesh", "MeshError"), ("fem.eigen", "EigenError"),
-                         ("reduced.model", "IntegrationError"))
+_COMPUTATION_FAILURES = (
+    ("geometry.mesh", "MeshError"),
+    ("fem.eigen", "EigenError"),
+    ("reduced.model", "IntegrationError"),
+)
 
 
 def _computation_failures() -> tuple[type, ...]:

@@ -4,7 +4,6 @@ writes its result folder (:mod:`wheel_squeal.outputs`) and prints a short report
 from __future__ import annotations
 
 import contextlib
-import tempfile
 import time
 from pathlib import Path
 
@@ -48,16 +47,22 @@ def _squeal_mode(args, design: WheelDesign, progress: Progress, cache: StageCach
         progress.say("modal parameters given: no mesh, no FE")
         return api.explicit_dof(*explicit), None
     fid = fidelity_for(args.fidelity, args.solver)
-    ms = api.compute_modes(design, fid, fmax_hz=args.fmax, cache=cache, progress=progress,
-                           budget=_budget(args))
+    ms = api.compute_modes(
+        design, fid, fmax_hz=args.fmax, cache=cache, progress=progress, budget=_budget(args)
+    )
     mode, why = api.pick_mode(ms, args.mode)
     progress.say(f"squeal mode: {mode.index} ({why}), {mode.frequency_hz:.1f} Hz")
     return api.modal_dof(mode, design), (ms, mode, writers.modes_summary(design, ms, mode, fid, why))
 
 
 def _operating_point(args, design: WheelDesign):
-    return api.operating_point(design, rpm=args.rpm, speed=getattr(args, "speed", None),
-                               crab_velocity=args.crab_velocity, angle_of_attack=args.angle_of_attack)
+    return api.operating_point(
+        design,
+        rpm=args.rpm,
+        speed=getattr(args, "speed", None),
+        crab_velocity=args.crab_velocity,
+        angle_of_attack=args.angle_of_attack,
+    )
 
 
 def cmd_run(args) -> int:
@@ -81,15 +86,24 @@ def cmd_run(args) -> int:
             _write_files(tmp, api.mode_views(design, fid, args.fmax, ms, indices, cache))
         with progress.stage("plots"):
             plots.wait()
-        write_json(tmp / "summary.json", {
-            **msum, **sim.summary(), "modal_parameters": writers.dof_summary(dof),
-            "timings_s": {**progress.timings, "total": time.perf_counter() - t0},
-            "cache": {"hits": cache.hits, "misses": cache.misses}})
-    print(f"{design.name}: squeal mode {mode.index}: {mode.label()} "
-          f"({msum['selected_mode']['why']}), {mode.frequency_hz:.1f} Hz")
+        write_json(
+            tmp / "summary.json",
+            {
+                **msum,
+                **sim.summary(),
+                "modal_parameters": writers.dof_summary(dof),
+                "timings_s": {**progress.timings, "total": time.perf_counter() - t0},
+                "cache": {"hits": cache.hits, "misses": cache.misses},
+            },
+        )
+    print(
+        f"{design.name}: squeal mode {mode.index}: {mode.label()} "
+        f"({msum['selected_mode']['why']}), {mode.frequency_hz:.1f} Hz"
+    )
     print(writers.squeal_report(sim, dof))
-    print(f"files: {out}/ (summary.json, timeseries.csv, *.png, modes.vtu)  "
-          f"[{time.perf_counter() - t0:.1f} s]")
+    print(
+        f"files: {out}/ (summary.json, timeseries.csv, *.png, modes.vtu)  [{time.perf_counter() - t0:.1f} s]"
+    )
     return 0
 
 
@@ -112,30 +126,50 @@ def cmd_mesh(args) -> int:
         h = mesh_size(design, args.size, args.elements_through_web, args.dim)
         n = estimate_element_count(design, h, args.dim)
         nodes_per_element = {(2, 1): 0.6, (2, 2): 2.2, (3, 1): 0.2, (3, 2): 1.9}[(args.dim, args.order)]
-        _budget(args).check_solve(f"meshing {design.name} ({args.dim}-D, size {h * 1e3:.3g} mm)",
-                                  3 * nodes_per_element * n, MESH_BYTES_PER_ELEMENT * n,
-                                  MESH_SECONDS_PER_ELEMENT * n,
-                                  "use a larger --size or fewer --elements-through-web")
+        _budget(args).check_solve(
+            f"meshing {design.name} ({args.dim}-D, size {h * 1e3:.3g} mm)",
+            3 * nodes_per_element * n,
+            MESH_BYTES_PER_ELEMENT * n,
+            MESH_SECONDS_PER_ELEMENT * n,
+            "use a larger --size or fewer --elements-through-web",
+        )
         t = time.perf_counter()
         with progress.stage(f"mesh ({args.dim}-D, order {args.order})"):
-            mesh = api.build_mesh(design, dim=args.dim, order=args.order, size=args.size,
-                                  elements_through_web=args.elements_through_web)
+            mesh = api.build_mesh(
+                design,
+                dim=args.dim,
+                order=args.order,
+                size=args.size,
+                elements_through_web=args.elements_through_web,
+            )
         seconds = time.perf_counter() - t
         if args.dim == 2:
-            extra = {"mesh_area_m2": mesh.area(), "exact_area_m2": profile_area(design),
-                     "mesh_volume_m3": mesh.revolved_volume()}
+            extra = {
+                "mesh_area_m2": mesh.area(),
+                "exact_area_m2": profile_area(design),
+                "mesh_volume_m3": mesh.revolved_volume(),
+            }
         else:
             extra = {"mesh_volume_m3": mesh.volume()}
-        summary = {"design": design.name, "dim": args.dim, "order": args.order,
-                   "nodes": int(mesh.n_nodes), "elements": int(mesh.n_elements), **extra,
-                   "exact_volume_m3": revolved_volume(design), "seconds": seconds}
+        summary = {
+            "design": design.name,
+            "dim": args.dim,
+            "order": args.order,
+            "nodes": int(mesh.n_nodes),
+            "elements": int(mesh.n_elements),
+            **extra,
+            "exact_volume_m3": revolved_volume(design),
+            "seconds": seconds,
+        }
         mesh.write(tmp / "mesh.msh")
         mesh.write(tmp / "mesh.vtu")
         write_json(tmp / "summary.json", summary)
     rel = summary["mesh_volume_m3"] / summary["exact_volume_m3"] - 1
-    print(f"{design.name}: {summary['nodes']} nodes, {summary['elements']} elements, "
-          f"volume {summary['mesh_volume_m3']:.6e} m^3 ({rel:+.3%} vs exact), "
-          f"{seconds:.2f} s -> {args.out}")
+    print(
+        f"{design.name}: {summary['nodes']} nodes, {summary['elements']} elements, "
+        f"volume {summary['mesh_volume_m3']:.6e} m^3 ({rel:+.3%} vs exact), "
+        f"{seconds:.2f} s -> {args.out}"
+    )
     return 0
 
 
@@ -145,16 +179,19 @@ def cmd_modes(args) -> int:
     progress = Progress(args.quiet)
     with result_folder(args.out, "modes") as tmp:
         cache = _cache(args)
-        ms = api.compute_modes(design, fid, fmax_hz=args.fmax, cache=cache, progress=progress,
-                               budget=_budget(args))
+        ms = api.compute_modes(
+            design, fid, fmax_hz=args.fmax, cache=cache, progress=progress, budget=_budget(args)
+        )
         if not ms.modes:
             raise RequestError(f"no modes below {args.fmax:g} Hz for {design.name}")
         selected, why = api.pick_mode(ms, args.mode)
         _write_files(tmp, api.mode_views(design, fid, args.fmax, ms, [], cache))
         write_json(tmp / "summary.json", writers.modes_summary(design, ms, selected, fid))
     print(writers.modes_table(ms.modes, design.modal_damping_ratio, selected))
-    print(f"selected: mode {selected.index} ({why}), {selected.frequency_hz:.1f} Hz, "
-          f"m = {selected.modal_mass:.3f} kg")
+    print(
+        f"selected: mode {selected.index} ({why}), {selected.frequency_hz:.1f} Hz, "
+        f"m = {selected.modal_mass:.3f} kg"
+    )
     print(f"{ms.solver}, {ms.dofs} DOFs, {fid.name} -> {args.out}")
     return 0
 
@@ -169,8 +206,12 @@ def cmd_simulate(args) -> int:
         op = _operating_point(args, design)
         with progress.stage("squeal model"):
             sim = api.simulate(dof, contact, op, args.duration)
-        summary = {"design": design.name, "modal_parameters": writers.dof_summary(dof), **sim.summary(),
-                   "timings_s": progress.timings}
+        summary = {
+            "design": design.name,
+            "modal_parameters": writers.dof_summary(dof),
+            **sim.summary(),
+            "timings_s": progress.timings,
+        }
         if modes_info is not None:
             summary["selected_mode"] = modes_info[2]["selected_mode"]
         writers.write_simulation_files(tmp, sim, plots)
@@ -193,12 +234,20 @@ def cmd_sweep(args) -> int:
         speeds = [rpm_to_speed(r, design.rolling_radius) for r in args.rpm]
         vcs = args.crab_velocity
         with progress.stage(f"sweep {len(vcs)} x {len(speeds)} cases, {args.duration:g} s each"):
-            result = api.sweep(dof, contact, vcs, speeds, args.duration, budget=_budget(args),
-                               progress=progress)
+            result = api.sweep(
+                dof, contact, vcs, speeds, args.duration, budget=_budget(args), progress=progress
+            )
         write_sweep_csv(result, tmp, wheel_radius_m=design.rolling_radius)
         write_sweep_plot(result, tmp, wheel_radius_m=design.rolling_radius)
-        write_json(tmp / "summary.json", {"design": design.name, "modal_parameters": writers.dof_summary(dof),
-                                          "duration_s": args.duration, "timings_s": progress.timings})
+        write_json(
+            tmp / "summary.json",
+            {
+                "design": design.name,
+                "modal_parameters": writers.dof_summary(dof),
+                "duration_s": args.duration,
+                "timings_s": progress.timings,
+            },
+        )
     print(writers.sweep_table(vcs, args.rpm, result))
     print(f"velocity amplitude [m/s] ('-' = no squeal) -> {args.out}")
     return 0
@@ -221,19 +270,24 @@ def cmd_compare(args) -> int:
         for d in designs:
             progress.say(f"design {d.name}")
             try:
-                ms = api.compute_modes(d, fid, fmax_hz=args.fmax, cache=cache, progress=progress,
-                                       budget=budget)
+                ms = api.compute_modes(
+                    d, fid, fmax_hz=args.fmax, cache=cache, progress=progress, budget=budget
+                )
                 mode, _ = api.pick_mode(ms, args.mode)
                 dof = api.modal_dof(mode, d)
-                sim = api.simulate(dof, api.contact_law(d, args.c22), _operating_point(args, d), args.duration)
+                sim = api.simulate(
+                    dof, api.contact_law(d, args.c22), _operating_point(args, d), args.duration
+                )
             except (RequestError, DesignError) as exc:
                 raise RequestError(f"design {d.name}: {exc}") from None
             rows.append(writers.compare_row(d, mode, dof, sim))
             sims.append(sim)
         write_csv(tmp / "compare.csv", rows)
         writers.write_compare_plot(tmp / "compare.png", rows, sims)
-        write_json(tmp / "summary.json", {"designs": rows, "fidelity": fid.name,
-                                          "operating_point": sims[0].summary()["operating_point"]})
+        write_json(
+            tmp / "summary.json",
+            {"designs": rows, "fidelity": fid.name, "operating_point": sims[0].summary()["operating_point"]},
+        )
     print(writers.compare_table(rows))
     print(f"-> {args.out}")
     return 0
@@ -245,8 +299,14 @@ def cmd_render(args) -> int:
     design = _design(args)
     progress = Progress(args.quiet)
     with result_folder(args.out, "render") as tmp:
-        ms = api.compute_modes(design, fidelity_for(args.fidelity, args.solver), fmax_hz=args.fmax,
-                               cache=_cache(args), progress=progress, budget=_budget(args))
+        ms = api.compute_modes(
+            design,
+            fidelity_for(args.fidelity, args.solver),
+            fmax_hz=args.fmax,
+            cache=_cache(args),
+            progress=progress,
+            budget=_budget(args),
+        )
         indices = None
         if args.modes:
             try:
@@ -262,50 +322,40 @@ def cmd_render(args) -> int:
     return 0
 
 
-def _calibrated_design_path(out: Path, name: str) -> Path:
-    """Where calibrate writes its design: ``out`` itself (a .toml) or ``out/NAME.toml``.
-    An existing file there is replaced only if calibrate wrote it; the folder must take
-    files (checked before the fit runs)."""
-    from ..calibration import CALIBRATED_MARK
-
-    path = out if out.suffix == ".toml" else out / f"{name}.toml"
-    if path.exists():
-        try:
-            ours = CALIBRATED_MARK in api.load_design(path).description
-        except DesignError:
-            ours = False
-        if not ours:
-            raise RequestError(f"--out {path} exists and is not a design written by calibrate: "
-                               "choose another path (nothing was written)")
-    try:
-        path.parent.mkdir(parents=True, exist_ok=True)
-        with tempfile.TemporaryFile(dir=path.parent):
-            pass
-    except OSError as exc:
-        raise RequestError(f"--out {out} cannot be written ({exc.strerror})") from None
-    return path
-
-
 def cmd_calibrate(args) -> int:
-    from ..calibration import CALIBRATED_MARK, calibrate
+    from ..calibration import CALIBRATED_MARK, calibrate, calibrated_design_path
 
     design = _design(args)
     free = [f for part in args.free for f in part.split(",") if f]
     name = f"{design.name}_calibrated"
     design.replace(name=name)  # a valid name, checked before the work
-    path = _calibrated_design_path(Path(args.out), name) if args.out else None
-    cal = calibrate(design, free, args.target_frequency, args.target_modal_mass, fidelity=args.fidelity,
-                    mode=args.mode, frequency_uncertainty=args.frequency_uncertainty,
-                    modal_mass_uncertainty=args.modal_mass_uncertainty, progress=Progress(args.quiet))
+    path = calibrated_design_path(Path(args.out), name) if args.out else None
+    cal = calibrate(
+        design,
+        free,
+        args.target_frequency,
+        args.target_modal_mass,
+        fidelity=args.fidelity,
+        mode=args.mode,
+        frequency_uncertainty=args.frequency_uncertainty,
+        modal_mass_uncertainty=args.modal_mass_uncertainty,
+        progress=Progress(args.quiet),
+    )
     cal_design = cal.design.replace(
-        name=name, description=(f"{design.name} with {', '.join(free)}{CALIBRATED_MARK}"
-                                f"{args.target_frequency} Hz, m = {args.target_modal_mass} kg "
-                                f"({args.fidelity}); residual {cal.residual}"))
+        name=name,
+        description=(
+            f"{design.name} with {', '.join(free)}{CALIBRATED_MARK}"
+            f"{args.target_frequency} Hz, m = {args.target_modal_mass} kg "
+            f"({args.fidelity}); residual {cal.residual}"
+        ),
+    )
     for k, v in cal.free.items():
         print(f"{k} = {v:.6g} (was {getattr(design, k):.6g})")
-    print(f"selected mode: f = {cal.frequency_hz:.1f} Hz, m = {cal.modal_mass_kg:.3f} kg; residual "
-          + ", ".join(f"{k} {v:+.2%}" for k, v in cal.residual.items() if k != "weighted_rms")
-          + f", weighted rms {cal.residual['weighted_rms']:.3g} ({cal.evaluations} evaluations)")
+    print(
+        f"selected mode: f = {cal.frequency_hz:.1f} Hz, m = {cal.modal_mass_kg:.3f} kg; residual "
+        + ", ".join(f"{k} {v:+.2%}" for k, v in cal.residual.items() if k != "weighted_rms")
+        + f", weighted rms {cal.residual['weighted_rms']:.3g} ({cal.evaluations} evaluations)"
+    )
     if path is not None:
         write_text_atomic(path, cal_design.to_toml())
         print(f"-> {path}")
@@ -333,7 +383,14 @@ def cmd_cache(args) -> int:
 
 
 COMMANDS = {
-    "run": cmd_run, "mesh": cmd_mesh, "modes": cmd_modes, "simulate": cmd_simulate,
-    "sweep": cmd_sweep, "compare": cmd_compare, "render": cmd_render,
-    "calibrate": cmd_calibrate, "converge": cmd_converge, "cache": cmd_cache,
+    "run": cmd_run,
+    "mesh": cmd_mesh,
+    "modes": cmd_modes,
+    "simulate": cmd_simulate,
+    "sweep": cmd_sweep,
+    "compare": cmd_compare,
+    "render": cmd_render,
+    "calibrate": cmd_calibrate,
+    "converge": cmd_converge,
+    "cache": cmd_cache,
 }

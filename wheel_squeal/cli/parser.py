@@ -74,9 +74,12 @@ def grid_axis(text: str) -> list[float]:
             if count < 1:
                 raise bad
             if count > MAX_AXIS_POINTS:
-                raise argparse.ArgumentTypeError(f"{count:,} points is more than a sweep axis takes "
-                                                 f"({MAX_AXIS_POINTS:,})")
-            values = [start + (stop - start) * i / (count - 1) for i in range(count)] if count > 1 else [start]
+                raise argparse.ArgumentTypeError(
+                    f"{count:,} points is more than a sweep axis takes ({MAX_AXIS_POINTS:,})"
+                )
+            values = (
+                [start + (stop - start) * i / (count - 1) for i in range(count)] if count > 1 else [start]
+            )
         else:
             values = [float(x) for x in text.split(",")]
     except ValueError:
@@ -86,8 +89,9 @@ def grid_axis(text: str) -> list[float]:
     return values
 
 
-def _add_common(p: argparse.ArgumentParser, out_required: bool = True, out_default=None,
-                cache: bool = True) -> None:
+def _add_common(
+    p: argparse.ArgumentParser, out_required: bool = True, out_default=None, cache: bool = True
+) -> None:
     p.add_argument("--design", type=Path, help="wheel design TOML (default: the Table 1 wheel)")
     if out_required:
         p.add_argument("--out", type=Path, required=True, help="output folder")
@@ -101,64 +105,98 @@ def _add_common(p: argparse.ArgumentParser, out_required: bool = True, out_defau
 
 def _add_cache(p: argparse.ArgumentParser) -> None:
     p.add_argument("--no-cache", action="store_true", help="recompute mesh and modes")
-    p.add_argument("--cache-dir", type=Path,
-                   help=f"stage cache folder (default ${CACHE_ENV_VAR}, else ~/.cache/wheel-squeal)")
+    p.add_argument(
+        "--cache-dir",
+        type=Path,
+        help=f"stage cache folder (default ${CACHE_ENV_VAR}, else ~/.cache/wheel-squeal)",
+    )
 
 
 def _add_budget(p: argparse.ArgumentParser) -> None:
-    p.add_argument("--max-dofs", type=positive,
-                   help=f"refuse modal solves larger than this (default {DEFAULT_MAX_DOFS:.0e}; "
-                        f"env {ENV_MAX_DOFS})")
-    p.add_argument("--max-seconds", type=positive,
-                   help=f"refuse work estimated to take longer (default {DEFAULT_MAX_SECONDS:g}; "
-                        f"env {ENV_MAX_SECONDS})")
+    p.add_argument(
+        "--max-dofs",
+        type=positive,
+        help=f"refuse modal solves larger than this (default {DEFAULT_MAX_DOFS:.0e}; env {ENV_MAX_DOFS})",
+    )
+    p.add_argument(
+        "--max-seconds",
+        type=positive,
+        help=f"refuse work estimated to take longer (default {DEFAULT_MAX_SECONDS:g}; env {ENV_MAX_SECONDS})",
+    )
 
 
 def _add_fe(p: argparse.ArgumentParser, mode: bool = True) -> None:
-    p.add_argument("--fidelity", default=DEFAULT_FIDELITY, choices=list(FIDELITIES),
-                   help="speed/accuracy preset (default %(default)s; see README)")
-    p.add_argument("--solver", choices=list(SOLVERS),
-                   help="force the FE solver: axisym, 3d (3-D P2, cyclic symmetry) or 3d-tet "
-                        "(3-D P2 on a gmsh tetrahedral mesh, slow)")
-    p.add_argument("--fmax", type=positive, default=DEFAULT_FMAX_HZ,
-                   help="modes up to this frequency [Hz] (default %(default)g)")
+    p.add_argument(
+        "--fidelity",
+        default=DEFAULT_FIDELITY,
+        choices=list(FIDELITIES),
+        help="speed/accuracy preset (default %(default)s; see README)",
+    )
+    p.add_argument(
+        "--solver",
+        choices=list(SOLVERS),
+        help="force the FE solver: axisym, 3d (3-D P2, cyclic symmetry) or 3d-tet "
+        "(3-D P2 on a gmsh tetrahedral mesh, slow)",
+    )
+    p.add_argument(
+        "--fmax",
+        type=positive,
+        default=DEFAULT_FMAX_HZ,
+        help="modes up to this frequency [Hz] (default %(default)g)",
+    )
     if mode:
-        p.add_argument("--mode", default="auto",
-                       help="squeal mode: auto (the (3,0) axial mode), INDEX, n=3[,c=0] or f=HZ")
+        p.add_argument(
+            "--mode",
+            default="auto",
+            help="squeal mode: auto (the (3,0) axial mode), INDEX, n=3[,c=0] or f=HZ",
+        )
 
 
 def _add_operating(p: argparse.ArgumentParser, speed: bool = True) -> None:
     p.add_argument("--rpm", type=positive, help=f"wheel speed [rev/min] (default {DEFAULT_RPM:g})")
     if speed:
         p.add_argument("--speed", type=positive, help="rolling speed at the contact [m/s]")
-    p.add_argument("--crab-velocity", type=finite,
-                   help=f"crabbing velocity Vc [m/s] (default {DEFAULT_CRAB_VELOCITY_M_S:g})")
+    p.add_argument(
+        "--crab-velocity",
+        type=finite,
+        help=f"crabbing velocity Vc [m/s] (default {DEFAULT_CRAB_VELOCITY_M_S:g})",
+    )
     p.add_argument("--angle-of-attack", type=finite, help="angle of attack [rad] (Vc = theta V0)")
-    p.add_argument("--duration", type=positive,
-                   help="simulated time [s] (default: 0.6 s, extended while still growing)")
-    p.add_argument("--c22", type=c22_value,
-                   help="creep coefficient C22: a number or 'kalker' (default: the design's)")
+    p.add_argument(
+        "--duration", type=positive, help="simulated time [s] (default: 0.6 s, extended while still growing)"
+    )
+    p.add_argument(
+        "--c22", type=c22_value, help="creep coefficient C22: a number or 'kalker' (default: the design's)"
+    )
 
 
 def _add_modal(p: argparse.ArgumentParser) -> None:
-    p.add_argument("--mass", type=positive,
-                   help="modal mass at the contact [kg] (with --stiffness, --damping: no FE)")
+    p.add_argument(
+        "--mass", type=positive, help="modal mass at the contact [kg] (with --stiffness, --damping: no FE)"
+    )
     p.add_argument("--stiffness", type=positive, help="modal stiffness [N/m]")
     p.add_argument("--damping", type=non_negative, help="modal damping [N s/m]")
 
 
 def build_parser(prog: str = "wheel-squeal") -> argparse.ArgumentParser:
     """The parser of every command; ``args.command`` names the one chosen."""
-    parser = _Parser(prog=prog, description="Railway test-rig wheel: design -> mesh -> modes -> "
-                     "contact modal parameters -> curve-squeal limit cycle.")
+    parser = _Parser(
+        prog=prog,
+        description="Railway test-rig wheel: design -> mesh -> modes -> "
+        "contact modal parameters -> curve-squeal limit cycle.",
+    )
     sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
 
     p = sub.add_parser("run", help="design -> modes -> squeal limit cycle -> report (default: Table 1)")
     _add_common(p, out_required=False)
     _add_fe(p)
     _add_operating(p, speed=False)
-    p.add_argument("--render", choices=["selected", "all", "none"], default="selected",
-                   help="mode-shape PNGs to draw (default: the squeal mode)")
+    p.add_argument(
+        "--render",
+        choices=["selected", "all", "none"],
+        default="selected",
+        help="mode-shape PNGs to draw (default: the squeal mode)",
+    )
 
     p = sub.add_parser("mesh", help="mesh a design (2-D profile or 3-D revolved)")
     _add_common(p, cache=False)
@@ -181,10 +219,18 @@ def build_parser(prog: str = "wheel-squeal") -> argparse.ArgumentParser:
     _add_common(p)
     _add_fe(p)
     _add_modal(p)
-    p.add_argument("--crab-velocity", type=grid_axis, default=grid_axis("0:0.5:26"),
-                   help="START:STOP:N or list [m/s] (default 0:0.5:26)")
-    p.add_argument("--rpm", type=grid_axis, default=grid_axis("400,600,800"),
-                   help="list of wheel speeds [rev/min] (default 400,600,800)")
+    p.add_argument(
+        "--crab-velocity",
+        type=grid_axis,
+        default=grid_axis("0:0.5:26"),
+        help="START:STOP:N or list [m/s] (default 0:0.5:26)",
+    )
+    p.add_argument(
+        "--rpm",
+        type=grid_axis,
+        default=grid_axis("400,600,800"),
+        help="list of wheel speeds [rev/min] (default 400,600,800)",
+    )
     p.add_argument("--duration", type=positive, default=1.5, help="simulated time per case [s]")
     p.add_argument("--c22", type=c22_value, help="C22 or 'kalker'")
 
@@ -205,14 +251,26 @@ def build_parser(prog: str = "wheel-squeal") -> argparse.ArgumentParser:
 
     p = sub.add_parser("calibrate", help="fit design parameters to measured modal data")
     p.add_argument("--design", type=Path)
-    p.add_argument("--free", action="append", required=True,
-                   help="design parameter(s) to fit, e.g. rim_depth (repeat or comma list)")
+    p.add_argument(
+        "--free",
+        action="append",
+        required=True,
+        help="design parameter(s) to fit, e.g. rim_depth (repeat or comma list)",
+    )
     p.add_argument("--target-frequency", type=positive, help="measured frequency [Hz]")
     p.add_argument("--target-modal-mass", type=positive, help="measured contact modal mass [kg]")
-    p.add_argument("--frequency-uncertainty", type=positive, default=0.01,
-                   help="relative standard uncertainty of the measured frequency (default 0.01)")
-    p.add_argument("--modal-mass-uncertainty", type=positive, default=0.10,
-                   help="relative standard uncertainty of the measured modal mass (default 0.10)")
+    p.add_argument(
+        "--frequency-uncertainty",
+        type=positive,
+        default=0.01,
+        help="relative standard uncertainty of the measured frequency (default 0.01)",
+    )
+    p.add_argument(
+        "--modal-mass-uncertainty",
+        type=positive,
+        default=0.10,
+        help="relative standard uncertainty of the measured modal mass (default 0.10)",
+    )
     p.add_argument("--fidelity", default="fast", choices=list(FIDELITIES))
     p.add_argument("--mode", default="auto")
     p.add_argument("--out", type=Path, help="folder or .toml path for the calibrated design")

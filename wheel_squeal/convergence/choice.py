@@ -4,12 +4,21 @@ time, and the cheapest rung that meets each preset's aim."""
 from __future__ import annotations
 
 import math
-from typing import Iterable, Sequence
+from collections.abc import Iterable, Sequence
 
 from ..presets import FIDELITIES
 
-__all__ = ["ERROR_KEYS", "as_number", "choose_presets", "fill_errors", "mark_pareto", "pareto_front", "percent",
-           "presets_table", "presets_verdict"]
+__all__ = [
+    "ERROR_KEYS",
+    "as_number",
+    "choose_presets",
+    "fill_errors",
+    "mark_pareto",
+    "pareto_front",
+    "percent",
+    "presets_table",
+    "presets_verdict",
+]
 
 #: preset aims: fast -> modes < 2 s, frequency error < 1 %; accurate ->
 #: errors < 0.1 %; accurate keeps a safety factor on that aim (other designs, the
@@ -36,15 +45,22 @@ def as_number(x) -> float:
     return v
 
 
-VALUE_KEYS = {"frequency": "frequency_hz", "modal_mass": "modal_mass_kg",
-               "amplitude": "amplitude_m_s", "time_to_saturation": "time_to_saturation_s"}
+VALUE_KEYS = {
+    "frequency": "frequency_hz",
+    "modal_mass": "modal_mass_kg",
+    "amplitude": "amplitude_m_s",
+    "time_to_saturation": "time_to_saturation_s",
+}
+
+
 def fill_errors(rows: list[dict], reference: dict, keys: Iterable[str] = ERROR_KEYS) -> None:
     """``<key>_rel_error = value / reference value - 1`` for each row (None if missing)."""
     for row in rows:
         for k in keys:
             v, r = as_number(row.get(VALUE_KEYS[k])), as_number(reference.get(VALUE_KEYS[k]))
-            row[f"{k}_rel_error"] = (v / r - 1.0) if (math.isfinite(v) and math.isfinite(r)
-                                                       and r != 0) else None
+            row[f"{k}_rel_error"] = (
+                (v / r - 1.0) if (math.isfinite(v) and math.isfinite(r) and r != 0) else None
+            )
 
 
 def pareto_front(points: Sequence[tuple[float, float]]) -> list[int]:
@@ -54,8 +70,11 @@ def pareto_front(points: Sequence[tuple[float, float]]) -> list[int]:
     front = []
     for i in idx:
         ti, ei = points[i]
-        dominated = any(points[j][0] <= ti and points[j][1] <= ei and
-                        (points[j][0] < ti or points[j][1] < ei) for j in idx if j != i)
+        dominated = any(
+            points[j][0] <= ti and points[j][1] <= ei and (points[j][0] < ti or points[j][1] < ei)
+            for j in idx
+            if j != i
+        )
         if not dominated:
             front.append(i)
     return sorted(front, key=lambda i: points[i][0])
@@ -112,21 +131,33 @@ def choose_presets(rows: list[dict]) -> dict:
     time_to_saturation_rel_error, current, matches_current, rule}}``; a preset no rung
     satisfies has ``method`` None.
     """
-    fe = [r for r in rows if r["study"] == "fe" and not r["reference"]
-          and math.isfinite(as_number(r.get("seconds")))]
+    fe = [
+        r
+        for r in rows
+        if r["study"] == "fe" and not r["reference"] and math.isfinite(as_number(r.get("seconds")))
+    ]
     rules = {
-        "fast": (lambda r: as_number(r["seconds"]) < FAST_MAX_SECONDS
-                 and _max_error(r, ("frequency", "modal_mass")) < FAST_MAX_ERROR,
-                 f"modes < {FAST_MAX_SECONDS:g} s, frequency and modal mass errors < "
-                 f"{FAST_MAX_ERROR:.0%}"),
-        "balanced": (lambda r: as_number(r["seconds"]) < FAST_MAX_SECONDS
-                     and _max_error(r, ("frequency", "modal_mass")) < ACCURATE_MAX_ERROR,
-                     f"modes < {FAST_MAX_SECONDS:g} s, frequency and modal mass errors < "
-                     f"{ACCURATE_MAX_ERROR:.1%}"),
-        "accurate": (lambda r: _max_error(r, ("frequency", "modal_mass", "amplitude"))
-                     < ACCURATE_MAX_ERROR / ACCURATE_SAFETY,
-                     f"frequency, modal mass and amplitude errors < {ACCURATE_MAX_ERROR:.1%} "
-                     f"/ {ACCURATE_SAFETY:g} (safety factor)"),
+        "fast": (
+            lambda r: (
+                as_number(r["seconds"]) < FAST_MAX_SECONDS
+                and _max_error(r, ("frequency", "modal_mass")) < FAST_MAX_ERROR
+            ),
+            f"modes < {FAST_MAX_SECONDS:g} s, frequency and modal mass errors < {FAST_MAX_ERROR:.0%}",
+        ),
+        "balanced": (
+            lambda r: (
+                as_number(r["seconds"]) < FAST_MAX_SECONDS
+                and _max_error(r, ("frequency", "modal_mass")) < ACCURATE_MAX_ERROR
+            ),
+            f"modes < {FAST_MAX_SECONDS:g} s, frequency and modal mass errors < {ACCURATE_MAX_ERROR:.1%}",
+        ),
+        "accurate": (
+            lambda r: (
+                _max_error(r, ("frequency", "modal_mass", "amplitude")) < ACCURATE_MAX_ERROR / ACCURATE_SAFETY
+            ),
+            f"frequency, modal mass and amplitude errors < {ACCURATE_MAX_ERROR:.1%} "
+            f"/ {ACCURATE_SAFETY:g} (safety factor)",
+        ),
     }
     out = {}
     for name, (ok, text) in rules.items():
@@ -135,25 +166,42 @@ def choose_presets(rows: list[dict]) -> dict:
         cur_method = None
         if cur is not None:
             cur_method = cur.method
-            cur_text = f"{cur.solver} P{cur.order}, {cur.elements_through_web} per web, mesh order {cur.mesh_order}"
+            cur_text = (
+                f"{cur.solver} P{cur.order}, {cur.elements_through_web} per web, mesh order {cur.mesh_order}"
+            )
         else:  # pragma: no cover
             cur_text = "(none)"
-        entry = {"rule": text, "current": cur_text, "method": None, "elements_through_web": None,
-                 "matches_current": False}
+        entry = {
+            "rule": text,
+            "current": cur_text,
+            "method": None,
+            "elements_through_web": None,
+            "matches_current": False,
+        }
         if pick is not None:
-            entry.update(method=pick["method"], elements_through_web=int(pick["parameter"]),
-                         seconds=as_number(pick["seconds"]), dofs=pick["dofs"],
-                         **{f"{k}_rel_error": pick[f"{k}_rel_error"] for k in ERROR_KEYS})
+            entry.update(
+                method=pick["method"],
+                elements_through_web=int(pick["parameter"]),
+                seconds=as_number(pick["seconds"]),
+                dofs=pick["dofs"],
+                **{f"{k}_rel_error": pick[f"{k}_rel_error"] for k in ERROR_KEYS},
+            )
             entry["matches_current"] = bool(
-                cur is not None and pick["method"] == cur_method
-                and int(pick["parameter"]) == cur.elements_through_web)
+                cur is not None
+                and pick["method"] == cur_method
+                and int(pick["parameter"]) == cur.elements_through_web
+            )
         # the measured errors of the current preset, for the table
         if cur is not None:
-            now = [r for r in fe if r["method"] == cur_method
-                   and int(as_number(r["parameter"])) == cur.elements_through_web]
+            now = [
+                r
+                for r in fe
+                if r["method"] == cur_method and int(as_number(r["parameter"])) == cur.elements_through_web
+            ]
             if now:
                 entry["current_measured"] = {
-                    "seconds": as_number(now[0]["seconds"]), "dofs": now[0]["dofs"],
+                    "seconds": as_number(now[0]["seconds"]),
+                    "dofs": now[0]["dofs"],
                     **{f"{k}_rel_error": now[0][f"{k}_rel_error"] for k in ERROR_KEYS},
                     "meets_rule": bool(ok(now[0])),
                 }
@@ -171,9 +219,11 @@ def percent(x) -> str:
 
 def presets_table(presets: dict) -> str:
     """Markdown table of the recommended presets (for the README)."""
-    lines = ["| preset | method | typical time (modes, 2 cores) | DOFs | frequency error | "
-             "modal mass error | amplitude error | time-to-saturation error |",
-             "|---|---|---|---|---|---|---|---|"]
+    lines = [
+        "| preset | method | typical time (modes, 2 cores) | DOFs | frequency error | "
+        "modal mass error | amplitude error | time-to-saturation error |",
+        "|---|---|---|---|---|---|---|---|",
+    ]
     for name, p in presets.items():
         if p.get("method") is None:
             lines.append(f"| {name} | (no rung meets: {p['rule']}) | | | | | | |")
@@ -183,7 +233,8 @@ def presets_table(presets: dict) -> str:
             f"| {name} | {meth}, {p['elements_through_web']} element(s) across the web | "
             f"{p['seconds']:.2f} s | {int(as_number(p['dofs']))} | {percent(p['frequency_rel_error'])} | "
             f"{percent(p['modal_mass_rel_error'])} | {percent(p['amplitude_rel_error'])} | "
-            f"{percent(p['time_to_saturation_rel_error'])} |")
+            f"{percent(p['time_to_saturation_rel_error'])} |"
+        )
     return "\n".join(lines)
 
 
@@ -197,16 +248,20 @@ def presets_verdict(presets: dict) -> list[str]:
         elif p["matches_current"]:
             out.append(f"{name}: the measurements support the current preset ({p['current']}).")
         elif cm is not None and cm["meets_rule"]:
-            out.append(f"{name}: the current preset ({p['current']}) meets the rule "
-                       f"({p['rule']}) but {p['method']} with {p['elements_through_web']} per web "
-                       f"is cheaper ({p['seconds']:.2f} s vs {cm['seconds']:.2f} s).")
+            out.append(
+                f"{name}: the current preset ({p['current']}) meets the rule "
+                f"({p['rule']}) but {p['method']} with {p['elements_through_web']} per web "
+                f"is cheaper ({p['seconds']:.2f} s vs {cm['seconds']:.2f} s)."
+            )
         elif cm is None:
-            out.append(f"{name}: {p['method']} with {p['elements_through_web']} per web fits "
-                       f"({p['rule']}); the current preset ({p['current']}) was not measured.")
+            out.append(
+                f"{name}: {p['method']} with {p['elements_through_web']} per web fits "
+                f"({p['rule']}); the current preset ({p['current']}) was not measured."
+            )
         else:
-            out.append(f"{name}: change {p['current']} to {p['method']} with "
-                       f"{p['elements_through_web']} per web (the current one does not meet: "
-                       f"{p['rule']}).")
+            out.append(
+                f"{name}: change {p['current']} to {p['method']} with "
+                f"{p['elements_through_web']} per web (the current one does not meet: "
+                f"{p['rule']})."
+            )
     return out
-
-

@@ -16,8 +16,9 @@ from __future__ import annotations
 import math
 import statistics
 import time
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
-from typing import Any, Callable, Sequence
+from typing import Any
 
 from .. import api
 from ..presets import DEFAULT_CRAB_VELOCITY_M_S, DEFAULT_FMAX_HZ, DEFAULT_RPM
@@ -57,11 +58,30 @@ QUICK = {
     "reference_rtol": 1e-9,
 }
 COLUMNS = [
-    "study", "method", "parameter_name", "parameter", "reference", "dofs", "seconds",
-    "repeats", "peak_memory_mb", "frequency_hz", "modal_mass_kg", "amplitude_m_s",
-    "time_to_saturation_s", "frequency_rel_error", "modal_mass_rel_error",
-    "amplitude_rel_error", "time_to_saturation_rel_error", "growth_rate_1_s",
-    "limit_cycle_frequency_hz", "simulated_s", "step_s", "mode", "pareto", "note",
+    "study",
+    "method",
+    "parameter_name",
+    "parameter",
+    "reference",
+    "dofs",
+    "seconds",
+    "repeats",
+    "peak_memory_mb",
+    "frequency_hz",
+    "modal_mass_kg",
+    "amplitude_m_s",
+    "time_to_saturation_s",
+    "frequency_rel_error",
+    "modal_mass_rel_error",
+    "amplitude_rel_error",
+    "time_to_saturation_rel_error",
+    "growth_rate_1_s",
+    "limit_cycle_frequency_hz",
+    "simulated_s",
+    "step_s",
+    "mode",
+    "pareto",
+    "note",
 ]
 
 
@@ -99,30 +119,44 @@ def _simulate_row(row: dict, mode, design, contact, op) -> None:
     dof = api.modal_dof(mode, design)
     sim = api.simulate(dof, contact, op)
     lc = sim.limit_cycle
-    row.update({
-        "amplitude_m_s": float(lc.velocity_amplitude_m_s),
-        "time_to_saturation_s": float(lc.time_to_saturation_s),
-        "growth_rate_1_s": float(lc.growth_rate_1_s),
-        "limit_cycle_frequency_hz": float(lc.frequency_hz),
-        "simulated_s": float(sim.history.t[-1]),
-        "step_s": float(sim.history.step_s),
-    })
+    row.update(
+        {
+            "amplitude_m_s": float(lc.velocity_amplitude_m_s),
+            "time_to_saturation_s": float(lc.time_to_saturation_s),
+            "growth_rate_1_s": float(lc.growth_rate_1_s),
+            "limit_cycle_frequency_hz": float(lc.frequency_hz),
+            "simulated_s": float(sim.history.t[-1]),
+            "step_s": float(sim.history.step_s),
+        }
+    )
     if not lc.saturated:
-        row["note"] = (row.get("note", "") + "; " if row.get("note") else "") + \
-            "limit cycle not saturated"
+        row["note"] = (row.get("note", "") + "; " if row.get("note") else "") + "limit cycle not saturated"
 
 
 def _blank_row(study: str, method: str, parameter_name: str, parameter) -> dict:
     row = {k: None for k in COLUMNS}
-    row.update(study=study, method=method, parameter_name=parameter_name, parameter=parameter,
-               reference=False, note="")
+    row.update(
+        study=study,
+        method=method,
+        parameter_name=parameter_name,
+        parameter=parameter,
+        reference=False,
+        note="",
+    )
     return row
 
 
-def fe_ladder(design, rungs: Sequence[FERung], *, mode: str = "auto", simulate: bool = True,
-              isolate: bool = True, rpm: float = DEFAULT_RPM,
-              crab_velocity: float = DEFAULT_CRAB_VELOCITY_M_S,
-              progress: Callable[[str], None] | None = None) -> tuple[list[dict], dict]:
+def fe_ladder(
+    design,
+    rungs: Sequence[FERung],
+    *,
+    mode: str = "auto",
+    simulate: bool = True,
+    isolate: bool = True,
+    rpm: float = DEFAULT_RPM,
+    crab_velocity: float = DEFAULT_CRAB_VELOCITY_M_S,
+    progress: Callable[[str], None] | None = None,
+) -> tuple[list[dict], dict]:
     """Run FE rungs; returns (rows, {row index: Mode}). Errors are not filled in here
     (see :func:`fill_errors`). A rung that fails gets a row with its message in
     ``note`` and empty results."""
@@ -142,9 +176,15 @@ def fe_ladder(design, rungs: Sequence[FERung], *, mode: str = "auto", simulate: 
             rows.append(row)
             continue
         m = out["mode"]
-        row.update(dofs=out["dofs"], seconds=sec, repeats=n, peak_memory_mb=mem,
-                   frequency_hz=float(m.frequency_hz), modal_mass_kg=float(m.modal_mass),
-                   mode=m.label())
+        row.update(
+            dofs=out["dofs"],
+            seconds=sec,
+            repeats=n,
+            peak_memory_mb=mem,
+            frequency_hz=float(m.frequency_hz),
+            modal_mass_kg=float(m.modal_mass),
+            mode=m.label(),
+        )
         if simulate:
             try:
                 _simulate_row(row, m, design, contact, op)
@@ -153,9 +193,11 @@ def fe_ladder(design, rungs: Sequence[FERung], *, mode: str = "auto", simulate: 
         modes[len(rows)] = m
         rows.append(row)
         amp = row["amplitude_m_s"]
-        say(f"  {row['dofs']} DOFs, {sec:.2f} s (median of {n}), {mem:.0f} MB: "
+        say(
+            f"  {row['dofs']} DOFs, {sec:.2f} s (median of {n}), {mem:.0f} MB: "
             f"{m.label()} {m.frequency_hz:.3f} Hz, m = {m.modal_mass:.5f} kg"
-            + (f", amplitude {amp:.5f} m/s" if amp is not None else ""))
+            + (f", amplitude {amp:.5f} m/s" if amp is not None else "")
+        )
     return rows, modes
 
 
@@ -167,27 +209,53 @@ def _integrator_job(dof, contact, op, duration: float, method: str, parameter) -
         if method == "rk4":
             # raw fixed-step RK4: no step cap, no energy-balance refinement (the
             # production path refines coarse steps; see the "note" column)
-            hist = reduced.simulate(dof, contact, op, duration, step_s=1.0 / (dof.frequency_hz * parameter),
-                                    refine=False, energy_tolerance=math.inf)
+            hist = reduced.simulate(
+                dof,
+                contact,
+                op,
+                duration,
+                step_s=1.0 / (dof.frequency_hz * parameter),
+                refine=False,
+                energy_tolerance=math.inf,
+            )
         else:
-            hist = reduced.simulate_reference(dof, contact, op, duration, method=IVP_METHOD,
-                                              rtol=float(parameter),
-                                              samples_per_period=IVP_SAMPLES_PER_PERIOD)
+            hist = reduced.simulate_reference(
+                dof,
+                contact,
+                op,
+                duration,
+                method=IVP_METHOD,
+                rtol=float(parameter),
+                samples_per_period=IVP_SAMPLES_PER_PERIOD,
+            )
         dt = time.perf_counter() - t
         lc = reduced.limit_cycle(hist)
-        return {"seconds": dt, "amplitude": float(lc.velocity_amplitude_m_s),
-                "tsat": float(lc.time_to_saturation_s), "growth": float(lc.growth_rate_1_s),
-                "freq": float(lc.frequency_hz), "step": float(hist.step_s),
-                "saturated": bool(lc.saturated)}
+        return {
+            "seconds": dt,
+            "amplitude": float(lc.velocity_amplitude_m_s),
+            "tsat": float(lc.time_to_saturation_s),
+            "growth": float(lc.growth_rate_1_s),
+            "freq": float(lc.frequency_hz),
+            "step": float(hist.step_s),
+            "saturated": bool(lc.saturated),
+        }
 
     return job
 
 
-def integrator_ladder(dof, contact, op, duration: float, *, rk4=RK4_LADDER, rtols=IVP_RTOLS,
-                      reference_rtol: float = REFERENCE_RTOL,
-                      crosscheck_steps: int | None = CROSSCHECK_STEPS_PER_PERIOD,
-                      isolate: bool = True,
-                      progress: Callable[[str], None] | None = None) -> list[dict]:
+def integrator_ladder(
+    dof,
+    contact,
+    op,
+    duration: float,
+    *,
+    rk4=RK4_LADDER,
+    rtols=IVP_RTOLS,
+    reference_rtol: float = REFERENCE_RTOL,
+    crosscheck_steps: int | None = CROSSCHECK_STEPS_PER_PERIOD,
+    isolate: bool = True,
+    progress: Callable[[str], None] | None = None,
+) -> list[dict]:
     """RK4 over ``rk4`` steps per period and solve_ivp over ``rtols``, plus the
     reference (DOP853 at ``reference_rtol``, flagged ``reference``) and the RK4
     cross-check at ``crosscheck_steps``. The integration alone is timed (the
@@ -222,10 +290,17 @@ def integrator_ladder(dof, contact, op, duration: float, *, rk4=RK4_LADDER, rtol
             say(f"  failed: {exc}")
             rows.append(row)
             continue
-        row.update(seconds=statistics.median(secs), repeats=len(secs), peak_memory_mb=mem,
-                   amplitude_m_s=out["amplitude"], time_to_saturation_s=out["tsat"],
-                   growth_rate_1_s=out["growth"], limit_cycle_frequency_hz=out["freq"],
-                   simulated_s=duration, step_s=out["step"])
+        row.update(
+            seconds=statistics.median(secs),
+            repeats=len(secs),
+            peak_memory_mb=mem,
+            amplitude_m_s=out["amplitude"],
+            time_to_saturation_s=out["tsat"],
+            growth_rate_1_s=out["growth"],
+            limit_cycle_frequency_hz=out["freq"],
+            simulated_s=duration,
+            step_s=out["step"],
+        )
         if method == "rk4":
             # what the production path (step cap + energy-balance refinement) does here
             try:
@@ -238,8 +313,8 @@ def integrator_ladder(dof, contact, op, duration: float, *, rk4=RK4_LADDER, rtol
         if not out["saturated"]:
             row["note"] = (row["note"] + "; " if row["note"] else "") + "limit cycle not saturated"
         rows.append(row)
-        say(f"  {row['seconds'] * 1e3:.1f} ms (median of {len(secs)}), amplitude "
-            f"{out['amplitude']:.7f} m/s, saturated at {out['tsat']:.4f} s")
+        say(
+            f"  {row['seconds'] * 1e3:.1f} ms (median of {len(secs)}), amplitude "
+            f"{out['amplitude']:.7f} m/s, saturated at {out['tsat']:.4f} s"
+        )
     return rows
-
-

@@ -10,8 +10,9 @@ from __future__ import annotations
 import math
 import statistics
 import time
+from collections.abc import Callable
 from pathlib import Path
-from typing import Any, Callable
+from typing import Any
 
 __all__ = ["REPEATS", "REPEAT_BELOW_S", "fork_available", "measure", "measure_repeated"]
 
@@ -104,8 +105,12 @@ def measure(fn: Callable[[], Any], isolate: bool = True) -> tuple[Any, float, fl
     return payload
 
 
-def measure_repeated(fn: Callable[[], Any], isolate: bool = True,
-                     repeat_below_s: float = REPEAT_BELOW_S, repeats: int = REPEATS):
+def measure_repeated(
+    fn: Callable[[], Any],
+    isolate: bool = True,
+    repeat_below_s: float = REPEAT_BELOW_S,
+    repeats: int = REPEATS,
+):
     """:func:`measure` once, and ``repeats`` times in all if the first run was quick.
 
     Returns ``(result of the first run, median seconds, max peak memory MB, runs)``.
@@ -119,5 +124,3 @@ def measure_repeated(fn: Callable[[], Any], isolate: bool = True,
             mems.append(mem)
     finite = [m for m in mems if math.isfinite(m)]
     return out, statistics.median(times), (max(finite) if finite else float("nan")), len(times)
-
-

@@ -12,6 +12,7 @@ from .ladders import COLUMNS, IVP_METHOD, REFERENCE_RTOL
 
 __all__ = ["format_table", "read_csv", "write_csv", "write_plots"]
 
+
 def _csv_value(v) -> str:
     if v is None:
         return ""
@@ -50,12 +51,20 @@ def read_csv(path: Path) -> list[dict]:
 
 
 ERROR_FLOOR = 1e-9  # plotted in place of an exact zero (log axis)
+
+
 def _plot_panel(ax, rows: list[dict], key: str, title: str) -> None:
     methods = [m for m in dict.fromkeys(r["method"] for r in rows)]
     pts_all, rows_all = [], []
     for method in methods:
-        rs = [r for r in rows if r["method"] == method and not r["reference"]
-              and r.get("seconds") is not None and r.get(f"{key}_rel_error") is not None]
+        rs = [
+            r
+            for r in rows
+            if r["method"] == method
+            and not r["reference"]
+            and r.get("seconds") is not None
+            and r.get(f"{key}_rel_error") is not None
+        ]
         if not rs:
             continue
         rs.sort(key=lambda r: as_number(r["parameter"]), reverse=(method.startswith("solve_ivp")))
@@ -75,10 +84,26 @@ def _plot_panel(ax, rows: list[dict], key: str, title: str) -> None:
     if key in ("frequency", "modal_mass") and rows and rows[0]["study"] == "fe":
         ax.axhline(FAST_MAX_ERROR, color="grey", ls=":", lw=1)
         ax.axhline(ACCURATE_MAX_ERROR, color="grey", ls=":", lw=1)
-        ax.text(0.99, FAST_MAX_ERROR, "fast aim 1 %", transform=ax.get_yaxis_transform(),
-                ha="right", va="bottom", fontsize=7, color="grey")
-        ax.text(0.99, ACCURATE_MAX_ERROR, "accurate aim 0.1 %", transform=ax.get_yaxis_transform(),
-                ha="right", va="bottom", fontsize=7, color="grey")
+        ax.text(
+            0.99,
+            FAST_MAX_ERROR,
+            "fast aim 1 %",
+            transform=ax.get_yaxis_transform(),
+            ha="right",
+            va="bottom",
+            fontsize=7,
+            color="grey",
+        )
+        ax.text(
+            0.99,
+            ACCURATE_MAX_ERROR,
+            "accurate aim 0.1 %",
+            transform=ax.get_yaxis_transform(),
+            ha="right",
+            va="bottom",
+            fontsize=7,
+            color="grey",
+        )
     ax.set_xscale("log")
     ax.set_yscale("log")
     ax.set(xlabel="wall time [s]", ylabel="|relative error|", title=title)
@@ -93,14 +118,22 @@ def write_plots(rows: list[dict], out_dir: Path) -> list[Path]:
     if fe:
         fig = Figure(figsize=(12, 9))
         axes = fig.subplots(2, 2)
-        for ax, (k, title) in zip(axes.flat, [
-                ("frequency", "(3,0) mode frequency"), ("modal_mass", "contact modal mass"),
+        for ax, (k, title) in zip(
+            axes.flat,
+            [
+                ("frequency", "(3,0) mode frequency"),
+                ("modal_mass", "contact modal mass"),
                 ("amplitude", "limit-cycle amplitude (same RK4 for all)"),
-                ("time_to_saturation", "time to saturation (1 period = ~0.2 %)")]):
+                ("time_to_saturation", "time to saturation (1 period = ~0.2 %)"),
+            ],
+        ):
             _plot_panel(ax, fe, k, title)
         axes[0, 0].legend(fontsize=7)
-        fig.suptitle("Modal solvers: error vs wall time (mesh + modes <= 5 kHz); "
-                     "labels: elements across the web; zero errors drawn at 1e-9", fontsize=10)
+        fig.suptitle(
+            "Modal solvers: error vs wall time (mesh + modes <= 5 kHz); "
+            "labels: elements across the web; zero errors drawn at 1e-9",
+            fontsize=10,
+        )
         fig.tight_layout()
         p = out_dir / "convergence_fe.png"
         fig.savefig(p, dpi=110)
@@ -112,8 +145,11 @@ def write_plots(rows: list[dict], out_dir: Path) -> list[Path]:
         _plot_panel(axes[0], it, "amplitude", "limit-cycle amplitude")
         _plot_panel(axes[1], it, "time_to_saturation", "time to saturation")
         axes[0].legend(fontsize=7)
-        fig.suptitle(f"Time integrator: error vs wall time (reference {IVP_METHOD} rtol "
-                     f"{REFERENCE_RTOL:g}); labels: steps per period / rtol", fontsize=10)
+        fig.suptitle(
+            f"Time integrator: error vs wall time (reference {IVP_METHOD} rtol "
+            f"{REFERENCE_RTOL:g}); labels: steps per period / rtol",
+            fontsize=10,
+        )
         fig.tight_layout()
         p = out_dir / "convergence_integrator.png"
         fig.savefig(p, dpi=110)
@@ -122,26 +158,29 @@ def write_plots(rows: list[dict], out_dir: Path) -> list[Path]:
 
 
 def format_table(rows: list[dict]) -> str:
-    """A plain-text table of the rows (what ``python convergence.py`` prints)."""
-    head = (f"{'study':<10} {'method':<20} {'param':>7} {'DOFs':>7} {'time s':>8} {'MB':>6} "
-            f"{'f Hz':>10} {'df/f':>10} {'m kg':>8} {'dm/m':>10} {'amp m/s':>9} {'damp':>10} "
-            f"{'tsat s':>7} {'dtsat':>9} front")
+    """A plain-text table of the rows."""
+    head = (
+        f"{'study':<10} {'method':<20} {'param':>7} {'DOFs':>7} {'time s':>8} {'MB':>6} "
+        f"{'f Hz':>10} {'df/f':>10} {'m kg':>8} {'dm/m':>10} {'amp m/s':>9} {'damp':>10} "
+        f"{'tsat s':>7} {'dtsat':>9} front"
+    )
     lines = [head]
+
+    def g(r: dict, k: str, fmt: str) -> str:
+        v = as_number(r.get(k))
+        return format(v, fmt) if math.isfinite(v) else "-"
+
     for r in rows:
-        def g(k, fmt):
-            v = as_number(r.get(k))
-            return format(v, fmt) if math.isfinite(v) else "-"
         lines.append(
             f"{r['study']:<10} {r['method'] + ('*' if r['reference'] else ''):<20} "
-            f"{as_number(r['parameter']):>7g} {g('dofs', '7.0f'):>7} {g('seconds', '8.3f'):>8} "
-            f"{g('peak_memory_mb', '6.0f'):>6} {g('frequency_hz', '10.3f'):>10} "
+            f"{as_number(r['parameter']):>7g} {g(r, 'dofs', '7.0f'):>7} {g(r, 'seconds', '8.3f'):>8} "
+            f"{g(r, 'peak_memory_mb', '6.0f'):>6} {g(r, 'frequency_hz', '10.3f'):>10} "
             f"{percent(r.get('frequency_rel_error')) if r['study'] == 'fe' else '-':>10} "
-            f"{g('modal_mass_kg', '8.4f'):>8} "
+            f"{g(r, 'modal_mass_kg', '8.4f'):>8} "
             f"{percent(r.get('modal_mass_rel_error')) if r['study'] == 'fe' else '-':>10} "
-            f"{g('amplitude_m_s', '9.6f'):>9} {percent(r.get('amplitude_rel_error')):>10} "
-            f"{g('time_to_saturation_s', '7.4f'):>7} {percent(r.get('time_to_saturation_rel_error')):>9} "
-            f"{r.get('pareto') or ''}" + (f"  [{r['note']}]" if r.get("note") else ""))
+            f"{g(r, 'amplitude_m_s', '9.6f'):>9} {percent(r.get('amplitude_rel_error')):>10} "
+            f"{g(r, 'time_to_saturation_s', '7.4f'):>7} {percent(r.get('time_to_saturation_rel_error')):>9} "
+            f"{r.get('pareto') or ''}" + (f"  [{r['note']}]" if r.get("note") else "")
+        )
     lines.append("* reference rung; errors are value/reference - 1")
     return "\n".join(lines)
-
-

@@ -24,16 +24,39 @@ from __future__ import annotations
 import math
 import os
 import time
+from collections.abc import Callable
 from pathlib import Path
-from typing import Callable
 
 from .. import api
 from ..outputs import write_json
 from ..presets import DEFAULT_CRAB_VELOCITY_M_S, DEFAULT_FMAX_HZ, DEFAULT_RPM
-from .choice import ERROR_KEYS, VALUE_KEYS, as_number, choose_presets, fill_errors, mark_pareto, percent, presets_table, presets_verdict
-from .ladders import (AXISYM_LADDER, CROSSCHECK_STEPS_PER_PERIOD, CYCLIC_LADDER, IVP_METHOD, IVP_RTOLS, QUICK,
-                      REFERENCE_ETW, REFERENCE_RTOL, RK4_LADDER, SOLID_P1_LADDER, SOLID_P2_LADDER, FERung,
-                      fe_ladder, integrator_ladder)
+from .choice import (
+    ERROR_KEYS,
+    VALUE_KEYS,
+    as_number,
+    choose_presets,
+    fill_errors,
+    mark_pareto,
+    percent,
+    presets_table,
+    presets_verdict,
+)
+from .ladders import (
+    AXISYM_LADDER,
+    CROSSCHECK_STEPS_PER_PERIOD,
+    CYCLIC_LADDER,
+    IVP_METHOD,
+    IVP_RTOLS,
+    QUICK,
+    REFERENCE_ETW,
+    REFERENCE_RTOL,
+    RK4_LADDER,
+    SOLID_P1_LADDER,
+    SOLID_P2_LADDER,
+    FERung,
+    fe_ladder,
+    integrator_ladder,
+)
 from .report import write_csv, write_plots
 
 __all__ = ["ConvergenceError", "run_convergence"]
@@ -60,9 +83,14 @@ def _warm_up(design) -> None:
     reduced.limit_cycle(reduced.simulate(reduced.ModalDOF(3.1, 1.6e8, 42.0), law, op, 0.01))
 
 
-def run_convergence(design, out_dir, *, quick: bool = False,
-                    progress: Callable[[str], None] | None = None,
-                    isolate: bool = True) -> list[dict]:
+def run_convergence(
+    design,
+    out_dir,
+    *,
+    quick: bool = False,
+    progress: Callable[[str], None] | None = None,
+    isolate: bool = True,
+) -> list[dict]:
     """Run the convergence study on ``design`` and write its files into ``out_dir``.
 
     ``design``: a ``WheelDesign`` (or a TOML path / None for Table 1). ``quick``: only
@@ -109,53 +137,71 @@ def run_convergence(design, out_dir, *, quick: bool = False,
         return v / r - 1 if math.isfinite(v) and math.isfinite(r) else None
 
     finer = [r for r in fe_rows if not r["reference"] and r["frequency_hz"] is not None]
-    next_curved = max((r for r in finer if r["method"] == "axisym-P2-curved"),
-                      key=lambda r: r["parameter"], default=None)
-    straight_same = next((r for r in finer if r["method"] == "axisym-P2"
-                          and r["parameter"] == ref_etw), None)
+    next_curved = max(
+        (r for r in finer if r["method"] == "axisym-P2-curved"), key=lambda r: r["parameter"], default=None
+    )
+    straight_same = next((r for r in finer if r["method"] == "axisym-P2" and r["parameter"] == ref_etw), None)
     p2_rows = [r for r in finer if r["method"] == "3d-tet-P2"]
     finest_p2 = max(p2_rows, key=lambda r: r["parameter"], default=None)
-    finest_cyc = max((r for r in finer if r["method"] == "3d-P2"),
-                     key=lambda r: r["parameter"], default=None)
+    finest_cyc = max((r for r in finer if r["method"] == "3d-P2"), key=lambda r: r["parameter"], default=None)
     reference_info = {
         "rung": f"axisym-P2-curved, {ref_etw} elements across the web",
-        "dofs": ref["dofs"], "seconds": ref["seconds"],
-        "frequency_hz": ref["frequency_hz"], "modal_mass_kg": ref["modal_mass_kg"],
-        "amplitude_m_s": ref["amplitude_m_s"], "time_to_saturation_s": ref["time_to_saturation_s"],
+        "dofs": ref["dofs"],
+        "seconds": ref["seconds"],
+        "frequency_hz": ref["frequency_hz"],
+        "modal_mass_kg": ref["modal_mass_kg"],
+        "amplitude_m_s": ref["amplitude_m_s"],
+        "time_to_saturation_s": ref["time_to_saturation_s"],
         "mode": ref["mode"],
         "self_convergence": {
             "vs": (f"axisym-P2-curved, {next_curved['parameter']} per web" if next_curved else None),
-            **({f"{k}_rel_change": _rel(next_curved, k) for k in ("frequency", "modal_mass")}
-               if next_curved else {}),
+            **(
+                {f"{k}_rel_change": _rel(next_curved, k) for k in ("frequency", "modal_mass")}
+                if next_curved
+                else {}
+            ),
         },
-        "crosscheck_3d_p2": ({"rung": f"3d-tet-P2, {finest_p2['parameter']} per web",
-                              "dofs": finest_p2["dofs"],
-                              **{f"{k}_rel_difference": _rel(finest_p2, k) for k in ERROR_KEYS}}
-                             if finest_p2 else None),
-        "crosscheck_3d_cyclic": ({"rung": f"3d-P2, {finest_cyc['parameter']} per web",
-                                  "dofs": finest_cyc["dofs"],
-                                  **{f"{k}_rel_difference": _rel(finest_cyc, k) for k in ERROR_KEYS}}
-                                 if finest_cyc else None),
+        "crosscheck_3d_p2": (
+            {
+                "rung": f"3d-tet-P2, {finest_p2['parameter']} per web",
+                "dofs": finest_p2["dofs"],
+                **{f"{k}_rel_difference": _rel(finest_p2, k) for k in ERROR_KEYS},
+            }
+            if finest_p2
+            else None
+        ),
+        "crosscheck_3d_cyclic": (
+            {
+                "rung": f"3d-P2, {finest_cyc['parameter']} per web",
+                "dofs": finest_cyc["dofs"],
+                **{f"{k}_rel_difference": _rel(finest_cyc, k) for k in ERROR_KEYS},
+            }
+            if finest_cyc
+            else None
+        ),
     }
     if straight_same is not None:
         reference_info["straight_p2_same_mesh"] = {
-            f"{k}_rel_difference": _rel(straight_same, k) for k in ("frequency", "modal_mass")}
-    say(f"reference: {reference_info['rung']}: {ref['frequency_hz']:.4f} Hz, "
-        f"m = {ref['modal_mass_kg']:.6f} kg, amplitude {ref['amplitude_m_s']:.6f} m/s")
+            f"{k}_rel_difference": _rel(straight_same, k) for k in ("frequency", "modal_mass")
+        }
+    say(
+        f"reference: {reference_info['rung']}: {ref['frequency_hz']:.4f} Hz, "
+        f"m = {ref['modal_mass_kg']:.6f} kg, amplitude {ref['amplitude_m_s']:.6f} m/s"
+    )
     if next_curved:
         sc = reference_info["self_convergence"]
-        say(f"  reference self-convergence (vs {sc['vs']}): frequency {percent(sc['frequency_rel_change'])}, "
-            f"modal mass {percent(sc['modal_mass_rel_change'])}")
-    if finest_p2:
-        cc = reference_info["crosscheck_3d_p2"]
-        say(f"  cross-check {cc['rung']} ({cc['dofs']} DOFs): frequency "
-            f"{percent(cc['frequency_rel_difference'])}, modal mass {percent(cc['modal_mass_rel_difference'])}, "
-            f"amplitude {percent(cc['amplitude_rel_difference'])}")
-    if finest_cyc:
-        cc = reference_info["crosscheck_3d_cyclic"]
-        say(f"  cross-check {cc['rung']} ({cc['dofs']} DOFs): frequency "
-            f"{percent(cc['frequency_rel_difference'])}, modal mass {percent(cc['modal_mass_rel_difference'])}, "
-            f"amplitude {percent(cc['amplitude_rel_difference'])}")
+        say(
+            f"  reference self-convergence (vs {sc['vs']}): frequency {percent(sc['frequency_rel_change'])}, "
+            f"modal mass {percent(sc['modal_mass_rel_change'])}"
+        )
+    for cc in (reference_info["crosscheck_3d_p2"], reference_info["crosscheck_3d_cyclic"]):
+        if cc:
+            say(
+                f"  cross-check {cc['rung']} ({cc['dofs']} DOFs): frequency "
+                f"{percent(cc['frequency_rel_difference'])}, "
+                f"modal mass {percent(cc['modal_mass_rel_difference'])}, "
+                f"amplitude {percent(cc['amplitude_rel_difference'])}"
+            )
 
     # 2. integrator rungs on the reference's (m, k, c), same duration as its run
     ref_mode = modes[0]
@@ -164,11 +210,17 @@ def run_convergence(design, out_dir, *, quick: bool = False,
     op = api.operating_point(design, rpm=DEFAULT_RPM, crab_velocity=DEFAULT_CRAB_VELOCITY_M_S)
     duration = float(ref["simulated_s"])
     it_rows = integrator_ladder(
-        dof, contact, op, duration, rk4=q["rk4"] if q else RK4_LADDER,
+        dof,
+        contact,
+        op,
+        duration,
+        rk4=q["rk4"] if q else RK4_LADDER,
         rtols=q["rtols"] if q else IVP_RTOLS,
         reference_rtol=q["reference_rtol"] if q else REFERENCE_RTOL,
         crosscheck_steps=None if quick else CROSSCHECK_STEPS_PER_PERIOD,
-        isolate=isolate, progress=say)
+        isolate=isolate,
+        progress=say,
+    )
     it_ref = next((r for r in it_rows if r["reference"]), None)
     if it_ref is None or it_ref["amplitude_m_s"] is None:
         raise ConvergenceError("integrator reference failed: " + (it_ref or {}).get("note", ""))
@@ -178,27 +230,46 @@ def run_convergence(design, out_dir, *, quick: bool = False,
     mark_pareto(rows)
     presets = choose_presets(rows)
     verdict = presets_verdict(presets)
-    cross = next((r for r in it_rows if r["method"] == "rk4"
-                  and r["parameter"] == CROSSCHECK_STEPS_PER_PERIOD), None)
+    cross = next(
+        (r for r in it_rows if r["method"] == "rk4" and r["parameter"] == CROSSCHECK_STEPS_PER_PERIOD), None
+    )
     prod = next((r for r in it_rows if r["method"] == "rk4" and r["parameter"] == 48), None)
     integrator_info = {
         "reference": f"solve_ivp {IVP_METHOD} rtol {it_ref['parameter']:g}",
         "duration_s": duration,
-        "mode": {"mass_kg": dof.mass_kg, "stiffness_n_m": dof.stiffness_n_m,
-                 "damping_ns_m": dof.damping_ns_m, "frequency_hz": dof.frequency_hz},
-        "crosscheck_rk4_256": ({k: cross[f"{k}_rel_error"] for k in ("amplitude", "time_to_saturation")}
-                               if cross else None),
-        "production_rk4_48": ({k: prod[f"{k}_rel_error"] for k in ("amplitude", "time_to_saturation")}
-                              | {"seconds": prod["seconds"]} if prod else None),
+        "mode": {
+            "mass_kg": dof.mass_kg,
+            "stiffness_n_m": dof.stiffness_n_m,
+            "damping_ns_m": dof.damping_ns_m,
+            "frequency_hz": dof.frequency_hz,
+        },
+        "crosscheck_rk4_256": (
+            {k: cross[f"{k}_rel_error"] for k in ("amplitude", "time_to_saturation")} if cross else None
+        ),
+        "production_rk4_48": (
+            {k: prod[f"{k}_rel_error"] for k in ("amplitude", "time_to_saturation")}
+            | {"seconds": prod["seconds"]}
+            if prod
+            else None
+        ),
     }
     summary = {
-        "design": design.name, "quick": quick,
-        "operating_point": {"rpm": DEFAULT_RPM, "crab_velocity_m_s": DEFAULT_CRAB_VELOCITY_M_S,
-                            "rolling_speed_m_s": op.rolling_speed_m_s},
-        "fmax_hz": DEFAULT_FMAX_HZ, "fe_reference": reference_info, "integrator": integrator_info,
-        "presets": presets, "verdict": verdict,
-        "machine": {"nproc": os.cpu_count(), "loadavg": list(os.getloadavg())
-                    if hasattr(os, "getloadavg") else None},
+        "design": design.name,
+        "quick": quick,
+        "operating_point": {
+            "rpm": DEFAULT_RPM,
+            "crab_velocity_m_s": DEFAULT_CRAB_VELOCITY_M_S,
+            "rolling_speed_m_s": op.rolling_speed_m_s,
+        },
+        "fmax_hz": DEFAULT_FMAX_HZ,
+        "fe_reference": reference_info,
+        "integrator": integrator_info,
+        "presets": presets,
+        "verdict": verdict,
+        "machine": {
+            "nproc": os.cpu_count(),
+            "loadavg": list(os.getloadavg()) if hasattr(os, "getloadavg") else None,
+        },
         "seconds_total": time.perf_counter() - t_start,
     }
     write_csv(rows, out_dir / "convergence.csv")
@@ -207,9 +278,12 @@ def run_convergence(design, out_dir, *, quick: bool = False,
     (out_dir / "presets.md").write_text(
         f"Presets measured on {design.name} (reference: {reference_info['rung']}; "
         f"800 RPM, Vc 0.39 m/s; errors relative to the reference):\n\n"
-        + presets_table(presets) + "\n\n" + "\n".join(f"- {v}" for v in verdict) + "\n")
+        + presets_table(presets)
+        + "\n\n"
+        + "\n".join(f"- {v}" for v in verdict)
+        + "\n"
+    )
     for v in verdict:
         say(v)
     say(f"done in {time.perf_counter() - t_start:.0f} s -> {out_dir}")
     return rows
-

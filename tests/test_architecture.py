@@ -1,0 +1,157 @@
+"""The layering promises, checked on the source: data flows one way, no import cycles,
+no module uses another's private names, the entry point stays thin, and a command that
+needs no FE imports none of the FE libraries."""
+
+from __future__ import annotations
+
+import ast
+import subprocess
+import sys
+from pathlib import Path
+
+from conftest import PIPELINE, ROOT
+
+#: What each top-level package may import of the project (anything else is "upward").
+ALLOWED = {
+    "geometry": set(),
+    "reduced": set(),
+    "fem": {"geometry"},
+    "designs": set(),
+    "wheel_squeal": {"geometry", "fem", "reduced", "designs"},
+    "pipeline": {"wheel_squeal"},
+}
+PACKAGES = ("geometry", "fem", "reduced", "wheel_squeal", "designs")
+
+
+def _modules() -> dict[str, Path]:
+    out = {"pipeline": PIPELINE}
+    for pkg in PACKAGES:
+        for f in sorted((ROOT / pkg).rglob("*.py")):
+            parts = f.relative_to(ROOT).with_suffix("").parts
+            name = ".".join(parts[:-1] if parts[-1] == "__init__" else parts)
+            out[name] = f
+    return out
+
+
+def _imports(name: str, path: Path, modules: dict[str, Path]) -> list[tuple[str, list[str]]]:
+    """(imported project module, names imported from it) for every import in the file,
+    at module level or inside functions."""
+    is_pkg = path.name == "__init__.py"
+    out = []
+    for node in ast.walk(ast.parse(path.read_text())):
+        if isinstance(node, ast.Import):
+            out += [(a.name, []) for a in node.names]
+        elif isinstance(node, ast.ImportFrom):
+            if node.level:
+                base = name.split(".") if is_pkg else name.split(".")[:-1]
+                base = base[: len(base) - node.level + 1]
+                target = ".".join(base + ([node.module] if node.module else []))
+            else:
+                target = node.module or ""
+            names = [a.name for a in node.names]
+            out += [(f"{target}.{n}", []) for n in names if f"{target}.{n}" in modules]
+            rest = [n for n in names if f"{target}.{n}" not in modules]
+            if rest:
+                out.append((target, rest))
+    return [(t, n) for t, n in out if t.split(".")[0] in ALLOWED]
+
+
+def _graph():
+    modules = _modules()
+    return modules, {name: _imports(name, path, modules) for name, path in modules.items()}
+
+
+def test_no_upward_imports():
+    _, graph = _graph()
+    bad = [
+        (m, t)
+        for m, deps in graph.items()
+        for t, _ in deps
+        if t.split(".")[0] != m.split(".")[0] and t.split(".")[0] not in ALLOWED[m.split(".")[0]]
+    ]
+    assert bad == [], f"imports against the data flow: {bad}"
+
+
+def test_no_import_cycles():
+    modules, graph = _graph()
+    edges = {
+        m: {t if t in modules else t.rsplit(".", 1)[0] for t, _ in deps} & set(modules) - {m}
+        for m, deps in graph.items()
+    }
+    state: dict[str, int] = {}
+
+    def visit(m: str, path: list[str]) -> list[str] | None:
+        state[m] = 1
+        for t in sorted(edges[m]):
+            if state.get(t) == 1:
+                return path + [t]
+            if t not in state and (cycle := visit(t, path + [t])):
+                return cycle
+        state[m] = 2
+        return None
+
+    for m in sorted(modules):
+        if m not in state and (cycle := visit(m, [m])):
+            raise AssertionError("import cycle: " + " -> ".join(cycle))
+
+
+def test_no_module_uses_another_modules_private_names():
+    _, graph = _graph()
+    bad = [
+        (m, t, n)
+        for m, deps in graph.items()
+        for t, names in deps
+        for n in names
+        if n.startswith("_") and t != m
+    ]
+    assert bad == [], f"private names used across modules: {bad}"
+
+
+def test_the_entry_point_is_thin_and_the_app_modules_small():
+    assert len(PIPELINE.read_text().splitlines()) < 40
+    big = {
+        f.name: n
+        for f in (ROOT / "wheel_squeal").rglob("*.py")
+        if (n := len(f.read_text().splitlines())) > 420
+    }
+    assert big == {}, f"application modules over ~400 lines: {big}"
+
+
+def _imported_by(*args: str, cwd: Path = ROOT) -> set[str]:
+    """The modules ``python -X importtime pipeline.py ARGS`` imports (the run must end
+    with status 0)."""
+    r = subprocess.run(
+        [sys.executable, "-X", "importtime", str(PIPELINE), *args],
+        capture_output=True,
+        text=True,
+        timeout=300,
+        cwd=cwd,
+    )
+    assert r.returncode == 0, r.stderr[-2000:]
+    return {line.split("|")[-1].strip() for line in r.stderr.splitlines() if line.startswith("import time:")}
+
+
+FE_LIBRARIES = {"skfem", "gmsh", "meshio", "pyvista", "vtk"}
+
+
+def test_simulate_without_fe_imports_no_fe_library(tmp_path):
+    loaded = _imported_by(
+        "simulate",
+        "--mass",
+        "3.1",
+        "--stiffness",
+        "1.6e8",
+        "--damping",
+        "42",
+        "--out",
+        str(tmp_path / "sim"),
+        "--quiet",
+    )
+    assert {m.split(".")[0] for m in loaded} & FE_LIBRARIES == set()
+    assert "reduced._kernels" in loaded  # the check can fail: it sees what was imported
+
+
+def test_help_imports_no_heavy_library():
+    top = {m.split(".")[0] for m in _imported_by("--help")}
+    assert top & (FE_LIBRARIES | {"scipy", "matplotlib", "numba"}) == set()
+    assert "wheel_squeal" in top
