@@ -425,13 +425,21 @@ def test_count_sign_changes_ignores_small_samples():
     assert count_sign_changes(np.zeros(5)) == 0
 
 
-def test_print_table1_mode_table(table1_modes):
-    """Prints (does not assert) the Table 1 modes: f, n, circles, family, contact m."""
+def test_table1_mode_table_is_ordered_labelled_and_excitable_where_it_should_be(table1_modes):
+    """The Table 1 modes up to 5 kHz (printed with -s): ascending, each label once,
+    the (3,0) axial squeal mode near 1.1 kHz with a contact modal mass near 4 kg
+    (MODEL.md section 2), every axial mode seen at the contact and every in-plane mode of
+    this mirror-symmetric wheel with a node there."""
     ms = table1_modes
     print(f"\nTable 1 wheel, axisym P2, {ms.dofs} DOFs summed over harmonics, {ms.timings_s['total']:.3f} s")
     print(f"{'f [Hz]':>9} {'n':>3} {'c':>3} {'family':<16} {'m [kg]':>10}")
     for m in ms.modes:
-        print(
-            f"{m.frequency_hz:9.1f} {m.nodal_diameters:3d} {m.nodal_circles:3d} "
-            f"{m.family:<16} {m.modal_mass:10.4g}"
-        )
+        n, c = m.nodal_diameters, m.nodal_circles
+        print(f"{m.frequency_hz:9.1f} {n:3d} {c:3d} {m.family:<16} {m.modal_mass:10.4g}")
+    f = [m.frequency_hz for m in ms.modes]
+    assert f == sorted(f) and len(f) >= 10
+    labels = [(m.nodal_diameters, m.nodal_circles, m.family) for m in ms.modes]
+    assert len(set(labels)) == len(labels)
+    squeal = next(m for m in ms.modes if labels[m.index] == (3, 0, "axial"))
+    assert 1000 < squeal.frequency_hz < 1250 and 2.5 < squeal.modal_mass < 5.0
+    assert all(math.isfinite(m.modal_mass) == (m.family == "axial") for m in ms.modes)

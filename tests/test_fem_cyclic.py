@@ -18,6 +18,7 @@ import warnings
 
 import numpy as np
 import pytest
+from conftest import DESIGNS
 
 from fem.axisym import solve_axisymmetric
 from fem.cyclic import default_sectors, solve_cyclic
@@ -29,7 +30,7 @@ from geometry.profile import revolved_volume
 from geometry.revolve import revolve_profile
 from geometry.simplex import inverted as _inverted
 
-TABLE1 = load_design("designs/table1.toml")
+TABLE1 = load_design(DESIGNS / "table1.toml")
 
 
 def key(m):
@@ -211,7 +212,7 @@ def test_cyclic_dished_wheel_contact_masses():
     """A dished web (web_offset != 0, not mirror-symmetric): in-plane modes couple to the
     axial contact displacement; both solvers give the same finite modal masses
     (measured within 2.9e-4 in frequency and 2.1e-4 in modal mass at N = 96)."""
-    d = load_design("designs/dished_web.toml")
+    d = load_design(DESIGNS / "dished_web.toml")
     prof = mesh_profile(d, elements_through_web=2, order=2)
     ax = by_key(solve_axisymmetric(d, prof, curved=True, fmax_hz=3000.0))
     cy = by_key(solve_cyclic(d, revolve_profile(prof, 96), fmax_hz=3000.0))

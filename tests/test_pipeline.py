@@ -4,29 +4,18 @@ from __future__ import annotations
 
 import json
 import math
-import subprocess
-import sys
+import tomllib
 from pathlib import Path
 
 import numpy as np
 import pytest
+from conftest import DESIGNS
+from conftest import run_cli as cli
 
 import wheel_squeal as ws
 from geometry import WheelDesign
 from wheel_squeal.cli import main
-
-ROOT = Path(__file__).resolve().parents[1]
-DESIGNS = ROOT / "designs"
-
-
-def cli(*args: str, cwd: Path | None = None) -> subprocess.CompletedProcess:
-    return subprocess.run(
-        [sys.executable, str(ROOT / "pipeline.py"), *args],
-        capture_output=True,
-        text=True,
-        cwd=cwd or ROOT,
-        timeout=600,
-    )
+from wheel_squeal.outputs import MARKER
 
 
 # ---------------------------------------------------------------------------------------
@@ -72,7 +61,18 @@ def test_bad_requests_exit_2_with_one_line_and_no_output(tmp_path):
 
 
 def test_every_command_has_help():
-    for command in ["run", "mesh", "modes", "simulate", "sweep", "compare", "render", "calibrate", "cache"]:
+    for command in [
+        "run",
+        "mesh",
+        "modes",
+        "simulate",
+        "sweep",
+        "compare",
+        "render",
+        "calibrate",
+        "converge",
+        "cache",
+    ]:
         r = cli(command, "--help")
         assert r.returncode == 0 and "usage" in r.stdout, command
 
@@ -409,3 +409,66 @@ def test_sweep_command(tmp_path):
     first = lines[1].split(",")
     assert float(first[0]) == 0.0 and first[3] == "false"  # Vc = 0: no squeal
     assert (out / "sweep.png").exists()
+
+
+def test_render_command(tmp_path):
+    out = tmp_path / "render"
+    r = cli(
+        "render",
+        "--fidelity",
+        "fast",
+        "--fmax",
+        "1500",
+        "--modes",
+        "0,4",
+        "--out",
+        out,
+        "--quiet",
+        "--cache-dir",
+        tmp_path / "c",
+    )
+    assert r.returncode == 0, r.stderr
+    pngs = sorted(p.name for p in out.glob("mode_*.png"))
+    assert len(pngs) == 2 and any("_n3_c0_axial" in p for p in pngs), pngs
+    assert all((out / p).stat().st_size > 10_000 for p in pngs) and (out / MARKER).is_file()
+    assert r.stdout.strip().endswith(f"2 files -> {out}")
+
+
+def test_calibrate_command_fits_the_frequency(tmp_path):
+    """Fit the rim depth to a measured (3,0) frequency alone: the written design gives
+    that frequency within the 1 % uncertainty of the fit, and a rerun may replace it."""
+    out = tmp_path / "cal"
+    args = [
+        "calibrate",
+        "--free",
+        "rim_depth",
+        "--target-frequency",
+        "1100",
+        "--fidelity",
+        "fast",
+        "--out",
+        out,
+        "--quiet",
+    ]
+    r = cli(*args)
+    assert r.returncode == 0, r.stderr
+    path = out / "table1_calibrated.toml"
+    data = tomllib.loads(path.read_text())
+    assert data["wheel"]["rim_depth"] != 0.0335
+    fitted = ws.load_design(path)
+    mode, _ = ws.pick_mode(ws.compute_modes(fitted, "fast"))
+    assert mode.frequency_hz == pytest.approx(1100, rel=0.01)
+    assert cli(*args).returncode == 0  # its own earlier result may be replaced
+
+
+def test_converge_command_writes_the_study(tmp_path):
+    out = tmp_path / "conv"
+    r = cli("converge", "--quick", "--out", out, "--quiet")
+    assert r.returncode == 0, r.stderr
+    rows = (out / "convergence.csv").read_text().splitlines()
+    assert rows[0].startswith("study,method,parameter_name") and len(rows) > 10
+    methods = {line.split(",")[1] for line in rows[1:]}
+    assert {"axisym-P2", "axisym-P2-curved", "3d-P2", "3d-tet-P2", "rk4"} <= methods
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["presets"]["fast"]["matches_current"] is True
+    assert (out / "convergence_fe.png").stat().st_size > 10_000 and (out / "presets.md").is_file()

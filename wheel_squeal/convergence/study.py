@@ -285,5 +285,5 @@ def run_convergence(
     )
     for v in verdict:
         say(v)
-    say(f"done in {time.perf_counter() - t_start:.0f} s -> {out_dir}")
+    say(f"done in {time.perf_counter() - t_start:.0f} s")
     return rows
