@@ -9,7 +9,7 @@ Rows (Table 1 wheel unless ``--design``):
   across the web, curved second order, revolved in N = 48 sectors: the mesh the 3-D P2
   rows use) and the gmsh 3-D wheel (curved tetra10, 1 element across the web: the
   unstructured check);
-* modes: the axisymmetric solver through ``pipeline.compute_modes`` for the fast,
+* modes: the axisymmetric solver through ``wheel_squeal.compute_modes`` for the fast,
   balanced and accurate presets (no cache: mesh + modes), and the 3-D P2 modes (all
   modes <= 5 kHz) on the cyclic mesh: the chosen path ``fem.cyclic.solve_cyclic``
   (cyclic symmetry, one small problem per harmonic; mesh given) vs the baseline on the
@@ -20,14 +20,17 @@ Rows (Table 1 wheel unless ``--design``):
   (baseline: assembly + eigsh; chosen: ``solve_cyclic`` total with labels), runs
   interleaved; plus ``fem.solid.solve_solid`` on the gmsh mesh (the unstructured check);
 * one simulation (Fig. 6 operating point, balanced preset's mode): the production
-  ``pipeline.simulate`` (numba RK4, duration extended while growing) and RK4 over the
+  ``ws.simulate`` (numba RK4, duration extended while growing) and RK4 over the
   same final duration, vs ``solve_ivp`` (DOP853, rtol 1e-8) over that duration;
-* one sweep (50 crabbing velocities x 3 speeds, 0.6 s each): ``pipeline.sweep``
+* one sweep (50 crabbing velocities x 3 speeds, 0.6 s each): ``ws.sweep``
   (numba, parallel) vs the 150 cases run one after another with ``reduced.simulate``
   + ``limit_cycle`` (RK4, one core); the first call (compile/cache load) is reported
   apart;
-* the full ``pipeline.py run`` as a subprocess: cold (a fresh empty cache folder each
-  time) and warm (cache filled by a previous run).
+* the command line as a user meets it (subprocesses, interleaved with their
+  baselines): ``pipeline.py simulate`` of the Fig. 6 case (no FE) against
+  ``benchmarks/baselines/fig6_solve_ivp.py`` (the same case as a plain solve_ivp +
+  pyplot script), ``pipeline.py run`` with a warm cache against the bare import of
+  ``scipy.sparse.linalg`` and ``matplotlib.pyplot``, and ``run`` with a cold cache.
 
 Each figure is the median of ``n`` runs (the column ``n``); slow baselines run fewer
 times. ``--quick`` runs everything once or twice (a smoke test of the suite, not
@@ -48,6 +51,7 @@ import sys
 import tempfile
 import time
 from collections.abc import Callable
+from functools import partial
 from pathlib import Path
 from typing import Any
 
@@ -57,7 +61,7 @@ sys.path.insert(0, str(ROOT / "benchmarks"))  # bench_modes: the shared 3-D base
 
 import numpy as np  # noqa: E402
 
-import pipeline  # noqa: E402
+import wheel_squeal as ws  # noqa: E402
 
 
 # --------------------------------------------------------------------------------------
@@ -171,7 +175,7 @@ CYCLIC_SECTORS = 48
 def bench_mesh(design, table: Table, quick: bool) -> None:
     from geometry import mesh_profile, mesh_wheel, revolve_profile
 
-    bal = pipeline.FIDELITIES["balanced"]
+    bal = ws.FIDELITIES["balanced"]
     s, m, _ = timed(
         lambda: mesh_profile(design, elements_through_web=bal.elements_through_web, order=bal.mesh_order),
         3 if quick else 5,
@@ -209,10 +213,10 @@ def bench_modes(design, table: Table, quick: bool) -> tuple:
     n = 3 if quick else 5
     results = {}
     for name in ("fast", "balanced", "accurate"):
-        s, ms, _ = timed(lambda name=name: pipeline.compute_modes(design, name), n)
-        mode, _ = pipeline.pick_mode(ms)
+        s, ms, _ = timed(lambda name=name: ws.compute_modes(design, name), n)
+        mode, _ = ws.pick_mode(ms)
         results[name] = (s, ms, mode)
-        fid = pipeline.FIDELITIES[name]
+        fid = ws.FIDELITIES[name]
         table.add(
             "modes",
             f"{fid.solver} P{fid.order} {name} ({fid.elements_through_web}/web), mesh+modes",
@@ -294,12 +298,12 @@ def bench_modes(design, table: Table, quick: bool) -> tuple:
 def bench_simulation(design, mode, table: Table, quick: bool):
     import reduced
 
-    dof = pipeline.modal_dof(mode, design)
-    contact = pipeline.contact_law(design)
-    op = pipeline.operating_point(design)
-    pipeline.simulate(dof, contact, op, 0.01)  # numba compile / cache load, not timed
+    dof = ws.modal_dof(mode, design)
+    contact = ws.contact_law(design)
+    op = ws.operating_point(design)
+    ws.simulate(dof, contact, op, 0.01)  # numba compile / cache load, not timed
     n = 3 if quick else 5
-    s_prod, sim, _ = timed(lambda: pipeline.simulate(dof, contact, op), n)
+    s_prod, sim, _ = timed(lambda: ws.simulate(dof, contact, op), n)
     duration = float(sim.history.t[-1])
     s_rk4, hist, _ = timed(lambda: reduced.simulate(dof, contact, op, duration), n)
     n_ivp = 1 if quick else 3
@@ -311,7 +315,7 @@ def bench_simulation(design, mode, table: Table, quick: bool):
     base = "solve_ivp DOP853 rtol 1e-8"
     table.add(
         "simulate",
-        "pipeline.simulate (RK4 48/period, auto length)",
+        "ws.simulate (RK4 48/period, auto length)",
         n,
         s_prod,
         base,
@@ -340,10 +344,10 @@ def bench_sweep(design, dof, contact, table: Table, quick: bool) -> None:
     rpms = np.array([400.0, 600.0, 800.0])
     speeds = rpms * 2 * math.pi / 60 * design.rolling_radius
     t = time.perf_counter()
-    pipeline.sweep(dof, contact, [0.39], [speeds[-1]], 0.01)
+    ws.sweep(dof, contact, [0.39], [speeds[-1]], 0.01)
     t_first = time.perf_counter() - t
     n = 3 if quick else 5
-    s, res, _ = timed(lambda: pipeline.sweep(dof, contact, vcs, speeds, 0.6), n)
+    s, res, _ = timed(lambda: ws.sweep(dof, contact, vcs, speeds, 0.6), n)
 
     def serial():
         out = []
@@ -356,7 +360,7 @@ def bench_sweep(design, dof, contact, table: Table, quick: bool) -> None:
     s_ser, _, _ = timed(serial, 1)
     table.add(
         "sweep",
-        "pipeline.sweep 50 x 3, 0.6 s (numba prange)",
+        "ws.sweep 50 x 3, 0.6 s (numba prange)",
         n,
         s,
         "150 x simulate+limit_cycle, serial",
@@ -366,51 +370,87 @@ def bench_sweep(design, dof, contact, table: Table, quick: bool) -> None:
     )
 
 
+def _command_seconds(args: list[str], cwd: Path = ROOT) -> float:
+    t = time.perf_counter()
+    p = subprocess.run(args, capture_output=True, text=True, cwd=cwd, timeout=1800)
+    dt = time.perf_counter() - t
+    if p.returncode != 0:
+        raise RuntimeError(f"{' '.join(args[1:3])} failed ({p.returncode}): {p.stderr.strip()[-300:]}")
+    return dt
+
+
 def bench_run(design_path: Path | None, table: Table, quick: bool) -> None:
+    """The command line as a user meets it (subprocesses, interleaved with baselines)."""
     py = sys.executable
-    base_args = [py, str(ROOT / "pipeline.py"), "run", "--quiet"]
-    if design_path is not None:
-        base_args += ["--design", str(design_path)]
-    n = 1 if quick else 3
+    pipe = [py, str(ROOT / "pipeline.py")]
+    # an installed package has its bytecode compiled at install time; an editable one
+    # only once it is imported with bytecode writing on: compile it, as pip would
+    subprocess.run(
+        [
+            py,
+            "-m",
+            "compileall",
+            "-q",
+            *(
+                str(ROOT / p)
+                for p in ("geometry", "fem", "reduced", "wheel_squeal", "designs", "pipeline.py")
+            ),
+        ],
+        check=True,
+    )
+    run_args = pipe + ["run", "--quiet"] + (["--design", str(design_path)] if design_path else [])
+    n = 2 if quick else 5
     tmp = Path(tempfile.mkdtemp(prefix="bench-run-"))
     try:
-
-        def run(cache: Path, out: Path) -> float:
-            t = time.perf_counter()
-            p = subprocess.run(
-                base_args + ["--cache-dir", str(cache), "--out", str(out)],
-                capture_output=True,
-                text=True,
-                cwd=ROOT,
-                timeout=1800,
-            )
-            dt = time.perf_counter() - t
-            if p.returncode != 0:
-                raise RuntimeError(f"pipeline.py run failed ({p.returncode}): {p.stderr.strip()[-300:]}")
-            return dt
-
-        cold = [run(tmp / f"cache-cold-{i}", tmp / f"out-cold-{i}") for i in range(n)]
-        warm_cache = tmp / "cache-cold-0"
-        warm = [run(warm_cache, tmp / f"out-warm-{i}") for i in range(n)]
+        sim = pipe + ["simulate", "--mass", "3.1", "--stiffness", "1.6e8", "--damping", "42", "--quiet"]
+        ivp = [py, str(ROOT / "benchmarks" / "baselines" / "fig6_solve_ivp.py"), str(tmp / "fig6.png")]
+        imports = [py, "-c", "import scipy.sparse.linalg, matplotlib.pyplot"]
+        run = partial(_command_seconds, cwd=tmp)
+        cold, warm, sims, ivps, imps = [], [], [], [], []
+        run(run_args + ["--cache-dir", str(tmp / "warm-cache"), "--out", str(tmp / "first")])
+        for i in range(n):  # interleaved: the same machine load for each command and its baseline
+            sims.append(run(sim + ["--out", str(tmp / f"sim-{i}")]))
+            ivps.append(run(ivp))
+            warm_cache = ["--cache-dir", str(tmp / "warm-cache")]
+            warm.append(run(run_args + warm_cache + ["--out", str(tmp / f"w-{i}")]))
+            imps.append(run(imports))
+            if i < (1 if quick else 3):
+                cold_cache = ["--cache-dir", str(tmp / f"cold-{i}")]
+                cold.append(run(run_args + cold_cache + ["--out", str(tmp / f"c-{i}")]))
     finally:
         shutil.rmtree(tmp, ignore_errors=True)
-    s_cold, s_warm = statistics.median(cold), statistics.median(warm)
+    med = statistics.median
+    s_sim, s_ivp, s_warm, s_imp, s_cold = med(sims), med(ivps), med(warm), med(imps), med(cold)
     table.add(
-        "run",
-        "pipeline.py run, cold cache (subprocess)",
+        "latency",
+        "pipeline.py simulate, Fig. 6 case (no FE)",
         n,
-        s_cold,
-        note="fresh empty cache each time: mesh + modes (balanced) + squeal + report + render",
+        s_sim,
+        "fig6_solve_ivp.py (solve_ivp + pyplot)",
+        s_ivp,
+        n,
+        note=f"simulate / baseline = {s_sim / s_ivp:.2f} (target <= 0.5): record, CSV, 6 PNGs, JSON",
+    )
+    table.add(
+        "latency",
+        "pipeline.py run, warm cache",
+        n,
+        s_warm,
+        "import scipy.sparse.linalg, matplotlib.pyplot",
+        s_imp,
+        n,
+        note=f"warm run / imports = {s_warm / s_imp:.2f} (target <= 1.5): modes from the cache",
     )
     table.add(
         "run",
-        "pipeline.py run, warm cache (subprocess)",
-        n,
-        s_warm,
-        "cold cache",
+        "pipeline.py run, cold cache",
+        len(cold),
         s_cold,
+        "warm cache",
+        s_warm,
         n,
-        note="mesh and modes loaded from the cache",
+        note="fresh empty cache each time: mesh + modes (balanced) + squeal + report + render "
+        "(target < 10 s)",
     )
 
 
@@ -422,7 +462,7 @@ def main(argv=None) -> int:
     args = ap.parse_args(argv)
     info = machine_info()
     t0 = time.perf_counter()
-    design = pipeline.load_design(args.design)
+    design = ws.load_design(args.design)
     table = Table()
     print(
         f"benchmarks/run_all.py{' --quick' if args.quick else ''}: design {design.name} ...",

@@ -4,8 +4,8 @@ One entry point, :func:`solve_eigen`, used by every FE solver. The factorisation
 ``K - sigma M`` is pluggable (``factorization=``); results are deterministic (fixed
 start vector).
 
-Block shift-invert was tried and not adopted (measured 2026-11-22, 41k DOFs, 25
-eigenpairs <= 5.1 kHz, interleaved medians of 3): a block Lanczos with full
+Why not block shift-invert (41k DOFs, 25 eigenpairs <= 5.1 kHz, interleaved medians of
+3 on these 2-core machines): a block Lanczos with full
 reorthogonalisation and Rayleigh-Ritz (deterministic Gaussian start block, residual
 tolerance 1e-7..1e-8; same eigenvalues to 1e-11, M-orthonormal to 1e-15) needs 88-128
 solve columns (block 4-8) against ARPACK's 75 single solves, which eats the 2.5-3x
@@ -53,11 +53,11 @@ class EigenResult:
 #: Preference of ``factorization="auto"``, first available wins (CHOLMOD only for a
 #: definite matrix); without either, SciPy's SuperLU (:data:`SCIPY_AUTO_DEFINITE`).
 #: Measured on the Table 1 wheel, curved P2, all modes <= 5.1 kHz (25 eigenpairs), one
-#: BLAS thread, loaded 2-core machine, interleaved medians (2026-11-22):
+#: BLAS thread, loaded 2-core machine, interleaved medians:
 #: 41k DOFs: cholmod 2.4 s, pardiso 5.3 s, superlu-sym 5.3 s (another run: 3.8 s);
 #: 85k DOFs: cholmod 6.7 s, pardiso 11.4 s, superlu-sym 20.2 s; plain eigsh +
 #: SuperLU/COLAMD with default threads 16.5 s at 41k (8.8 s on one thread). Under
-#: heavier load (benchmarks/bench_modes.py --full, same day): 41k: cholmod 4.1-4.5 s,
+#: heavier load (benchmarks/bench_modes.py --full): 41k: cholmod 4.1-4.5 s,
 #: pardiso 4.3 s, superlu-sym 4.5 s, splu 6.6 s, superlu-colamd 9.2 s; 85k: cholmod
 #: 11.9-14.7 s, pardiso 12.8 s, superlu-sym 17.9 s, superlu-colamd 34 s, splu 69 s.
 #: CHOLMOD (scikit-sparse, needs libsuitesparse-dev and a compiler: installed by hand)

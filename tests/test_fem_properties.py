@@ -1,5 +1,5 @@
 """Property-based tests (hypothesis) of the modal solver's invariants across the valid
-design space (issue 6, item 5), on coarse axisymmetric meshes:
+design space, on coarse axisymmetric meshes:
 
 - the contact modal mass is positive (``inf`` where the contact is a node) and does
   not depend on how a degenerate pair is rotated;

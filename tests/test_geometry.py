@@ -1,4 +1,4 @@
-"""Wheel designs, half-profile and gmsh meshes (issue 2).
+"""Wheel designs, half-profile and gmsh meshes.
 
 The exact area / volume of the profile are checked against an independent numerical
 integration, and the meshes against the exact values; bore / tread node sets, curved

@@ -1,4 +1,4 @@
-"""Extremes of the reduced squeal model's operating and modal space (issue 6, item 4).
+"""Extremes of the reduced squeal model's operating and modal space.
 
 Each test asserts finite, sensible, documented behaviour, or a clear error naming the
 problem. Figures quoted as "measured" come from the runs below on the Table 1 contact

@@ -1,4 +1,4 @@
-"""Property-based invariants of the reduced squeal model (issue 6, item 5).
+"""Property-based invariants of the reduced squeal model.
 
 * the creep law is odd, bounded by mu_s and opposes sliding over a wide parameter box,
   and the compiled kernel evaluates the same law;
