@@ -173,15 +173,15 @@ def plot_workers(processes: int = PLOT_PROCESSES) -> Iterator[PlotWorkers]:
 
 
 def write_simulation_files(directory: Path, sim, plots: PlotWorkers | None = None) -> None:
-    """``timeseries.csv`` and the Fig. 4, 6-10 counterparts (PNG) of a simulation; the
-    plots drawn by ``plots`` when given, one task per figure (see :class:`PlotWorkers`)."""
+    """``timeseries.csv`` and the Fig. 4, 6-10 counterparts (PNG) of a simulation, written
+    by ``plots`` when given, one task per file (see :class:`PlotWorkers`)."""
     from reduced import write_time_history_plots, write_timeseries_csv
     from reduced.report import TIME_HISTORY_FIGURES
 
     plots = plots or PlotWorkers(None)
+    plots.submit(write_timeseries_csv, sim.history, directory)
     for figure in TIME_HISTORY_FIGURES:
         plots.submit(write_time_history_plots, sim.history, directory, plot_times(sim), (figure,))
-    write_timeseries_csv(sim.history, directory)
 
 
 def sweep_table(crab_velocities: np.ndarray, rpms: np.ndarray, result) -> str:
