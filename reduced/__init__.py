@@ -1,15 +1,18 @@
 """Reduced (modal) curve-squeal model of Liu & Meehan (CM2015).
 
 Hertz contact -> creep law (Eq. 3, 6) -> modes at the contact point driven by the
-lateral creep force (Eq. 1, 2, 4, 5) -> time integration (numba RK4; solve_ivp
-reference) -> limit-cycle metrics, harmonic-balance predictor, grid sweeps, reports.
-Knows nothing of meshes: modes enter as (mass, stiffness, damping) at the contact.
+lateral creep force (Eq. 1, 2, 4, 5) -> linear stability of every mode -> time
+integration (numba RK4; solve_ivp reference), optionally on a turning wheel (each pair
+two travelling waves) -> limit-cycle metrics, the mode that carries the cycle,
+harmonic-balance predictor, grid sweeps, reports. Knows nothing of meshes: modes enter
+as (mass, stiffness, damping, nodal diameters) at the contact.
 All quantities are SI (m, s, kg, N, Pa, W, Hz).
 """
 
 from .contact import HertzContact, hertz_contact, kalker_c22
 from .creep import ContactLaw, adhesion_ratio, adhesion_ratio_slope, falling_friction_factor
 from .limit_cycle import Cycles, LimitCycle, analytic_growth_rate, cycles, limit_cycle
+from .modal_content import ModalContent, modal_content
 from .model import (
     IntegrationError,
     ModalDOF,
@@ -28,6 +31,7 @@ from .report import (
     write_timeseries_csv,
 )
 from .saturate import longest_record_s, simulate_to_limit_cycle
+from .stability import ModeStability, StabilityResult, friction_damping_ns_m, linear_stability
 from .sweep import SweepResult, sweep
 
 __all__ = [
@@ -57,6 +61,12 @@ __all__ = [
     "sweep",
     "longest_record_s",
     "simulate_to_limit_cycle",
+    "ModalContent",
+    "modal_content",
+    "ModeStability",
+    "StabilityResult",
+    "friction_damping_ns_m",
+    "linear_stability",
     "summary_dicts",
     "write_timeseries_csv",
     "write_time_history_plots",

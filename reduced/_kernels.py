@@ -1,8 +1,12 @@
 """Compiled fixed-step RK4 kernels for the modal squeal model (numba, cache=True).
 
-State: modal displacements y_i (m) and velocities u_i (m/s) of N modes that share
-the contact point. Contact velocity v = sum_i u_i, lateral force
-Q = -mu((Vc + v)/V0) W, and each mode obeys m_i y_i'' + c_i y_i' + k_i y_i = Q.
+State: modal displacements y_i (m) and velocities u_i (m/s) of N modal coordinates
+that share the contact point, each seen there with a participation
+p_i(t) = cos(w_i t + phase_i): contact velocity v = sum_i p_i u_i, lateral force
+Q = -mu((Vc + v)/V0) W, and m_i y_i'' + c_i y_i' + k_i y_i = p_i Q. Without rotation
+every w_i and phase_i is 0 and p_i = 1 exactly (the paper's N-mode model); on a wheel
+turning at Omega, a pair of n nodal diameters is two coordinates with w = n Omega and
+phases 0 and pi/2 (p = cos(n Omega t) and -sin(n Omega t), MODEL.md section 8).
 
 Creep-law parameters are passed as a float64 vector ``law``::
 
@@ -46,45 +50,55 @@ def lateral_force(v, law):
 
 
 @nb.njit(cache=True)
-def _deriv(y, u, m, c, k, law, dy, du):
-    n = y.shape[0]
-    v = 0.0
-    for i in range(n):
-        v += u[i]
-    q = lateral_force(v, law)
-    p = q * v
-    for i in range(n):
-        dy[i] = u[i]
-        du[i] = (q - c[i] * u[i] - k[i] * y[i]) / m[i]
-        p -= c[i] * u[i] * u[i]
-    return p, abs(q * v)
+def _participation(w, phase, t, p):
+    """p_i = cos(w_i t + phase_i); exactly 1 where w_i = phase_i = 0."""
+    for i in range(w.shape[0]):
+        p[i] = math.cos(w[i] * t + phase[i])
 
 
 @nb.njit(cache=True)
-def _rk4_step(y, u, m, c, k, law, h, scratch):
-    """Advance (y, u) in place by one RK4 step h (s); return the RK4 estimate of
-    the energy input  int P dt  and  int |Q v| dt  over the step (J)."""
+def _deriv(y, u, p, m, c, k, law, dy, du):
+    n = y.shape[0]
+    v = 0.0
+    for i in range(n):
+        v += p[i] * u[i]
+    q = lateral_force(v, law)
+    power = q * v
+    for i in range(n):
+        dy[i] = u[i]
+        du[i] = (p[i] * q - c[i] * u[i] - k[i] * y[i]) / m[i]
+        power -= c[i] * u[i] * u[i]
+    return power, abs(q * v)
+
+
+@nb.njit(cache=True)
+def _rk4_step(y, u, m, c, k, w, phase, law, t, h, scratch):
+    """Advance (y, u) in place by one RK4 step h (s) from time t (s); return the RK4
+    estimate of the energy input  int P dt  and  int |Q v| dt  over the step (J)."""
     n = y.shape[0]
     ky1, ku1, ky2, ku2 = scratch[0], scratch[1], scratch[2], scratch[3]
     ky3, ku3, ky4, ku4 = scratch[4], scratch[5], scratch[6], scratch[7]
-    yt, ut = scratch[8], scratch[9]
-    p1, r1 = _deriv(y, u, m, c, k, law, ky1, ku1)
+    yt, ut, p0, ph, p1 = scratch[8], scratch[9], scratch[10], scratch[11], scratch[12]
+    _participation(w, phase, t, p0)
+    _participation(w, phase, t + 0.5 * h, ph)
+    _participation(w, phase, t + h, p1)
+    e1, r1 = _deriv(y, u, p0, m, c, k, law, ky1, ku1)
     for i in range(n):
         yt[i] = y[i] + 0.5 * h * ky1[i]
         ut[i] = u[i] + 0.5 * h * ku1[i]
-    p2, r2 = _deriv(yt, ut, m, c, k, law, ky2, ku2)
+    e2, r2 = _deriv(yt, ut, ph, m, c, k, law, ky2, ku2)
     for i in range(n):
         yt[i] = y[i] + 0.5 * h * ky2[i]
         ut[i] = u[i] + 0.5 * h * ku2[i]
-    p3, r3 = _deriv(yt, ut, m, c, k, law, ky3, ku3)
+    e3, r3 = _deriv(yt, ut, ph, m, c, k, law, ky3, ku3)
     for i in range(n):
         yt[i] = y[i] + h * ky3[i]
         ut[i] = u[i] + h * ku3[i]
-    p4, r4 = _deriv(yt, ut, m, c, k, law, ky4, ku4)
+    e4, r4 = _deriv(yt, ut, p1, m, c, k, law, ky4, ku4)
     for i in range(n):
         y[i] += h / 6.0 * (ky1[i] + 2.0 * ky2[i] + 2.0 * ky3[i] + ky4[i])
         u[i] += h / 6.0 * (ku1[i] + 2.0 * ku2[i] + 2.0 * ku3[i] + ku4[i])
-    return h / 6.0 * (p1 + 2.0 * p2 + 2.0 * p3 + p4), h / 6.0 * (r1 + 2.0 * r2 + 2.0 * r3 + r4)
+    return h / 6.0 * (e1 + 2.0 * e2 + 2.0 * e3 + e4), h / 6.0 * (r1 + 2.0 * r2 + 2.0 * r3 + r4)
 
 
 @nb.njit(cache=True)
@@ -156,9 +170,10 @@ def _energy(y, u, m, k):
 
 
 @nb.njit(cache=True)
-def integrate_store(y0, u0, m, c, k, law, h, n_steps, store_every, out_y, out_u):
-    """Integrate n_steps RK4 steps of size h (s) from (y0, u0), storing every
-    ``store_every``-th state (row 0 = initial state) into out_y, out_u (n_out, N).
+def integrate_store(y0, u0, m, c, k, w, phase, law, h, n_steps, store_every, out_y, out_u):
+    """Integrate n_steps RK4 steps of size h (s) from (y0, u0) at t = 0, storing every
+    ``store_every``-th state (row 0 = initial state) into out_y, out_u (n_out, N);
+    participations cos(w t + phase) (see the module docstring).
 
     Returns (status, energy_mismatch_J, max_energy_J, work_in_J, steps_done):
     status 0 = ok, 1 = non-finite state. energy_mismatch = |E_end - E_0 - int P dt|.
@@ -166,7 +181,7 @@ def integrate_store(y0, u0, m, c, k, law, h, n_steps, store_every, out_y, out_u)
     n = y0.shape[0]
     y = y0.copy()
     u = u0.copy()
-    scratch = np.zeros((10, n))
+    scratch = np.zeros((13, n))
     e0 = _energy(y, u, m, k)
     emax = e0
     work = 0.0
@@ -176,8 +191,8 @@ def integrate_store(y0, u0, m, c, k, law, h, n_steps, store_every, out_y, out_u)
     status = 0
     step = 0
     for step in range(1, n_steps + 1):
-        w, _wq = _rk4_step(y, u, m, c, k, law, h, scratch)
-        work += w
+        dw, _wq = _rk4_step(y, u, m, c, k, w, phase, law, (step - 1) * h, h, scratch)
+        work += dw
         e = _energy(y, u, m, k)
         if not math.isfinite(e):
             status = 1
@@ -276,7 +291,8 @@ def sweep_kernel(
         ns = n_steps_per_case[ic]
         y = np.zeros(n)
         u = np.zeros(n)
-        scratch = np.zeros((10, n))
+        scratch = np.zeros((13, n))
+        still = np.zeros(n)  # no rotation: participation 1
         t = np.empty(ns + 1)
         v = np.empty(ns + 1)
         cp = np.empty(ns + 1)
@@ -296,7 +312,7 @@ def sweep_kernel(
                 e = 0.5 * (m[0] * u1 * u1 + k[0] * y1 * y1)
                 vv = u1
             else:
-                w, wq = _rk4_step(y, u, m, c, k, law, h, scratch)
+                w, wq = _rk4_step(y, u, m, c, k, still, still, law, 0.0, h, scratch)
                 e = _energy(y, u, m, k)
                 vv = 0.0
                 for i in range(n):

@@ -31,8 +31,9 @@ Definitions (all on the contact-point lateral velocity v = sum_i y_i'):
   envelope, above the round-off floor), 1/s.
 * **mean power per cycle**: mean of P (Eq. 7) over each cycle, from the running
   integral of P (trapezoid on stored samples; RK4 stage quadrature in sweeps).
-* **growth rate (analytic)**: sigma = -(c + W/V0 dmu/dzeta(Vc/V0)) / (2 m) at the
-  quasi-static creepage (the largest over the modes), 1/s.
+* **growth rate (analytic)**: the largest linear growth rate of steady sliding at the
+  quasi-static creepage (:func:`reduced.stability.growth_rates`; for one mode
+  sigma = -(c + W/V0 dmu/dzeta(Vc/V0)) / (2 m)), 1/s.
 """
 
 from __future__ import annotations
@@ -43,8 +44,9 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from . import _kernels
-from .creep import ContactLaw, adhesion_ratio_slope
+from .creep import ContactLaw
 from .model import OperatingPoint, TimeHistory, as_modes
+from .stability import friction_damping_ns_m, growth_rates
 
 __all__ = ["Cycles", "LimitCycle", "cycles", "limit_cycle", "analytic_growth_rate"]
 
@@ -99,17 +101,15 @@ class LimitCycle:
     cycles: Cycles = field(repr=False)
 
 
-def analytic_growth_rate(modes, contact: ContactLaw, op: OperatingPoint) -> float:
-    """Linear growth rate at the quasi-static creepage, 1/s.
-
-    sigma_i = -(c_i + W/V0 dmu/dzeta(Vc/V0)) / (2 m_i), maximum over the modes
-    (exact for one mode; for several modes it neglects their coupling through the
-    contact, which is small when their frequencies are well separated).
-    """
+def analytic_growth_rate(
+    modes, contact: ContactLaw, op: OperatingPoint, wheel_speed_rad_s: float = 0.0
+) -> float:
+    """Linear growth rate of steady sliding at the quasi-static creepage, 1/s: the
+    largest real part of the coupled eigenvalues (:mod:`reduced.stability`); for one
+    mode sigma = -(c + W/V0 dmu/dzeta(Vc/V0)) / (2 m) exactly (an underdamped one)."""
     modes = as_modes(modes)
-    slope = float(adhesion_ratio_slope(op.creepage, contact, op.rolling_speed_m_s))
-    friction_damping = contact.normal_load_n / op.rolling_speed_m_s * slope
-    return max(-(md.damping_ns_m + friction_damping) / (2.0 * md.mass_kg) for md in modes)
+    g = friction_damping_ns_m(contact, op)
+    return float(np.max(growth_rates(modes, [md.damping_ns_m for md in modes], g, wheel_speed_rad_s)))
 
 
 def cycles(history: TimeHistory) -> Cycles:
@@ -209,7 +209,9 @@ def limit_cycle(
 ) -> LimitCycle:
     """Limit-cycle metrics of a TimeHistory (definitions in the module docstring)."""
     cyc = cycles(history)
-    sigma = analytic_growth_rate(history.modes, history.contact, history.operating_point)
+    sigma = analytic_growth_rate(
+        history.modes, history.contact, history.operating_point, history.wheel_speed_rad_s
+    )
     return metrics_from_cycles(
         cyc,
         history.operating_point.crabbing_velocity_m_s,

@@ -26,8 +26,11 @@ __all__ = [
     "IntegrationError",
     "simulate",
     "simulate_reference",
+    "Coordinates",
     "as_modes",
     "choose_time_step",
+    "coordinates",
+    "highest_frequency_hz",
     "law_vector",
     "mode_arrays",
 ]
@@ -49,31 +52,49 @@ class ModalDOF:
 
     Attributes
     ----------
-    mass_kg : modal mass m at the contact point, kg.
+    mass_kg : modal mass m at the contact point, kg (for a degenerate pair the
+        pair-combined contact modal mass).
     stiffness_n_m : modal stiffness k = omega^2 m, N/m.
     damping_ns_m : viscous modal damping c, N s/m.
+    nodal_diameters : n; a mode with n >= 1 is a cos/sin pair, which wheel rotation
+        turns into two travelling waves (:mod:`reduced.stability`); 0 for a standing mode.
     """
 
     mass_kg: float
     stiffness_n_m: float
     damping_ns_m: float
+    nodal_diameters: int = 0
 
     def __post_init__(self) -> None:
         _finite_positive("ModalDOF", "mass_kg", self.mass_kg)
         _finite_positive("ModalDOF", "stiffness_n_m", self.stiffness_n_m)
         _finite_positive("ModalDOF", "damping_ns_m", self.damping_ns_m, allow_zero=True)
+        n = self.nodal_diameters
+        if isinstance(n, bool) or not isinstance(n, int | np.integer) or n < 0:
+            raise ValueError(f"ModalDOF.nodal_diameters must be a non-negative integer, got {n!r}")
 
     @classmethod
-    def from_damping_ratio(cls, mass_kg: float, stiffness_n_m: float, damping_ratio: float) -> ModalDOF:
+    def from_damping_ratio(
+        cls, mass_kg: float, stiffness_n_m: float, damping_ratio: float, nodal_diameters: int = 0
+    ) -> ModalDOF:
         """c = 2 zeta_d sqrt(k m); damping_ratio dimensionless (Table 1: 9.4e-4 -> 42 N s/m)."""
         _finite_positive("ModalDOF", "damping_ratio", damping_ratio, allow_zero=True)
-        return cls(mass_kg, stiffness_n_m, 2.0 * damping_ratio * math.sqrt(stiffness_n_m * mass_kg))
+        c = 2.0 * damping_ratio * math.sqrt(stiffness_n_m * mass_kg)
+        return cls(mass_kg, stiffness_n_m, c, int(nodal_diameters))
 
     @classmethod
-    def from_frequency(cls, mass_kg: float, frequency_hz: float, damping_ratio: float) -> ModalDOF:
+    def from_frequency(
+        cls, mass_kg: float, frequency_hz: float, damping_ratio: float, nodal_diameters: int = 0
+    ) -> ModalDOF:
         """k = (2 pi f)^2 m, c = 2 zeta_d sqrt(k m); f in Hz."""
         k = (2.0 * math.pi * frequency_hz) ** 2 * mass_kg
-        return cls.from_damping_ratio(mass_kg, k, damping_ratio)
+        return cls.from_damping_ratio(mass_kg, k, damping_ratio, nodal_diameters)
+
+    def with_damping_ratio(self, damping_ratio: float) -> ModalDOF:
+        """The same mode with another modal damping ratio."""
+        return ModalDOF.from_damping_ratio(
+            self.mass_kg, self.stiffness_n_m, damping_ratio, self.nodal_diameters
+        )
 
     @property
     def angular_frequency_rad_s(self) -> float:
@@ -179,9 +200,11 @@ class TimeHistory:
     Attributes
     ----------
     t : time, s, shape (n,).
-    y : contact-point lateral displacement sum_i y_i, m, shape (n,).
-    v : contact-point lateral velocity sum_i y_i', m/s, shape (n,).
-    y_modes, v_modes : per-mode displacement (m) and velocity (m/s), shape (n, N).
+    y : contact-point lateral displacement sum_i p_i y_i, m, shape (n,).
+    v : contact-point lateral velocity sum_i p_i y_i' (the material velocity at the
+        contact), m/s, shape (n,); p_i = 1 without rotation.
+    y_modes, v_modes : displacement (m) and velocity (m/s) of each modal coordinate,
+        shape (n, N): one per mode, two (the pair's a, b) per rotating pair.
     creepage : zeta = (Vc + v)/V0, dimensionless.
     Q : lateral contact force on the wheel, N (Eq. 2).
     P : power input to the modes Q v - sum c_i y_i'^2, W (Eq. 7).
@@ -189,6 +212,9 @@ class TimeHistory:
     step_s : integration step, s (for the reference: the output spacing).
     method : "rk4-numba" or the solve_ivp method name.
     energy_mismatch_j : |Delta E - int P dt| at the end, J (RK4 only; NaN otherwise).
+    wheel_speed_rad_s : Omega, the wheel's rotation (0: off), rad/s.
+    coordinates : the modal coordinates (:class:`Coordinates`) of the columns of
+        y_modes and v_modes.
     """
 
     t: np.ndarray
@@ -205,6 +231,45 @@ class TimeHistory:
     step_s: float
     method: str
     energy_mismatch_j: float = field(default=float("nan"))
+    wheel_speed_rad_s: float = 0.0
+    coordinates: Coordinates | None = None
+
+
+@dataclass(frozen=True, eq=False)
+class Coordinates:
+    """The modal coordinates the integrator advances, and how the contact sees them.
+
+    mode : index into ``modes`` of each coordinate; m, c, k : its mass, damping,
+    stiffness (SI); w, phase : its participation at the contact is
+    ``cos(w t + phase)`` (w in rad/s; 0 and 0 without rotation: exactly 1).
+    """
+
+    mode: np.ndarray
+    m: np.ndarray
+    c: np.ndarray
+    k: np.ndarray
+    w: np.ndarray
+    phase: np.ndarray
+
+    def participation(self, t: np.ndarray) -> np.ndarray:
+        """cos(w t + phase) at times t, shape (len(t), N)."""
+        return np.cos(np.outer(t, self.w) + self.phase[None, :])
+
+
+def coordinates(modes, wheel_speed_rad_s: float = 0.0) -> Coordinates:
+    """The modal coordinates of ``modes``: one per mode, two (a and b, MODEL.md section
+    8) per pair with nodal diameters when the wheel turns at ``wheel_speed_rad_s``."""
+    modes = as_modes(modes)
+    rows = []
+    for i, md in enumerate(modes):
+        row = (i, md.mass_kg, md.damping_ns_m, md.stiffness_n_m)
+        if wheel_speed_rad_s != 0.0 and md.nodal_diameters >= 1:
+            w = md.nodal_diameters * wheel_speed_rad_s
+            rows += [(*row, w, 0.0), (*row, w, 0.5 * math.pi)]
+        else:
+            rows.append((*row, 0.0, 0.0))
+    cols = list(zip(*rows))
+    return Coordinates(np.array(cols[0], dtype=np.int64), *(np.array(col, dtype=float) for col in cols[1:]))
 
 
 def law_vector(contact: ContactLaw, op: OperatingPoint) -> np.ndarray:
@@ -255,16 +320,27 @@ def max_contact_damping_ns_m(contact: ContactLaw, op: OperatingPoint) -> float:
     return contact.normal_load_n / op.rolling_speed_m_s * dmu
 
 
-def choose_time_step(modes, contact: ContactLaw, op: OperatingPoint, steps_per_period: int = 48) -> float:
-    """RK4 step, s: the smaller of (i) the period of the highest mode divided by
-    ``steps_per_period`` (accuracy; RK4's amplitude error per cycle ~ (omega h)^6)
-    and (ii) 0.5 / lambda with lambda = max contact damping * sum(1/m_i) + max c_i/m_i,
-    which keeps the stiff, strongly damped direction of the creep region far inside
-    RK4's stability interval (|lambda h| < 2.78)."""
+def highest_frequency_hz(modes, wheel_speed_rad_s: float = 0.0) -> float:
+    """The highest frequency [Hz] the contact sees: a mode's natural frequency, plus
+    n Omega / 2 pi for a rotating pair (its forward travelling wave)."""
+    return max(
+        md.frequency_hz + md.nodal_diameters * abs(wheel_speed_rad_s) / (2.0 * math.pi)
+        for md in as_modes(modes)
+    )
+
+
+def choose_time_step(
+    modes, contact: ContactLaw, op: OperatingPoint, steps_per_period: int = 48, wheel_speed_rad_s: float = 0.0
+) -> float:
+    """RK4 step, s: the smaller of (i) the period of the highest frequency the contact
+    sees divided by ``steps_per_period`` (accuracy; RK4's amplitude error per cycle ~
+    (omega h)^6) and (ii) 0.5 / lambda with lambda = max contact damping * sum(1/m_i) +
+    max c_i/m_i, which keeps the stiff, strongly damped direction of the creep region
+    far inside RK4's stability interval (|lambda h| < 2.78)."""
     modes = as_modes(modes)
     if steps_per_period < 8:
         raise ValueError(f"steps_per_period must be >= 8, got {steps_per_period}")
-    f_max = max(md.frequency_hz for md in modes)
+    f_max = highest_frequency_hz(modes, wheel_speed_rad_s)
     h_acc = 1.0 / (f_max * steps_per_period)
     lam = max_contact_damping_ns_m(contact, op) * sum(1.0 / md.mass_kg for md in modes)
     lam += max(md.damping_ns_m / md.mass_kg for md in modes)
@@ -283,13 +359,25 @@ def _initial_state(initial_state, n_modes: int):
     return y0, v0
 
 
-def _history(t, y_modes, v_modes, modes, contact, op, step, method, mismatch=float("nan")) -> TimeHistory:
-    y = y_modes.sum(axis=1)
-    v = v_modes.sum(axis=1)
+def _history(
+    t,
+    y_modes,
+    v_modes,
+    modes,
+    contact,
+    op,
+    step,
+    method,
+    coords: Coordinates,
+    wheel_speed_rad_s: float,
+    mismatch=float("nan"),
+) -> TimeHistory:
+    p = coords.participation(t)
+    y = (p * y_modes).sum(axis=1)
+    v = (p * v_modes).sum(axis=1)
     zeta = (op.crabbing_velocity_m_s + v) / op.rolling_speed_m_s
     Q = -adhesion_ratio(zeta, contact, op.rolling_speed_m_s) * contact.normal_load_n
-    _, c, _ = mode_arrays(modes)
-    P = Q * v - (c[None, :] * v_modes**2).sum(axis=1)
+    P = Q * v - (coords.c[None, :] * v_modes**2).sum(axis=1)
     return TimeHistory(
         t=t,
         y=y,
@@ -305,6 +393,8 @@ def _history(t, y_modes, v_modes, modes, contact, op, step, method, mismatch=flo
         step_s=float(step),
         method=method,
         energy_mismatch_j=float(mismatch),
+        wheel_speed_rad_s=float(wheel_speed_rad_s),
+        coordinates=coords,
     )
 
 
@@ -329,6 +419,7 @@ def simulate(
     refine: bool = True,
     max_refinements: int = 4,
     energy_tolerance: float = 1e-2,
+    wheel_speed_rad_s: float = 0.0,
 ) -> TimeHistory:
     """Integrate the modal squeal model with compiled fixed-step RK4 (production path).
 
@@ -352,6 +443,10 @@ def simulate(
     energy_tolerance : accepted |Delta E - int P dt| relative to the largest modal
         energy reached; a larger mismatch (or a non-finite state) means the step is
         too large for the dynamics.
+    wheel_speed_rad_s : Omega, rad/s: with a turning wheel each pair (nodal_diameters
+        >= 1) is two coordinates seen at the contact through cos(n Omega t) and
+        -sin(n Omega t) (MODEL.md section 8); 0, the paper's model, leaves them out.
+    ``initial_state`` is per coordinate (:func:`coordinates`).
 
     Raises IntegrationError if the integration cannot be made stable and consistent,
     ValueError (before integrating) if the output would exceed MAX_STORED_SAMPLES
@@ -363,18 +458,20 @@ def simulate(
         raise ValueError(f"store_every must be >= 1, got {store_every}")
     if samples_per_period is not None and samples_per_period < 2:
         raise ValueError(f"samples_per_period must be >= 2, got {samples_per_period}")
-    m, c, k = mode_arrays(modes)
+    coords = coordinates(modes, wheel_speed_rad_s)
+    m, c, k, w, phase = coords.m, coords.c, coords.k, coords.w, coords.phase
+    n_coord = len(m)
     law = law_vector(contact, operating_point)
-    y0, u0 = _initial_state(initial_state, len(modes))
+    y0, u0 = _initial_state(initial_state, n_coord)
     h = (
-        choose_time_step(modes, contact, operating_point, steps_per_period)
+        choose_time_step(modes, contact, operating_point, steps_per_period, wheel_speed_rad_s)
         if step_s is None
         else float(step_s)
     )
     if not (math.isfinite(h) and h > 0.0):
         raise ValueError(f"step_s must be positive and finite, got {step_s!r}")
     attempts = 1 + (max_refinements if refine else 0)
-    f_max = max(md.frequency_hz for md in modes)
+    f_max = highest_frequency_hz(modes, wheel_speed_rad_s)
     for attempt in range(attempts):
         n_steps = int(math.ceil(duration / h - 1e-9))
         h_eff = duration / n_steps
@@ -383,7 +480,7 @@ def simulate(
         n_out = n_steps // store_every + 1
         _check_storage(
             n_out,
-            len(modes),
+            n_coord,
             n_steps,
             h_eff,
             duration,
@@ -391,20 +488,32 @@ def simulate(
             f_max,
             ValueError if attempt == 0 else IntegrationError,
         )
-        out_y = np.empty((n_out, len(modes)))
-        out_u = np.empty((n_out, len(modes)))
-        if len(modes) == 1:
+        out_y = np.empty((n_out, n_coord))
+        out_u = np.empty((n_out, n_coord))
+        if n_coord == 1 and w[0] == 0.0:  # the paper's 1-DOF model: the scalar kernel
             status, mismatch, emax, _work, _done = _kernels.integrate_store_1(
                 y0[0], u0[0], m[0], c[0], k[0], law, h_eff, n_steps, store_every, out_y[:, 0], out_u[:, 0]
             )
         else:
             status, mismatch, emax, _work, _done = _kernels.integrate_store(
-                y0, u0, m, c, k, law, h_eff, n_steps, store_every, out_y, out_u
+                y0, u0, m, c, k, w, phase, law, h_eff, n_steps, store_every, out_y, out_u
             )
         ok = status == 0 and mismatch <= energy_tolerance * emax + 1e-300
         if ok:
             t = np.arange(n_out) * (h_eff * store_every)
-            return _history(t, out_y, out_u, modes, contact, operating_point, h_eff, "rk4-numba", mismatch)
+            return _history(
+                t,
+                out_y,
+                out_u,
+                modes,
+                contact,
+                operating_point,
+                h_eff,
+                "rk4-numba",
+                coords,
+                wheel_speed_rad_s,
+                mismatch,
+            )
         reason = (
             "non-finite state"
             if status != 0
@@ -428,8 +537,10 @@ def simulate_reference(
     method: str = "DOP853",
     rtol: float = 1e-8,
     samples_per_period: int = 64,
+    wheel_speed_rad_s: float = 0.0,
 ) -> TimeHistory:
-    """Reference integration with scipy.integrate.solve_ivp (adaptive, tight tolerance).
+    """Reference integration with scipy.integrate.solve_ivp (adaptive, tight tolerance),
+    the same model as :func:`simulate` (rotation included) on a Python right-hand side.
 
     Output on a uniform grid of ``samples_per_period`` points per period of the
     highest mode (dense output). atol is 1e-14 m on displacements, 1e-10 m/s on
@@ -439,22 +550,20 @@ def simulate_reference(
 
     modes = as_modes(modes)
     duration = _check_duration(duration)
-    n = len(modes)
-    m, c, k = mode_arrays(modes)
-    W = contact.normal_load_n
-    V0 = operating_point.rolling_speed_m_s
-    Vc = operating_point.crabbing_velocity_m_s
+    coords = coordinates(modes, wheel_speed_rad_s)
+    m, c, k, w, phase = coords.m, coords.c, coords.k, coords.w, coords.phase
+    n = len(m)
     law = law_vector(contact, operating_point)
     force = _kernels.lateral_force  # compiled scalar creep law, same as the production path
 
-    def rhs(_t, s):
+    def rhs(t, s):
         y, u = s[:n], s[n:]
-        q = force(float(u.sum()), law)
-        return np.concatenate([u, (q - c * u - k * y) / m])
+        p = np.cos(w * t + phase)
+        q = force(float(p @ u), law)
+        return np.concatenate([u, (p * q - c * u - k * y) / m])
 
-    del W, V0, Vc
     y0, u0 = _initial_state(initial_state, n)
-    f_max = max(md.frequency_hz for md in modes)
+    f_max = highest_frequency_hz(modes, wheel_speed_rad_s)
     n_out = int(math.ceil(duration * f_max * samples_per_period)) + 1
     t_eval = np.linspace(0.0, duration, n_out)
     atol = np.concatenate([np.full(n, 1e-14), np.full(n, 1e-10)])
@@ -472,4 +581,6 @@ def simulate_reference(
         operating_point,
         duration / (n_out - 1),
         method,
+        coords,
+        wheel_speed_rad_s,
     )

@@ -16,7 +16,15 @@ import warnings
 
 from .creep import ContactLaw
 from .limit_cycle import LimitCycle, limit_cycle
-from .model import MAX_STORED_SAMPLES, ModalDOF, OperatingPoint, TimeHistory, as_modes, simulate
+from .model import (
+    MAX_STORED_SAMPLES,
+    ModalDOF,
+    OperatingPoint,
+    TimeHistory,
+    as_modes,
+    highest_frequency_hz,
+    simulate,
+)
 from .predictor import predict_limit_cycle
 
 __all__ = [
@@ -34,10 +42,11 @@ FIRST_DURATION_S = 0.6
 MAX_DURATION_S = 4.8
 
 
-def longest_record_s(modes, samples_per_period: int = RECORD_SAMPLES_PER_PERIOD) -> float:
+def longest_record_s(
+    modes, samples_per_period: int = RECORD_SAMPLES_PER_PERIOD, wheel_speed_rad_s: float = 0.0
+) -> float:
     """The longest duration [s] whose record fits ``MAX_STORED_SAMPLES`` samples."""
-    f_top = max(md.frequency_hz for md in as_modes(modes))
-    return MAX_STORED_SAMPLES / (samples_per_period * f_top)
+    return MAX_STORED_SAMPLES / (samples_per_period * highest_frequency_hz(modes, wheel_speed_rad_s))
 
 
 def simulate_to_limit_cycle(
@@ -47,27 +56,35 @@ def simulate_to_limit_cycle(
     duration: float | None = None,
     max_duration: float = MAX_DURATION_S,
     samples_per_period: int = RECORD_SAMPLES_PER_PERIOD,
+    wheel_speed_rad_s: float = 0.0,
 ) -> tuple[TimeHistory, LimitCycle]:
     """Integrate from rest; returns the history and its limit-cycle metrics.
 
     ``duration`` [s]: a fixed length; None chooses it as the module docstring says.
+    ``wheel_speed_rad_s``: the wheel's rotation (:func:`reduced.model.simulate`).
     Raises ValueError for a ``duration`` that is not positive or whose record would not
     fit (:func:`longest_record_s`).
     """
-    longest = longest_record_s(modes, samples_per_period)
+    longest = longest_record_s(modes, samples_per_period, wheel_speed_rad_s)
     if duration is not None:
         if not (math.isfinite(duration) and duration > 0):
             raise ValueError(f"duration must be positive, got {duration:g}")
         if duration > longest:
-            f_top = max(md.frequency_hz for md in as_modes(modes))
+            f_top = highest_frequency_hz(modes, wheel_speed_rad_s)
             raise ValueError(
                 f"duration {duration:g} s is too long to record: {samples_per_period} samples "
                 f"per period of the {f_top:.4g} Hz mode fit at most {longest:.3g} s"
             )
-    max_duration = min(max_duration, longest)
-    t = duration if duration is not None else min(_first_duration(modes, contact, op), max_duration)
+    if duration is None:
+        first = _first_duration(modes, contact, op, wheel_speed_rad_s)
+        max_duration = min(max(max_duration, 2.0 * first), longest)
+        t = min(first, max_duration)
+    else:
+        t = duration
     while True:
-        history = simulate(modes, contact, op, t, samples_per_period=samples_per_period)
+        history = simulate(
+            modes, contact, op, t, samples_per_period=samples_per_period, wheel_speed_rad_s=wheel_speed_rad_s
+        )
         lc = limit_cycle(history)
         settled = lc.saturated or (not lc.squeal and lc.growth_rate_analytic_1_s <= 0)
         if duration is not None or settled or t * 2 > max_duration:
@@ -75,15 +92,20 @@ def simulate_to_limit_cycle(
         t *= 2
 
 
-def _first_duration(modes, contact: ContactLaw, op: OperatingPoint) -> float:
-    """The paper's 0.6 s, or the predicted time to saturate with margin (one mode)."""
+def _first_duration(modes, contact: ContactLaw, op: OperatingPoint, wheel_speed_rad_s: float = 0.0) -> float:
+    """The paper's 0.6 s, or the predicted time to saturate with margin (one mode; a
+    rotating pair as the travelling wave it becomes: twice the mass, stiffness and
+    damping at the contact)."""
     t = FIRST_DURATION_S
     modes = as_modes(modes)
     if len(modes) != 1:  # the predictor takes one mode
         return t
+    md = modes[0]
+    if wheel_speed_rad_s != 0.0 and md.nodal_diameters >= 1:
+        md = ModalDOF(2 * md.mass_kg, 2 * md.stiffness_n_m, 2 * md.damping_ns_m)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")  # distortion warning: only an estimate here
-        pred = predict_limit_cycle(modes[0], contact, op)
+        pred = predict_limit_cycle(md, contact, op)
     sigma = pred.growth_rate_analytic_1_s
     if pred.squeal and sigma > 0 and pred.initial_amplitude_m_s > 0:
         grow = math.log(max(pred.velocity_amplitude_m_s / pred.initial_amplitude_m_s, 1.0)) / sigma

@@ -1,4 +1,5 @@
-"""Shared fixtures: the repository's paths, a command-line runner and a sandbox folder."""
+"""Shared fixtures: the repository's paths, a command-line runner, a sandbox folder, and
+the paper's contact (Table 1) and Fig. 6 operating point."""
 
 from __future__ import annotations
 
@@ -69,3 +70,24 @@ def snapshot(folder: Path) -> dict[str, bytes | None]:
     for p in sorted(folder.rglob("*")):
         out[str(p.relative_to(folder))] = None if p.is_dir() else p.read_bytes()
     return out
+
+
+def table1_law(normal_load_n: float = 1000.0):
+    """The creep law of Table 1's wheel on its roller (optionally another normal load)."""
+    import reduced as r
+
+    h = r.hertz_contact(0.213, 0.300, 0.085, 0.040, 175e9, 0.28, normal_load_n)
+    return r.ContactLaw.from_hertz(h, friction_coefficient=0.3)
+
+
+@pytest.fixture(scope="module")
+def law():
+    return table1_law()
+
+
+@pytest.fixture(scope="module")
+def op_fig6():
+    """The paper's Fig. 6 point: 800 RPM, Vc = 0.39 m/s."""
+    import reduced as r
+
+    return r.OperatingPoint.from_rpm(800, 0.213, 0.39)

@@ -10,22 +10,13 @@ import warnings
 
 import numpy as np
 import pytest
+from conftest import table1_law
 
 import reduced as r
 from reduced.model import MAX_STORED_SAMPLES, max_contact_damping_ns_m
 
 MODE = r.ModalDOF(3.1, 1.6e8, 42.0)
 V0_800 = 800 * 2 * math.pi / 60 * 0.213  # 17.84 m/s
-
-
-def _law(W=1000.0):
-    h = r.hertz_contact(0.213, 0.300, 0.085, 0.040, 175e9, 0.28, W)
-    return r.ContactLaw.from_hertz(h, friction_coefficient=0.3)
-
-
-@pytest.fixture(scope="module")
-def law():
-    return _law()
 
 
 def _strict(fn, *args, **kw):
@@ -183,8 +174,8 @@ def test_rolling_speed_zero_is_a_clear_error(law):
 
 
 def test_normal_load_tiny_and_large():
-    ref = _law(1000.0)
-    tiny, large = _law(1.0), _law(1e5)
+    ref = table1_law(1000.0)
+    tiny, large = table1_law(1.0), table1_law(1e5)
     # Hertz: a, b ~ W^(1/3); K = G a b C22/(mu_0 W) ~ W^(-1/3): saturation creepage ~ W^(1/3)
     assert tiny.semi_axis_a_m == pytest.approx(ref.semi_axis_a_m / 10.0, rel=1e-9)
     assert large.semi_axis_b_m == pytest.approx(ref.semi_axis_b_m * 100 ** (1 / 3), rel=1e-9)

@@ -17,12 +17,6 @@ DURATION = 1.6  # Vc = 0.5 m/s saturates after ~1.06 s; + the 50-cycle window
 
 
 @pytest.fixture(scope="module")
-def law():
-    h = r.hertz_contact(0.213, 0.300, 0.085, 0.040, 175e9, 0.28, 1000.0)
-    return r.ContactLaw.from_hertz(h, friction_coefficient=0.3)
-
-
-@pytest.fixture(scope="module")
 def grid(law):
     return r.sweep(MODE, law, VCS, SPEEDS, DURATION)
 
