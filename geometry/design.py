@@ -89,7 +89,13 @@ class WheelDesign:
     normal_load: float = 1000.0  #: W [N]
     c22: float = 3.14  #: Kalker creep coefficient C22 [-]
     friction_coefficient: float = 0.3  #: mu_s = mu_0 [-]
-    modal_damping_ratio: float = 9.4e-4  #: zeta_d of the squeal mode [-]
+    modal_damping_ratio: float = 9.4e-4  #: zeta_d of every mode without its own [-]
+    # the squeal, as observed ([squeal] in TOML)
+    #: the mode observed to squeal ("n=3,c=0", an index or "f=HZ"), the default of a
+    #: run; "" lets the largest linear growth rate at the operating point decide
+    squeal_mode: str = ""
+    #: measured modal damping ratios by mode, (("n=N,c=C", ratio), ...), sorted
+    mode_damping: tuple[tuple[str, float], ...] = ()
 
     def __post_init__(self) -> None:
         validate(self)
@@ -123,6 +129,11 @@ class WheelDesign:
     def to_dict(self) -> dict[str, Any]:
         return dataclasses.asdict(self)
 
+    def damping_ratio(self, nodal_diameters: int, nodal_circles: int) -> float:
+        """The modal damping ratio of the (n, c) mode: its measured one if the design gives
+        it ([squeal.damping]), else ``modal_damping_ratio``."""
+        return dict(self.mode_damping).get(f"n={nodal_diameters},c={nodal_circles}", self.modal_damping_ratio)
+
     def content_hash(self, which: str = "all") -> str:
         """Stable SHA-256 (hex, 16 chars) of the design's values.
 
@@ -137,7 +148,7 @@ class WheelDesign:
         else:
             raise ValueError(f"which must be 'all' or 'structure', not {which!r}")
         # repr(float) is the shortest round-trip form: stable across platforms.
-        payload = json.dumps({k: repr(float(getattr(self, k))) for k in keys}, sort_keys=True)
+        payload = json.dumps({k: _hashable(getattr(self, k)) for k in keys}, sort_keys=True)
         return hashlib.sha256(payload.encode()).hexdigest()[:16]
 
     # -- TOML -------------------------------------------------------------------------
@@ -180,6 +191,8 @@ class WheelDesign:
                 if not isinstance(value, str):
                     raise DesignError(f"{source}: '{key}' must be a string")
                 values[key] = value
+            elif key == "squeal":
+                values.update(_squeal_from_mapping(value, source))
             elif key in SECTIONS:
                 if not isinstance(value, dict):
                     raise DesignError(f"{source}: [{key}] must be a table")
@@ -195,10 +208,11 @@ class WheelDesign:
                 raise DesignError(
                     f"{source}: unknown key or section '{key}'; allowed: name, description, "
                     + ", ".join(f"[{s}]" for s in SECTIONS)
+                    + ", [squeal]"
                 )
         values.setdefault("name", default_name)
         for key, v in values.items():
-            if key in ("name", "description"):
+            if key in ("name", "description", "squeal_mode", "mode_damping"):
                 continue
             # bool is an int subclass: reject it explicitly.
             if isinstance(v, bool) or not isinstance(v, (int, float)):
@@ -215,15 +229,28 @@ class WheelDesign:
             lines.append(f"\n[{section}]")
             for k in keys:
                 lines.append(f"{_TOML_KEY.get(k, k)} = {_toml_float(getattr(self, k))}")
+        if self.squeal_mode or self.mode_damping:
+            lines.append("\n[squeal]")
+            if self.squeal_mode:
+                lines.append(f"mode = {json.dumps(self.squeal_mode)}")
+            if self.mode_damping:
+                lines.append("\n[squeal.damping]")
+                lines += [f"{json.dumps(k)} = {_toml_float(v)}" for k, v in self.mode_damping]
         return "\n".join(lines) + "\n"
 
     def save_toml(self, path: str | Path) -> Path:
-        """Write the design atomically (temporary file, then rename)."""
+        """Write the design as TOML (:meth:`to_toml`)."""
         path = Path(path)
-        tmp = path.with_name(path.name + ".tmp")
-        tmp.write_text(self.to_toml())
-        tmp.replace(path)
+        path.write_text(self.to_toml())
         return path
+
+
+def _hashable(v: Any) -> Any:
+    if isinstance(v, str):
+        return v
+    if isinstance(v, tuple):
+        return [[key, repr(float(x))] for key, x in v]
+    return repr(float(v))
 
 
 def _toml_float(x: float) -> str:
@@ -240,6 +267,48 @@ def tread_radius(design: WheelDesign, z: float) -> float:
 def load_design(path: str | Path | None = None) -> WheelDesign:
     """Load a design from TOML, or the default (Table 1) design when ``path`` is None."""
     return WheelDesign() if path is None else WheelDesign.from_toml(path)
+
+
+#: A mode named by a design: "n=3,c=0", "n=3", an index or "f=1100" (fem.modes.ModeSelection).
+_MODE = re.compile(r"n=\d+(,c=\d+)?|\d+|f=[0-9.]+([eE][+-]?\d+)?")
+_MODE_KEY = re.compile(r"n=(\d+),c=(\d+)")
+
+
+def _squeal_from_mapping(value: Any, source: str) -> dict[str, Any]:
+    """squeal_mode and mode_damping from the [squeal] table."""
+    if not isinstance(value, dict):
+        raise DesignError(f"{source}: [squeal] must be a table")
+    out: dict[str, Any] = {}
+    for sub, v in value.items():
+        if sub == "mode":
+            if not isinstance(v, str):
+                raise DesignError(f'{source}: [squeal] mode must be a string like "n=3,c=0"')
+            out["squeal_mode"] = v.replace(" ", "")
+        elif sub == "damping":
+            if not isinstance(v, dict):
+                raise DesignError(f'{source}: [squeal.damping] must be a table of "n=N,c=C" = ratio')
+            items = []
+            for label, ratio in v.items():
+                if isinstance(ratio, bool) or not isinstance(ratio, int | float):
+                    raise DesignError(f"{source}: [squeal.damping] {label!r} must be a number")
+                items.append((label.replace(" ", ""), float(ratio)))
+            out["mode_damping"] = tuple(sorted(items))
+        else:
+            raise DesignError(f"{source}: unknown key '{sub}' in [squeal]; allowed: damping, mode")
+    return out
+
+
+def _check_mode_damping(v: Any) -> None:
+    if not isinstance(v, tuple):
+        raise DesignError('mode_damping must be a tuple of ("n=N,c=C", ratio) pairs')
+    for item in v:
+        if not (isinstance(item, tuple) and len(item) == 2 and isinstance(item[0], str)):
+            raise DesignError('mode_damping must be a tuple of ("n=N,c=C", ratio) pairs')
+        label, ratio = item
+        if not _MODE_KEY.fullmatch(label):
+            raise DesignError(f'[squeal.damping] key {label!r}: use "n=N,c=C" (nodal diameters, circles)')
+        if not (math.isfinite(ratio) and 0.0 <= ratio < 1.0):
+            raise DesignError(f"[squeal.damping] {label} = {ratio}: a modal damping ratio in [0, 1)")
 
 
 #: A design name: a safe file-name stem (it names the result folder).
@@ -289,6 +358,13 @@ def validate(d: WheelDesign) -> None:
                 raise DesignError(f"{f.name} must be a string")
             if f.name == "name" and not _NAME.fullmatch(v):
                 raise DesignError(f"design name {v!r} is not a safe file-name stem ({_NAME_RULE})")
+            continue
+        if f.name == "squeal_mode":
+            if not isinstance(v, str) or not (v == "" or _MODE.fullmatch(v.replace(" ", ""))):
+                raise DesignError(f"[squeal] mode {v!r}: use n=N[,c=C], an index or f=HZ")
+            continue
+        if f.name == "mode_damping":
+            _check_mode_damping(v)
             continue
         if isinstance(v, bool) or not isinstance(v, (int, float)):
             raise DesignError(f"{f.name} must be a number, got {type(v).__name__} {v!r}")

@@ -28,7 +28,7 @@ SETTINGS = dict(
     suppress_health_check=[HealthCheck.too_slow],
 )
 
-NUMERIC = [f.name for f in fields(WheelDesign) if f.name not in ("name", "description")]
+NUMERIC = [f.name for f in fields(WheelDesign) if f.type in (float, "float")]
 
 
 def valid_designs():
