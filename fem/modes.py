@@ -160,15 +160,22 @@ class ModeSelection:
 
     @classmethod
     def parse(cls, text: str) -> ModeSelection:
-        """Parse ``auto``, an index ``5``, a label ``n=3`` / ``n=3,c=1`` or ``f=1100``."""
+        """Parse ``default`` (the (3, 0) axial mode), an index ``5``, a label ``n=3`` /
+        ``n=3,c=1`` or ``f=1100``. (``auto``, the fastest-growing mode, needs the
+        contact and an operating point: the application chooses it.)"""
         t = text.strip().lower().replace(" ", "")
-        if t in ("", "auto", "default"):
+        if t in ("", "default"):
             return cls()
+        if t == "auto":
+            raise ValueError(
+                "mode 'auto' (the fastest-growing) needs an operating point; here give "
+                "n=3[,c=0], an index or f=HZ"
+            )
         if t.isdigit():
             return cls(index=int(t), nodal_diameters=None, nodal_circles=None, family=None)
         parts = dict(p.split("=", 1) for p in t.split(",") if "=" in p)
         if not parts or len(parts) != len(t.split(",")):
-            raise ValueError(f"unknown mode {text!r}: use auto, an index (e.g. 4), n=3[,c=0] or f=1100")
+            raise ValueError(f"unknown mode {text!r}: use an index (e.g. 4), n=3[,c=0] or f=1100")
         try:
             if "f" in parts:
                 near = float(parts["f"])
@@ -178,15 +185,11 @@ class ModeSelection:
             n = int(parts["n"])
             c = int(parts["c"]) if "c" in parts else 0
         except KeyError:
-            raise ValueError(
-                f"unknown mode {text!r}: use auto, an index (e.g. 4), n=3[,c=0] or f=1100"
-            ) from None
+            raise ValueError(f"unknown mode {text!r}: use an index (e.g. 4), n=3[,c=0] or f=1100") from None
         except ValueError as exc:
             if "f=HZ" in str(exc):
                 raise
-            raise ValueError(
-                f"unknown mode {text!r}: use auto, an index (e.g. 4), n=3[,c=0] or f=1100"
-            ) from None
+            raise ValueError(f"unknown mode {text!r}: use an index (e.g. 4), n=3[,c=0] or f=1100") from None
         return cls(nodal_diameters=n, nodal_circles=c)
 
 

@@ -39,6 +39,10 @@ def _bad_requests(tmp: Path) -> list[tuple[list[str], str]]:
         (["mesh", "--size", "-1"], "size"),
         (["modes", "--fidelity", "ultra"], "fidelity"),
         (["sweep", "--crab-velocity", "0:1:x"], "START:STOP:N"),
+        (["simulate", "--rotation", "--mass", "3.1", "--stiffness", "1.6e8", "--damping", "42"], "nodal"),
+        (["stability", "--envelope", "--envelope-rpm=0,400"], "envelope-rpm"),
+        (["stability", "--envelope", "--envelope-crab-velocity", "0:1:200000"], "envelope"),
+        (["run", "--multimode", "0"], "multimode"),
         (["run", "--out", str(blocker / "sub")], "not"),
     ]
 

@@ -37,6 +37,7 @@ from .cache import CacheMiss, StageCache
 from .errors import BudgetError, RequestError
 from .presets import DEFAULT_DESIGN, DEFAULT_FIDELITY, FIDELITIES, Fidelity, fidelity_for
 from .progress import Progress
+from .stability import choose_mode, envelope, mitigation, multimode, stability_table
 
 __all__ = [
     "Budget",
@@ -52,16 +53,21 @@ __all__ = [
     "StageCache",
     "build_mesh",
     "check_modes_budget",
+    "choose_mode",
     "compute_modes",
     "contact_law",
+    "envelope",
     "explicit_dof",
     "fidelity_for",
     "load_design",
+    "mitigation",
     "modal_dof",
     "mode_views",
     "modes_cache_key",
+    "multimode",
     "operating_point",
     "pick_mode",
     "simulate",
+    "stability_table",
     "sweep",
 ]

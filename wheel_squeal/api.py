@@ -195,8 +195,10 @@ def compute_modes(
     return ms
 
 
-def pick_mode(modeset, mode: str = "auto"):
-    """The squeal mode and why it was picked; ``mode`` is auto | INDEX | n=3[,c=0] | f=HZ."""
+def pick_mode(modeset, mode: str = "default"):
+    """A mode by its description, and why it was picked: ``mode`` is default (the (3, 0)
+    axial mode) | INDEX | n=3[,c=0] | f=HZ. (The fastest-growing mode, ``auto``, needs
+    an operating point: :func:`wheel_squeal.stability.choose_mode`.)"""
     from fem.modes import ModeSelection, select_mode
 
     try:
@@ -244,8 +246,9 @@ def mode_views(
 # the reduced model: modal parameters, contact, operating point, simulation
 # --------------------------------------------------------------------------------------
 def modal_dof(mode, design: WheelDesign):
-    """The FE mode as the reduced model's (m, k, c) at the contact point, with the
-    design's modal damping ratio."""
+    """The FE mode as the reduced model's (m, k, c) at the contact point, with its
+    damping ratio (the design's ``[squeal.damping]`` for it, else ``modal_damping_ratio``)
+    and its nodal diameters (a pair, on a turning wheel)."""
     from reduced import ModalDOF
 
     if not math.isfinite(mode.modal_mass):
@@ -253,11 +256,13 @@ def modal_dof(mode, design: WheelDesign):
             f"mode {mode.index} ({mode.label()}) has a node at the contact point: "
             "it cannot be excited there; pick another mode"
         )
-    return ModalDOF.from_damping_ratio(mode.modal_mass, mode.modal_stiffness, design.modal_damping_ratio)
+    zeta = design.damping_ratio(mode.nodal_diameters, mode.nodal_circles)
+    return ModalDOF.from_damping_ratio(mode.modal_mass, mode.modal_stiffness, zeta, mode.nodal_diameters)
 
 
-def explicit_dof(mass_kg: float, stiffness_n_m: float, damping_ns_m: float):
-    """A mode given directly by its modal mass [kg], stiffness [N/m] and damping [N s/m]."""
+def explicit_dof(mass_kg: float, stiffness_n_m: float, damping_ns_m: float, nodal_diameters: int = 0):
+    """A mode given directly by its modal mass [kg], stiffness [N/m], damping [N s/m]
+    and nodal diameters (needed on a turning wheel only)."""
     from reduced import ModalDOF
 
     for name, v, zero_ok in (
@@ -267,7 +272,9 @@ def explicit_dof(mass_kg: float, stiffness_n_m: float, damping_ns_m: float):
     ):
         if not (math.isfinite(v) and (v > 0 or (zero_ok and v == 0))):
             raise RequestError(f"{name} must be {'non-negative' if zero_ok else 'positive'}, got {v:g}")
-    return ModalDOF(mass_kg, stiffness_n_m, damping_ns_m)
+    if nodal_diameters < 0:
+        raise RequestError(f"nodal diameters must be 0 or more, got {nodal_diameters}")
+    return ModalDOF(mass_kg, stiffness_n_m, damping_ns_m, int(nodal_diameters))
 
 
 def contact_law(design: WheelDesign, c22: float | str | None = None):
@@ -346,21 +353,22 @@ class Simulation:
         return summary_dicts(self.limit_cycle, self.operating_point, self.contact)
 
 
-def simulate(dof, contact, op, duration: float | None = None) -> Simulation:
-    """Integrate the squeal model from rest (``reduced.simulate_to_limit_cycle``):
-    ``duration`` [s] fixed, or None to run until the outcome is known."""
+def simulate(dof, contact, op, duration: float | None = None, wheel_speed_rad_s: float = 0.0) -> Simulation:
+    """Integrate the squeal model from rest (``reduced.simulate_to_limit_cycle``): one
+    mode or several together (a list), ``duration`` [s] fixed or None to run until the
+    outcome is known, on a wheel turning at ``wheel_speed_rad_s`` (0: the paper's model)."""
     from reduced import longest_record_s, simulate_to_limit_cycle
 
     if duration is not None:
         if not (math.isfinite(duration) and duration > 0):
             raise RequestError(f"duration must be positive, got {duration:g}")
-        longest = longest_record_s(dof)
+        longest = longest_record_s(dof, wheel_speed_rad_s=wheel_speed_rad_s)
         if duration > longest:
             raise RequestError(
                 f"duration {duration:g} s is too long to record: at most {longest:.3g} s "
                 "fit (48 samples per period of the highest mode, 10 million samples)"
             )
-    history, lc = simulate_to_limit_cycle(dof, contact, op, duration)
+    history, lc = simulate_to_limit_cycle(dof, contact, op, duration, wheel_speed_rad_s=wheel_speed_rad_s)
     return Simulation(history, lc, contact, op)
 
 

@@ -44,16 +44,17 @@ def calibrate(
     target_frequency_hz: float | None,
     target_modal_mass_kg: float | None,
     fidelity: str = "fast",
-    mode: str = "auto",
+    mode: str | None = None,
     frequency_uncertainty: float = 0.01,
     modal_mass_uncertainty: float = 0.10,
     progress: Progress | None = None,
 ) -> Calibration:
     """Weighted least-squares fit of the free design parameters to measured modal data.
 
-    Residuals are relative errors of the selected mode (default: the (3, 0) axial mode,
-    computed with the ``fidelity`` preset) divided by the relative standard uncertainty
-    of each measurement: ``(f / f_target - 1) / frequency_uncertainty`` and
+    Residuals are relative errors of the selected mode (default: the squeal mode the
+    design names, else the (3, 0) axial mode, computed with the ``fidelity`` preset)
+    divided by the relative standard uncertainty of each measurement:
+    ``(f / f_target - 1) / frequency_uncertainty`` and
     ``(m / m_target - 1) / modal_mass_uncertainty``. The defaults (1 % on a measured
     frequency, 10 % on a modal mass curve-fitted from a receptance) say that a modal
     test pins the frequency far better than the modal mass; equal values give the plain
@@ -83,6 +84,7 @@ def calibrate(
             raise RequestError(f"{name} must be positive, got {v:g}")
     progress = progress or Progress(quiet=True)
     fid = fidelity_for(fidelity)
+    mode = mode or design.squeal_mode or "default"
     x0 = np.array([getattr(design, k) for k in free], dtype=float)
     scale = np.where(x0 != 0, np.abs(x0), design.web_thickness)
     evaluations = 0

@@ -25,10 +25,14 @@ from .errors import RequestError
 __all__ = [
     "DEFAULT_CRAB_VELOCITY_M_S",
     "DEFAULT_DESIGN",
+    "DEFAULT_ENVELOPE_CRAB_VELOCITIES",
     "DEFAULT_FIDELITY",
     "DEFAULT_FMAX_HZ",
     "DEFAULT_RPM",
+    "DEFAULT_SPEEDS_RPM",
+    "DEFAULT_SWEEP_CRAB_VELOCITIES",
     "FIDELITIES",
+    "MAX_MULTIMODE",
     "Fidelity",
     "designs_folder",
     "fidelity_for",
@@ -37,6 +41,14 @@ __all__ = [
 
 DEFAULT_RPM = 800.0
 DEFAULT_CRAB_VELOCITY_M_S = 0.39
+#: The paper's three wheel speeds [rev/min] (Fig. 5): the axis of sweeps and envelopes.
+DEFAULT_SPEEDS_RPM = (400.0, 600.0, 800.0)
+#: Crabbing velocities (start, stop, points) [m/s] of a sweep (Fig. 5's range) and of
+#: the stability map and mitigation envelope.
+DEFAULT_SWEEP_CRAB_VELOCITIES = (0.0, 0.5, 26)
+DEFAULT_ENVELOPE_CRAB_VELOCITIES = (0.0, 0.6, 50)
+#: Most modes a multi-mode run integrates together.
+MAX_MULTIMODE = 12
 
 
 def designs_folder() -> Path:

@@ -18,6 +18,7 @@ import numpy as np
 
 from geometry import WheelDesign
 
+from .outputs import write_csv
 from .presets import Fidelity
 
 __all__ = [
@@ -26,12 +27,17 @@ __all__ = [
     "compare_table",
     "dof_summary",
     "modes_summary",
+    "mitigation_text",
     "modes_table",
+    "multimode_text",
     "plot_workers",
     "plot_times",
     "squeal_report",
+    "stability_text",
     "sweep_table",
     "write_compare_plot",
+    "write_envelope_csv",
+    "write_envelope_plot",
     "write_simulation_files",
 ]
 
@@ -49,8 +55,11 @@ def dof_summary(dof) -> dict:
 def modes_summary(design: WheelDesign, modeset, selected, fid: Fidelity, why: str | None = None) -> dict:
     """``summary.json``'s modal part: every mode with its labels and contact m, k, c, the
     selected mode (and why), the solver, DOFs and timings."""
-    zeta = design.modal_damping_ratio
-    sel = selected.to_dict(zeta)
+
+    def zeta(m) -> float:
+        return design.damping_ratio(m.nodal_diameters, m.nodal_circles)
+
+    sel = selected.to_dict(zeta(selected))
     if why is not None:
         sel["why"] = why
     return {
@@ -58,20 +67,20 @@ def modes_summary(design: WheelDesign, modeset, selected, fid: Fidelity, why: st
         "fidelity": fid.name,
         "solver": modeset.solver,
         "dofs": int(modeset.dofs),
-        "modes": [m.to_dict(zeta) for m in modeset.modes],
+        "modes": [m.to_dict(zeta(m)) for m in modeset.modes],
         "selected_mode": sel,
         "timings_s": dict(modeset.timings_s),
     }
 
 
-def modes_table(modes, damping_ratio: float, selected=None) -> str:
-    """The modes as a text table, the selected one marked."""
+def modes_table(modes, design: WheelDesign, selected=None) -> str:
+    """The modes as a text table (damping c from each mode's ratio), the selected one marked."""
     lines = [
         f"{'#':>3} {'f [Hz]':>9} {'n':>2} {'c':>2} {'family':<15} {'m [kg]':>10} "
         f"{'k [N/m]':>10} {'c [Ns/m]':>9}"
     ]
     for m in modes:
-        d = m.to_dict(damping_ratio)
+        d = m.to_dict(design.damping_ratio(m.nodal_diameters, m.nodal_circles))
         mass = f"{d['modal_mass_kg']:10.3f}" if d["modal_mass_kg"] is not None else f"{'node':>10}"
         k = f"{d['modal_stiffness_n_m']:10.3e}" if d["modal_stiffness_n_m"] is not None else f"{'-':>10}"
         c = f"{d['modal_damping_ns_m']:9.2f}" if d["modal_damping_ns_m"] is not None else f"{'-':>9}"
@@ -257,3 +266,115 @@ def write_compare_plot(path: Path, rows: Sequence[dict], sims: Sequence) -> Path
     fig.tight_layout()
     fig.savefig(path, dpi=110)
     return path
+
+
+def stability_text(rows: Sequence, winner: int) -> str:
+    """The stability of every excitable mode as text, the fastest-growing one marked."""
+    lines = [
+        f"{'#':>3} {'f [Hz]':>9} {'n':>2} {'c':>2} {'family':<15} {'sigma [1/s]':>11} "
+        f"{'zeta_crit':>10} {'dmu/dz crit':>11}"
+    ]
+    for i, row in enumerate(rows):
+        m, s = row.mode, row.stability
+        mark = " <- fastest" if i == winner else (" unstable" if s.unstable else "")
+        lines.append(
+            f"{m.index:>3} {s.damped_frequency_hz:9.1f} {m.nodal_diameters:>2} {m.nodal_circles:>2} "
+            f"{m.family:<15} {s.growth_rate_1_s:11.3g} {s.critical_damping_ratio:10.3g} "
+            f"{s.critical_friction_slope:11.3g}{mark}"
+        )
+    return "\n".join(lines)
+
+
+def write_envelope_csv(path: Path, env) -> Path:
+    """stability.csv: one row per (crabbing velocity, speed) with the fastest mode."""
+    rows = []
+    for i, vc in enumerate(env.crab_velocities_m_s):
+        for j, rpm in enumerate(env.rpm):
+            m = env.modes[env.winner[i, j]]
+            rows.append(
+                {
+                    "crab_velocity_m_s": float(vc),
+                    "rpm": float(rpm),
+                    "growth_rate_1_s": float(env.growth_rate_1_s[i, j]),
+                    "unstable": bool(env.growth_rate_1_s[i, j] > 0),
+                    "fastest_mode_index": m.index,
+                    "fastest_mode": m.label(),
+                    "fastest_mode_frequency_hz": m.frequency_hz,
+                }
+            )
+    return write_csv(path, rows)
+
+
+def write_envelope_plot(path: Path, env) -> Path:
+    """stability.png: the largest growth rate against the crabbing velocity, one curve
+    per speed, each point coloured by the mode that grows fastest there."""
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=(8, 5))
+    ax = fig.subplots()
+    fig.subplots_adjust(left=0.1, right=0.7, bottom=0.11, top=0.92)
+    labels = {
+        int(i): f"{env.modes[i].label()}, {env.modes[i].frequency_hz:.0f} Hz" for i in np.unique(env.winner)
+    }
+    colours = {i: f"C{k % 10}" for k, i in enumerate(labels)}
+    markers = "osD^v<>"
+    for j, rpm in enumerate(env.rpm):
+        ax.plot(env.crab_velocities_m_s, env.growth_rate_1_s[:, j], "-", color="0.6", lw=0.8)
+        for i, label in labels.items():
+            sel = env.winner[:, j] == i
+            ax.plot(
+                env.crab_velocities_m_s[sel],
+                env.growth_rate_1_s[sel, j],
+                markers[j % 7],
+                ms=4,
+                color=colours[i],
+                label=label if j == 0 else None,
+            )
+        ax.annotate(f"{rpm:.0f} RPM", (env.crab_velocities_m_s[-1], env.growth_rate_1_s[-1, j]), fontsize=8)
+    ax.axhline(0.0, color="k", lw=0.8)
+    ax.set(
+        xlabel="crabbing velocity Vc (m/s)",
+        ylabel="largest growth rate (1/s)",
+        title="Linear stability: growth rate and the fastest mode (> 0: squeal grows)",
+    )
+    ax.legend(title="fastest mode", fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0))
+    ax.grid(alpha=0.3)
+    fig.savefig(path, dpi=110)
+    return path
+
+
+def multimode_text(multi) -> str:
+    """Which mode carries the multi-mode limit cycle, and whether the linear winner does."""
+    share = ", ".join(
+        f"{m.index} {m.label()} {s:.1%}" for m, s in zip(multi.modes, multi.content.energy_share)
+    )
+    verdict = (
+        "the linear winner"
+        if multi.agrees
+        else f"not the linear winner (mode {multi.linear_winner.index} {multi.linear_winner.label()})"
+    )
+    return (
+        f"multi-mode ({len(multi.modes)} modes): mode {multi.carrier.index} {multi.carrier.label()} carries "
+        f"the limit cycle, {verdict}; contact velocity peak {multi.content.peak_frequency_hz:.1f} Hz; "
+        f"energy shares: {share}"
+    )
+
+
+def mitigation_text(mitigation: dict) -> str:
+    """The damping per mode and the friction slope that stop squeal over the envelope."""
+    vc, rpm = mitigation["crab_velocity_m_s"], mitigation["rpm"]
+    lines = [
+        f"to stop squeal for Vc {vc[0]:g}-{vc[1]:g} m/s at {', '.join(f'{r:g}' for r in rpm)} RPM:",
+        f"{'#':>3} {'mode':<20} {'f [Hz]':>8} {'zeta now':>9} {'zeta needed':>12} {'(rotation on)':>13}",
+    ]
+    off, on = mitigation["rotation_off"], mitigation["rotation_on"]
+    for a, b in zip(off["damping"], on["damping"]):
+        lines.append(
+            f"{a['mode']:>3} {a['label']:<20} {a['frequency_hz']:8.1f} {a['damping_ratio']:9.2e} "
+            f"{a['required_damping_ratio']:12.2e} {b['required_damping_ratio']:13.2e}"
+        )
+    lines.append(
+        f"or a creep curve no steeper than dmu/dzeta = {off['required_friction_slope']:.3g} "
+        f"(rotation on: {on['required_friction_slope']:.3g}) at the quasi-static creepage"
+    )
+    return "\n".join(lines)

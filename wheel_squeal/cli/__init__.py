@@ -59,6 +59,11 @@ def main(argv: Sequence[str] | None = None, prog: str | None = None) -> int:
         except KeyboardInterrupt:
             print("interrupted", file=sys.stderr)
             return 130
+        except BrokenPipeError:
+            # The reader of stdout left (``| head``): the results are written, the
+            # rest of the report has nowhere to go.
+            os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+            return 141
         except Exception as exc:
             if isinstance(exc, _computation_failures()):
                 print(f"error: {exc}", file=sys.stderr)

@@ -16,7 +16,17 @@ from fem.solvers import SOLVERS
 
 from ..budget import DEFAULT_MAX_DOFS, DEFAULT_MAX_SECONDS, ENV_MAX_DOFS, ENV_MAX_SECONDS
 from ..cache import ENV_VAR as CACHE_ENV_VAR
-from ..presets import DEFAULT_CRAB_VELOCITY_M_S, DEFAULT_FIDELITY, DEFAULT_FMAX_HZ, DEFAULT_RPM, FIDELITIES
+from ..presets import (
+    DEFAULT_CRAB_VELOCITY_M_S,
+    DEFAULT_ENVELOPE_CRAB_VELOCITIES,
+    DEFAULT_FIDELITY,
+    DEFAULT_FMAX_HZ,
+    DEFAULT_RPM,
+    DEFAULT_SPEEDS_RPM,
+    DEFAULT_SWEEP_CRAB_VELOCITIES,
+    FIDELITIES,
+    MAX_MULTIMODE,
+)
 
 __all__ = ["MAX_AXIS_POINTS", "build_parser", "grid_axis"]
 
@@ -89,6 +99,15 @@ def grid_axis(text: str) -> list[float]:
     return values
 
 
+def _add_axis(p: argparse.ArgumentParser, flag: str, default, what: str, span: bool = False) -> None:
+    """A sweep axis flag (:func:`grid_axis`); ``default``: (start, stop, points) when
+    ``span``, else the values."""
+    text = (":" if span else ",").join(f"{x:g}" for x in default)
+    p.add_argument(
+        flag, type=grid_axis, default=grid_axis(text), help=f"{what}: START:STOP:N or list (default {text})"
+    )
+
+
 def _add_common(
     p: argparse.ArgumentParser, out_required: bool = True, out_default=None, cache: bool = True
 ) -> None:
@@ -148,11 +167,12 @@ def _add_fe(p: argparse.ArgumentParser, mode: bool = True) -> None:
         p.add_argument(
             "--mode",
             default="auto",
-            help="squeal mode: auto (the (3,0) axial mode), INDEX, n=3[,c=0] or f=HZ",
+            help="squeal mode: auto (the one the design names, else the fastest-growing at "
+            "the operating point), INDEX, n=3[,c=0] or f=HZ",
         )
 
 
-def _add_operating(p: argparse.ArgumentParser, speed: bool = True) -> None:
+def _add_operating(p: argparse.ArgumentParser, speed: bool = True, duration: bool = True) -> None:
     p.add_argument("--rpm", type=positive, help=f"wheel speed [rev/min] (default {DEFAULT_RPM:g})")
     if speed:
         p.add_argument("--speed", type=positive, help="rolling speed at the contact [m/s]")
@@ -162,12 +182,34 @@ def _add_operating(p: argparse.ArgumentParser, speed: bool = True) -> None:
         help=f"crabbing velocity Vc [m/s] (default {DEFAULT_CRAB_VELOCITY_M_S:g})",
     )
     p.add_argument("--angle-of-attack", type=finite, help="angle of attack [rad] (Vc = theta V0)")
-    p.add_argument(
-        "--duration", type=positive, help="simulated time [s] (default: 0.6 s, extended while still growing)"
-    )
+    if duration:
+        p.add_argument(
+            "--duration",
+            type=positive,
+            help="simulated time [s] (default: 0.6 s, extended while still growing)",
+        )
     p.add_argument(
         "--c22", type=c22_value, help="creep coefficient C22: a number or 'kalker' (default: the design's)"
     )
+
+
+def _add_rotation(p: argparse.ArgumentParser) -> None:
+    p.add_argument(
+        "--rotation",
+        action="store_true",
+        help="model the wheel's rotation: each n-diameter pair as two travelling waves "
+        "(tone f0 -/+ n Omega / 2 pi at the contact; default off, the paper's model)",
+    )
+
+
+def _count(text: str) -> int:
+    try:
+        n = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a whole number, got {text!r}") from None
+    if n < 1:
+        raise argparse.ArgumentTypeError(f"must be 1 or more, got {text}")
+    return n
 
 
 def _add_modal(p: argparse.ArgumentParser) -> None:
@@ -197,6 +239,16 @@ def build_parser(prog: str = "wheel-squeal") -> argparse.ArgumentParser:
         default="selected",
         help="mode-shape PNGs to draw (default: the squeal mode)",
     )
+    _add_rotation(p)
+    p.add_argument(
+        "--multimode",
+        type=_count,
+        nargs="?",
+        const=MAX_MULTIMODE,
+        metavar="K",
+        help="also integrate the K most unstable modes together "
+        f"(default K: every unstable mode, at most {MAX_MULTIMODE})",
+    )
 
     p = sub.add_parser("mesh", help="mesh a design (2-D profile or 3-D revolved)")
     _add_common(p, cache=False)
@@ -214,23 +266,17 @@ def build_parser(prog: str = "wheel-squeal") -> argparse.ArgumentParser:
     _add_fe(p)
     _add_modal(p)
     _add_operating(p)
+    _add_rotation(p)
+    p.add_argument(
+        "--nodal-diameters", type=int, default=0, help="the --mass mode's nodal diameters (for --rotation)"
+    )
 
     p = sub.add_parser("sweep", help="limit cycles over crabbing velocity x speed (Fig. 5)")
     _add_common(p)
     _add_fe(p)
     _add_modal(p)
-    p.add_argument(
-        "--crab-velocity",
-        type=grid_axis,
-        default=grid_axis("0:0.5:26"),
-        help="START:STOP:N or list [m/s] (default 0:0.5:26)",
-    )
-    p.add_argument(
-        "--rpm",
-        type=grid_axis,
-        default=grid_axis("400,600,800"),
-        help="list of wheel speeds [rev/min] (default 400,600,800)",
-    )
+    _add_axis(p, "--crab-velocity", DEFAULT_SWEEP_CRAB_VELOCITIES, "crabbing velocities [m/s]", span=True)
+    _add_axis(p, "--rpm", DEFAULT_SPEEDS_RPM, "wheel speeds [rev/min]")
     p.add_argument("--duration", type=positive, default=1.5, help="simulated time per case [s]")
     p.add_argument("--c22", type=c22_value, help="C22 or 'kalker'")
 
@@ -242,6 +288,22 @@ def build_parser(prog: str = "wheel-squeal") -> argparse.ArgumentParser:
     _add_budget(p)
     _add_fe(p)
     _add_operating(p, speed=False)
+    _add_rotation(p)
+
+    p = sub.add_parser("stability", help="linear stability of every mode: which squeals, what stops it")
+    _add_common(p)
+    _add_fe(p, mode=False)
+    _add_operating(p, duration=False)
+    _add_rotation(p)
+    p.add_argument(
+        "--envelope",
+        action="store_true",
+        help="also the map over the envelope (stability.csv, stability.png) and the mitigation",
+    )
+    _add_axis(
+        p, "--envelope-crab-velocity", DEFAULT_ENVELOPE_CRAB_VELOCITIES, "the envelope's Vc [m/s]", span=True
+    )
+    _add_axis(p, "--envelope-rpm", DEFAULT_SPEEDS_RPM, "the envelope's wheel speeds [rev/min]")
 
     p = sub.add_parser("render", help="mode-shape PNGs (and GIFs), off-screen")
     _add_common(p)
@@ -272,7 +334,10 @@ def build_parser(prog: str = "wheel-squeal") -> argparse.ArgumentParser:
         help="relative standard uncertainty of the measured modal mass (default 0.10)",
     )
     p.add_argument("--fidelity", default="fast", choices=list(FIDELITIES))
-    p.add_argument("--mode", default="auto")
+    p.add_argument(
+        "--mode",
+        help="the measured mode: INDEX, n=3[,c=0] or f=HZ (default: the design's squeal mode, else n=3,c=0)",
+    )
     p.add_argument("--out", type=Path, help="folder or .toml path for the calibrated design")
     p.add_argument("--quiet", action="store_true")
 

@@ -150,7 +150,7 @@ def fe_ladder(
     design,
     rungs: Sequence[FERung],
     *,
-    mode: str = "auto",
+    mode: str = "default",
     simulate: bool = True,
     isolate: bool = True,
     rpm: float = DEFAULT_RPM,

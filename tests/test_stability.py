@@ -1,0 +1,386 @@
+"""Which mode squeals: linear stability of every mode against its analytic limit and
+against the time domain, multi-mode limit cycles, wheel rotation, mitigation, and the
+``stability`` command.
+
+The time-domain growth rates are fitted by the matrix-pencil method (poles of a sum of
+damped sinusoids from uniform samples, no knowledge of the model) on runs started at
+steady sliding with a 1e-8 m/s kick, so that the contact stays linear to about 1e-6:
+an independent check of the eigenvalues of ``reduced.stability``.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+
+import numpy as np
+import pytest
+from conftest import DESIGNS, run_cli
+
+import reduced as r
+import wheel_squeal as ws
+from reduced.stability import friction_damping_ns_m, growth_rates
+from wheel_squeal.stability import (
+    choose_mode,
+    envelope,
+    mitigation,
+    mode_dofs,
+    multimode,
+    stability_table,
+)
+
+TABLE1 = r.ModalDOF(3.1, 1.6e8, 42.0, nodal_diameters=3)
+KICK_M_S = 1e-8
+
+
+def _steady_force(law, op_fig6) -> float:
+    return float(-r.adhesion_ratio(op_fig6.creepage, law, op_fig6.rolling_speed_m_s) * law.normal_load_n)
+
+
+def _poles(t: np.ndarray, v: np.ndarray, order: int) -> np.ndarray:
+    """The ``order`` poles (1/s) of v(t) by the matrix pencil, those with Im > 0."""
+    rows = np.lib.stride_tricks.sliding_window_view(v, len(v) // 3 + 1)
+    _, _, vh = np.linalg.svd(rows, full_matrices=False)
+    basis = vh[:order].T
+    z = np.linalg.eigvals(np.linalg.pinv(basis[:-1]) @ basis[1:])
+    lam = np.log(z.astype(complex)) / (t[1] - t[0])
+    return lam[lam.imag > 0]
+
+
+def _kicked_run(modes, law, op_fig6, duration: float, wheel_speed: float = 0.0):
+    """The contact velocity (t, v) of ``modes`` started at steady sliding plus a kick."""
+    q0 = _steady_force(law, op_fig6)
+    coords = r.model.coordinates(modes, wheel_speed)
+    y0, u0 = np.zeros(len(coords.m)), np.full(len(coords.m), KICK_M_S)
+    for i in range(len(coords.m)):
+        w0 = math.sqrt(coords.k[i] / coords.m[i])
+        zeta = coords.c[i] / (2 * math.sqrt(coords.k[i] * coords.m[i]))
+        if coords.w[i] == 0.0:
+            y0[i] = q0 / coords.k[i]
+            continue
+        # the forced travelling response p = a + i b to Q0 e^{-i n Omega t} (MODEL.md 8)
+        nw = coords.w[i]
+        p = q0 / coords.m[i] / (w0**2 - nw**2 - 2j * zeta * w0 * nw)
+        p_dot = -1j * nw * p
+        first = coords.phase[i] == 0.0
+        y0[i] = p.real if first else p.imag
+        u0[i] += p_dot.real if first else p_dot.imag
+    hist = r.simulate(modes, law, op_fig6, duration, (y0, u0), wheel_speed_rad_s=wheel_speed)
+    f_top = max(md.frequency_hz for md in r.model.as_modes(modes)) + 100.0
+    step = max(1, int(1.0 / (hist.t[1] * 4 * f_top)))  # 4 samples per period: no aliasing
+    return hist.t[::step], hist.v[::step]
+
+
+def _fitted_growth(modes, law, op_fig6, duration=0.4, wheel_speed=0.0) -> np.ndarray:
+    t, v = _kicked_run(modes, law, op_fig6, duration, wheel_speed)
+    n = len(r.model.coordinates(modes, wheel_speed).m)
+    return _poles(t, v - v.mean(), 2 * n)
+
+
+def _nearest(poles: np.ndarray, frequency_hz: float) -> complex:
+    return poles[np.argmin(abs(poles.imag / (2 * math.pi) - frequency_hz))]
+
+
+def _three_modes(f_pair: float = 1150.0):
+    return [r.ModalDOF.from_frequency(m, f, 9.4e-4) for m, f in ((2.0, 300.0), (3.1, 1143.0), (2.6, f_pair))]
+
+
+# --------------------------------------------------------------------------------------
+# item 1: linear stability of every mode
+# --------------------------------------------------------------------------------------
+def test_single_mode_is_the_analytic_eigenvalue(law, op_fig6):
+    g = friction_damping_ns_m(law, op_fig6)
+    md = r.ModalDOF(3.1, 1.6e8, 42.0)
+    s = r.linear_stability(md, law, op_fig6).modes[0]
+    assert s.growth_rate_1_s == pytest.approx(-(md.damping_ns_m + g) / (2 * md.mass_kg), rel=1e-12)
+    assert s.growth_rate_1_s == pytest.approx(8.63, abs=0.01)  # Table 1 at the Fig. 6 point
+    assert s.critical_damping_ratio == pytest.approx(
+        -g / (2 * math.sqrt(md.mass_kg * md.stiffness_n_m)), rel=1e-8
+    )
+    assert s.critical_friction_slope == pytest.approx(
+        -md.damping_ns_m * op_fig6.rolling_speed_m_s / law.normal_load_n, rel=1e-8
+    )
+    assert r.analytic_growth_rate(md, law, op_fig6) == pytest.approx(s.growth_rate_1_s, rel=1e-12)
+
+
+def test_separated_modes_tend_to_the_single_mode_limit(law, op_fig6):
+    """Far apart in frequency and weakly coupled (g / (m w) = 5e-5: heavy modes), each
+    mode's growth is -(c_i + g) / (2 m_i) to 1e-6 of the friction term g / (2 m_i); at
+    Table 1's masses the coupling (g / (m w) = 5e-3) moves it by about the square of
+    that, 3e-5, no more."""
+    g = friction_damping_ns_m(law, op_fig6)
+    for mass, tol in ((300.0, 1e-6), (2.5, 1e-4)):
+        modes = [r.ModalDOF.from_frequency(mass, f, 9.4e-4) for f in (300.0, 1143.0, 3000.0)]
+        got = r.linear_stability(modes, law, op_fig6)
+        for md, s in zip(modes, got.modes):
+            limit = -(md.damping_ns_m + g) / (2 * md.mass_kg)
+            assert s.growth_rate_1_s == pytest.approx(limit, rel=0, abs=tol * abs(g) / (2 * md.mass_kg))
+            assert s.critical_damping_ratio == pytest.approx(
+                -g / (2 * math.sqrt(md.mass_kg * md.stiffness_n_m)), rel=tol
+            )
+
+
+def test_close_pair_differs_from_the_separated_limit(law, op_fig6):
+    g = friction_damping_ns_m(law, op_fig6)
+    modes = _three_modes(1150.0)
+    got = r.linear_stability(modes, law, op_fig6).modes
+    limit = [-(md.damping_ns_m + g) / (2 * md.mass_kg) for md in modes]
+    assert got[0].growth_rate_1_s == pytest.approx(limit[0], rel=1e-3)  # 300 Hz: apart
+    for i in (1, 2):  # 7 Hz apart: the contact couples them by several per cent
+        assert abs(got[i].growth_rate_1_s / limit[i] - 1) > 0.04
+    # closer still, one of the pair is stabilised and the other takes both shares
+    closer = r.linear_stability(_three_modes(1148.0), law, op_fig6).modes
+    assert closer[1].growth_rate_1_s < 0.5 * limit[1] and closer[2].growth_rate_1_s > 1.4 * limit[2]
+
+
+@pytest.mark.parametrize("f_pair", [1150.0, 1160.0])
+def test_growth_rates_match_a_time_domain_fit(law, op_fig6, f_pair):
+    """Three modes, two of them close: the eigenvalues against the poles fitted to the
+    contact velocity of the time-domain model, within 3 % (measured: 1e-4)."""
+    modes = _three_modes(f_pair)
+    res = r.linear_stability(modes, law, op_fig6)
+    poles = _fitted_growth(modes, law, op_fig6)
+    for s in res.modes:
+        fitted = _nearest(poles, s.damped_frequency_hz)
+        assert fitted.real == pytest.approx(s.growth_rate_1_s, rel=0.03)
+        assert fitted.imag / (2 * math.pi) == pytest.approx(s.damped_frequency_hz, rel=1e-4)
+
+
+@pytest.mark.parametrize("which", [0, 1])
+def test_critical_damping_is_where_the_time_domain_growth_changes_sign(law, op_fig6, which):
+    """Bisection on the mode's damping ratio with the time domain alone: the growth of
+    its pole changes sign within 2 % of the computed zeta_crit (a separated mode and
+    one of the close pair)."""
+    modes = _three_modes(1160.0)
+    s = r.linear_stability(modes, law, op_fig6).modes[which]
+
+    def growth(zeta: float) -> float:
+        trial = list(modes)
+        trial[which] = modes[which].with_damping_ratio(zeta)
+        return _nearest(_fitted_growth(trial, law, op_fig6, duration=0.3), s.damped_frequency_hz).real
+
+    lo, hi = 0.5 * s.critical_damping_ratio, 1.5 * s.critical_damping_ratio
+    assert growth(lo) > 0 > growth(hi)
+    while hi - lo > 0.005 * s.critical_damping_ratio:
+        mid = 0.5 * (lo + hi)
+        lo, hi = (mid, hi) if growth(mid) > 0 else (lo, mid)
+    assert 0.5 * (lo + hi) == pytest.approx(s.critical_damping_ratio, rel=0.02)
+
+
+def test_critical_friction_slope_stabilises(law, op_fig6):
+    modes = _three_modes(1160.0)
+    res = r.linear_stability(modes, law, op_fig6)
+    scale = law.normal_load_n / op_fig6.rolling_speed_m_s
+    damping = [md.damping_ns_m for md in modes]
+    for i, s in enumerate(res.modes):
+        assert s.critical_friction_slope < 0  # falling friction below it grows
+        assert growth_rates(modes, damping, scale * s.critical_friction_slope * 1.02, 0.0)[i] > 0
+        assert growth_rates(modes, damping, scale * s.critical_friction_slope * 0.98, 0.0)[i] < 0
+
+
+# --------------------------------------------------------------------------------------
+# item 2: several modes in the time domain
+# --------------------------------------------------------------------------------------
+def test_one_mode_in_the_n_mode_kernel_is_the_1dof_run(law, op_fig6):
+    """The N-mode kernel with one coordinate gives the scalar kernel's numbers exactly."""
+    from reduced import _kernels
+    from reduced.model import law_vector
+
+    md = r.ModalDOF(3.1, 1.6e8, 42.0)
+    h, n = 1.0 / (48 * md.frequency_hz), 20000
+    one_y, one_u = np.empty((n + 1, 1)), np.empty((n + 1, 1))
+    many_y, many_u = np.empty((n + 1, 1)), np.empty((n + 1, 1))
+    lv = law_vector(law, op_fig6)
+    _kernels.integrate_store_1(0.0, 0.0, 3.1, 42.0, 1.6e8, lv, h, n, 1, one_y[:, 0], one_u[:, 0])
+    z, one = np.zeros(1), np.ones(1)
+    _kernels.integrate_store(
+        z, z.copy(), 3.1 * one, 42.0 * one, 1.6e8 * one, z, z, lv, h, n, 1, many_y, many_u
+    )
+    np.testing.assert_array_equal(one_y, many_y)
+    np.testing.assert_array_equal(one_u, many_u)
+
+
+@pytest.fixture(scope="module")
+def table1_fe():
+    design = ws.load_design()
+    ms = ws.compute_modes(design, "fast")
+    return design, ms, ws.contact_law(design), ws.operating_point(design)
+
+
+def test_multimode_with_one_mode_is_the_single_mode_run(table1_fe):
+    design, ms, contact, op = table1_fe
+    rows, res = stability_table(design, ms, contact, op)
+    multi = multimode(design, rows, contact, op, count=1)
+    alone = ws.simulate(ws.modal_dof(rows[res.winner].mode, design), contact, op)
+    assert multi.modes == [rows[res.winner].mode]
+    np.testing.assert_array_equal(multi.simulation.history.v, alone.history.v)
+    assert multi.simulation.summary() == alone.summary()
+    assert multi.content.energy_share.tolist() == [1.0]
+
+
+def test_fe_multimode_winner_is_the_linear_winner(table1_fe):
+    """Every unstable FE mode of designs/table1.toml at the Fig. 6 point, from rest: the
+    fastest-growing mode, (1,0) at 261 Hz, takes the limit cycle (winner takes all: it
+    saturates the contact first, and the falling friction it leaves behind no longer
+    feeds the others)."""
+    design, ms, contact, op = table1_fe
+    rows, res = stability_table(design, ms, contact, op)
+    unstable = [row for row in rows if row.stability.unstable]
+    assert len(unstable) >= 4
+    multi = multimode(design, rows, contact, op)
+    assert len(multi.modes) == len(unstable)
+    assert multi.agrees and multi.carrier.label() == "(1,0) axial"
+    assert multi.content.energy_share.max() > 0.95
+    assert multi.content.peak_frequency_hz == pytest.approx(multi.carrier.frequency_hz, rel=0.005)
+    assert multi.simulation.limit_cycle.saturated
+
+
+def test_auto_takes_the_named_mode_else_the_fastest(table1_fe):
+    design, ms, contact, op = table1_fe
+    named, why, _ = choose_mode(design, ms, "auto", contact, op)
+    assert named.label() == "(3,0) axial" and "names" in why
+    fastest, why, rows = choose_mode(design.replace(squeal_mode=""), ms, "auto", contact, op)
+    growth = {row.mode.index: row.stability.growth_rate_1_s for row in rows}
+    assert fastest.index == max(growth, key=growth.get) and "growth rate" in why
+    assert choose_mode(design, ms, "n=2", contact, op)[0].label() == "(2,0) axial"
+
+
+def test_measured_damping_moves_the_winner(table1_fe):
+    """The paper's rig squealed in (3,0): with the damping the stability table says the
+    lower modes need, (3,0) is the only unstable mode left."""
+    design, ms, contact, op = table1_fe
+    rows, _ = stability_table(design, ms, contact, op)
+    damping = tuple(
+        (
+            f"n={row.mode.nodal_diameters},c={row.mode.nodal_circles}",
+            1.05 * row.stability.critical_damping_ratio,
+        )
+        for row in rows
+        if row.stability.unstable and row.mode.label() != "(3,0) axial"
+    )
+    damped = design.replace(squeal_mode="", mode_damping=damping)
+    rows2, res2 = stability_table(damped, ms, contact, op)
+    assert [row.mode.label() for row in rows2 if row.stability.unstable] == ["(3,0) axial"]
+    assert rows2[res2.winner].mode.label() == "(3,0) axial"
+
+
+# --------------------------------------------------------------------------------------
+# item 4: wheel rotation
+# --------------------------------------------------------------------------------------
+def test_rotation_to_zero_is_the_paper_model(law, op_fig6):
+    still = r.simulate(TABLE1, law, op_fig6, 0.3)
+    exact_zero = r.simulate(TABLE1, law, op_fig6, 0.3, wheel_speed_rad_s=0.0)
+    np.testing.assert_array_equal(still.v, exact_zero.v)
+    slow = r.simulate(TABLE1, law, op_fig6, 0.3, wheel_speed_rad_s=1e-4)  # n Omega t <= 1e-4
+    assert np.max(abs(slow.v - still.v)) < 1e-3 * np.max(abs(still.v))
+    assert r.linear_stability(TABLE1, law, op_fig6, 1e-6).growth_rate_1_s == pytest.approx(
+        r.linear_stability(TABLE1, law, op_fig6).growth_rate_1_s, rel=1e-4
+    )
+
+
+def test_rotating_growth_has_half_the_destabilising_term(law, op_fig6):
+    """sigma = -zeta w0 - W mu' / (4 m V0) when n Omega >> sigma: each travelling wave
+    carries twice the modal mass; the time-domain fit agrees within 5 % (Table 1's
+    damping, where the halving leaves 0.93 1/s of 8.6, and without damping)."""
+    omega = op_fig6.rolling_speed_m_s / 0.213
+    g = friction_damping_ns_m(law, op_fig6)
+    for md in (TABLE1, r.ModalDOF(3.1, 1.6e8, 0.0, nodal_diameters=3)):
+        zeta, w0 = md.damping_ratio, md.angular_frequency_rad_s
+        halved = -zeta * w0 - g / (4 * md.mass_kg)
+        assert r.linear_stability(md, law, op_fig6, omega).growth_rate_1_s == pytest.approx(halved, rel=0.01)
+        poles = _fitted_growth(md, law, op_fig6, duration=0.6, wheel_speed=omega)
+        shift = 3 * omega / (2 * math.pi)
+        for f in (md.frequency_hz - shift, md.frequency_hz + shift):  # both waves
+            assert _nearest(poles, f).real == pytest.approx(halved, rel=0.05)
+        assert halved < 0.6 * -(md.damping_ns_m + g) / (2 * md.mass_kg)  # not the still wheel's
+
+
+def test_rotating_limit_cycle_tone(law, op_fig6):
+    """A microphone at the contact hears the backward wave, f0 - n Omega / 2 pi, from
+    rest: the constant contact force excites it more ((w0 + n Omega) / (w0 - n Omega)
+    times the forward wave) and both grow alike, so it saturates the contact first.
+    Started in the forward wave the run stays there, at f0 + n Omega / 2 pi."""
+    md = r.ModalDOF(3.1, 1.6e8, 0.0, nodal_diameters=3)  # undamped: saturates in 1 s
+    omega = op_fig6.rolling_speed_m_s / 0.213
+    shift = 3 * omega / (2 * math.pi)
+    hist, lc = r.simulate_to_limit_cycle(md, law, op_fig6, wheel_speed_rad_s=omega)
+    assert lc.saturated
+    content = r.modal_content(hist)
+    assert content.peak_frequency_hz == pytest.approx(md.frequency_hz - shift, rel=0.005)
+    assert lc.frequency_hz == pytest.approx(md.frequency_hz - shift, rel=0.005)
+    forward = r.simulate(md, law, op_fig6, 1.5, ((0.0, 0.0), (0.0, 0.05)), wheel_speed_rad_s=omega)
+    assert r.modal_content(forward).peak_frequency_hz == pytest.approx(md.frequency_hz + shift, rel=0.005)
+
+
+# --------------------------------------------------------------------------------------
+# item 5: mitigation over the envelope
+# --------------------------------------------------------------------------------------
+@pytest.mark.parametrize("rotation", [False, True])
+def test_mitigation_damping_and_friction_slope_stop_squeal_everywhere(table1_fe, rotation):
+    design, ms, contact, _ = table1_fe
+    vcs, rpms = np.linspace(0.0, 0.6, 13), [400.0, 600.0, 800.0]
+    mit = mitigation(design, ms, contact, vcs, rpms, rotation)
+    assert envelope(design, ms, contact, vcs, rpms, rotation).growth_rate_1_s.max() > 0  # squeals now
+    zeta = dict(zip((f"n={m.nodal_diameters},c={m.nodal_circles}" for m in mit.modes), mit.damping_ratio))
+    damped = design.replace(mode_damping=tuple(zeta.items()))
+    env = envelope(damped, ms, contact, vcs, rpms, rotation)
+    assert env.growth_rate_1_s.max() <= 1e-6
+    # each bound is tight: 3 % less damping on the (1,0) mode and it grows somewhere
+    key = next(k for k, m in zip(zeta, mit.modes) if m.label() == "(1,0) axial")
+    less = damped.replace(mode_damping=tuple({**zeta, key: 0.97 * zeta[key]}.items()))
+    assert envelope(less, ms, contact, vcs, rpms, rotation).growth_rate_1_s.max() > 0
+    # the friction slope: no mode grows at the required slope, one does 3 % steeper
+    dofs = mode_dofs(mit.modes, design)
+    for factor, grows in ((0.97, False), (1.03, True)):
+        worst = -math.inf
+        for rpm in rpms:
+            v0 = ws.presets.rpm_to_speed(rpm, design.rolling_radius)
+            g = contact.normal_load_n / v0 * factor * mit.friction_slope
+            omega = v0 / design.rolling_radius if rotation else 0.0
+            worst = max(worst, growth_rates(dofs, [d.damping_ns_m for d in dofs], g, omega).max())
+        assert (worst > 0) == grows
+
+
+# --------------------------------------------------------------------------------------
+# item 6: the command
+# --------------------------------------------------------------------------------------
+def test_stability_command(tmp_path):
+    out = tmp_path / "st"
+    r_ = run_cli(
+        *"stability --fidelity fast --envelope --envelope-crab-velocity 0:0.6:7".split(),
+        *("--out", str(out), "--cache-dir", str(tmp_path / "cache")),
+    )
+    assert r_.returncode == 0, r_.stderr
+    s = json.loads((out / "summary.json").read_text())
+    modes = s["modes"]
+    assert {
+        "index",
+        "frequency_hz",
+        "modal_mass_kg",
+        "growth_rate_1_s",
+        "critical_damping_ratio",
+        "unstable",
+    } <= set(modes[0])
+    assert s["winner"] == max(modes, key=lambda m: m["growth_rate_1_s"])
+    assert all(m["unstable"] == (m["growth_rate_1_s"] > 0) for m in modes)
+    assert s["operating_point"]["rpm"] == pytest.approx(800.0)
+    csv = (out / "stability.csv").read_text().splitlines()
+    assert len(csv) == 1 + 7 * 3 and csv[0].startswith("crab_velocity_m_s,rpm,growth_rate_1_s")
+    assert (out / "stability.png").stat().st_size > 10_000
+    assert {"rotation_off", "rotation_on"} <= set(s["mitigation"])
+    assert "<- fastest" in r_.stdout and "zeta needed" in r_.stdout
+
+
+def test_run_with_rotation_and_multimode_reports_both(tmp_path):
+    out = tmp_path / "run"
+    r_ = run_cli(
+        *("run", "--design", str(DESIGNS / "thin_web.toml")),
+        *"--fidelity fast --rotation --multimode 3 --render none".split(),
+        *("--out", str(out), "--cache-dir", str(tmp_path / "c")),
+    )
+    assert r_.returncode == 0, r_.stderr
+    s = json.loads((out / "summary.json").read_text())
+    assert s["rotation"] is True and len(s["multimode"]["modes"]) <= 3
+    assert s["winner"] == max(s["stability"], key=lambda m: m["growth_rate_1_s"])
+    assert s["selected_mode"]["index"] == s["winner"]["index"]  # thin_web names no mode: auto
+    assert "multi-mode" in r_.stdout

@@ -1,0 +1,232 @@
+"""The squeal commands: run (design to report), simulate, sweep, compare and stability."""
+
+from __future__ import annotations
+
+import contextlib
+import time
+from pathlib import Path
+
+import numpy as np
+
+from geometry import DesignError
+
+from .. import api, writers
+from ..errors import RequestError
+from ..outputs import result_folder, write_csv, write_json
+from ..presets import fidelity_for, rpm_to_speed
+from ..progress import Progress
+from ..stability import choose_mode, envelope, mitigation, multimode, stability_table, wheel_speed_rad_s
+from .common import budget_of, cache_of, design_of, modes_of, operating_point_of, squeal_mode, write_files
+
+__all__ = ["cmd_compare", "cmd_run", "cmd_simulate", "cmd_stability", "cmd_sweep"]
+
+
+def _stability_summary(design, sq) -> dict:
+    rows = [r.to_dict(design) for r in sq.stability]
+    winner = max(range(len(rows)), key=lambda i: rows[i]["growth_rate_1_s"])
+    return {"stability": rows, "winner": rows[winner]}
+
+
+def cmd_run(args) -> int:
+    design = design_of(args)
+    out = args.out or Path("results") / design.name
+    progress = Progress(args.quiet)
+    t0 = time.perf_counter()
+    with result_folder(out, "run") as tmp, contextlib.ExitStack() as stack:
+        cache = cache_of(args)
+        op = operating_point_of(args, design)
+        contact = api.contact_law(design, args.c22)
+        sq = squeal_mode(args, design, progress, cache, contact, op)
+        omega = wheel_speed_rad_s(design, op, args.rotation)
+        plots = stack.enter_context(writers.plot_workers())  # after numba's import: children need it
+        with progress.stage("squeal model"):
+            sim = api.simulate(sq.dof, contact, op, args.duration, omega)
+        multi = None
+        if args.multimode is not None:
+            with progress.stage("multi-mode squeal model"):
+                multi = multimode(
+                    design, sq.stability, contact, op, args.rotation, args.multimode, args.duration
+                )
+        with progress.stage("report"):
+            writers.write_simulation_files(tmp, sim, plots)
+        mode, ms = sq.mode, sq.modeset
+        indices = {"selected": [mode.index], "none": [], "all": list(range(len(ms.modes)))}[args.render]
+        with progress.stage("mode views"):
+            fid = fidelity_for(args.fidelity, args.solver)
+            write_files(tmp, api.mode_views(design, fid, args.fmax, ms, indices, cache))
+        with progress.stage("plots"):
+            plots.wait()
+        write_json(
+            tmp / "summary.json",
+            {
+                **sq.summary,
+                **_stability_summary(design, sq),
+                **sim.summary(),
+                "rotation": bool(args.rotation),
+                **({"multimode": multi.summary()} if multi is not None else {}),
+                "modal_parameters": writers.dof_summary(sq.dof),
+                "timings_s": {**progress.timings, "total": time.perf_counter() - t0},
+                "cache": {"hits": cache.hits, "misses": cache.misses},
+            },
+        )
+    print(
+        f"{design.name}: squeal mode {mode.index}: {mode.label()} "
+        f"({sq.summary['selected_mode']['why']}), {mode.frequency_hz:.1f} Hz"
+    )
+    print(writers.squeal_report(sim, sq.dof))
+    if multi is not None:
+        print(writers.multimode_text(multi))
+    print(
+        f"files: {out}/ (summary.json, timeseries.csv, *.png, modes.vtu)  [{time.perf_counter() - t0:.1f} s]"
+    )
+    return 0
+
+
+def cmd_simulate(args) -> int:
+    progress = Progress(args.quiet)
+    with result_folder(args.out, "simulate") as tmp, contextlib.ExitStack() as stack:
+        design = design_of(args)
+        contact = api.contact_law(design, args.c22)
+        op = operating_point_of(args, design)
+        sq = squeal_mode(args, design, progress, cache_of(args), contact, op)
+        plots = stack.enter_context(writers.plot_workers())  # after numba's import: children need it
+        with progress.stage("squeal model"):
+            sim = api.simulate(
+                sq.dof, contact, op, args.duration, wheel_speed_rad_s(design, op, args.rotation)
+            )
+        summary = {
+            "design": design.name,
+            "modal_parameters": writers.dof_summary(sq.dof),
+            **sim.summary(),
+            "rotation": bool(args.rotation),
+            "timings_s": progress.timings,
+        }
+        if sq.summary is not None:
+            summary["selected_mode"] = sq.summary["selected_mode"]
+        writers.write_simulation_files(tmp, sim, plots)
+        write_json(tmp / "summary.json", summary)
+        with progress.stage("plots"):
+            plots.wait()
+    print(writers.squeal_report(sim, sq.dof))
+    print(f"-> {args.out}")
+    return 0
+
+
+def cmd_sweep(args) -> int:
+    from reduced import write_sweep_csv, write_sweep_plot
+
+    progress = Progress(args.quiet)
+    with result_folder(args.out, "sweep") as tmp:
+        design = design_of(args)
+        contact = api.contact_law(design, args.c22)
+        sq = squeal_mode(args, design, progress, cache_of(args), contact, api.operating_point(design))
+        speeds = [rpm_to_speed(r, design.rolling_radius) for r in args.rpm]
+        vcs = args.crab_velocity
+        with progress.stage(f"sweep {len(vcs)} x {len(speeds)} cases, {args.duration:g} s each"):
+            result = api.sweep(
+                sq.dof, contact, vcs, speeds, args.duration, budget=budget_of(args), progress=progress
+            )
+        write_sweep_csv(result, tmp, wheel_radius_m=design.rolling_radius)
+        write_sweep_plot(result, tmp, wheel_radius_m=design.rolling_radius)
+        write_json(
+            tmp / "summary.json",
+            {
+                "design": design.name,
+                "modal_parameters": writers.dof_summary(sq.dof),
+                "duration_s": args.duration,
+                "timings_s": progress.timings,
+            },
+        )
+    print(writers.sweep_table(vcs, args.rpm, result))
+    print(f"velocity amplitude [m/s] ('-' = no squeal) -> {args.out}")
+    return 0
+
+
+def cmd_compare(args) -> int:
+    progress = Progress(args.quiet)
+    with result_folder(args.out, "compare") as tmp:
+        cache = cache_of(args)
+        designs = []
+        for path in args.designs:
+            try:
+                designs.append(api.load_design(path))
+            except DesignError as exc:
+                raise RequestError(f"design {path}: {exc}") from None
+        if len({d.name for d in designs}) != len(designs):
+            raise RequestError("two designs have the same name; give each a distinct name")
+        rows, sims = [], []
+        for d in designs:
+            progress.say(f"design {d.name}")
+            try:
+                op, contact = operating_point_of(args, d), api.contact_law(d, args.c22)
+                fid, ms = modes_of(args, d, progress, cache)
+                mode, _, _ = choose_mode(d, ms, args.mode, contact, op, args.rotation)
+                dof = api.modal_dof(mode, d)
+                sim = api.simulate(dof, contact, op, args.duration, wheel_speed_rad_s(d, op, args.rotation))
+            except (RequestError, DesignError) as exc:
+                raise RequestError(f"design {d.name}: {exc}") from None
+            rows.append(writers.compare_row(d, mode, dof, sim))
+            sims.append(sim)
+        write_csv(tmp / "compare.csv", rows)
+        writers.write_compare_plot(tmp / "compare.png", rows, sims)
+        write_json(
+            tmp / "summary.json",
+            {"designs": rows, "fidelity": fid.name, "operating_point": sims[0].summary()["operating_point"]},
+        )
+    print(writers.compare_table(rows))
+    print(f"-> {args.out}")
+    return 0
+
+
+def cmd_stability(args) -> int:
+    design = design_of(args)
+    progress = Progress(args.quiet)
+    with result_folder(args.out, "stability") as tmp:
+        op = operating_point_of(args, design)
+        contact = api.contact_law(design, args.c22)
+        fid, ms = modes_of(args, design, progress)
+        with progress.stage("linear stability"):
+            rows, result = stability_table(design, ms, contact, op, args.rotation)
+        table = [r.to_dict(design) for r in rows]
+        summary = {
+            "design": design.name,
+            "fidelity": fid.name,
+            "solver": ms.solver,
+            "rotation": bool(args.rotation),
+            "operating_point": {
+                "rolling_speed_m_s": op.rolling_speed_m_s,
+                "rpm": op.rolling_speed_m_s / rpm_to_speed(1.0, design.rolling_radius),
+                "crabbing_velocity_m_s": op.crabbing_velocity_m_s,
+                "creepage": op.creepage,
+                "wheel_speed_rad_s": wheel_speed_rad_s(design, op, True),
+            },
+            "friction_damping_ns_m": result.friction_damping_ns_m,
+            "modes": table,
+            "winner": table[result.winner],
+        }
+        if args.envelope:
+            vcs = np.asarray(args.envelope_crab_velocity)
+            if min(args.envelope_rpm) <= 0:
+                raise RequestError("--envelope-rpm: wheel speeds must be positive")
+            budget_of(args).check_envelope(
+                len(vcs) * len(args.envelope_rpm), len(rows), "use fewer --envelope-crab-velocity points"
+            )
+            with progress.stage(f"envelope {len(vcs)} x {len(args.envelope_rpm)} points"):
+                env = envelope(design, ms, contact, vcs, args.envelope_rpm, args.rotation)
+            with progress.stage("mitigation (rotation off and on)"):
+                summary["mitigation"] = {
+                    "crab_velocity_m_s": [float(vcs[0]), float(vcs[-1])],
+                    "rpm": list(args.envelope_rpm),
+                    **{
+                        key: mitigation(design, ms, contact, vcs, args.envelope_rpm, rot).to_dict(design)
+                        for key, rot in (("rotation_off", False), ("rotation_on", True))
+                    },
+                }
+            writers.write_envelope_csv(tmp / "stability.csv", env)
+            writers.write_envelope_plot(tmp / "stability.png", env)
+        write_json(tmp / "summary.json", summary)
+    print(writers.stability_text(rows, result.winner))
+    if args.envelope:
+        print(writers.mitigation_text(summary["mitigation"]))
+    print(f"-> {args.out}")
+    return 0

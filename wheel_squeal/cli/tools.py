@@ -1,0 +1,72 @@
+"""Commands around the model: calibrate, converge, cache."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from ..cache import StageCache
+from ..outputs import result_folder, write_text_atomic
+from ..progress import Progress
+from .common import design_of
+
+__all__ = ["cmd_cache", "cmd_calibrate", "cmd_converge"]
+
+
+def cmd_calibrate(args) -> int:
+    from ..calibration import CALIBRATED_MARK, calibrate, calibrated_design_path
+
+    design = design_of(args)
+    free = [f for part in args.free for f in part.split(",") if f]
+    name = f"{design.name}_calibrated"
+    design.replace(name=name)  # a valid name, checked before the work
+    path = calibrated_design_path(Path(args.out), name) if args.out else None
+    cal = calibrate(
+        design,
+        free,
+        args.target_frequency,
+        args.target_modal_mass,
+        fidelity=args.fidelity,
+        mode=args.mode,
+        frequency_uncertainty=args.frequency_uncertainty,
+        modal_mass_uncertainty=args.modal_mass_uncertainty,
+        progress=Progress(args.quiet),
+    )
+    cal_design = cal.design.replace(
+        name=name,
+        description=(
+            f"{design.name} with {', '.join(free)}{CALIBRATED_MARK}"
+            f"{args.target_frequency} Hz, m = {args.target_modal_mass} kg "
+            f"({args.fidelity}); residual {cal.residual}"
+        ),
+    )
+    for k, v in cal.free.items():
+        print(f"{k} = {v:.6g} (was {getattr(design, k):.6g})")
+    print(
+        f"selected mode: f = {cal.frequency_hz:.1f} Hz, m = {cal.modal_mass_kg:.3f} kg; residual "
+        + ", ".join(f"{k} {v:+.2%}" for k, v in cal.residual.items() if k != "weighted_rms")
+        + f", weighted rms {cal.residual['weighted_rms']:.3g} ({cal.evaluations} evaluations)"
+    )
+    if path is not None:
+        write_text_atomic(path, cal_design.to_toml())
+        print(f"-> {path}")
+    return 0
+
+
+def cmd_converge(args) -> int:
+    from ..convergence import run_convergence
+
+    design = design_of(args)
+    with result_folder(args.out, "converge") as tmp:
+        rows = run_convergence(design, tmp, quick=args.quick, progress=Progress(args.quiet).say)
+    print(f"{len(rows)} rungs -> {args.out}/convergence.csv (and plots)")
+    return 0
+
+
+def cmd_cache(args) -> int:
+    cache = StageCache(args.cache_dir)
+    if args.action == "clear":
+        print(f"removed {cache.clear()} cache entries from {cache.root}")
+    else:
+        n, size = cache.info()
+        print(f"{cache.root}: {n} entries, {size / 1e6:.1f} MB")
+    return 0
