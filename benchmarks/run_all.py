@@ -26,6 +26,9 @@ Rows (Table 1 wheel unless ``--design``):
   (numba, parallel) vs the 150 cases run one after another with ``reduced.simulate``
   + ``limit_cycle`` (RK4, one core); the first call (compile/cache load) is reported
   apart;
+* which mode squeals: the linear stability of 14 modes (``stability_table``), the
+  envelope map of 50 crabbing velocities x 3 speeds (rotation off and on) and the
+  mitigation over it, against a 0.6 s multi-mode time-domain run of the same modes;
 * the command line as a user meets it (subprocesses, interleaved with their
   baselines): ``pipeline.py simulate`` of the Fig. 6 case (no FE) against
   ``benchmarks/baselines/fig6_solve_ivp.py`` (the same case as a plain solve_ivp +
@@ -454,6 +457,50 @@ def bench_run(design_path: Path | None, table: Table, quick: bool) -> None:
     )
 
 
+def bench_stability(design, table: Table, quick: bool) -> None:
+    """Linear stability of 14 modes (the Table 1 wheel's lowest 14 the contact sees)
+    and the 50 x 3 envelope map, against the multi-mode time domain (0.6 s of the same
+    modes from rest) that would otherwise tell which mode grows."""
+    import dataclasses
+
+    from wheel_squeal.stability import envelope, excitable, mitigation, mode_dofs, stability_table
+
+    ms = ws.compute_modes(design, "balanced", fmax_hz=8000.0)
+    ms = dataclasses.replace(ms, modes=excitable(ms)[:14])
+    contact, op = ws.contact_law(design), ws.operating_point(design)
+    dofs = mode_dofs(ms.modes, design)
+    ws.simulate(dofs, contact, op, 0.01)  # compile / cache load, not timed
+    n = 3 if quick else 7
+    s_base, _, _ = timed(lambda: ws.simulate(dofs, contact, op, 0.6), 1 if quick else 3)
+    s, (rows, res), _ = timed(lambda: stability_table(design, ms, contact, op), n)
+    base = f"time domain, {len(ms.modes)} modes, 0.6 s"
+    table.add(
+        "stability",
+        f"stability_table, {len(ms.modes)} modes",
+        n,
+        s,
+        base,
+        s_base,
+        1 if quick else 3,
+        note=f"target < 0.2 s; winner {rows[res.winner].mode.label()}",
+    )
+    vcs, rpms = np.linspace(0.0, 0.6, 50), [400.0, 600.0, 800.0]
+    for rotation in (False, True):
+        s, _, _ = timed(lambda rotation=rotation: envelope(design, ms, contact, vcs, rpms, rotation), n)
+        table.add(
+            "stability",
+            f"envelope 50 x 3, rotation {'on' if rotation else 'off'}",
+            n,
+            s,
+            base,
+            s_base,
+            1 if quick else 3,
+            note="target < 1 s",
+        )
+    s, _, _ = timed(lambda: mitigation(design, ms, contact, vcs, rpms), 1 if quick else 3)
+    table.add("stability", "mitigation over 50 x 3", 1 if quick else 3, s, note="damping per mode + slope")
+
+
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--quick", action="store_true", help="fewer repetitions (smoke test)")
@@ -473,6 +520,7 @@ def main(argv=None) -> int:
     results = bench_modes(design, table, args.quick)
     dof, contact = bench_simulation(design, results["balanced"][2], table, args.quick)
     bench_sweep(design, dof, contact, table, args.quick)
+    bench_stability(design, table, args.quick)
     bench_run(args.design, table, args.quick)
     load_end = os.getloadavg() if hasattr(os, "getloadavg") else (float("nan"),) * 3
     la = info["loadavg"]
