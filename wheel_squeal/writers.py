@@ -33,6 +33,7 @@ __all__ = [
     "plot_workers",
     "plot_times",
     "squeal_report",
+    "stability_line",
     "stability_text",
     "sweep_table",
     "write_compare_plot",
@@ -283,6 +284,21 @@ def stability_text(rows: Sequence, winner: int) -> str:
             f"{s.critical_friction_slope:11.3g}{mark}"
         )
     return "\n".join(lines)
+
+
+def stability_line(rows: Sequence, chosen) -> str:
+    """One line: how many modes are unstable, the fastest, and the chosen one's growth."""
+    unstable = [r for r in rows if r.stability.unstable]
+    fastest = max(rows, key=lambda r: r.stability.growth_rate_1_s)
+    own = next((r for r in rows if r.mode.index == chosen.index), None)
+    text = (
+        f"linear stability: {len(unstable)} of {len(rows)} modes unstable here; fastest "
+        f"{fastest.mode.label()} at {fastest.stability.damped_frequency_hz:.1f} Hz, "
+        f"{fastest.stability.growth_rate_1_s:.3g} 1/s"
+    )
+    if own is not None and own is not fastest:
+        text += f"; the simulated mode {own.stability.growth_rate_1_s:.3g} 1/s (see the stability command)"
+    return text
 
 
 def write_envelope_csv(path: Path, env) -> Path:

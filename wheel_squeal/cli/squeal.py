@@ -73,6 +73,7 @@ def cmd_run(args) -> int:
         f"{design.name}: squeal mode {mode.index}: {mode.label()} "
         f"({sq.summary['selected_mode']['why']}), {mode.frequency_hz:.1f} Hz"
     )
+    print(writers.stability_line(sq.stability, mode))
     print(writers.squeal_report(sim, sq.dof))
     if multi is not None:
         print(writers.multimode_text(multi))
