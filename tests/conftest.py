@@ -13,6 +13,8 @@ import pytest
 ROOT = Path(__file__).resolve().parents[1]
 DESIGNS = ROOT / "designs"
 PIPELINE = ROOT / "pipeline.py"
+#: Table 1's mode given directly on the command line (no FE).
+TABLE1_MODE_ARGS = ("--mass", "3.1", "--stiffness", "1.6e8", "--damping", "42")
 
 
 def run_cli(

@@ -9,7 +9,7 @@ import subprocess
 import sys
 from pathlib import Path
 
-from conftest import PIPELINE, ROOT
+from conftest import PIPELINE, ROOT, TABLE1_MODE_ARGS
 
 #: What each top-level package may import of the project (anything else is "upward").
 ALLOWED = {
@@ -137,12 +137,7 @@ FE_LIBRARIES = {"skfem", "gmsh", "meshio", "pyvista", "vtk"}
 def test_simulate_without_fe_imports_no_fe_library(tmp_path):
     loaded = _imported_by(
         "simulate",
-        "--mass",
-        "3.1",
-        "--stiffness",
-        "1.6e8",
-        "--damping",
-        "42",
+        *TABLE1_MODE_ARGS,
         "--out",
         str(tmp_path / "sim"),
         "--quiet",

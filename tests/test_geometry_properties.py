@@ -13,6 +13,7 @@ from hypothesis import strategies as st
 from strategies import unit, wheel_designs
 
 from geometry import (
+    SECTIONS,
     DesignError,
     WheelDesign,
     mesh_profile,
@@ -62,15 +63,7 @@ def test_valid_designs_mesh_in_3d(d):
 # their default, plus zero, infinities and NaN. Most draws are invalid; the valid ones
 # must mesh.
 SPECIAL = st.sampled_from([0.0, -0.0, math.inf, -math.inf, math.nan])
-LENGTHS = {
-    "rolling_radius",
-    "crown_radius",
-    "rim_width",
-    "rim_depth",
-    "web_thickness",
-    "bore_radius",
-    "web_offset",
-}
+LENGTHS = set(SECTIONS["wheel"])
 
 
 def wide_value(name: str):

@@ -9,7 +9,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from conftest import DESIGNS
+from conftest import DESIGNS, TABLE1_MODE_ARGS
 from conftest import run_cli as cli
 
 import wheel_squeal as ws
@@ -35,11 +35,11 @@ def _bad_requests(tmp: Path) -> list[tuple[list[str], str]]:
         (["run", "--crab-velocity", "0.2", "--angle-of-attack", "0.01"], "not both"),
         (["simulate", "--mass", "3.1", "--stiffness", "1.6e8"], "together"),
         (["simulate", "--mass", "-3", "--stiffness", "1.6e8", "--damping", "42"], "mass"),
-        (["simulate", "--speed", "0", "--mass", "3.1", "--stiffness", "1.6e8", "--damping", "42"], "speed"),
+        (["simulate", "--speed", "0", *TABLE1_MODE_ARGS], "speed"),
         (["mesh", "--size", "-1"], "size"),
         (["modes", "--fidelity", "ultra"], "fidelity"),
         (["sweep", "--crab-velocity", "0:1:x"], "START:STOP:N"),
-        (["simulate", "--rotation", "--mass", "3.1", "--stiffness", "1.6e8", "--damping", "42"], "nodal"),
+        (["simulate", "--rotation", *TABLE1_MODE_ARGS], "nodal"),
         (["stability", "--envelope", "--envelope-rpm=0,400"], "envelope-rpm"),
         (["stability", "--envelope", "--envelope-crab-velocity", "0:1:200000"], "envelope"),
         (["run", "--multimode", "0"], "multimode"),
@@ -197,12 +197,7 @@ def test_simulate_with_explicit_modal_parameters_builds_no_mesh(tmp_path, monkey
     rc = main(
         [
             "simulate",
-            "--mass",
-            "3.1",
-            "--stiffness",
-            "1.6e8",
-            "--damping",
-            "42",
+            *TABLE1_MODE_ARGS,
             "--rpm",
             "800",
             "--crab-velocity",
@@ -387,12 +382,7 @@ def test_sweep_command(tmp_path):
     out = tmp_path / "sweep"
     r = cli(
         "sweep",
-        "--mass",
-        "3.1",
-        "--stiffness",
-        "1.6e8",
-        "--damping",
-        "42",
+        *TABLE1_MODE_ARGS,
         "--crab-velocity",
         "0:0.4:5",
         "--rpm",

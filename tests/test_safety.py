@@ -21,7 +21,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from conftest import DESIGNS, ROOT, one_line_error, run_cli, snapshot
+from conftest import DESIGNS, ROOT, TABLE1_MODE_ARGS, one_line_error, run_cli, snapshot
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
@@ -63,7 +63,7 @@ def _bad_runs(box: Path) -> list[tuple[list[str], dict, str]]:
         (["modes", "--out", "r", "--cache-dir", "designs"], {}, "not a wheel-squeal cache"),
         (["modes", "--out", "/proc/x"], {}, "cannot be written"),
         (
-            ["sweep", "--mass", "3.1", "--stiffness", "1.6e8", "--damping", "42", "--out", "/sys/x"],
+            ["sweep", *TABLE1_MODE_ARGS, "--out", "/sys/x"],
             {},
             "cannot be written",
         ),
@@ -83,12 +83,7 @@ def _bad_runs(box: Path) -> list[tuple[list[str], dict, str]]:
         (
             [
                 "simulate",
-                "--mass",
-                "3.1",
-                "--stiffness",
-                "1.6e8",
-                "--damping",
-                "42",
+                *TABLE1_MODE_ARGS,
                 "--duration",
                 "1000",
                 "--out",
@@ -361,7 +356,7 @@ def _startup_allowance() -> float:
 
 
 def test_unbounded_sweeps_are_refused(tmp_path):
-    base = ["sweep", "--mass", "3.1", "--stiffness", "1.6e8", "--damping", "42", "--quiet"]
+    base = ["sweep", *TABLE1_MODE_ARGS, "--quiet"]
     r = run_cli(*base, "--crab-velocity", "0:1:1000000000", "--out", tmp_path / "a")
     assert r.returncode == 2 and "points" in one_line_error(r)
     r = run_cli(*base, "--crab-velocity", "0:1:1000000", "--out", tmp_path / "b")
