@@ -127,11 +127,7 @@ class Budget:
             f"{what} would need about {dofs:,.0f} DOFs, {_human_bytes(memory_bytes)} "
             f"and {_human_time(seconds)}"
         )
-        if memory_bytes > self.max_memory_bytes:
-            raise BudgetError(
-                f"{cost}: more memory than this machine has free "
-                f"({_human_bytes(self.max_memory_bytes)} usable); {remedy}"
-            )
+        self._check_memory(cost, memory_bytes, remedy)
         if dofs > self.max_dofs:
             raise BudgetError(
                 f"{cost} (limit {self.max_dofs:,.0f} DOFs); {remedy}, or raise the "
@@ -150,11 +146,7 @@ class Budget:
             f"the sweep ({n_cases:,} cases of {steps_per_case:,.0f} RK4 steps) would need "
             f"about {_human_bytes(memory)} and {_human_time(seconds)}"
         )
-        if memory > self.max_memory_bytes:
-            raise BudgetError(
-                f"{cost}: more memory than this machine has free "
-                f"({_human_bytes(self.max_memory_bytes)} usable); {remedy}"
-            )
+        self._check_memory(cost, memory, remedy)
         self._check_time(cost, seconds, remedy)
         return seconds
 
@@ -168,6 +160,13 @@ class Budget:
         )
         self._check_time(cost, seconds, remedy)
         return seconds
+
+    def _check_memory(self, cost: str, memory_bytes: float, remedy: str) -> None:
+        if memory_bytes > self.max_memory_bytes:
+            raise BudgetError(
+                f"{cost}: more memory than this machine has free "
+                f"({_human_bytes(self.max_memory_bytes)} usable); {remedy}"
+            )
 
     def _check_time(self, cost: str, seconds: float, remedy: str) -> None:
         if seconds > self.max_seconds:
