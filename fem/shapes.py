@@ -11,7 +11,7 @@ import math
 
 import numpy as np
 
-__all__ = ["expand_harmonic", "revolved_mesh"]
+__all__ = ["expand_harmonic", "meridian_outline", "revolved_mesh"]
 
 
 def revolved_mesh(points_rz: np.ndarray, triangles: np.ndarray, n_theta: int):
@@ -56,3 +56,41 @@ def expand_harmonic(UVW: np.ndarray, n: int, theta: np.ndarray, member: str, tor
     out[..., 1] = ur * s + ut * c
     out[..., 2] = uz
     return out.reshape(-1, 3)
+
+
+def meridian_outline(modeset, index: int) -> tuple[np.ndarray, np.ndarray]:
+    """The profile's outline in (r, z) and the displacement (U, V) of mode ``index``
+    there, for the cos member (u_r = U cos(n theta), u_z = V cos(n theta)).
+
+    ``modeset`` from the axisymmetric-harmonic solver (its shapes live on the revolved
+    mesh of :func:`revolved_mesh`, angle 0 first). Returns ((K, 2) points of the closed
+    outline, counter-clockwise in (r, z); (K, 2) displacements).
+    """
+    if modeset.solver != "axisym" or "wedge" not in modeset.cells:
+        raise ValueError(f"the outline needs the axisymmetric solver's modes, not {modeset.solver!r}")
+    wedges = modeset.cells["wedge"]
+    n_profile = int(wedges[0, 3] - wedges[0, 0])
+    tris = wedges[np.all(wedges[:, :3] < n_profile, axis=1)][:, [0, 2, 1]]
+    edges = np.sort(np.concatenate([tris[:, [0, 1]], tris[:, [1, 2]], tris[:, [2, 0]]]), axis=1)
+    unique, count = np.unique(edges, axis=0, return_counts=True)
+    boundary = unique[count == 1]
+    nxt: dict[int, list[int]] = {}
+    for a, b in boundary:
+        nxt.setdefault(int(a), []).append(int(b))
+        nxt.setdefault(int(b), []).append(int(a))
+    loop, prev = [int(boundary[0, 0])], -1
+    while True:
+        here = loop[-1]
+        step = next(v for v in nxt[here] if v != prev)
+        if step == loop[0]:
+            break
+        prev = here
+        loop.append(step)
+    if len(loop) != len(boundary):
+        raise ValueError("the profile's outline is not one closed loop")
+    pts = modeset.points[loop][:, [0, 2]]
+    r, z = pts.T
+    if np.sum(r * np.roll(z, -1) - np.roll(r, -1) * z) < 0:
+        loop, pts = loop[::-1], pts[::-1]
+    u = modeset.shapes[index][0][loop][:, [0, 2]]
+    return np.ascontiguousarray(pts), np.ascontiguousarray(u)

@@ -34,7 +34,7 @@ from .mesh import (
 from .profile import half_profile, profile_area, revolved_volume
 from .simplex import inverted, jacobians, orient, straighten
 
-__all__ = ["mesh_profile", "mesh_wheel"]
+__all__ = ["gmsh_session", "mesh_profile", "mesh_wheel"]
 
 _SNAP = 1e-6
 
@@ -67,7 +67,7 @@ def _check_count(design: WheelDesign, h: float, dim: int) -> None:
 
 
 @contextmanager
-def _gmsh_session(verbose: bool) -> Iterator[object]:
+def gmsh_session(verbose: bool) -> Iterator[object]:
     """An initialised gmsh with one fresh model; finalised (or, if someone else had
     initialised gmsh, the model removed and the options restored) on exit."""
     import gmsh
@@ -345,7 +345,7 @@ def _run(design: WheelDesign, size, elements_through_web, order, verbose, dim):
     # Snapping errors (MeshError) surface before gmsh is started.
     _outline(design)
     try:
-        with _gmsh_session(verbose) as gmsh:
+        with gmsh_session(verbose) as gmsh:
             _set_options(gmsh, h / design.rolling_radius, order, dim)
             surface, bore, tread = _build_profile_surface(gmsh, design, h, dim)
             occ = gmsh.model.occ

@@ -16,11 +16,12 @@ ALLOWED = {
     "geometry": set(),
     "reduced": set(),
     "fem": {"geometry"},
+    "acoustics": {"geometry"},
     "designs": set(),
-    "wheel_squeal": {"geometry", "fem", "reduced", "designs"},
+    "wheel_squeal": {"geometry", "fem", "reduced", "acoustics", "designs"},
     "pipeline": {"wheel_squeal"},
 }
-PACKAGES = ("geometry", "fem", "reduced", "wheel_squeal", "designs")
+PACKAGES = ("geometry", "fem", "reduced", "acoustics", "wheel_squeal", "designs")
 
 
 def _modules() -> dict[str, Path]:

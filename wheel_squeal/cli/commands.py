@@ -5,6 +5,7 @@ prints a short report."""
 from __future__ import annotations
 
 from .fe import cmd_mesh, cmd_modes, cmd_render
+from .sound import cmd_sound
 from .squeal import cmd_compare, cmd_run, cmd_simulate, cmd_stability, cmd_sweep
 from .tools import cmd_cache, cmd_calibrate, cmd_converge
 
@@ -15,6 +16,7 @@ COMMANDS = {
     "mesh": cmd_mesh,
     "modes": cmd_modes,
     "stability": cmd_stability,
+    "sound": cmd_sound,
     "simulate": cmd_simulate,
     "sweep": cmd_sweep,
     "compare": cmd_compare,

@@ -202,6 +202,15 @@ def _add_rotation(p: argparse.ArgumentParser) -> None:
     )
 
 
+def _add_microphone(p: argparse.ArgumentParser) -> None:
+    p.add_argument(
+        "--microphone",
+        metavar="R,Z,THETA",
+        help="microphone position [m, m, rad] (default: 0.05 m off the rim face at the "
+        "rolling radius, theta 0)",
+    )
+
+
 def _count(text: str) -> int:
     try:
         n = int(text)
@@ -240,6 +249,7 @@ def build_parser(prog: str = "wheel-squeal") -> argparse.ArgumentParser:
         help="mode-shape PNGs to draw (default: the squeal mode)",
     )
     _add_rotation(p)
+    _add_microphone(p)
     p.add_argument(
         "--multimode",
         type=_count,
@@ -279,6 +289,8 @@ def build_parser(prog: str = "wheel-squeal") -> argparse.ArgumentParser:
     _add_axis(p, "--rpm", DEFAULT_SPEEDS_RPM, "wheel speeds [rev/min]")
     p.add_argument("--duration", type=positive, default=1.5, help="simulated time per case [s]")
     p.add_argument("--c22", type=c22_value, help="C22 or 'kalker'")
+    p.add_argument("--sound", action="store_true", help="also the SPL at the microphone (Fig. 5 in dB)")
+    _add_microphone(p)
 
     p = sub.add_parser("compare", help="several designs at the same operating point")
     p.add_argument("designs", nargs="+", type=Path, help="design TOML files")
@@ -304,6 +316,18 @@ def build_parser(prog: str = "wheel-squeal") -> argparse.ArgumentParser:
         p, "--envelope-crab-velocity", DEFAULT_ENVELOPE_CRAB_VELOCITIES, "the envelope's Vc [m/s]", span=True
     )
     _add_axis(p, "--envelope-rpm", DEFAULT_SPEEDS_RPM, "the envelope's wheel speeds [rev/min]")
+
+    p = sub.add_parser("sound", help="sound of one mode at a given contact velocity (no time domain)")
+    _add_common(p)
+    _add_fe(p)
+    p.add_argument(
+        "--velocity-amplitude",
+        type=non_negative,
+        default=1.0,
+        help="contact velocity amplitude [m/s] (peak; default 1)",
+    )
+    p.add_argument("--frequency", type=positive, help="frequency [Hz] (default: the mode's)")
+    _add_microphone(p)
 
     p = sub.add_parser("render", help="mode-shape PNGs (and GIFs), off-screen")
     _add_common(p)

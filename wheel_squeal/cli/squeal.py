@@ -15,8 +15,10 @@ from ..errors import RequestError
 from ..outputs import result_folder, write_csv, write_json
 from ..presets import fidelity_for, rpm_to_speed
 from ..progress import Progress
+from ..sound_files import sound_text, write_sweep_spl
 from ..stability import choose_mode, envelope, mitigation, multimode, stability_table, wheel_speed_rad_s
 from .common import budget_of, cache_of, design_of, modes_of, operating_point_of, squeal_mode, write_files
+from .sound import mode_sound, write_sound_files
 
 __all__ = ["cmd_compare", "cmd_run", "cmd_simulate", "cmd_stability", "cmd_sweep"]
 
@@ -47,6 +49,22 @@ def cmd_run(args) -> int:
                 multi = multimode(
                     design, sq.stability, contact, op, args.rotation, args.multimode, args.duration
                 )
+        sound = None
+        if sim.limit_cycle.squeal:
+            with progress.stage("sound"):
+                travelling = bool(args.rotation) and sq.mode.nodal_diameters >= 1
+                lc = sim.limit_cycle
+                sound = mode_sound(
+                    args,
+                    design,
+                    sq.modeset,
+                    sq.mode,
+                    lc.frequency_hz,
+                    lc.velocity_amplitude_m_s,
+                    cache,
+                    travelling,
+                )
+                write_sound_files(tmp, sound, plots)
         with progress.stage("report"):
             writers.write_simulation_files(tmp, sim, plots)
         mode, ms = sq.mode, sq.modeset
@@ -63,6 +81,7 @@ def cmd_run(args) -> int:
                 **_stability_summary(design, sq),
                 **sim.summary(),
                 "rotation": bool(args.rotation),
+                "sound": sound.summary() if sound is not None else None,
                 **({"multimode": multi.summary()} if multi is not None else {}),
                 "modal_parameters": writers.dof_summary(sq.dof),
                 "timings_s": {**progress.timings, "total": time.perf_counter() - t0},
@@ -75,10 +94,12 @@ def cmd_run(args) -> int:
     )
     print(writers.stability_line(sq.stability, mode))
     print(writers.squeal_report(sim, sq.dof))
+    print(sound_text(sound.summary()) if sound is not None else "no sound: no squeal")
     if multi is not None:
         print(writers.multimode_text(multi))
     print(
-        f"files: {out}/ (summary.json, timeseries.csv, *.png, modes.vtu)  [{time.perf_counter() - t0:.1f} s]"
+        f"files: {out}/ (summary.json, timeseries.csv, *.png, modes.vtu, pressure.vtu)  "
+        f"[{time.perf_counter() - t0:.1f} s]"
     )
     return 0
 
@@ -120,7 +141,8 @@ def cmd_sweep(args) -> int:
     with result_folder(args.out, "sweep") as tmp:
         design = design_of(args)
         contact = api.contact_law(design, args.c22)
-        sq = squeal_mode(args, design, progress, cache_of(args), contact, api.operating_point(design))
+        cache = cache_of(args)
+        sq = squeal_mode(args, design, progress, cache, contact, api.operating_point(design))
         speeds = [rpm_to_speed(r, design.rolling_radius) for r in args.rpm]
         vcs = args.crab_velocity
         with progress.stage(f"sweep {len(vcs)} x {len(speeds)} cases, {args.duration:g} s each"):
@@ -129,16 +151,27 @@ def cmd_sweep(args) -> int:
             )
         write_sweep_csv(result, tmp, wheel_radius_m=design.rolling_radius)
         write_sweep_plot(result, tmp, wheel_radius_m=design.rolling_radius)
+        sound = None
+        if args.sound:
+            if sq.mode is None:
+                raise RequestError("--sound needs the FE mode (its shape radiates): not with --mass")
+            with progress.stage("sound"):
+                sound = mode_sound(args, design, sq.modeset, sq.mode, sq.mode.frequency_hz, 1.0, cache)
+                write_sweep_spl(tmp, vcs, args.rpm, result, sound)
         write_json(
             tmp / "summary.json",
             {
                 "design": design.name,
                 "modal_parameters": writers.dof_summary(sq.dof),
                 "duration_s": args.duration,
+                "sound_per_unit_velocity": sound.summary() if sound is not None else None,
                 "timings_s": progress.timings,
             },
         )
     print(writers.sweep_table(vcs, args.rpm, result))
+    if sound is not None:
+        print(f"per 1 m/s: {sound_text(sound.summary())}")
+        print("SPL at the microphone per case: sweep_spl.csv, sweep_spl.png")
     print(f"velocity amplitude [m/s] ('-' = no squeal) -> {args.out}")
     return 0
 

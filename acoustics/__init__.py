@@ -1,0 +1,32 @@
+"""Sound radiated by a vibrating axisymmetric body (MODEL.md section 9).
+
+One circumferential harmonic at a time: the exterior Helmholtz problem on the meridian
+half-plane, quadratic triangles, a perfectly matched layer outside. The input is plain
+data, the body's outline and its velocity (:class:`Surface`); this package knows
+nothing of the modal or squeal models. Checked against the exact radiation of a sphere
+(:mod:`acoustics.exact`). SI units throughout.
+"""
+
+from .exact import sphere_pressure, sphere_sound_power, sphere_surface
+from .helmholtz import RadiationSettings, SoundField, radiate
+from .medium import AIR, P_REF_PA, W_REF_W, Air, sound_power_level_db, spl_db
+from .mesh import AirMesh, air_mesh
+from .surface import Surface
+
+__all__ = [
+    "AIR",
+    "Air",
+    "AirMesh",
+    "P_REF_PA",
+    "RadiationSettings",
+    "SoundField",
+    "Surface",
+    "W_REF_W",
+    "air_mesh",
+    "radiate",
+    "sound_power_level_db",
+    "sphere_pressure",
+    "sphere_sound_power",
+    "sphere_surface",
+    "spl_db",
+]

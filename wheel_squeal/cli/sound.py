@@ -1,0 +1,88 @@
+"""The sound of a mode: the ``sound`` command, and the sound stage ``run`` and
+``sweep --sound`` share."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from geometry import WheelDesign
+
+from .. import api
+from ..outputs import result_folder, write_json
+from ..presets import fidelity_for
+from ..progress import Progress
+from ..sound import Sound, default_microphone, mode_radiation, parse_microphone, sound_of
+from ..sound_files import sound_text, write_pressure_vtu, write_sound_plot
+from ..stability import choose_mode
+from .common import cache_of, design_of, modes_of
+
+__all__ = ["cmd_sound", "mode_sound", "write_sound_files"]
+
+
+def _axisym(args, design: WheelDesign, modeset, mode, cache, progress: Progress | None = None):
+    """The mode set and mode from the axisymmetric solver (the one whose shapes give the
+    surface velocity): the given ones, or the same mode solved axisymmetrically."""
+    if modeset.solver == "axisym":
+        return modeset, mode, fidelity_for(args.fidelity)
+    fid = fidelity_for(args.fidelity)
+    ms = api.compute_modes(design, fid, fmax_hz=args.fmax, cache=cache, progress=progress)
+    same, _ = api.pick_mode(ms, f"n={mode.nodal_diameters},c={mode.nodal_circles}")
+    return ms, same, fid
+
+
+def mode_sound(
+    args,
+    design: WheelDesign,
+    modeset,
+    mode,
+    frequency_hz: float,
+    amplitude_m_s: float,
+    cache,
+    travelling=False,
+) -> Sound:
+    """The levels of ``mode`` at ``frequency_hz`` [Hz] for a contact velocity amplitude
+    [m/s], at ``--microphone`` (default: :func:`wheel_squeal.sound.default_microphone`)."""
+    mic = parse_microphone(args.microphone) if args.microphone else default_microphone(design)
+    ms, mode, fid = _axisym(args, design, modeset, mode, cache)
+    key = api.modes_cache_key(design, fid, args.fmax)
+    field = mode_radiation(design, ms, mode, frequency_hz, mic, cache, key)
+    return sound_of(field, amplitude_m_s, mic, travelling)
+
+
+def write_sound_files(directory: Path, sound: Sound, plots=None) -> None:
+    """sound_field.png (drawn by ``plots`` when given) and pressure.vtu."""
+    if plots is not None:
+        plots.submit(write_sound_plot, directory / "sound_field.png", sound)
+    else:
+        write_sound_plot(directory / "sound_field.png", sound)
+    write_pressure_vtu(directory / "pressure.vtu", sound)
+
+
+def cmd_sound(args) -> int:
+    design = design_of(args)
+    progress = Progress(args.quiet)
+    with result_folder(args.out, "sound") as tmp:
+        cache = cache_of(args)
+        fid, ms = modes_of(args, design, progress, cache)
+        mode, why, _ = choose_mode(
+            design, ms, args.mode, api.contact_law(design), api.operating_point(design)
+        )
+        f = args.frequency or mode.frequency_hz
+        with progress.stage(f"sound of mode {mode.index} ({mode.label()}) at {f:.1f} Hz"):
+            sound = mode_sound(args, design, ms, mode, f, args.velocity_amplitude, cache)
+        write_sound_files(tmp, sound)
+        zeta = design.damping_ratio(mode.nodal_diameters, mode.nodal_circles)
+        write_json(
+            tmp / "summary.json",
+            {
+                "design": design.name,
+                "fidelity": fid.name,
+                "mode": {**mode.to_dict(zeta), "why": why},
+                "sound": sound.summary(),
+                "timings_s": progress.timings,
+            },
+        )
+    print(f"{design.name}: mode {mode.index} {mode.label()} ({why}), {mode.frequency_hz:.1f} Hz")
+    print(sound_text(sound.summary()))
+    print(f"-> {args.out}")
+    return 0

@@ -1,0 +1,142 @@
+"""The sound's files: the SPL map around the wheel and on a circle (PNG), the pressure
+field (VTU, for ParaView), and the sweep's SPL against crabbing velocity (the paper's
+Fig. 5 counterpart, CSV and PNG)."""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from pathlib import Path
+
+import numpy as np
+
+from .outputs import write_csv
+
+__all__ = ["sound_text", "write_pressure_vtu", "write_sound_plot", "write_sweep_spl"]
+
+
+def _vertex_pressure(field, velocity: float) -> np.ndarray:
+    """P [Pa] at the mesh vertices (the first P2 unknowns) for a contact velocity [m/s]."""
+    return field.pressure[: len(field.mesh.points)] * velocity
+
+
+def write_sound_plot(path: Path, sound) -> Path:
+    """sound_field.png: SPL in the (r, z) plane around the wheel (both sides of the
+    axis, theta = 0 and pi), and the SPL on the circle of 0.9 R, with the microphone."""
+    from matplotlib.figure import Figure
+    from matplotlib.tri import Triangulation
+
+    from acoustics import spl_db
+
+    field, v = sound.field, sound.velocity_amplitude_m_s
+    pts, tri = field.mesh.points, field.mesh.triangles
+    inside = np.hypot(*pts[tri].mean(axis=1).T) <= field.mesh.radius
+    level = spl_db(_vertex_pressure(field, max(v, 1e-300)))
+    top = float(np.max(level[np.unique(tri[inside])]))
+    level = np.clip(np.nan_to_num(level, neginf=top - 60), top - 60, None)  # P = 0 on the axis
+    fig = Figure(figsize=(11, 4.8))
+    ax, ax2 = fig.subplots(1, 2, gridspec_kw={"width_ratios": [1.4, 1]})
+    fig.subplots_adjust(left=0.06, right=0.97, bottom=0.12, top=0.9, wspace=0.3)
+    for sign in (1, -1):
+        t = Triangulation(sign * pts[:, 0], pts[:, 1], tri[inside])
+        im = ax.tripcolor(t, level, shading="gouraud", cmap="magma", vmin=top - 40, vmax=top)
+    r, z, _ = sound.microphone
+    ax.plot([r], [z], "c^", ms=8, label="microphone")
+    ax.set(
+        aspect="equal",
+        xlabel="r (m)  [theta = 0 right, pi left]",
+        ylabel="z (m)",
+        title=f"SPL (dB re 20 uPa), {field.frequency_hz:.0f} Hz, n = {field.harmonic}",
+    )
+    ax.legend(loc="lower right", fontsize=8)
+    fig.colorbar(im, ax=ax, shrink=0.85)
+    angle = np.linspace(0.0, np.pi, 181)
+    rc = 0.9 * field.mesh.radius
+    ring = np.stack([rc * np.sin(angle), rc * np.cos(angle)], axis=1)
+    ring_level = spl_db(field.pressure_at(ring) * max(v, 1e-300))
+    ax2.plot(np.degrees(angle), ring_level, "k-")
+    ax2.set_ylim(float(np.max(ring_level)) - 50, float(np.max(ring_level)) + 5)
+    ax2.set(
+        xlabel="angle from the +z axis (deg)",
+        ylabel="SPL (dB re 20 uPa)",
+        title=f"on the circle rho = {rc:.3f} m, theta = 0",
+    )
+    ax2.grid(alpha=0.3)
+    fig.savefig(path, dpi=110)
+    return Path(path)
+
+
+def write_pressure_vtu(path: Path, sound) -> Path:
+    """pressure.vtu: the pressure field on the (r, z) plane (x = r, y = z) for ParaView:
+    real and imaginary parts, amplitude [Pa] and SPL [dB]."""
+    import meshio
+
+    from acoustics import spl_db
+
+    field = sound.field
+    p = _vertex_pressure(field, sound.velocity_amplitude_m_s)
+    pts = np.column_stack([field.mesh.points, np.zeros(len(field.mesh.points))])
+    mesh = meshio.Mesh(
+        pts,
+        [("triangle", field.mesh.triangles)],
+        point_data={
+            "pressure_real_pa": p.real,
+            "pressure_imag_pa": p.imag,
+            "pressure_amplitude_pa": np.abs(p),
+            "spl_db": np.nan_to_num(spl_db(p), neginf=-100.0),
+        },
+    )
+    mesh.write(path)
+    return Path(path)
+
+
+def sound_text(summary: dict) -> str:
+    """One line: the levels and where they were taken."""
+    r, z, theta = summary["microphone_m"]
+    return (
+        f"SOUND: sound power level {summary['sound_power_level_db']:.1f} dB re 1 pW, SPL "
+        f"{summary['spl_db']:.1f} dB re 20 uPa at the microphone (r {r:g} m, z {z:g} m, theta "
+        f"{theta:g}), radiation efficiency {summary['radiation_efficiency']:.3g}, "
+        f"{summary['frequency_hz']:.1f} Hz (wheel alone, free field)"
+    )
+
+
+def write_sweep_spl(
+    directory: Path, crab_velocities: Sequence[float], rpms: Sequence[float], result, sound
+) -> None:
+    """sweep_spl.csv and sweep_spl.png: SPL at the microphone and sound power level per
+    case (no squeal: empty), SPL against crabbing velocity, one curve per speed."""
+    from matplotlib.figure import Figure
+
+    from acoustics import sound_power_level_db, spl_db
+
+    p1 = sound.microphone_pressure_pa  # at 1 m/s
+    w1 = sound.sound_power_w
+    amp = np.where(result.squeal, result.velocity_amplitude_m_s, np.nan)
+    spl = spl_db(p1 * amp)
+    lw = sound_power_level_db(w1 * amp**2)
+    rows = [
+        {
+            "crab_velocity_m_s": float(vc),
+            "rpm": float(rpm),
+            "velocity_amplitude_m_s": None if np.isnan(amp[i, j]) else float(amp[i, j]),
+            "spl_db": None if np.isnan(spl[i, j]) else float(spl[i, j]),
+            "sound_power_level_db": None if np.isnan(lw[i, j]) else float(lw[i, j]),
+        }
+        for i, vc in enumerate(crab_velocities)
+        for j, rpm in enumerate(rpms)
+    ]
+    write_csv(Path(directory) / "sweep_spl.csv", rows)
+    fig = Figure(figsize=(7, 4.5))
+    ax = fig.subplots()
+    fig.subplots_adjust(left=0.11, right=0.97, bottom=0.12, top=0.9)
+    for j, rpm in enumerate(rpms):
+        ax.plot(crab_velocities, spl[:, j], "o-", ms=3, label=f"{rpm:g} RPM")
+    r, z, _ = sound.microphone
+    ax.set(
+        xlabel="crabbing velocity Vc (m/s)",
+        ylabel="SPL (dB re 20 uPa)",
+        title=f"Squeal SPL at the microphone (r {r:g} m, z {z:g} m): Fig. 5 counterpart",
+    )
+    ax.legend()
+    ax.grid(alpha=0.3)
+    fig.savefig(Path(directory) / "sweep_spl.png", dpi=110)
