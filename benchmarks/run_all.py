@@ -29,6 +29,8 @@ Rows (Table 1 wheel unless ``--design``):
 * which mode squeals: the linear stability of 14 modes (``stability_table``), the
   envelope map of 50 crabbing velocities x 3 speeds (rotation off and on) and the
   mitigation over it, against a 0.6 s multi-mode time-domain run of the same modes;
+* sound: the radiation of the (3,0) mode (air mesh, assembly, solve, far field) against
+  the mesh and modes it comes from;
 * the command line as a user meets it (subprocesses, interleaved with their
   baselines): ``pipeline.py simulate`` of the Fig. 6 case (no FE) against
   ``benchmarks/baselines/fig6_solve_ivp.py`` (the same case as a plain solve_ivp +
@@ -501,6 +503,30 @@ def bench_stability(design, table: Table, quick: bool) -> None:
     table.add("stability", "mitigation over 50 x 3", 1 if quick else 3, s, note="damping per mode + slope")
 
 
+def bench_sound(design, table: Table, quick: bool) -> None:
+    """The radiation of the (3,0) mode (balanced preset, no cache: air mesh, assembly,
+    solve, far field) against the modes it comes from (mesh + modes, same preset)."""
+    from wheel_squeal.sound import default_microphone, mode_radiation
+
+    ms = ws.compute_modes(design, "balanced")
+    mode, _ = ws.pick_mode(ms, "n=3,c=0")
+    mic = default_microphone(design)
+    n = 3 if quick else 5
+    s_modes, _, _ = timed(lambda: ws.compute_modes(design, "balanced"), n)
+    s, field, _ = timed(lambda: mode_radiation(design, ms, mode, mode.frequency_hz, mic), n)
+    table.add(
+        "sound",
+        "radiation of the (3,0) mode (balanced)",
+        n,
+        s,
+        "mesh + modes (balanced)",
+        s_modes,
+        n,
+        note=f"target < 1 s; {len(field.pressure)} DOFs, "
+        f"L_W {10 * math.log10(field.sound_power_w / 1e-12):.2f} dB per 1 m/s",
+    )
+
+
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--quick", action="store_true", help="fewer repetitions (smoke test)")
@@ -521,6 +547,7 @@ def main(argv=None) -> int:
     dof, contact = bench_simulation(design, results["balanced"][2], table, args.quick)
     bench_sweep(design, dof, contact, table, args.quick)
     bench_stability(design, table, args.quick)
+    bench_sound(design, table, args.quick)
     bench_run(args.design, table, args.quick)
     load_end = os.getloadavg() if hasattr(os, "getloadavg") else (float("nan"),) * 3
     la = info["loadavg"]
