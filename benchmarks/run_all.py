@@ -513,7 +513,7 @@ def bench_sound(design, table: Table, quick: bool) -> None:
     mic = default_microphone(design)
     n = 3 if quick else 5
     s_modes, _, _ = timed(lambda: ws.compute_modes(design, "balanced"), n)
-    s, field, _ = timed(lambda: mode_radiation(design, ms, mode, mode.frequency_hz, mic), n)
+    s, (field, _), _ = timed(lambda: mode_radiation(design, ms, mode, mode.frequency_hz, mic), n)
     table.add(
         "sound",
         "radiation of the (3,0) mode (balanced)",

@@ -17,7 +17,7 @@ import numpy as np
 
 from geometry import WheelDesign
 
-from .cache import CacheMiss, StageCache
+from .cache import CacheMiss, StageCache, code_version
 from .errors import RequestError
 
 __all__ = [
@@ -65,6 +65,10 @@ def mode_surface(modeset, mode, frequency_hz: float, contact_velocity_m_s: float
     omega = 2 * math.pi * frequency_hz
     velocity = 1j * omega * displacement * (contact_velocity_m_s / (omega * v_c))
     return Surface(points, velocity, int(mode.nodal_diameters))
+
+
+#: The arrays a cached radiation holds (part of its key: another layout is another entry).
+STORED = ("scalars", "points", "triangles", "dof_points", "pressure", "microphone_pressure")
 
 
 def _field_arrays(field) -> dict[str, np.ndarray]:
@@ -119,9 +123,10 @@ def mode_radiation(
     cache: StageCache | None = None,
     modes_key: dict | None = None,
 ):
-    """The sound field of ``mode`` at 1 m/s contact velocity (``acoustics.SoundField``),
-    made large enough to hold the microphone; cached beside the modes when
-    ``modes_key`` (:func:`wheel_squeal.api.modes_cache_key`) is given."""
+    """(the sound field of ``mode`` at 1 m/s contact velocity, ``acoustics.SoundField``,
+    made large enough to hold the microphone; P there [Pa], complex amplitude of
+    cos(n theta)); cached beside the modes when ``modes_key``
+    (:func:`wheel_squeal.api.modes_cache_key`) is given."""
     from acoustics import Air, RadiationSettings, radiate
 
     settings, air = RadiationSettings(), Air()
@@ -135,36 +140,42 @@ def mode_radiation(
             "microphone_rz": [round(microphone[0], 9), round(microphone[1], 9)],
             "settings": repr(settings),
             "air": repr(air),
+            "code": code_version("acoustics"),
+            "stored": list(STORED),
         }
         try:
-            return _field_from(cache.load("sound", key))
+            arrays = cache.load("sound", key)
+            return _field_from(arrays), complex(arrays["microphone_pressure"][0])
         except CacheMiss:
             pass
     surface = mode_surface(modeset, mode, frequency_hz)
     field = radiate(surface, frequency_hz, air, settings, field_points=np.array([microphone[:2]]))
+    at_microphone = complex(field.pressure_at(np.array([microphone[:2]]))[0])
     if key is not None:
-        cache.store("sound", key, _field_arrays(field))
-    return field
+        cache.store("sound", key, {**_field_arrays(field), "microphone_pressure": np.array([at_microphone])})
+    return field, at_microphone
 
 
 @dataclass(frozen=True)
 class Sound:
     """What a microphone and a sound power measurement would give for a tone of contact
-    velocity amplitude ``velocity_amplitude_m_s``; ``field``: the radiation at 1 m/s."""
+    velocity amplitude ``velocity_amplitude_m_s``; ``field``: the radiation at 1 m/s,
+    ``unit_pressure_pa``: its P at the microphone's (r, z) (complex amplitude of
+    cos(n theta))."""
 
     field: object
     velocity_amplitude_m_s: float
     microphone: tuple[float, float, float]
+    unit_pressure_pa: complex
     travelling: bool = False
 
     @property
     def microphone_pressure_pa(self) -> float:
-        """Peak pressure amplitude at the microphone [Pa]."""
-        r, z, theta = self.microphone
-        p = complex(self.field.pressure_at(np.array([[r, z]]))[0])
-        n = self.field.harmonic
+        """Peak pressure amplitude at the microphone [Pa] (a travelling wave passes every
+        angle with the antinode's amplitude)."""
+        n, theta = self.field.harmonic, self.microphone[2]
         angular = 1.0 if self.travelling else abs(math.cos(n * theta))
-        return abs(p) * angular * self.velocity_amplitude_m_s
+        return abs(self.unit_pressure_pa) * angular * self.velocity_amplitude_m_s
 
     @property
     def sound_power_w(self) -> float:
@@ -174,20 +185,23 @@ class Sound:
         return self.field.sound_power_w * self.velocity_amplitude_m_s**2 * (2.0 if twice else 1.0)
 
     def summary(self) -> dict:
+        """JSON-ready levels (None where the amplitude is zero: no sound, no level)."""
         from acoustics import sound_power_level_db, spl_db
 
+        def level(fn, value):
+            return float(fn(value)) if value > 0 else None
+
+        unit = sound_of(self.field, 1.0, self.microphone, self.travelling, self.unit_pressure_pa)
         return {
-            "sound_power_level_db": float(sound_power_level_db(self.sound_power_w)),
-            "spl_db": float(spl_db(self.microphone_pressure_pa)),
+            "sound_power_level_db": level(sound_power_level_db, self.sound_power_w),
+            "spl_db": level(spl_db, self.microphone_pressure_pa),
             "microphone_m": list(self.microphone),
             "radiation_efficiency": self.field.radiation_efficiency,
             "frequency_hz": self.field.frequency_hz,
             "velocity_amplitude_m_s": self.velocity_amplitude_m_s,
             "per_unit_velocity": {
-                "sound_power_level_db": float(sound_power_level_db(self.field.sound_power_w)),
-                "spl_db": float(spl_db(self.microphone_pressure_pa / self.velocity_amplitude_m_s))
-                if self.velocity_amplitude_m_s > 0
-                else None,
+                "sound_power_level_db": level(sound_power_level_db, unit.sound_power_w),
+                "spl_db": level(spl_db, unit.microphone_pressure_pa),
             },
             "checks": {
                 "surface_power_w": self.field.surface_power_w * self.velocity_amplitude_m_s**2,
@@ -196,8 +210,15 @@ class Sound:
         }
 
 
-def sound_of(field, velocity_amplitude_m_s: float, microphone, travelling: bool = False) -> Sound:
-    """The levels of ``field`` (at 1 m/s) for a contact velocity amplitude [m/s]."""
+def sound_of(
+    field, velocity_amplitude_m_s: float, microphone, travelling: bool = False, unit_pressure_pa=None
+) -> Sound:
+    """The levels of ``field`` (at 1 m/s) for a contact velocity amplitude [m/s] at a
+    microphone (r, z, theta); ``unit_pressure_pa``: P there at 1 m/s when known."""
     if not (math.isfinite(velocity_amplitude_m_s) and velocity_amplitude_m_s >= 0):
         raise RequestError(f"velocity amplitude must be zero or positive, got {velocity_amplitude_m_s!r}")
-    return Sound(field, float(velocity_amplitude_m_s), tuple(microphone), travelling)
+    if unit_pressure_pa is None:
+        unit_pressure_pa = complex(field.pressure_at(np.array([microphone[:2]]))[0])
+    return Sound(
+        field, float(velocity_amplitude_m_s), tuple(microphone), complex(unit_pressure_pa), travelling
+    )

@@ -45,17 +45,17 @@ def mode_sound(
     mic = parse_microphone(args.microphone) if args.microphone else default_microphone(design)
     ms, mode, fid = _axisym(args, design, modeset, mode, cache)
     key = api.modes_cache_key(design, fid, args.fmax)
-    field = mode_radiation(design, ms, mode, frequency_hz, mic, cache, key)
-    return sound_of(field, amplitude_m_s, mic, travelling)
+    field, at_microphone = mode_radiation(design, ms, mode, frequency_hz, mic, cache, key)
+    return sound_of(field, amplitude_m_s, mic, travelling, at_microphone)
 
 
 def write_sound_files(directory: Path, sound: Sound, plots=None) -> None:
-    """sound_field.png (drawn by ``plots`` when given) and pressure.vtu."""
-    if plots is not None:
-        plots.submit(write_sound_plot, directory / "sound_field.png", sound)
-    else:
-        write_sound_plot(directory / "sound_field.png", sound)
-    write_pressure_vtu(directory / "pressure.vtu", sound)
+    """sound_field.png and pressure.vtu (written by ``plots`` when given)."""
+    for fn, name in ((write_sound_plot, "sound_field.png"), (write_pressure_vtu, "pressure.vtu")):
+        if plots is not None:
+            plots.submit(fn, directory / name, sound)
+        else:
+            fn(directory / name, sound)
 
 
 def cmd_sound(args) -> int:
