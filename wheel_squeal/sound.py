@@ -122,14 +122,16 @@ def mode_radiation(
     microphone: tuple[float, float, float],
     cache: StageCache | None = None,
     modes_key: dict | None = None,
+    air=None,
 ):
     """(the sound field of ``mode`` at 1 m/s contact velocity, ``acoustics.SoundField``,
     made large enough to hold the microphone; P there [Pa], complex amplitude of
     cos(n theta)); cached beside the modes when ``modes_key``
-    (:func:`wheel_squeal.api.modes_cache_key`) is given."""
-    from acoustics import Air, RadiationSettings, radiate
+    (:func:`wheel_squeal.api.modes_cache_key`) is given; ``air``: ``acoustics.Air``
+    (default: 1.21 kg/m^3, 343 m/s)."""
+    from acoustics import AIR, RadiationSettings, radiate
 
-    settings, air = RadiationSettings(), Air()
+    settings, air = RadiationSettings(), air or AIR
     key = None
     if cache is not None and modes_key is not None:
         key = {

@@ -12,6 +12,7 @@ import argparse
 import math
 from pathlib import Path
 
+from acoustics.medium import AIR
 from fem.solvers import SOLVERS
 
 from ..budget import DEFAULT_MAX_DOFS, DEFAULT_MAX_SECONDS, ENV_MAX_DOFS, ENV_MAX_SECONDS
@@ -208,6 +209,12 @@ def _add_microphone(p: argparse.ArgumentParser) -> None:
         metavar="R,Z,THETA",
         help="microphone position [m, m, rad] (default: 0.05 m off the rim face at the "
         "rolling radius, theta 0)",
+    )
+    p.add_argument(
+        "--air-density", type=positive, default=AIR.density_kg_m3, help="kg/m^3 (default %(default)g)"
+    )
+    p.add_argument(
+        "--sound-speed", type=positive, default=AIR.sound_speed_m_s, help="m/s (default %(default)g)"
     )
 
 

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
+from acoustics import Air
 from geometry import WheelDesign
 
 from .. import api
@@ -45,7 +46,8 @@ def mode_sound(
     mic = parse_microphone(args.microphone) if args.microphone else default_microphone(design)
     ms, mode, fid = _axisym(args, design, modeset, mode, cache)
     key = api.modes_cache_key(design, fid, args.fmax)
-    field, at_microphone = mode_radiation(design, ms, mode, frequency_hz, mic, cache, key)
+    air = Air(args.air_density, args.sound_speed)
+    field, at_microphone = mode_radiation(design, ms, mode, frequency_hz, mic, cache, key, air)
     return sound_of(field, amplitude_m_s, mic, travelling, at_microphone)
 
 
