@@ -65,7 +65,7 @@ class SolveCost:
 
 def _bending_wavenumber(design: WheelDesign, f_hz: float) -> float:
     """Kirchhoff bending wavenumber of the web at ``f_hz`` [1/m]."""
-    t, E, nu, rho = design.web_thickness, design.youngs_modulus, design.poissons_ratio, design.density
+    t, E, nu, rho = design.wall_thickness, design.youngs_modulus, design.poissons_ratio, design.density
     D = E * t**3 / (12 * (1 - nu * nu))
     omega = 2 * math.pi * f_hz
     return (omega * omega * rho * t / D) ** 0.25

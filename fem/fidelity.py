@@ -60,7 +60,7 @@ def shortest_wavelength(design: WheelDesign, f_hz: float) -> float:
     of the Kirchhoff bending wavelength of the web plate,
     ``2 pi (D / (rho t))^(1/4) / sqrt(omega)`` with ``D = E t^3 / 12 (1 - nu^2)``, and
     the shear wavelength ``c_s / f``."""
-    t, E, nu, rho = design.web_thickness, design.youngs_modulus, design.poissons_ratio, design.density
+    t, E, nu, rho = design.wall_thickness, design.youngs_modulus, design.poissons_ratio, design.density
     omega = 2 * math.pi * f_hz
     D = E * t**3 / (12 * (1 - nu * nu))
     bending = 2 * math.pi * (D / (rho * t)) ** 0.25 / math.sqrt(omega)
@@ -85,7 +85,7 @@ def fidelity_warnings(design: WheelDesign, h: float, order: int, f_top: float | 
     """Warn (FidelityWarning subclasses) when the discretisation cannot give ~1 %.
     ``before``: the checks that do not need the solution (mesh, order, material);
     otherwise only the wavelength check at ``f_top``."""
-    t = design.web_thickness
+    t = design.wall_thickness
     per_web = t / h
     if before:
         if order == 1 and design.poissons_ratio > LOCKING_NU:

@@ -6,9 +6,11 @@ the rules themselves live in :mod:`fem.rules`.
 - ``family``: the component with the largest share of the mode's kinetic energy
   (``x_c^T M_cc x_c`` for c = U, V, W): V -> "axial", U -> "radial",
   W -> "circumferential".
-- ``nodal_circles``: sign changes of that component along the web mid-surface line
-  ``z = web_offset`` from the bore to the tread, sampled at :data:`CIRCLE_SAMPLES`
-  points (:func:`fem.rules.count_sign_changes`).
+- ``nodal_circles``: sign changes of that component along the profile's mid-surface
+  line from the bore to the contact radius (:meth:`geometry.outline.Outline.mid_surface`:
+  the middle of the material at each radius, which follows a flat, conical or curved
+  web, a hub and the rim), sampled at :data:`CIRCLE_SAMPLES` points
+  (:func:`fem.rules.count_sign_changes`).
 - contact: ``V`` at the contact point (rolling_radius, 0) of the cos member
   (interpolated, no node needed there), or exactly 0.0 when (a) the wheel is
   mirror-symmetric and the mode is in-plane by parity (:func:`fem.rules.in_plane_fraction`
@@ -22,7 +24,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from geometry.design import WheelDesign, tread_radius
+from geometry.design import WheelDesign
+from geometry.profile import half_profile
 
 from .meshes import corner_mesh
 from .modes import clean_contact
@@ -42,11 +45,9 @@ class ProfileLabeller:
 
     def __init__(self, design: WheelDesign, model):
         basis, skm = model.basis, model.mesh
-        zc = design.web_offset
-        rmin = float(skm.doflocs[0].min())
-        rl = np.linspace(rmin, tread_radius(design, zc), CIRCLE_SAMPLES)
+        rl, zl, _ = half_profile(design).mid_surface(CIRCLE_SAMPLES)
         self.P_contact = probe_matrix(basis, np.array([[design.rolling_radius], [0.0]]))  # U, V, W
-        self.P_line = probe_matrix(basis, np.vstack([rl, np.full_like(rl, zc)]))
+        self.P_line = probe_matrix(basis, np.vstack([rl, zl]))
         self.pts_rz, self.tris = corner_mesh(skm)
         self.nodal = basis.nodal_dofs[:, : skm.nvertices]  # (3, Nv) DOFs at the corners
         self.symmetric = is_mirror_symmetric(design)

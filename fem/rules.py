@@ -19,6 +19,8 @@ import math
 
 import numpy as np
 
+from geometry.profile import half_profile
+
 __all__ = [
     "CIRCLE_THRESHOLD",
     "FREE_SHIFT_REL",
@@ -39,7 +41,7 @@ __all__ = [
 RIGID_TOL = 1e-3
 #: Shift of a free-free solve, ``-(2 pi FREE_SHIFT_REL f_ref)^2``: K is singular there.
 FREE_SHIFT_REL = 0.05
-#: |web_offset| below this fraction of the rolling radius is a centred web.
+#: A profile within this fraction of the rolling radius of its mirror image is symmetric.
 SYMMETRY_RTOL = 1e-12
 #: Sign changes of samples below this fraction of the peak are not nodal circles.
 CIRCLE_THRESHOLD = 0.05
@@ -67,8 +69,9 @@ def rigid_frequency(design) -> float:
 
 
 def is_mirror_symmetric(design) -> bool:
-    """True when the wheel is symmetric about its mid-plane z = 0 (a centred web)."""
-    return abs(design.web_offset) <= SYMMETRY_RTOL * design.rolling_radius
+    """True when the wheel's profile is its own mirror image about z = 0 (a centred,
+    flat web; an outline drawn symmetric), to ``SYMMETRY_RTOL`` of the rolling radius."""
+    return half_profile(design).is_mirror_symmetric(SYMMETRY_RTOL)
 
 
 def count_sign_changes(values: np.ndarray, threshold: float = CIRCLE_THRESHOLD) -> int:

@@ -23,8 +23,8 @@ Each eigenvector is labelled in cylindrical components (r, theta, z):
   cross-section, e.g. across a nodal circle);
 - family: the cylindrical component with the largest share of the kinetic energy
   ``phi_c^T M phi_c`` (axial -> z, radial -> r, circumferential -> theta);
-- nodal circles: sign changes of the family's component along a radial line from the
-  bore to the tread at the web mid-surface ``z = web_offset``, at the angle where the
+- nodal circles: sign changes of the family's component along the profile's
+  mid-surface line from the bore to the tread (as :mod:`fem.labels`), at the angle where the
   n-th harmonic of that component peaks; samples below 5 % of the largest magnitude
   on the line are ignored (the clamped bore is not a nodal circle).
 
@@ -35,7 +35,7 @@ contact point, so the pair-combined modal mass does not depend on the rotation.
 
 The contact is a node (``contact_axial`` exactly 0.0, modal mass ``inf``), as in
 :mod:`fem.axisym`, when (a) the wheel is mirror-symmetric about z = 0
-(``web_offset == 0``) and more than half of the mode's nodal squared amplitude has
+(its profile its own mirror image) and more than half of the mode's nodal squared amplitude has
 u_r, u_theta even and u_z odd in z (an in-plane mode; the unstructured mesh is not
 symmetric and otherwise leaves a spurious u_z at the contact, i.e. modal masses of
 1e6-1e10 kg), or (b) a member's ``|u_z|`` there is at most
@@ -60,6 +60,8 @@ import scipy.sparse as sp
 from skfem import Basis, BilinearForm, ElementTetP1, ElementTetP2, ElementVector, MeshTet1, asm
 from skfem.helpers import dot
 from skfem.models.elasticity import linear_elasticity
+
+from geometry.profile import half_profile
 
 from .eigen import blas_threads, solve_eigen
 from .elasticity import assemble_elasticity
@@ -176,12 +178,12 @@ class _Labeller:
         self.count = np.bincount(self.bin, minlength=self.nbins).astype(float)
         nmax = N_HARMONICS
         self.harm = np.exp(-1j * np.outer(np.arange(nmax + 1), self.theta))  # (nh, N)
-        # radial line at the web mid-surface for the nodal-circle count
-        d = design
-        near = np.abs(z - d.web_offset) <= d.web_thickness / 4
+        # radial line along the profile's mid-surface for the nodal-circle count
+        rl, zl, half = half_profile(design).mid_surface(200)
+        near = np.abs(z - np.interp(r, rl, zl)) <= np.interp(r, rl, half) / 2
         self.line_sel = np.nonzero(near)[0]
         self.line_nbins = 40
-        edges = np.linspace(d.bore_radius, d.rolling_radius, self.line_nbins + 1)
+        edges = np.linspace(rl[0], rl[-1], self.line_nbins + 1)
         self.line_bin = np.clip(np.searchsorted(edges, r[near]) - 1, 0, self.line_nbins - 1)
 
     def vectors(self, phi: np.ndarray) -> np.ndarray:
@@ -229,8 +231,8 @@ class _Labeller:
     def nodal_circles(self, phi: np.ndarray, n: int, family: str) -> int:
         """Sign changes of the family's component along the web mid-surface radius.
 
-        The DOFs within a quarter web thickness of the mid-surface ``z = web_offset``
-        are binned by radius; in each bin the n-th angular Fourier coefficient of the
+        The DOFs within a quarter of the local thickness of the mid-surface line are
+        binned by radius; in each bin the n-th angular Fourier coefficient of the
         component is ``a(r) e^{i phi}`` with one phase for a standing wave, so
         ``Re(c(r) e^{-i phi})`` is the signed amplitude along the line at the angle of
         maximum response. Bins below 5 % of the peak are ignored.
@@ -470,7 +472,7 @@ def _drop_rigid(
 
 
 def _mirror_map(design, A: SolidModel):
-    """For a mirror-symmetric wheel (``web_offset == 0``): the DOF locations (3, N), the
+    """For a mirror-symmetric wheel: the DOF locations (3, N), the
     DOF indices of each component and, for each location, the nearest location to its
     mirror image (x, y, -z); ``None`` for a dished wheel.
 

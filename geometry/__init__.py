@@ -1,4 +1,4 @@
-"""Wheel designs and their geometry: parameters, half-profile, meshes.
+"""Wheel designs and their geometry: parameters or an outline, half-profile, meshes.
 
 Knows nothing of finite elements: meshes leave this package as numpy arrays
 (:mod:`geometry.mesh`), made by gmsh (:mod:`geometry.gmsh_mesh`) or by revolving the
@@ -17,7 +17,8 @@ from .mesh import (
     estimate_element_count,
     mesh_size,
 )
-from .profile import Profile, half_profile, profile_area, revolved_volume, wheel_mass
+from .outline import Outline, OutlineError
+from .profile import half_profile, profile_area, revolved_volume, wheel_mass
 from .revolve import revolve_profile
 
 __all__ = [
@@ -25,7 +26,8 @@ __all__ = [
     "DesignError",
     "MeshError",
     "PHYSICAL_TAGS",
-    "Profile",
+    "Outline",
+    "OutlineError",
     "ProfileMesh",
     "SECTIONS",
     "STRUCTURAL_FIELDS",

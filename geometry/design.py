@@ -3,6 +3,11 @@
 A design is a flat, frozen dataclass. In TOML the fields are grouped in sections
 (``[wheel]``, ``[material]``, ``[roller]``, ``[contact]``, ``[damping]``) so that a file
 reads like a design card; every key is checked, so a typo cannot pass silently.
+
+The wheel's cross-section is given one of two ways: by the parameters of ``[wheel]``
+(a web between a hub or the bore and a rim with a crowned tread; the web may taper,
+be conical and have fillets), or as an outline of points, straight segments and arcs
+in ``[profile]`` (:mod:`geometry.outline`), for any axisymmetric wheel.
 """
 
 from __future__ import annotations
@@ -17,6 +22,9 @@ import warnings
 from dataclasses import dataclass, fields
 from pathlib import Path
 from typing import Any
+
+from .outline import Outline, OutlineError, outline_from_mapping
+from .parametric import parametric_outline
 
 
 class DesignError(ValueError):
@@ -33,6 +41,12 @@ SECTIONS: dict[str, tuple[str, ...]] = {
         "web_thickness",
         "bore_radius",
         "web_offset",
+        "web_thickness_rim",
+        "web_offset_rim",
+        "hub_radius",
+        "hub_width",
+        "fillet_rim",
+        "fillet_hub",
     ),
     "material": ("youngs_modulus", "poissons_ratio", "density"),
     "roller": ("roller_rolling_radius", "roller_crown_radius"),
@@ -42,7 +56,25 @@ SECTIONS: dict[str, tuple[str, ...]] = {
 
 #: Fields that determine the mesh and the eigenmodes (geometry and material). The
 #: contact, roller and damping fields only change the reduced model.
-STRUCTURAL_FIELDS: tuple[str, ...] = SECTIONS["wheel"] + SECTIONS["material"]
+STRUCTURAL_FIELDS: tuple[str, ...] = SECTIONS["wheel"] + SECTIONS["material"] + ("profile",)
+
+#: [wheel] keys of the extended parametric shape, and the value that means "absent"
+#: (the flat web of constant thickness): absent keys are neither written nor hashed, so
+#: a design that does not use them keeps its file and its cache entries.
+OPTIONAL_FIELDS: dict[str, float | None] = {
+    "web_thickness_rim": None,
+    "web_offset_rim": None,
+    "hub_radius": 0.0,
+    "hub_width": 0.0,
+    "fillet_rim": 0.0,
+    "fillet_hub": 0.0,
+}
+#: Fields an outline design derives from its [profile] (the contact geometry, the bore,
+#: the thinnest wall and the axial extent), and the parametric-only fields it has not.
+_DERIVED = ("rolling_radius", "crown_radius", "bore_radius", "web_thickness", "rim_width")
+_PARAMETRIC_ONLY = tuple(k for k in SECTIONS["wheel"] if k not in _DERIVED)
+#: An outline's rim width is measured at this fraction of the rolling radius.
+RIM_WIDTH_AT = 0.95
 
 # In the TOML [roller] section the keys drop the "roller_" prefix.
 _TOML_KEY = {"roller_rolling_radius": "rolling_radius", "roller_crown_radius": "crown_radius"}
@@ -58,12 +90,24 @@ class WheelDesign:
     characters, not starting with a dot), used to name result folders; it never
     addresses a path.
 
-    The half-profile (r, z) is a web (plate) from the bore to the rim, and a rim whose
-    outer surface (the tread) is a crown arc of radius ``crown_radius`` with its apex at
-    ``r = rolling_radius, z = 0``. The rim spans ``|z| <= rim_width / 2`` and
-    ``rolling_radius - rim_depth <= r <= tread(z)``; the web spans
-    ``bore_radius <= r <= rolling_radius - rim_depth`` and
-    ``|z - web_offset| <= web_thickness / 2``.
+    The parametric half-profile (r, z) is a web (plate) from the bore (or a hub) to the
+    rim, and a rim whose outer surface (the tread) is a crown arc of radius
+    ``crown_radius`` with its apex at ``r = rolling_radius, z = 0``. The rim spans
+    ``|z| <= rim_width / 2`` and ``rolling_radius - rim_depth <= r <= tread(z)``; the web
+    spans ``bore_radius <= r <= rolling_radius - rim_depth`` (from ``hub_radius`` with a
+    hub) with its thickness and mid-surface position going linearly from
+    ``web_thickness``, ``web_offset`` at the hub end to ``web_thickness_rim``,
+    ``web_offset_rim`` at the rim (the same values when not given: a flat web). A hub is
+    ``bore_radius <= r <= hub_radius``, ``|z - web_offset| <= hub_width / 2``;
+    ``fillet_rim`` and ``fillet_hub`` round the web's corners at the rim and the hub.
+
+    An outline design gives ``profile`` (:class:`geometry.outline.Outline`) instead; then
+    ``rolling_radius`` (the contact point's radius), ``crown_radius`` (the tread's
+    transverse radius there, ``inf`` on a straight tread), ``bore_radius``,
+    ``web_thickness`` (the thinnest wall, :meth:`Outline.wall_thickness`) and
+    ``rim_width`` (twice the largest ``|z|`` of the material at ``RIM_WIDTH_AT`` times
+    the rolling radius: the rim just below the tread) are derived from it, and the
+    other [wheel] fields do not apply.
     """
 
     name: str = "table1"
@@ -78,6 +122,14 @@ class WheelDesign:
     web_thickness: float = 0.015  #: axial thickness of the web [m]
     bore_radius: float = 0.0325  #: R1', inner radius, clamped [m]
     web_offset: float = 0.0  #: axial offset of the web mid-plane from the rim centre [m]
+    web_thickness_rim: float | None = None  #: web thickness at the rim [m] (taper)
+    web_offset_rim: float | None = None  #: web mid-plane offset at the rim [m] (a conical web)
+    hub_radius: float = 0.0  #: outer radius of the hub [m]; 0 for no hub
+    hub_width: float = 0.0  #: axial width of the hub, centred on the web [m]
+    fillet_rim: float = 0.0  #: fillet radius where the web meets the rim [m]
+    fillet_hub: float = 0.0  #: fillet radius where the web meets the hub [m]
+    #: the cross-section as an outline ([profile]); None for the parametric shape
+    profile: Outline | None = None
     # material
     youngs_modulus: float = 175e9  #: E [Pa]
     poissons_ratio: float = 0.28  #: nu [-]
@@ -98,13 +150,45 @@ class WheelDesign:
     mode_damping: tuple[tuple[str, float], ...] = ()
 
     def __post_init__(self) -> None:
+        if self.profile is not None:
+            if not isinstance(self.profile, Outline):
+                raise DesignError(f"profile must be an Outline, got {type(self.profile).__name__}")
+            o = self.profile
+            zlo, zhi = o.axial_extent(RIM_WIDTH_AT * o.contact[0])
+            derived = {
+                "rolling_radius": float(o.contact[0]),
+                "crown_radius": o.contact_crown_radius(),
+                "bore_radius": o.bore_radius,
+                "web_thickness": o.wall_thickness(),
+                "rim_width": 2 * max(abs(zlo), abs(zhi)),
+            }
+            for key, value in derived.items():
+                object.__setattr__(self, key, value)
+            for key in _PARAMETRIC_ONLY:  # meaningless for an outline: their defaults
+                object.__setattr__(self, key, _FIELD_DEFAULTS[key])
         validate(self)
 
     # -- derived geometry -------------------------------------------------------------
     @property
+    def is_outline(self) -> bool:
+        """True when the cross-section is given as an outline ([profile])."""
+        return self.profile is not None
+
+    @property
     def rim_inner_radius(self) -> float:
-        """Radius where the web meets the rim [m]."""
+        """Radius where the web meets the rim [m] (an outline design: 0.85 x the rolling
+        radius, Table 1's proportion, used only by the cost estimates)."""
+        if self.profile is not None:
+            return 0.85 * self.rolling_radius
         return self.rolling_radius - self.rim_depth
+
+    @property
+    def wall_thickness(self) -> float:
+        """The thinnest wall [m]: the web's smaller thickness (at the hub or at the rim),
+        or an outline's thinnest wall. Meshes are sized by elements across it."""
+        if self.web_thickness_rim is None:
+            return self.web_thickness
+        return min(self.web_thickness, self.web_thickness_rim)
 
     @property
     def tread_edge_radius(self) -> float:
@@ -119,15 +203,35 @@ class WheelDesign:
     # -- copies and hashes ------------------------------------------------------------
     def replace(self, **changes: Any) -> WheelDesign:
         """A validated copy with some fields changed."""
+        if self.profile is not None and "profile" not in changes:
+            fixed = sorted(set(changes) & set(SECTIONS["wheel"]))
+            if fixed:
+                raise DesignError(
+                    f"design {self.name!r} is an outline: {', '.join(fixed)} follow from its "
+                    "[profile]; change the outline instead"
+                )
         return dataclasses.replace(self, **changes)
 
     def scaled(self, factor: float) -> WheelDesign:
         """The same wheel with every length (wheel and roller) multiplied by ``factor``."""
-        lengths = SECTIONS["wheel"] + SECTIONS["roller"]
-        return self.replace(**{k: getattr(self, k) * factor for k in lengths})
+        roller = {k: getattr(self, k) * factor for k in SECTIONS["roller"]}
+        if self.profile is not None:
+            return self.replace(profile=self.profile.scaled(factor), **roller)
+        wheel = {k: getattr(self, k) for k in SECTIONS["wheel"]}
+        return self.replace(**{k: v if v is None else v * factor for k, v in wheel.items()}, **roller)
 
     def to_dict(self) -> dict[str, Any]:
-        return dataclasses.asdict(self)
+        """The design's values (an outline's as its [profile] mapping; absent optional
+        parametric keys and an outline's parametric-only keys left out)."""
+        out = {}
+        for f in fields(self):
+            v = getattr(self, f.name)
+            if f.name == "profile":
+                if v is not None:
+                    out["profile"] = v.to_mapping()
+            elif not _absent(self, f.name):
+                out[f.name] = v
+        return out
 
     def damping_ratio(self, nodal_diameters: int, nodal_circles: int) -> float:
         """The modal damping ratio of the (n, c) mode: its measured one if the design gives
@@ -147,6 +251,7 @@ class WheelDesign:
             keys = tuple(f.name for f in fields(self) if f.name not in ("name", "description"))
         else:
             raise ValueError(f"which must be 'all' or 'structure', not {which!r}")
+        keys = tuple(k for k in keys if not _absent(self, k))
         # repr(float) is the shortest round-trip form: stable across platforms.
         payload = json.dumps({k: _hashable(getattr(self, k)) for k in keys}, sort_keys=True)
         return hashlib.sha256(payload.encode()).hexdigest()[:16]
@@ -171,8 +276,8 @@ class WheelDesign:
                 f"{path}: the file name {path.stem!r} is not a usable design name ({_NAME_RULE}); "
                 'set name = "..." in the file'
             )
-        design = cls.from_mapping(data, default_name=path.stem, source=str(path))
-        if not set(data) & set(SECTIONS):
+        design = cls.from_mapping(data, default_name=path.stem, source=str(path), base=path.parent)
+        if not set(data) & (set(SECTIONS) | {"profile"}):
             warnings.warn(
                 f"design file {path} gives no [wheel], [material], [roller], [contact] "
                 "or [damping] values: it is the default Table 1 wheel",
@@ -182,12 +287,27 @@ class WheelDesign:
 
     @classmethod
     def from_mapping(
-        cls, data: dict[str, Any], default_name: str = "design", source: str = "design"
+        cls,
+        data: dict[str, Any],
+        default_name: str = "design",
+        source: str = "design",
+        base: Path | None = None,
     ) -> WheelDesign:
-        """Build from a nested mapping shaped like the TOML file."""
+        """Build from a nested mapping shaped like the TOML file (``base``: the folder
+        a [profile] file name is relative to)."""
         values: dict[str, Any] = {}
+        if "profile" in data and "wheel" in data:
+            raise DesignError(
+                f"{source}: give the cross-section either by [wheel] parameters or by a [profile] "
+                "outline, not both"
+            )
         for key, value in data.items():
-            if key in ("name", "description"):
+            if key == "profile":
+                try:
+                    values["profile"] = outline_from_mapping(value, source, base)
+                except OutlineError as exc:
+                    raise DesignError(str(exc)) from None
+            elif key in ("name", "description"):
                 if not isinstance(value, str):
                     raise DesignError(f"{source}: '{key}' must be a string")
                 values[key] = value
@@ -208,11 +328,11 @@ class WheelDesign:
                 raise DesignError(
                     f"{source}: unknown key or section '{key}'; allowed: name, description, "
                     + ", ".join(f"[{s}]" for s in SECTIONS)
-                    + ", [squeal]"
+                    + ", [profile], [squeal]"
                 )
         values.setdefault("name", default_name)
         for key, v in values.items():
-            if key in ("name", "description", "squeal_mode", "mode_damping"):
+            if key in ("name", "description", "squeal_mode", "mode_damping", "profile"):
                 continue
             # bool is an int subclass: reject it explicitly.
             if isinstance(v, bool) or not isinstance(v, (int, float)):
@@ -225,10 +345,24 @@ class WheelDesign:
         lines = [f"name = {json.dumps(self.name)}"]
         if self.description:
             lines.append(f"description = {json.dumps(self.description)}")
+        if self.profile is not None:
+            p = self.profile.to_mapping()
+            lines.append("\n[profile]")
+            lines.append(
+                "points = [\n"
+                + "".join(f"  [{_toml_float(r)}, {_toml_float(z)}],\n" for r, z in p["points"])
+                + "]"
+            )
+            lines.append("bulges = [" + ", ".join(_toml_float(b) for b in p["bulges"]) + "]")
+            lines.append("clamp = [" + ", ".join(str(i) for i in p["clamp"]) + "]")
+            lines.append(f"contact = [{_toml_float(p['contact'][0])}, {_toml_float(p['contact'][1])}]")
         for section, keys in SECTIONS.items():
+            if section == "wheel" and self.profile is not None:
+                continue
             lines.append(f"\n[{section}]")
             for k in keys:
-                lines.append(f"{_TOML_KEY.get(k, k)} = {_toml_float(getattr(self, k))}")
+                if not _absent(self, k):
+                    lines.append(f"{_TOML_KEY.get(k, k)} = {_toml_float(getattr(self, k))}")
         if self.squeal_mode or self.mode_damping:
             lines.append("\n[squeal]")
             if self.squeal_mode:
@@ -245,7 +379,22 @@ class WheelDesign:
         return path
 
 
+def _absent(d: WheelDesign, key: str) -> bool:
+    """An optional parametric key at its "absent" value, or a [wheel] key an outline
+    design does not have: neither written, nor hashed, nor reported."""
+    if d.profile is not None:
+        return key in _PARAMETRIC_ONLY
+    if key == "profile":
+        return True
+    return key in OPTIONAL_FIELDS and getattr(d, key) == OPTIONAL_FIELDS[key]
+
+
+_FIELD_DEFAULTS: dict[str, Any] = {f.name: f.default for f in fields(WheelDesign)}
+
+
 def _hashable(v: Any) -> Any:
+    if isinstance(v, Outline):
+        return json.loads(json.dumps(v.to_mapping()))
     if isinstance(v, str):
         return v
     if isinstance(v, tuple):
@@ -333,6 +482,12 @@ _SIZES = (
     "web_thickness",
     "bore_radius",
     "web_offset",
+    "web_thickness_rim",
+    "web_offset_rim",
+    "hub_radius",
+    "hub_width",
+    "fillet_rim",
+    "fillet_hub",
     "roller_rolling_radius",
 )
 
@@ -366,11 +521,19 @@ def validate(d: WheelDesign) -> None:
         if f.name == "mode_damping":
             _check_mode_damping(v)
             continue
+        if f.name == "profile" or (f.name in OPTIONAL_FIELDS and v is None):
+            continue
+        if f.name == "crown_radius" and d.profile is not None and v == math.inf:
+            continue  # a straight (conical or flat) tread
         if isinstance(v, bool) or not isinstance(v, (int, float)):
             raise DesignError(f"{f.name} must be a number, got {type(v).__name__} {v!r}")
         if not math.isfinite(v):
             raise DesignError(f"{f.name} must be finite, got {v}")
-        if f.name == "web_offset":
+        if f.name in ("web_offset", "web_offset_rim"):
+            continue
+        if f.name in ("hub_radius", "hub_width", "fillet_rim", "fillet_hub"):
+            if v < 0:
+                raise DesignError(f"{f.name} must be >= 0 (0: none), got {v}")
             continue
         if f.name == "poissons_ratio":
             if not -1.0 < v < 0.5:
@@ -385,11 +548,17 @@ def validate(d: WheelDesign) -> None:
             raise DesignError(_unit_hint(key, v, low, high, guesses, unit))
     for key in _SIZES:
         v = getattr(d, key)
-        if abs(v) > MAX_LENGTH_M:
+        if v is not None and abs(v) > MAX_LENGTH_M:
             raise DesignError(
                 f"{key} = {v:g} m is longer than any wheel ({MAX_LENGTH_M:g} m): "
                 f"it looks like millimetres; write {v / 1000:g}"
             )
+    if d.profile is None:
+        _validate_parametric(d)
+
+
+def _validate_parametric(d: WheelDesign) -> None:
+    """The relations between the [wheel] parameters, then the outline they make."""
     if d.rim_depth >= d.rolling_radius:
         raise DesignError(f"rim_depth must be below rolling_radius ({d.rolling_radius} m), got {d.rim_depth}")
     if d.crown_radius < d.rim_width / 2:
@@ -401,14 +570,34 @@ def validate(d: WheelDesign) -> None:
             "bore_radius must be below the rim inner radius "
             f"(rolling_radius - rim_depth = {d.rim_inner_radius:.6g} m), got {d.bore_radius}"
         )
-    if d.web_thickness > d.rim_width:
+    t_rim = d.web_thickness if d.web_thickness_rim is None else d.web_thickness_rim
+    o_rim = d.web_offset if d.web_offset_rim is None else d.web_offset_rim
+    if d.web_thickness > d.rim_width and d.hub_radius == 0:
         raise DesignError(f"web_thickness must not exceed rim_width ({d.rim_width} m), got {d.web_thickness}")
-    limit = (d.rim_width - d.web_thickness) / 2
-    if abs(d.web_offset) > limit * (1 + 1e-12):
+    if t_rim > d.rim_width:
+        raise DesignError(f"web_thickness_rim must not exceed rim_width ({d.rim_width} m), got {t_rim}")
+    limit = (d.rim_width - t_rim) / 2
+    name = "web_offset" if d.web_offset_rim is None else "web_offset_rim"
+    if abs(o_rim) > limit * (1 + 1e-12):
         raise DesignError(
-            f"web_offset must be within +-(rim_width - web_thickness)/2 = +-{limit:.6g} m "
-            f"so that the web stays inside the rim, got {d.web_offset}"
+            f"{name} must be within +-(rim_width - web thickness at the rim)/2 = +-{limit:.6g} m "
+            f"so that the web stays inside the rim, got {o_rim}"
         )
+    if d.hub_width > 0 and d.hub_radius == 0:
+        raise DesignError("hub_width needs hub_radius (the hub's outer radius)")
+    if d.hub_radius > 0:
+        if not d.bore_radius < d.hub_radius < d.rim_inner_radius:
+            raise DesignError(
+                f"hub_radius must lie between bore_radius ({d.bore_radius} m) and the rim inner "
+                f"radius ({d.rim_inner_radius:.6g} m), got {d.hub_radius}"
+            )
+        if d.hub_width < d.web_thickness:
+            raise DesignError(
+                f"hub_width must be at least the web thickness at the hub ({d.web_thickness} m), "
+                f"got {d.hub_width}"
+            )
+    elif d.fillet_hub > 0:
+        raise DesignError("fillet_hub needs a hub (hub_radius, hub_width)")
     # The rim must keep material between its inner radius and the tread at the faces.
     if tread_radius(d, d.rim_width / 2) <= d.rim_inner_radius:
         raise DesignError(
@@ -416,12 +605,17 @@ def validate(d: WheelDesign) -> None:
             f"(r = {tread_radius(d, d.rim_width / 2):.6g} m) lies inside the rim inner radius "
             f"({d.rim_inner_radius:.6g} m); increase rim_depth or crown_radius"
         )
+    try:  # the outline the parameters make: the fillets fit, nothing overlaps
+        parametric_outline(d)
+    except OutlineError as exc:
+        raise DesignError(f"design {d.name!r}: {exc}") from None
 
 
 __all__ = [
     "DesignError",
     "WheelDesign",
     "SECTIONS",
+    "OPTIONAL_FIELDS",
     "STRUCTURAL_FIELDS",
     "load_design",
     "tread_radius",

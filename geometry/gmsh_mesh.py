@@ -1,7 +1,9 @@
 """gmsh meshes of a wheel design: the 2-D profile and the 3-D revolved solid.
 
 Both are built with the gmsh Python API and the OpenCASCADE kernel from the outline of
-:func:`geometry.profile.half_profile` (straight segments and the crowned tread arc).
+:func:`geometry.profile.half_profile` (straight segments and circular arcs: the tread,
+fillets, any outline's arcs; arcs over 90 degrees are split, and the segment holding the
+contact point is split there so that the contact is a mesh node).
 Every call initialises gmsh, builds one model, meshes it, copies the result into numpy
 arrays and finalises gmsh again (also on errors): no gmsh state survives a call. gmsh
 failures become :class:`~geometry.mesh.MeshError`. Invalid designs never reach gmsh: a
@@ -31,7 +33,7 @@ from .mesh import (
     mesh_size,
     readonly,
 )
-from .profile import half_profile, profile_area, revolved_volume
+from .profile import half_profile
 from .simplex import inverted, jacobians, orient, straighten
 
 __all__ = ["gmsh_session", "mesh_profile", "mesh_wheel"]
@@ -47,7 +49,8 @@ _STRAIGHT_TOL = 2e-3
 
 def _measure_error(points, cells, dim, order, design) -> float:
     det, _, w = jacobians(points, cells, dim, order)
-    exact = profile_area(design) if dim == 2 else revolved_volume(design)
+    prof = half_profile(design)
+    exact = prof.area() if dim == 2 else prof.revolved_volume()
     return abs(float((det @ w).sum()) / exact - 1.0)
 
 
@@ -117,21 +120,22 @@ _OPTIONS_TOUCHED = (
 )
 
 
-def _outline(design: WheelDesign) -> tuple[list[tuple[float, float]], list[str]]:
-    """Profile vertices and segment kinds ('bore', 'line', 'arc'), with segments shorter
-    than _SNAP merged into a neighbour (never moving the arc's end points)."""
+def _outline(design: WheelDesign) -> tuple[list[tuple[float, float]], list[str], list[float]]:
+    """Profile vertices, segment kinds ('bore', 'line', 'arc') and bulges, with straight
+    segments shorter than _SNAP merged into a neighbour (never moving an arc's end
+    points)."""
     prof = half_profile(design)
-    verts = [tuple(map(float, v)) for v in prof.vertices]
-    kinds = ["line"] * len(verts)
-    kinds[prof.arc[0]] = "arc"
-    for i in prof.bore:
+    verts = [(float(r), float(z)) for r, z in prof.points]
+    bulges = [float(b) for b in prof.bulges]
+    kinds = ["line" if b == 0.0 else "arc" for b in bulges]
+    for i in prof.clamp:
         kinds[i] = "bore"
     while True:
         n = len(verts)
         snap = _SNAP * design.rolling_radius
         short = [i for i in range(n) if math.dist(verts[i], verts[(i + 1) % n]) < snap]
         if not short:
-            return verts, kinds
+            return verts, kinds, bulges
         i = short[0]
         if kinds[i] != "line":
             raise MeshError(
@@ -141,70 +145,126 @@ def _outline(design: WheelDesign) -> tuple[list[tuple[float, float]], list[str]]
             )
         j = (i + 1) % n
         if kinds[j] == "line":  # drop vertex j: segment i absorbs segment j
-            del verts[j]
-            del kinds[j]
+            del verts[j], kinds[j], bulges[j]
         elif kinds[(i - 1) % n] == "line":  # drop vertex i: segment i-1 absorbs segment i
-            del verts[i]
-            del kinds[i]
+            del verts[i], kinds[i], bulges[i]
         else:
             raise MeshError(f"design {design.name!r}: degenerate profile near {verts[i]}")
 
 
+def _pieces(p, q, bulge: float, contact) -> list[tuple[np.ndarray, np.ndarray, np.ndarray | None]]:
+    """Segment p -> q as gmsh pieces (start, end, arc centre or None): split at the
+    contact point if it lies inside, and arcs into pieces of at most 90 degrees."""
+    p, q = np.asarray(p, float), np.asarray(q, float)
+    c = np.asarray(contact, float)
+    if bulge == 0.0:
+        d = q - p
+        t = float((c - p) @ d / (d @ d))
+        off = np.linalg.norm(p + t * d - c)
+        if 0 < t < 1 and off <= 1e-12 * np.linalg.norm(c) and min(t, 1 - t) * np.linalg.norm(d) > 0:
+            return [(p, c, None), (c, q, None)]
+        return [(p, q, None)]
+    d = q - p
+    centre = (p + q) / 2 + (1 - bulge * bulge) / (4 * bulge) * np.array([-d[1], d[0]])
+    radius = float(np.linalg.norm(p - centre))
+    phi0 = math.atan2(p[1] - centre[1], p[0] - centre[0])
+    theta = 4 * math.atan(bulge)
+    cuts = [0.0, 1.0]
+    rel = c - centre
+    if abs(np.linalg.norm(rel) - radius) <= 1e-12 * np.linalg.norm(c):
+        s = ((math.atan2(rel[1], rel[0]) - phi0) * math.copysign(1, theta)) % (2 * math.pi) / abs(theta)
+        if 1e-9 < s < 1 - 1e-9:
+            cuts.append(s)
+    pieces = int(math.ceil(abs(theta) / (math.pi / 2) - 1e-9))
+    cuts += [k / pieces for k in range(1, pieces)]
+    cuts = sorted(set(cuts))
+
+    def at(s: float) -> np.ndarray:
+        if s == 0.0:
+            return p
+        if s == 1.0:
+            return q
+        if len(cuts) > 2 and abs(np.linalg.norm(rel) - radius) <= 1e-12 * np.linalg.norm(c):
+            phi_c = math.atan2(rel[1], rel[0])
+            if abs(((phi_c - phi0) * math.copysign(1, theta)) % (2 * math.pi) / abs(theta) - s) < 1e-12:
+                return c  # the contact point exactly
+        phi = phi0 + s * theta
+        return centre + radius * np.array([math.cos(phi), math.sin(phi)])
+
+    return [(at(a), at(b), centre) for a, b in zip(cuts[:-1], cuts[1:])]
+
+
 def _build_profile_surface(gmsh, design: WheelDesign, h: float, dim: int):
     """Add the profile as an OCC plane surface. For dim 2 it lies in the (x=r, y=z)
-    plane, for dim 3 in the (x=r, z=z) half-plane y = 0. The tread arc is split at its
-    apex so that the contact point is a geometric vertex. Returns the surface tag and the
-    curve tags of the bore and of the tread."""
+    plane, for dim 3 in the (x=r, z=z) half-plane y = 0. The segment holding the contact
+    point is split there, so that the contact point is a geometric vertex. Returns the
+    surface tag and the curve tags of the bore and of the tread (the segment holding the
+    contact point)."""
     occ = gmsh.model.occ
-    verts, kinds = _outline(design)
+    verts, kinds, bulges = _outline(design)
+    contact = (design.rolling_radius, 0.0)
 
     L = design.rolling_radius  # unit of length inside gmsh
+    tags: dict[tuple[float, float], int] = {}
 
-    def point(r: float, z: float) -> int:
-        r, z = r / L, z / L
-        return occ.addPoint(r, z, 0.0, h / L) if dim == 2 else occ.addPoint(r, 0.0, z, h / L)
+    def point(xy) -> int:
+        key = (float(xy[0]), float(xy[1]))
+        if key not in tags:
+            r, z = key[0] / L, key[1] / L
+            tags[key] = occ.addPoint(r, z, 0.0, h / L) if dim == 2 else occ.addPoint(r, 0.0, z, h / L)
+        return tags[key]
 
-    tags = [point(r, z) for r, z in verts]
-    centre = point(design.rolling_radius - design.crown_radius, 0.0)
-    apex = point(design.rolling_radius, 0.0)
-    curves, bore, tread = [], [], []
+    prof = half_profile(design)
+    tread_segment = (prof.contact_segment(),)
+    curves, bore, tread, centres = [], [], [], []
     n = len(verts)
     for i, kind in enumerate(kinds):
-        a, b = tags[i], tags[(i + 1) % n]
-        if kind == "arc":
-            c1 = occ.addCircleArc(a, centre, apex)
-            c2 = occ.addCircleArc(apex, centre, b)
-            curves += [c1, c2]
-            tread += [c1, c2]
-        else:
-            c = occ.addLine(a, b)
+        for a, b, centre in _pieces(verts[i], verts[(i + 1) % n], bulges[i], contact):
+            mid = (a + b) / 2
+            if centre is not None:
+                mid = centre + np.linalg.norm(a - centre) * (mid - centre) / np.linalg.norm(mid - centre)
+            on_tread = kind != "bore" and prof.distance(mid[None], tread_segment)[0] <= 1e-9 * L
+            if centre is None:
+                c = occ.addLine(point(a), point(b))
+            else:
+                pc = (
+                    occ.addPoint(centre[0] / L, centre[1] / L, 0.0)
+                    if dim == 2
+                    else occ.addPoint(centre[0] / L, 0.0, centre[1] / L)
+                )
+                centres.append(pc)
+                c = occ.addCircleArc(point(a), pc, point(b))
             curves.append(c)
             if kind == "bore":
                 bore.append(c)
+            if on_tread:
+                tread.append(c)
+    if not tread:
+        raise MeshError(f"design {design.name!r}: the contact point's segment was lost in meshing")
     loop = occ.addCurveLoop(curves)
     surface = occ.addPlaneSurface([loop])
-    occ.remove([(0, centre)])
+    occ.remove([(0, c) for c in centres])
     return surface, bore, tread
 
 
 def _classify_surfaces(gmsh, design: WheelDesign, volume: int):
     """Bore and tread surfaces of the revolved solid, found by sampling each boundary
-    surface: all samples at r = bore_radius, or all on the crown circle."""
+    surface: all samples on a clamped segment, or all on the contact point's segment."""
     L = design.rolling_radius  # gmsh works in units of the rolling radius
-    rb, R = design.bore_radius / L, design.crown_radius / L
-    c = 1.0 - R
-    tol = 1e-9 * (1.0 + R)
+    prof = half_profile(design)
+    tol = 1e-9 * L
+    tread_segment = (prof.contact_segment(),)
     s = np.linspace(0.1, 0.9, 5)
     bore, tread = [], []
     for _, tag in gmsh.model.getBoundary([(3, volume)], oriented=False):
         (umin, vmin), (umax, vmax) = np.asarray(gmsh.model.getParametrizationBounds(2, tag))
         U, V = np.meshgrid(umin + s * (umax - umin), vmin + s * (vmax - vmin))
         uv = np.column_stack([U.ravel(), V.ravel()]).ravel()
-        xyz = np.asarray(gmsh.model.getValue(2, tag, uv)).reshape(-1, 3)
-        r, z = np.hypot(xyz[:, 0], xyz[:, 1]), xyz[:, 2]
-        if np.all(np.abs(r - rb) < tol):
+        xyz = np.asarray(gmsh.model.getValue(2, tag, uv)).reshape(-1, 3) * L
+        rz = np.column_stack([np.hypot(xyz[:, 0], xyz[:, 1]), xyz[:, 2]])
+        if np.all(prof.distance(rz, prof.clamp) < tol):
             bore.append(tag)
-        elif np.all(np.abs(np.hypot(r - c, z) - R) < tol):
+        elif np.all(prof.distance(rz, tread_segment) < tol):
             tread.append(tag)
     if not bore or not tread:
         raise MeshError(
@@ -259,8 +319,8 @@ class _Sizer:
         self.dim = dim
         self.rb = design.bore_radius / L
         self.h_bore = bore_size(design, h) / L
-        self.rings = np.zeros((0, 4))  # r, z, radius, size (gmsh units)
         self.L = L
+        self.rings = np.zeros((0, 4))  # r, z, radius, size (gmsh units)
 
     def __call__(self, dim, tag, x, y, z, lc):
         r, zz = (x, y) if self.dim == 2 else (math.hypot(x, y), z)

@@ -13,7 +13,8 @@ the (r, z) plane; tetrahedra with positive Jacobian). Second-order meshes are cu
 mid-edge nodes on the bore and the tread lie on the true cylinder / crown surface.
 Mesh size
     One characteristic length ``size`` [m] everywhere, or ``elements_through_web``
-    (size = web_thickness / n). Default (neither given):
+    (size = wall_thickness / n: the web's thickness, its thinner end if it tapers, an
+    outline's thinnest wall). Default (neither given):
     :data:`DEFAULT_ELEMENTS_THROUGH_WEB` = ``{2: 2, 3: 1}``, i.e. web_thickness / 2 for
     the profile (7.5 mm for Table 1: about 400 P2 nodes; the axisymmetric solver gets
     every mode below 5 kHz within 0.15 % on it) and web_thickness / 1 in 3-D (15 mm:
@@ -301,7 +302,8 @@ def mesh_size(
     dim: int = 3,
 ) -> float:
     """The characteristic length [m] from ``size`` or ``elements_through_web`` (not both);
-    default ``web_thickness / DEFAULT_ELEMENTS_THROUGH_WEB[dim]``."""
+    default ``wall_thickness / DEFAULT_ELEMENTS_THROUGH_WEB[dim]`` (the thinnest wall:
+    :attr:`WheelDesign.wall_thickness`)."""
     if dim not in DEFAULT_ELEMENTS_THROUGH_WEB:
         raise ValueError(f"dim must be 2 or 3, got {dim!r}")
     if size is not None and elements_through_web is not None:
@@ -315,7 +317,7 @@ def mesh_size(
     n = DEFAULT_ELEMENTS_THROUGH_WEB[dim] if elements_through_web is None else elements_through_web
     if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < 1:
         raise ValueError(f"elements_through_web must be a positive integer, got {n!r}")
-    return design.web_thickness / int(n)
+    return design.wall_thickness / int(n)
 
 
 def bore_size(design: WheelDesign, h: float) -> float:
@@ -337,12 +339,10 @@ def estimate_element_count(design: WheelDesign, h: float, dim: int) -> int:
     """
     from .profile import profile_area, revolved_volume
 
-    t = design.web_thickness
+    t = design.wall_thickness
     hb = bore_size(design, h)
     if dim == 2:
-        verts = half_profile(design).vertices
-        perimeter = float(np.sum(np.linalg.norm(np.roll(verts, -1, axis=0) - verts, axis=1)))
-        est = 2.3 * profile_area(design) / h**2 + perimeter / h
+        est = 2.3 * profile_area(design) / h**2 + half_profile(design).perimeter() / h
         if hb < h:
             est += 6.0 * t / hb
     else:

@@ -37,6 +37,7 @@ from geometry import (
     wheel_mass,
 )
 from geometry import gmsh_mesh as gmesh
+from geometry.design import OPTIONAL_FIELDS
 from geometry.simplex import EDGES
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -76,9 +77,12 @@ def test_design_files_exist_and_are_complete():
         data = tomllib.loads(path.read_text())
         assert data["name"] == path.stem
         assert len(data["description"]) > 40, path
-        for section, keys in SECTIONS.items():  # every key explicit
+        for section, keys in SECTIONS.items():  # every key explicit (optional shape keys may be left out)
+            if section == "wheel" and "profile" in data:
+                assert section not in data, path  # an outline design has no [wheel]
+                continue
             toml_keys = {k.removeprefix("roller_") for k in keys}
-            assert set(data[section]) == toml_keys, (path, section)
+            assert toml_keys - set(OPTIONAL_FIELDS) <= set(data[section]) <= toml_keys, (path, section)
 
 
 def test_table1_file_is_the_default_design():
@@ -158,26 +162,9 @@ def _numeric_area_volume(d: WheelDesign) -> tuple[float, float]:
 
 
 def _polygon_area_volume(d: WheelDesign, n_arc: int = 20000) -> tuple[float, float]:
-    """Dense polygon of half_profile (arc sampled at n_arc points): shoelace area and
+    """Dense polygon of half_profile (arcs cut in n_arc chords): shoelace area and
     Pappus volume 2 pi int r dA = 2 pi |oint r^2/2 dz|."""
-    prof = half_profile(d)
-    v = prof.vertices
-    i_arc, centre = prof.arc
-    pts = []
-    for i in range(len(v)):
-        a, b = v[i], v[(i + 1) % len(v)]
-        if i == i_arc:
-            ta = math.atan2(a[1] - centre[1], a[0] - centre[0])
-            tb = math.atan2(b[1] - centre[1], b[0] - centre[0])
-            t = np.linspace(ta, tb, n_arc, endpoint=False)
-            pts.append(
-                np.column_stack(
-                    [centre[0] + d.crown_radius * np.cos(t), centre[1] + d.crown_radius * np.sin(t)]
-                )
-            )
-        else:
-            pts.append(a[None, :])
-    p = np.concatenate(pts)
+    p, _ = half_profile(d).polygon(n_arc)
     r, z = p[:, 0], p[:, 1]
     r2, z2 = np.roll(r, -1), np.roll(z, -1)
     area = 0.5 * abs(np.sum(r * z2 - r2 * z))
@@ -191,27 +178,47 @@ ALL_DESIGNS = {**DESIGNS, **DEGENERATE}
 @pytest.mark.parametrize("name", sorted(ALL_DESIGNS))
 def test_exact_area_and_volume_against_independent_integration(name):
     d = ALL_DESIGNS[name]
-    area, vol = _numeric_area_volume(d)
-    assert profile_area(d) == pytest.approx(area, rel=1e-10)
-    assert revolved_volume(d) == pytest.approx(vol, rel=1e-10)
     parea, pvol = _polygon_area_volume(d)  # the outline of half_profile itself
-    assert parea == pytest.approx(area, rel=1e-6)
-    assert pvol == pytest.approx(vol, rel=1e-6)
+    if _flat_parametric(d):  # slice by slice from the design's definition
+        area, vol = _numeric_area_volume(d)
+        assert profile_area(d) == pytest.approx(area, rel=1e-10)
+        assert revolved_volume(d) == pytest.approx(vol, rel=1e-10)
+        assert parea == pytest.approx(area, rel=1e-6)
+        assert pvol == pytest.approx(vol, rel=1e-6)
+    else:  # hub, fillets, outlines: the dense polygon (chord error ~ (theta / 20000)^2)
+        assert profile_area(d) == pytest.approx(parea, rel=1e-9)
+        assert revolved_volume(d) == pytest.approx(pvol, rel=1e-9)
+
+
+def _flat_parametric(d: WheelDesign) -> bool:
+    """The original parametric shape: no outline, no hub, taper, cone or fillet."""
+    return not d.is_outline and all(getattr(d, k) == v for k, v in OPTIONAL_FIELDS.items())
+
+
+def _has_small_arcs(d: WheelDesign, h: float) -> bool:
+    """An arc (fillet, flange tip) of radius below the mesh size: P2 elements then carry
+    a geometric error of about 1e-6 of the area, and in 3-D a few mid-nodes may be left
+    straight (gmsh_mesh._STRAIGHT_TOL)."""
+    prof = half_profile(d)
+    return any((a := prof.arc(i)) is not None and a[1] < h for i in range(prof.n_segments))
 
 
 def test_profile_outline():
     prof = half_profile(T1)
-    assert prof.contact_point == (T1.rolling_radius, 0.0)
-    v = prof.vertices
-    bore = prof.bore[0]
+    assert prof.contact == (T1.rolling_radius, 0.0)
+    v = np.array(prof.points)
+    (bore,) = prof.clamp
     assert np.allclose(v[[bore, bore + 1], 0], T1.bore_radius)
-    i = prof.arc[0]
+    (i,) = np.nonzero(prof.bulges)[0]  # the tread, the only arc
+    assert prof.contact_segment() == i
     assert np.allclose(v[[i, (i + 1) % len(v)], 0], T1.tread_edge_radius)
-    r, z = v[:, 0], v[:, 1]  # clockwise in (r, z), as documented
-    assert 0.5 * np.sum(r * np.roll(z, -1) - np.roll(r, -1) * z) < 0
+    assert prof.arc(i)[1] == pytest.approx(T1.crown_radius, rel=1e-12)
+    assert prof.contact_crown_radius() == pytest.approx(T1.crown_radius, rel=1e-12)
+    assert prof.orientation == -1  # clockwise in (r, z), as documented
+    assert prof.wall_thickness() == T1.web_thickness and prof.is_mirror_symmetric()
     # web flush with both rim faces: the zero-length segments are dropped
-    assert len(half_profile(DEGENERATE["flat_plate_rim_eq_web"]).vertices) == 6
-    assert len(half_profile(DEGENERATE["web_flush_with_rim_face"]).vertices) == 7
+    assert len(half_profile(DEGENERATE["flat_plate_rim_eq_web"]).points) == 6
+    assert len(half_profile(DEGENERATE["web_flush_with_rim_face"]).points) == 7
 
 
 # --------------------------------------------------------------------------------------
@@ -340,9 +347,11 @@ def test_mesh_size():
 def test_3d_volume_at_default_size(name):
     d = DESIGNS[name]
     m = cached_mesh(d, 3, 2)
-    assert m.size == pytest.approx(d.web_thickness)
+    assert m.size == pytest.approx(d.wall_thickness)
     assert m.volume() == pytest.approx(revolved_volume(d), rel=5e-3)
-    assert m.volume() == pytest.approx(revolved_volume(d), rel=1e-5)  # what it really gives
+    # what it really gives: 1e-5, or within the straightening tolerance with fillets
+    rel = 2e-3 if _has_small_arcs(d, m.size) else 1e-5
+    assert m.volume() == pytest.approx(revolved_volume(d), rel=rel)
 
 
 @pytest.mark.parametrize("name", sorted(DESIGNS))
@@ -351,7 +360,7 @@ def test_2d_area_at_default_size(name):
     m = cached_mesh(d, 2, 2)
     assert m.area() == pytest.approx(profile_area(d), rel=1e-3)
     assert m.revolved_volume() == pytest.approx(revolved_volume(d), rel=1e-3)
-    assert m.area() == pytest.approx(profile_area(d), rel=1e-8)
+    assert m.area() == pytest.approx(profile_area(d), rel=1e-5 if _has_small_arcs(d, m.size) else 1e-8)
 
 
 @pytest.mark.parametrize("dim", [2, 3])

@@ -526,7 +526,7 @@ _NUMERIC = {
     k: getattr(WheelDesign(), k)
     for keys in SECTIONS.values()
     for k in keys
-    if getattr(WheelDesign(), k) != 0.0
+    if getattr(WheelDesign(), k) not in (0.0, None)  # the optional shape keys are absent
 }
 _MEMORY_CAP = 4 << 30
 
@@ -541,7 +541,9 @@ def _toml(values: dict) -> str:
     lines = ['name = "probe"']
     for section, keys in SECTIONS.items():
         lines.append(f"[{section}]")
-        lines += [f"{k.removeprefix('roller_') if section == 'roller' else k} = {d[k]!r}" for k in keys]
+        lines += [
+            f"{k.removeprefix('roller_') if section == 'roller' else k} = {d[k]!r}" for k in keys if k in d
+        ]
     return "\n".join(lines) + "\n"
 
 
