@@ -206,8 +206,9 @@ class WheelDesign:
         if self.profile is not None and "profile" not in changes:
             fixed = sorted(set(changes) & set(SECTIONS["wheel"]))
             if fixed:
+                verb = "is" if len(fixed) == 1 else "are"
                 raise DesignError(
-                    f"design {self.name!r} is an outline: {', '.join(fixed)} follow from its "
+                    f"design {self.name!r} is an outline: {', '.join(fixed)} {verb} set by its "
                     "[profile]; change the outline instead"
                 )
         return dataclasses.replace(self, **changes)

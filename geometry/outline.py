@@ -38,6 +38,8 @@ class OutlineError(ValueError):
     """An invalid outline; the message names the problem (and the segment or point)."""
 
 
+#: Bulges below this are straight segments.
+STRAIGHT_BULGE = 2e-9
 #: Chords per arc where a curve is approximated by a polygon (self-intersection check,
 #: thickness and mid-surface sampling): sagitta below 1.2e-4 of the radius for a half
 #: circle, far below any mesh size.
@@ -71,6 +73,10 @@ class Outline:
     min_segment_rel: float = field(default=MIN_SEGMENT_REL, compare=False, repr=False)
 
     def __post_init__(self) -> None:
+        # a sagitta below 1e-9 of the chord is a straight segment (and a centre at
+        # 1e9 chords is round-off)
+        flat = tuple(0.0 if abs(b) < STRAIGHT_BULGE else float(b) for b in self.bulges)
+        object.__setattr__(self, "bulges", flat)
         check(self)
 
     # -- segments ---------------------------------------------------------------------
@@ -422,6 +428,12 @@ def _check_simple(poly: np.ndarray, seg: np.ndarray, k: int) -> None:
     o1, o2 = orient(a[i], b[i], a[j]), orient(a[i], b[i], b[j])
     o3, o4 = orient(a[j], b[j], a[i]), orient(a[j], b[j], b[i])
     hit = (np.sign(o1) != np.sign(o2)) & (np.sign(o3) != np.sign(o4))
+    # collinear edges overlapping (all four orientations zero): compare their extents
+    flat = (o1 == 0) & (o2 == 0) & (o3 == 0) & (o4 == 0)
+    if flat.any():
+        lo_i, hi_i = np.minimum(a[i], b[i]), np.maximum(a[i], b[i])
+        lo_j, hi_j = np.minimum(a[j], b[j]), np.maximum(a[j], b[j])
+        hit |= flat & np.all((lo_i <= hi_j) & (lo_j <= hi_i), axis=1)
     if hit.any():
         m = int(np.argmax(hit))
         raise OutlineError(
