@@ -476,21 +476,7 @@ _UNIT_RANGES: dict[str, tuple[float, float, tuple[tuple[float, str], ...]]] = {
 #: Largest size of a wheel or roller [m] before it reads as millimetres (the crown radii
 #: are curvatures, not sizes: a nearly flat tread has a very large one).
 MAX_LENGTH_M = 10.0
-_SIZES = (
-    "rolling_radius",
-    "rim_width",
-    "rim_depth",
-    "web_thickness",
-    "bore_radius",
-    "web_offset",
-    "web_thickness_rim",
-    "web_offset_rim",
-    "hub_radius",
-    "hub_width",
-    "fillet_rim",
-    "fillet_hub",
-    "roller_rolling_radius",
-)
+_SIZES = tuple(k for k in SECTIONS["wheel"] if k != "crown_radius") + ("roller_rolling_radius",)
 
 
 def _unit_hint(

@@ -203,14 +203,11 @@ def _toml_profile(p: dict) -> str:
 
 @pytest.mark.parametrize("case", sorted(BAD))
 def test_bad_outlines_are_refused_in_one_line(case, tmp_path):
+    """In the API a DesignError naming the problem; from the CLI that one line, exit 2
+    and nothing written."""
     profile, phrase = BAD[case]
     with pytest.raises(DesignError, match=phrase):
         WheelDesign.from_mapping(tomllib.loads(_toml_profile(profile)))
-
-
-def test_bad_outline_from_the_cli(tmp_path):
-    """The CLI path: one line naming the problem, exit 2, nothing written."""
-    profile, phrase = BAD["self-intersecting"]
     path = tmp_path / "bad.toml"
     path.write_text(_toml_profile(profile))
     out = tmp_path / "out"
@@ -258,6 +255,35 @@ def test_perturbed_table1_outlines_mesh_and_solve(dz, dr_rim, dr_bore, web_bulge
     assert f == sorted(f) and f[0] > 100.0
     m30 = [x for x in ms.modes if key(x) == (3, 0, "axial")]
     assert len(m30) == 1 and 0.7 < m30[0].frequency_hz / 1136.0 < 1.4
+
+
+span = st.floats(0.0, 1.0)
+
+
+@settings(max_examples=10, deadline=None, derandomize=True, suppress_health_check=[HealthCheck.too_slow])
+@given(hub=st.booleans(), u=st.tuples(span, span, span, span, span, span))
+def test_extended_parametric_wheels_are_valid_or_refused(hub, u):
+    """Random hubs, tapers, cones and fillets on the Table 1 wheel: either a DesignError
+    naming the problem (a fillet that does not fit, a web outside the rim) or a wheel
+    that meshes to its exact area and solves; never anything else."""
+    changes = dict(
+        web_thickness_rim=0.008 + 0.008 * u[0],
+        web_offset_rim=0.003 * (2 * u[1] - 1),
+        fillet_rim=0.004 * u[2],
+    )
+    if hub:
+        changes |= dict(
+            hub_radius=0.04 + 0.08 * u[3], hub_width=0.015 + 0.035 * u[4], fillet_hub=0.008 * u[5]
+        )
+    try:
+        d = TABLE1.replace(**changes)
+    except DesignError as exc:
+        assert "\n" not in str(exc)
+        return
+    m = mesh_profile(d, elements_through_web=1)
+    assert m.area() == pytest.approx(profile_area(d), rel=1e-5)
+    ms = solve_axisymmetric(d, m, curved=True, fmax_hz=2000.0)
+    assert len(ms.modes) >= 3 and all(x.frequency_hz > 100.0 for x in ms.modes)
 
 
 # -- a hubbed, tapered, curved web: both solvers agree and converge ------------------------------
