@@ -479,6 +479,7 @@ def _solve_axisymmetric(
         cells={"wedge": wedges},
         shapes=shapes,
         solver="axisym",
+        contact_point=(design.rolling_radius, 0.0, 0.0),
         dofs=int(dofs_total),
         timings_s={
             "mesh": t_mesh - t_start,

@@ -357,6 +357,7 @@ def _solve(design, mesh, fmax_hz, k, boundary, factorization, t0, t_mesh) -> Mod
         cells={"tetra": np.asarray(mesh.tetra)[:, :4].copy()},
         shapes=shapes,
         solver=f"3d-cyclic-p{2 if mesh.order == 2 else 1}",
+        contact_point=(design.rolling_radius, 0.0, 0.0),
         dofs=int(N * nfree),
         timings_s={
             "mesh": t_mesh - t0,

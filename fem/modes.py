@@ -244,6 +244,8 @@ class ModeSet:
     ``(members, n_points, 3)``: Cartesian displacement (x, y, z) at ``points`` of the
     visualisation mesh (for the axisymmetric solver: the shapes expanded onto a
     revolved mesh). ``cells`` are that mesh's cells as ``{meshio cell type: array}``.
+    ``contact_point``: (R1, 0, 0), the contact point [m] (None: the mesh's largest
+    radius at z = 0, right for a wheel whose tread apex is its largest radius).
     """
 
     modes: list[Mode]
@@ -253,6 +255,7 @@ class ModeSet:
     solver: str
     dofs: int
     timings_s: dict[str, float] = field(default_factory=dict)
+    contact_point: tuple[float, float, float] | None = None
 
     def to_arrays(self) -> dict[str, np.ndarray]:
         """The mode set as plain arrays (the metadata as one JSON string), for ``.npz``
@@ -263,6 +266,7 @@ class ModeSet:
             "dofs": int(self.dofs),
             "timings_s": self.timings_s,
             "cell_types": list(self.cells),
+            "contact_point": self.contact_point,
         }
         arrays = {"meta": np.array(json.dumps(meta)), "points": np.asarray(self.points, float)}
         for name, conn in self.cells.items():
@@ -284,6 +288,7 @@ class ModeSet:
             solver=meta["solver"],
             dofs=meta["dofs"],
             timings_s=meta["timings_s"],
+            contact_point=None if meta.get("contact_point") is None else tuple(meta["contact_point"]),
         )
 
 

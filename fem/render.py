@@ -94,13 +94,13 @@ CAMERAS = ("iso", "front", "side")
 
 # --------------------------------------------------------------------------- shapes
 def contact_point_index(modeset: ModeSet) -> int:
-    """Index of the mesh point nearest the contact point (R1, 0, 0).
-
-    R1 is the largest radius of the mesh (the tread apex of a crowned wheel).
-    """
+    """Index of the mesh point nearest the contact point (``modeset.contact_point``; if
+    the mode set does not say, (R1, 0, 0) with R1 the largest radius of the mesh)."""
     p = np.asarray(modeset.points, dtype=float)
-    r1 = float(np.hypot(p[:, 0], p[:, 1]).max())
-    return int(np.argmin(np.sum((p - [r1, 0.0, 0.0]) ** 2, axis=1)))
+    target = modeset.contact_point
+    if target is None:
+        target = (float(np.hypot(p[:, 0], p[:, 1]).max()), 0.0, 0.0)
+    return int(np.argmin(np.sum((p - np.asarray(target)) ** 2, axis=1)))
 
 
 def _pair_basis(modeset: ModeSet, i: int) -> tuple[np.ndarray, np.ndarray | None]:

@@ -435,6 +435,7 @@ def solve_model(
         cells={"tetra": A.mesh.t.T.copy()},
         shapes=shapes,
         solver=f"3d-p{order}",
+        contact_point=(design.rolling_radius, 0.0, 0.0),
         dofs=int(A.free.size),
         timings_s={"eigen": t_eig, "label": t_lab, "total": t_eig + t_lab},
     )

@@ -10,7 +10,7 @@ Node ordering is meshio's (= VTK's): ``triangle6`` = 3 vertices then the mid-nod
 edges (0,1), (1,2), (2,0); ``tetra10`` = 4 vertices then edges (0,1), (1,2), (2,0),
 (0,3), (1,3), (2,3). Elements are positively oriented (counter-clockwise triangles in
 the (r, z) plane; tetrahedra with positive Jacobian). Second-order meshes are curved:
-mid-edge nodes on the bore and the tread lie on the true cylinder / crown surface.
+mid-edge nodes on the boundary lie on the true bore cylinder, tread and arcs.
 Mesh size
     One characteristic length ``size`` [m] everywhere, or ``elements_through_web``
     (size = wall_thickness / n: the web's thickness, its thinner end if it tapers, an
@@ -152,7 +152,8 @@ class ProfileMesh(_MeshBase):
 
     ``points`` (N, 2) [r, z] in m; ``triangles`` (M, 3) or (M, 6), meshio ordering,
     counter-clockwise; ``bore_nodes`` / ``tread_nodes``: sorted node indices on the bore
-    (r = bore_radius) and on the crowned tread, mid-edge nodes included;
+    (r = bore_radius) and on the tread (the segment holding the contact point), mid-edge
+    nodes included;
     ``bore_facets`` / ``tread_facets``: boundary edges (K, 2) or (K, 3) (meshio
     ``line``/``line3``: end nodes, then the mid node); ``contact_node``: the node at the
     tread apex (rolling_radius, 0); ``size``: the characteristic length used [m];
@@ -200,8 +201,8 @@ class SolidMesh(_MeshBase):
 
     ``points`` (N, 3) [x, y, z] in m; ``tetra`` (M, 4) or (M, 10), meshio ordering,
     positive Jacobian; ``bore_nodes`` / ``tread_nodes``: sorted node indices on the bore
-    cylinder and on the crowned tread, mid-edge nodes included; ``bore_facets`` /
-    ``tread_facets``: boundary triangles (K, 3) or (K, 6), meshio ordering;
+    cylinder and on the tread (the contact point's segment revolved), mid-edge nodes
+    included; ``bore_facets`` / ``tread_facets``: boundary triangles (K, 3) or (K, 6), meshio ordering;
     ``contact_node``: the node at (rolling_radius, 0, 0); ``size``: the characteristic
     length used [m]; ``straight_mid_nodes``: mid-edge nodes left on their straight edge
     because curving them would invert a thin element (normally empty; never on the bore
