@@ -155,43 +155,32 @@ def _outline(design: WheelDesign) -> tuple[list[tuple[float, float]], list[str],
 def _pieces(p, q, bulge: float, contact) -> list[tuple[np.ndarray, np.ndarray, np.ndarray | None]]:
     """Segment p -> q as gmsh pieces (start, end, arc centre or None): split at the
     contact point if it lies inside, and arcs into pieces of at most 90 degrees."""
-    p, q = np.asarray(p, float), np.asarray(q, float)
-    c = np.asarray(contact, float)
+    p, q, c = (np.asarray(x, float) for x in (p, q, contact))
+    tol = 1e-12 * np.linalg.norm(c)
     if bulge == 0.0:
         d = q - p
         t = float((c - p) @ d / (d @ d))
-        off = np.linalg.norm(p + t * d - c)
-        if 0 < t < 1 and off <= 1e-12 * np.linalg.norm(c) and min(t, 1 - t) * np.linalg.norm(d) > 0:
+        if 0 < t < 1 and np.linalg.norm(p + t * d - c) <= tol:
             return [(p, c, None), (c, q, None)]
         return [(p, q, None)]
     d = q - p
     centre = (p + q) / 2 + (1 - bulge * bulge) / (4 * bulge) * np.array([-d[1], d[0]])
     radius = float(np.linalg.norm(p - centre))
-    phi0 = math.atan2(p[1] - centre[1], p[0] - centre[0])
-    theta = 4 * math.atan(bulge)
-    cuts = [0.0, 1.0]
+    phi0, theta = math.atan2(p[1] - centre[1], p[0] - centre[0]), 4 * math.atan(bulge)
+    cuts = {0.0: p, 1.0: q}  # position along the arc (0..1) -> point
     rel = c - centre
-    if abs(np.linalg.norm(rel) - radius) <= 1e-12 * np.linalg.norm(c):
+    if abs(np.linalg.norm(rel) - radius) <= tol:
         s = ((math.atan2(rel[1], rel[0]) - phi0) * math.copysign(1, theta)) % (2 * math.pi) / abs(theta)
         if 1e-9 < s < 1 - 1e-9:
-            cuts.append(s)
-    pieces = int(math.ceil(abs(theta) / (math.pi / 2) - 1e-9))
-    cuts += [k / pieces for k in range(1, pieces)]
-    cuts = sorted(set(cuts))
-
-    def at(s: float) -> np.ndarray:
-        if s == 0.0:
-            return p
-        if s == 1.0:
-            return q
-        if len(cuts) > 2 and abs(np.linalg.norm(rel) - radius) <= 1e-12 * np.linalg.norm(c):
-            phi_c = math.atan2(rel[1], rel[0])
-            if abs(((phi_c - phi0) * math.copysign(1, theta)) % (2 * math.pi) / abs(theta) - s) < 1e-12:
-                return c  # the contact point exactly
-        phi = phi0 + s * theta
-        return centre + radius * np.array([math.cos(phi), math.sin(phi)])
-
-    return [(at(a), at(b), centre) for a, b in zip(cuts[:-1], cuts[1:])]
+            cuts[s] = c
+    n = int(math.ceil(abs(theta) / (math.pi / 2) - 1e-9))
+    for k in range(1, n):
+        s = k / n
+        if all(abs(s - t) > 0.05 for t in cuts):  # no sliver next to the contact point
+            phi = phi0 + s * theta
+            cuts[s] = centre + radius * np.array([math.cos(phi), math.sin(phi)])
+    order = sorted(cuts)
+    return [(cuts[a], cuts[b], centre) for a, b in zip(order[:-1], order[1:])]
 
 
 def _build_profile_surface(gmsh, design: WheelDesign, h: float, dim: int):
