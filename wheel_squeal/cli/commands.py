@@ -7,6 +7,7 @@ from __future__ import annotations
 from .fe import cmd_mesh, cmd_modes, cmd_render
 from .sound import cmd_sound
 from .squeal import cmd_compare, cmd_run, cmd_simulate, cmd_stability, cmd_sweep
+from .study import cmd_study
 from .tools import cmd_cache, cmd_calibrate, cmd_converge
 
 __all__ = ["COMMANDS"]
@@ -20,6 +21,7 @@ COMMANDS = {
     "simulate": cmd_simulate,
     "sweep": cmd_sweep,
     "compare": cmd_compare,
+    "study": cmd_study,
     "render": cmd_render,
     "calibrate": cmd_calibrate,
     "converge": cmd_converge,

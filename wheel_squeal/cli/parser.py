@@ -336,6 +336,19 @@ def build_parser(prog: str = "wheel-squeal") -> argparse.ArgumentParser:
     p.add_argument("--frequency", type=positive, help="frequency [Hz] (default: the mode's)")
     _add_microphone(p)
 
+    p = sub.add_parser(
+        "study", help="many designs (grid or samples) over an operating grid, locally or on dask"
+    )
+    p.add_argument("spec", type=Path, help="study specification TOML (see studies/)")
+    p.add_argument("--out", type=Path, required=True, help="output folder")
+    p.add_argument("--workers", type=_count, help="local worker processes (default: the machine's cores)")
+    p.add_argument(
+        "--scheduler",
+        help="dask.distributed scheduler address, e.g. tcp://host:8786 (default $DASK_SCHEDULER_ADDRESS)",
+    )
+    p.add_argument("--quiet", action="store_true", help="no progress on stderr")
+    _add_cache(p)
+
     p = sub.add_parser("render", help="mode-shape PNGs (and GIFs), off-screen")
     _add_common(p)
     _add_fe(p, mode=False)

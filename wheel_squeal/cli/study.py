@@ -1,0 +1,41 @@
+"""The study command: many designs over an operating grid, locally or on a dask cluster."""
+
+from __future__ import annotations
+
+from ..errors import RequestError
+from ..outputs import result_folder
+from ..progress import Progress
+from .common import cache_of
+
+__all__ = ["cmd_study"]
+
+
+def cmd_study(args) -> int:
+    from ..study.runner import missing_dependencies
+
+    missing = missing_dependencies()
+    if missing:
+        raise RequestError(missing)
+    from ..study import load_spec
+    from ..study.dataset import study_dataset, write_study_files
+    from ..study.runner import case_results
+
+    spec = load_spec(args.spec)
+    progress = Progress(args.quiet)
+    cache = None if args.no_cache else cache_of(args)
+    # the staging folder exists before the work: an unusable --out is refused at once
+    with result_folder(args.out, "study") as tmp:
+        results = case_results(
+            spec, workers=args.workers, scheduler=args.scheduler, cache=cache, progress=progress
+        )
+        ds = study_dataset(spec, results)
+        files = write_study_files(ds, spec, tmp)
+    status = ds["status"].values.ravel()
+    counts = {s: int((status == s).sum()) for s in ("ok", "invalid", "failed")}
+    print(
+        f"study {spec.name}: {status.size} designs ({counts['ok']} ok, {counts['invalid']} invalid, "
+        f"{counts['failed']} failed) x {ds.sizes['crab_velocity']} crabbing velocities x "
+        f"{ds.sizes['rpm']} speeds"
+    )
+    print(f"files: {args.out}/ ({', '.join(files)})")
+    return 0

@@ -1,0 +1,111 @@
+"""One design of a study, start to finish, as one task: a plain function of plain data.
+
+A worker (a local process or a dask worker on another machine) runs :func:`run_case`
+on a :class:`CaseJob` and returns a JSON-ready dict; nothing else crosses. The FE goes
+through the worker's stage cache (safe for concurrent writers: entries are written to a
+temporary name and renamed). An invalid design or an anticipated failure of meshing or
+solving is a result with its one-line reason; anything else is a bug and propagates.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from geometry import DesignError, MeshError, WheelDesign
+
+from ..errors import RequestError
+
+__all__ = ["CaseJob", "run_case", "RESULT_FIELDS"]
+
+#: The per-operating-point results of a case, each (n_crab_velocities, n_rpm).
+RESULT_FIELDS = ("growth_rate_1_s", "frequency_hz", "amplitude_m_s", "spl_db", "sound_power_level_db")
+
+
+@dataclass(frozen=True)
+class CaseJob:
+    """What one task needs: the base design and its changes, the FE preset and band, what
+    to compute, the operating grid, and the worker's cache (None: no cache)."""
+
+    base: WheelDesign
+    changes: tuple[tuple[str, float], ...]
+    fidelity: str
+    fmax_hz: float
+    compute: tuple[str, ...]
+    crab_velocities_m_s: tuple[float, ...]
+    rpm: tuple[float, ...]
+    cache_dir: str | None = None
+
+
+def _failure(status: str, reason: str) -> dict:
+    return {"status": status, "reason": " ".join(str(reason).split())}
+
+
+def run_case(job: CaseJob) -> dict:
+    """Mesh, modes, the stability map, the limit cycle of the fastest-growing mode and its
+    sound at every operating point. Returns ``status`` ("ok", "invalid", "failed"),
+    ``reason`` and, when ok, the mass, the modes found, and per operating point the
+    squeal mode's label (``squeal_mode``, "" where nothing grows) and
+    :data:`RESULT_FIELDS` (NaN where they do not apply)."""
+    from fem.eigen import EigenError
+    from reduced.model import IntegrationError
+
+    try:
+        design = job.base.replace(name=job.base.name, **dict(job.changes))
+    except DesignError as exc:
+        return _failure("invalid", exc)
+    try:
+        return _run(design, job)
+    except (MeshError, EigenError, IntegrationError, RequestError) as exc:
+        return _failure("failed", f"{type(exc).__name__}: {exc}")
+
+
+def _run(design: WheelDesign, job: CaseJob) -> dict:
+    from geometry import wheel_mass
+
+    from .. import api
+    from ..cache import StageCache
+    from ..presets import fidelity_for
+    from ..sound import default_microphone, mode_radiation, sound_of
+    from ..stability import envelope
+
+    cache = StageCache(Path(job.cache_dir)) if job.cache_dir else None
+    modes = api.compute_modes(design, job.fidelity, fmax_hz=job.fmax_hz, cache=cache)
+    shape = (len(job.crab_velocities_m_s), len(job.rpm))
+    out: dict = {"status": "ok", "reason": "", "mass_kg": wheel_mass(design), "modes": len(modes.modes)}
+    nan = np.full(shape, np.nan)
+    results = {k: nan.copy() for k in RESULT_FIELDS}
+    label = np.full(shape, "", dtype=object)
+    if "stability" in job.compute:
+        contact = api.contact_law(design)
+        env = envelope(design, modes, contact, job.crab_velocities_m_s, job.rpm)
+        results["growth_rate_1_s"] = env.growth_rate_1_s
+        microphone = default_microphone(design)
+        key = api.modes_cache_key(design, fidelity_for(job.fidelity), job.fmax_hz)
+        radiation: dict[int, tuple] = {}
+        for (i, j), w in np.ndenumerate(env.winner):
+            if env.growth_rate_1_s[i, j] <= 0:
+                continue  # nothing grows: no squeal here
+            mode = env.modes[w]
+            label[i, j] = f"n={mode.nodal_diameters},c={mode.nodal_circles},{mode.family}"
+            results["frequency_hz"][i, j] = mode.frequency_hz
+            if "limit_cycle" not in job.compute:
+                continue
+            op = api.operating_point(design, rpm=job.rpm[j], crab_velocity=job.crab_velocities_m_s[i])
+            sim = api.simulate(api.modal_dof(mode, design), contact, op)
+            amp = float(sim.limit_cycle.velocity_amplitude_m_s)
+            results["amplitude_m_s"][i, j] = amp
+            if "sound" in job.compute and amp > 0:
+                if w not in radiation:
+                    radiation[w] = mode_radiation(
+                        design, modes, mode, mode.frequency_hz, microphone, cache, key
+                    )
+                field, p_unit = radiation[w]
+                levels = sound_of(field, amp, microphone, unit_pressure_pa=p_unit).summary()
+                results["spl_db"][i, j] = levels["spl_db"]
+                results["sound_power_level_db"][i, j] = levels["sound_power_level_db"]
+    out |= {k: v.tolist() for k, v in results.items()}
+    out["squeal_mode"] = label.tolist()
+    return out
