@@ -49,7 +49,7 @@ def run_case(job: CaseJob) -> dict:
     ``reason`` and, when ok, the mass, the modes found, and per operating point the
     squeal mode's label (``squeal_mode``, "" where nothing grows) and
     :data:`RESULT_FIELDS` (NaN where they do not apply)."""
-    from fem.eigen import EigenError
+    from fem.eigen import EigenError, blas_threads
     from reduced.model import IntegrationError
 
     try:
@@ -57,7 +57,9 @@ def run_case(job: CaseJob) -> dict:
     except DesignError as exc:
         return _failure("invalid", exc)
     try:
-        return _run(design, job)
+        # one thread per task: a study's parallelism is across its tasks
+        with blas_threads(1):
+            return _run(design, job)
     except (MeshError, EigenError, IntegrationError, RequestError) as exc:
         return _failure("failed", f"{type(exc).__name__}: {exc}")
 
