@@ -138,19 +138,25 @@ def _plots(ds, spec: StudySpec, folder: Path) -> list[str]:
         fig.suptitle(f"{spec.name}: {spec.samples} samples, {int(ok.sum())} valid")
         name = "study_histograms.png"
     else:
-        fig, ax = plt.subplots(figsize=(7, 5))
+        unstable = (ds["growth_rate_1_s"] > 0).where(ds["status"] == "ok").mean(["crab_velocity", "rpm"])
+        panels = (
+            (unstable, "share of the operating grid where a mode grows", "viridis"),
+            (amp, "largest limit-cycle amplitude over the operating grid [m/s]", "magma"),
+        )
+        fig, axes = plt.subplots(1, 2, figsize=(12, 4.8))
         dims = list(amp.dims)
-        if len(dims) >= 2:
-            grid = amp.max(dims[2:]) if len(dims) > 2 else amp
-            im = ax.pcolormesh(ds[dims[1]], ds[dims[0]], grid.values, shading="nearest", cmap="magma")
-            fig.colorbar(im, ax=ax, label="largest limit-cycle amplitude over the operating grid [m/s]")
-            ax.set_xlabel(dims[1])
-            ax.set_ylabel(dims[0])
-        else:
-            ax.plot(ds[dims[0]], amp.values, "o-")
-            ax.set_xlabel(dims[0])
-            ax.set_ylabel("largest limit-cycle amplitude [m/s]")
-        ax.set_title(f"{spec.name}: squeal over the design grid")
+        for ax, (values, what, cmap) in zip(axes, panels):
+            if len(dims) >= 2:
+                grid = values.max(dims[2:]) if len(dims) > 2 else values
+                im = ax.pcolormesh(ds[dims[1]], ds[dims[0]], grid.values, shading="nearest", cmap=cmap)
+                fig.colorbar(im, ax=ax, label=what)
+                ax.set_xlabel(dims[1])
+                ax.set_ylabel(dims[0])
+            else:
+                ax.plot(ds[dims[0]], values.values, "o-")
+                ax.set_xlabel(dims[0])
+                ax.set_ylabel(what)
+        fig.suptitle(f"{spec.name}: squeal over the design grid")
         name = "study_amplitude.png"
     fig.tight_layout()
     fig.savefig(folder / name, dpi=100)
