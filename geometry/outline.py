@@ -18,6 +18,7 @@ raise :class:`OutlineError` naming the first problem.
 from __future__ import annotations
 
 import csv
+import functools
 import math
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -235,26 +236,7 @@ class Outline:
         r = const nearest the previous middle). Returns r, z and the half-thickness
         there [m]. For a web that is a graph over r (flat, conical, curved) this is the
         web's mid-surface; across the rim it is the middle of the rim."""
-        poly, _ = self.polygon()
-        r0, r1 = self.bore_radius, self.contact[0]
-        eps = 1e-9 * self.scale
-        rs = np.linspace(r0 + eps, r1 - eps, n)
-        z_mid, half = np.empty(n), np.empty(n)
-        prev = None
-        for k, r in enumerate(rs):
-            zs = np.sort(_vertical_crossings(poly, r))
-            lo, hi = zs[0::2], zs[1::2]
-            if len(hi) == 0:
-                raise OutlineError(f"no material at r = {r:.6g} m between the bore and the contact")
-            mids = (lo + hi) / 2
-            j = 0 if prev is None else int(np.argmin(np.abs(mids - prev)))
-            if prev is None:  # at the bore: the stretch on the clamp
-                j = int(np.argmin(np.abs(mids - np.mean([self.points[i][1] for i in self.clamp]))))
-            z_mid[k], half[k] = mids[j], (hi[j] - lo[j]) / 2
-            prev = mids[j]
-        rs[0], rs[-1] = r0, r1
-        z_mid[-1] = self.contact[1]
-        return rs, z_mid, half
+        return _mid_surface(self, n)
 
     # -- copies -----------------------------------------------------------------------
     def scaled(self, factor: float) -> Outline:
@@ -275,6 +257,33 @@ class Outline:
             "clamp": list(self.clamp),
             "contact": list(self.contact),
         }
+
+
+@functools.lru_cache(maxsize=64)
+def _mid_surface(o: Outline, n: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """:meth:`Outline.mid_surface`, cached: every solve of a design labels along it."""
+    poly, _ = o.polygon()
+    r0, r1 = o.bore_radius, o.contact[0]
+    eps = 1e-9 * o.scale
+    rs = np.linspace(r0 + eps, r1 - eps, n)
+    z_mid, half = np.empty(n), np.empty(n)
+    prev = None
+    for k, r in enumerate(rs):
+        zs = np.sort(_vertical_crossings(poly, r))
+        lo, hi = zs[0::2], zs[1::2]
+        if len(hi) == 0:
+            raise OutlineError(f"no material at r = {r:.6g} m between the bore and the contact")
+        mids = (lo + hi) / 2
+        # the stretch nearest the previous middle (at the bore: the clamp's middle)
+        ref = np.mean([o.points[i][1] for i in o.clamp]) if prev is None else prev
+        j = int(np.argmin(np.abs(mids - ref)))
+        z_mid[k], half[k] = mids[j], (hi[j] - lo[j]) / 2
+        prev = mids[j]
+    rs[0], rs[-1] = r0, r1
+    z_mid[-1] = o.contact[1]
+    for a in (rs, z_mid, half):
+        a.setflags(write=False)  # shared by every caller through the cache
+    return rs, z_mid, half
 
 
 def _segment_distance(o: Outline, i: int, xy: np.ndarray) -> np.ndarray:
