@@ -53,7 +53,7 @@ def run_case(job: CaseJob) -> dict:
     from reduced.model import IntegrationError
 
     try:
-        design = job.base.replace(name=job.base.name, **dict(job.changes))
+        design = job.base.replace(**dict(job.changes))
     except DesignError as exc:
         return _failure("invalid", exc)
     try:
