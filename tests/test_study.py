@@ -80,6 +80,8 @@ def test_wear_and_samples_specs(tmp_path):
         ("[samples]\nn = 10\nrim_depth = { gauss = [1, 2] }\n", "normal"),
         ("[grid]\nrim_depth = [0.03]\n[samples]\nn = 2\n", r"either \[grid\] or \[samples\]"),
         ('fidelity = "best"\n[grid]\nrim_depth = [0.03]\n', "fidelity"),
+        ("[grid]\nsqueal_mode = [1.0]\n", "not a design parameter"),
+        (f'base = "{ROOT / "designs" / "curved_web.toml"}"\n[grid]\nrim_depth = [0.03]\n', "is an outline"),
     ],
 )
 def test_bad_specs_are_refused(tmp_path, text, phrase):
@@ -268,3 +270,21 @@ def test_without_the_study_extra_one_line_says_what_to_install(tmp_path):
     assert r.returncode == 2
     assert "pip install" in one_line_error(r)
     assert not (tmp_path / "out").exists()
+
+
+def test_a_youngs_modulus_grid_scales_the_tone_as_its_square_root(tmp_path):
+    """Invariant: E changes no mesh, so every frequency scales as sqrt(E) (an outline
+    base: the study varies what an outline design may vary)."""
+    from wheel_squeal.study.runner import case_results
+
+    spec = load_spec(
+        write(
+            tmp_path / "e.toml",
+            f'base = "{ROOT / "designs" / "curved_web.toml"}"\ncompute = ["stability"]\n'
+            "[grid]\nyoungs_modulus = [170e9, 210e9]\n[operating]\ncrab_velocity = [0.3]\nrpm = [800]\n",
+        )
+    )
+    a, b = case_results(spec, workers=1)
+    assert a["squeal_mode"] == b["squeal_mode"] == [["n=1,c=0,axial"]]
+    ratio = b["frequency_hz"][0][0] / a["frequency_hz"][0][0]
+    assert ratio == pytest.approx(np.sqrt(210 / 170), rel=1e-6)

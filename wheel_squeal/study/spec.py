@@ -41,7 +41,7 @@ from typing import Any
 
 import numpy as np
 
-from geometry import DesignError, WheelDesign
+from geometry import SECTIONS, DesignError, WheelDesign
 
 from ..errors import RequestError
 from ..presets import DEFAULT_DESIGN, FIDELITIES
@@ -51,7 +51,7 @@ __all__ = ["COMPUTE", "Case", "Dimension", "StudySpec", "load_spec"]
 #: What a study may compute per design (modes are always computed).
 COMPUTE = ("stability", "limit_cycle", "sound")
 _TOP = {"name", "description", "base", "fidelity", "fmax", "compute", "grid", "samples", "operating"}
-_DESIGN_FIELDS = {f.name for f in fields(WheelDesign)} - {"name", "description", "profile", "mode_damping"}
+_DESIGN_FIELDS = {f.name for f in fields(WheelDesign) if f.type in (float, "float", "float | None")}
 
 
 @dataclass(frozen=True)
@@ -273,6 +273,14 @@ def load_spec(path: str | Path) -> StudySpec:
         n, seed, dims = 0, 0, _grid(data["grid"], src)
     else:
         n, seed, dims = _samples(data["samples"], src)
+    if base.is_outline:  # an outline's [wheel] values follow from its points
+        varied = {d.name for d in dims if not d.add} | {f for d in dims for f, _ in d.add}
+        fixed = sorted(varied & set(SECTIONS["wheel"]))
+        if fixed:
+            raise RequestError(
+                f"{src}: the base design {base.name!r} is an outline: {', '.join(fixed)} cannot be varied "
+                "(vary material, contact or damping, or give a parametric base)"
+            )
     op = data.get("operating", {})
     if not isinstance(op, dict) or set(op) - {"crab_velocity", "rpm"}:
         raise RequestError(f"{src}: [operating] takes crab_velocity and rpm")
