@@ -142,6 +142,8 @@ def test_dask_local_cluster_gives_the_same_numbers(reference, tmp_path):
     assert r.returncode == 0, r.stderr
     assert "dask scheduler" in r.stderr
     same_numbers(reference, xr.load_dataset(tmp_path / "out" / "study.nc"))
+    # the workers kept the FE in their own (default) cache
+    assert any(p.name.endswith(".npz") for p in (tmp_path / "worker-cache").rglob("*")), "no worker cache"
 
 
 def _dask(*args, env) -> subprocess.Popen:

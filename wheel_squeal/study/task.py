@@ -10,7 +10,6 @@ solving is a result with its one-line reason; anything else is a bug and propaga
 from __future__ import annotations
 
 from dataclasses import dataclass
-from pathlib import Path
 
 import numpy as np
 
@@ -18,7 +17,11 @@ from geometry import DesignError, MeshError, WheelDesign
 
 from ..errors import RequestError
 
-__all__ = ["CaseJob", "run_case", "RESULT_FIELDS"]
+__all__ = ["CODE_PACKAGES", "CaseJob", "run_case", "RESULT_FIELDS"]
+
+#: The packages whose code a case's result depends on (its cache key, the dataset's
+#: provenance).
+CODE_PACKAGES = ("geometry", "fem", "reduced", "acoustics", "wheel_squeal")
 
 #: The per-operating-point results of a case, each (n_crab_velocities, n_rpm).
 RESULT_FIELDS = ("growth_rate_1_s", "frequency_hz", "amplitude_m_s", "spl_db", "sound_power_level_db")
@@ -27,7 +30,8 @@ RESULT_FIELDS = ("growth_rate_1_s", "frequency_hz", "amplitude_m_s", "spl_db", "
 @dataclass(frozen=True)
 class CaseJob:
     """What one task needs: the base design and its changes, the FE preset and band, what
-    to compute, the operating grid, and the worker's cache (None: no cache)."""
+    to compute, the operating grid, and the worker's cache folder (None: no cache; "":
+    the worker's default one, :func:`wheel_squeal.cache.default_cache_root`)."""
 
     base: WheelDesign
     changes: tuple[tuple[str, float], ...]
@@ -73,7 +77,7 @@ def _run(design: WheelDesign, job: CaseJob) -> dict:
     from ..sound import default_microphone, mode_radiation, sound_of
     from ..stability import envelope
 
-    cache = StageCache(Path(job.cache_dir)) if job.cache_dir else None
+    cache = None if job.cache_dir is None else StageCache(job.cache_dir or None)
     modes = api.compute_modes(design, job.fidelity, fmax_hz=job.fmax_hz, cache=cache)
     shape = (len(job.crab_velocities_m_s), len(job.rpm))
     out: dict = {"status": "ok", "reason": "", "mass_kg": wheel_mass(design), "modes": len(modes.modes)}
