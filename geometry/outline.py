@@ -466,10 +466,10 @@ def _pt(p) -> str:
 # -- construction ---------------------------------------------------------------------------
 def fillet(
     points: list[tuple[float, float]], bulges: list[float], vertex: int, radius: float
-) -> tuple[list[tuple[float, float]], list[float], int]:
+) -> tuple[list[tuple[float, float]], list[float]]:
     """Round the corner at ``vertex`` between two straight segments with an arc of
-    ``radius`` [m] tangent to both. Returns the new points and bulges and the number of
-    points inserted before the old vertex position (0 or 1) so callers can re-index."""
+    ``radius`` [m] tangent to both: the new points and bulges (the vertex becomes the
+    arc's two tangent points, so later vertices move up by one)."""
     k = len(points)
     i_in, i_out = (vertex - 1) % k, vertex
     if bulges[i_in] != 0.0 or bulges[i_out] != 0.0:
@@ -489,7 +489,7 @@ def fillet(
     p1, p2 = v - t * d_in, v + t * d_out
     new_pts = list(points[:vertex]) + [tuple(p1), tuple(p2)] + list(points[vertex + 1 :])
     new_b = list(bulges[:vertex]) + [math.tan(turn / 4), 0.0] + list(bulges[vertex + 1 :])
-    return [(float(x), float(y)) for x, y in new_pts], new_b, 1
+    return [(float(x), float(y)) for x, y in new_pts], new_b
 
 
 def _number(value: Any, what: str, source: str) -> float:

@@ -61,7 +61,7 @@ def parametric_outline(d: Any) -> Outline:
     # Round the web's corners, last first so that the earlier indices stay valid.
     for v in sorted((i for i, p in enumerate(pts) if fillets.get(p, 0.0) > 0), reverse=True):
         if _is_corner(pts, v):
-            pts, bulges, _ = fillet(pts, bulges, v, fillets[pts[v]])
+            pts, bulges = fillet(pts, bulges, v, fillets[pts[v]])
     return Outline(tuple(pts), tuple(bulges), (0,), (d.rolling_radius, 0.0), min_segment_rel=0.0)
 
 

@@ -18,7 +18,7 @@ import numpy as np
 
 from ..cache import code_version
 from .spec import StudySpec
-from .task import RESULT_FIELDS
+from .task import CODE_PACKAGES, RESULT_FIELDS
 
 __all__ = ["study_dataset", "write_study_files"]
 
@@ -97,7 +97,7 @@ def study_dataset(spec: StudySpec, results: list[dict]):
         "fidelity": spec.fidelity,
         "fmax_hz": spec.fmax_hz,
         "spec": spec.source,
-        "code_version": code_version("geometry", "fem", "reduced", "acoustics", "wheel_squeal"),
+        "code_version": code_version(*CODE_PACKAGES),
         "created": _dt.datetime.now(_dt.UTC).isoformat(timespec="seconds"),
     }
     return ds
@@ -107,8 +107,7 @@ def write_study_files(ds, spec: StudySpec, folder: Path) -> list[str]:
     """``study.nc`` (NetCDF), ``study.csv`` (one row per design and operating point), the
     spec (``study.toml``) and plots; returns the file names."""
     ds.to_netcdf(folder / "study.nc", engine="scipy")
-    df = ds.drop_vars([v for v in ds.data_vars if ds[v].dims == ()]).to_dataframe().reset_index()
-    df.to_csv(folder / "study.csv", index=False, float_format="%.10g")
+    ds.to_dataframe().reset_index().to_csv(folder / "study.csv", index=False, float_format="%.10g")
     (folder / "study.toml").write_text(spec.source)
     names = ["study.nc", "study.csv", "study.toml"]
     names += _plots(ds, spec, folder)

@@ -22,7 +22,7 @@ from ..cache import CacheMiss, StageCache, code_version, library_versions
 from ..errors import RequestError
 from ..progress import Progress
 from .spec import StudySpec
-from .task import CaseJob, run_case
+from .task import CODE_PACKAGES, CaseJob, run_case
 
 __all__ = ["MAX_WORKER_DEATHS", "SCHEDULER_ENV", "case_results", "missing_dependencies"]
 
@@ -37,7 +37,7 @@ def _case_key(spec: StudySpec, changes) -> dict:
         "stage": "study-case",
         "spec": spec.digest(),
         "changes": [[k, repr(float(v))] for k, v in changes],
-        "code": code_version("geometry", "fem", "reduced", "acoustics", "wheel_squeal"),
+        "code": code_version(*CODE_PACKAGES),
         "libraries": library_versions("numpy", "scipy", "scikit-fem", "gmsh", "numba"),
     }
 
