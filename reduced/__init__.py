@@ -2,13 +2,15 @@
 
 Hertz contact -> creep law (Eq. 3, 6) -> modes at the contact point driven by the
 lateral creep force (Eq. 1, 2, 4, 5) -> linear stability of every mode -> time
-integration (numba RK4; solve_ivp reference), optionally on a turning wheel (each pair
+integration (fixed-step RK4, interpreted for one short run and numba-compiled otherwise;
+solve_ivp reference), optionally on a turning wheel (each pair
 two travelling waves) -> limit-cycle metrics, the mode that carries the cycle,
 harmonic-balance predictor, grid sweeps, reports. Knows nothing of meshes: modes enter
 as (mass, stiffness, damping, nodal diameters) at the contact.
 All quantities are SI (m, s, kg, N, Pa, W, Hz).
 """
 
+from ._engine import load_compiled_kernels
 from .contact import HertzContact, hertz_contact, kalker_c22
 from .creep import ContactLaw, adhesion_ratio, adhesion_ratio_slope, falling_friction_factor
 from .limit_cycle import Cycles, LimitCycle, analytic_growth_rate, cycles, limit_cycle
@@ -49,6 +51,7 @@ __all__ = [
     "choose_time_step",
     "simulate",
     "simulate_reference",
+    "load_compiled_kernels",
     "Cycles",
     "LimitCycle",
     "cycles",

@@ -1,4 +1,10 @@
-"""Compiled fixed-step RK4 kernels for the modal squeal model (numba, cache=True).
+"""Fixed-step RK4 kernels for the modal squeal model, written once in plain Python.
+
+:mod:`reduced._engine` runs them either as they are (interpreted: no start-up cost,
+slow per step) or as their numba-compiled twins (fast per step, after a one-off load of
+the compiler and its on-disk cache). The kernels use only IEEE float arithmetic,
+``math`` and element access, in the same order in both forms, so both give the same
+bits; ``prange`` is the compiled twin's parallel loop and a plain ``range`` here.
 
 State: modal displacements y_i (m) and velocities u_i (m/s) of N modal coordinates
 that share the contact point, each seen there with a participation
@@ -21,13 +27,13 @@ from __future__ import annotations
 
 import math
 
-import numba as nb
 import numpy as np
 
 _LAW_W, _LAW_MUS, _LAW_K, _LAW_S1, _LAW_S2, _LAW_V0, _LAW_VC = range(7)
 
+prange = range
 
-@nb.njit(cache=True, fastmath=False)
+
 def lateral_force(v, law):
     """Q(v) = -mu((Vc + v)/V0) W in N for contact velocity v in m/s (Eq. 2-4, 6)."""
     V0 = law[_LAW_V0]
@@ -49,14 +55,12 @@ def lateral_force(v, law):
     return -mu * law[_LAW_W]
 
 
-@nb.njit(cache=True)
 def _participation(w, phase, t, p):
     """p_i = cos(w_i t + phase_i); exactly 1 where w_i = phase_i = 0."""
     for i in range(w.shape[0]):
         p[i] = math.cos(w[i] * t + phase[i])
 
 
-@nb.njit(cache=True)
 def _deriv(y, u, p, m, c, k, law, dy, du):
     n = y.shape[0]
     v = 0.0
@@ -71,7 +75,6 @@ def _deriv(y, u, p, m, c, k, law, dy, du):
     return power, abs(q * v)
 
 
-@nb.njit(cache=True)
 def _rk4_step(y, u, m, c, k, w, phase, law, t, h, scratch):
     """Advance (y, u) in place by one RK4 step h (s) from time t (s); return the RK4
     estimate of the energy input  int P dt  and  int |Q v| dt  over the step (J)."""
@@ -101,7 +104,6 @@ def _rk4_step(y, u, m, c, k, w, phase, law, t, h, scratch):
     return h / 6.0 * (e1 + 2.0 * e2 + 2.0 * e3 + e4), h / 6.0 * (r1 + 2.0 * r2 + 2.0 * r3 + r4)
 
 
-@nb.njit(cache=True)
 def _rk4_step_1(y, u, m, c, k, law, h):
     """Single-mode RK4 step on scalars (2.4x faster than the array version).
     Returns (y, u, int P dt, int |Q v| dt) over the step (J)."""
@@ -131,7 +133,6 @@ def _rk4_step_1(y, u, m, c, k, law, h):
     )
 
 
-@nb.njit(cache=True)
 def integrate_store_1(y0, u0, m, c, k, law, h, n_steps, store_every, out_y, out_u):
     """Single-mode version of integrate_store (scalars m, c, k, y0, u0; out_y, out_u 1-D)."""
     y = y0
@@ -153,7 +154,7 @@ def integrate_store_1(y0, u0, m, c, k, law, h, n_steps, store_every, out_y, out_
             break
         if e > emax:
             emax = e
-        if step % store_every == 0 and row < out_y.shape[0]:
+        if step % store_every == 0 and row < len(out_y):
             out_y[row] = y
             out_u[row] = u
             row += 1
@@ -161,7 +162,6 @@ def integrate_store_1(y0, u0, m, c, k, law, h, n_steps, store_every, out_y, out_
     return status, abs(e_end - e0 - work), emax, work, step
 
 
-@nb.njit(cache=True)
 def _energy(y, u, m, k):
     e = 0.0
     for i in range(y.shape[0]):
@@ -169,7 +169,6 @@ def _energy(y, u, m, k):
     return e
 
 
-@nb.njit(cache=True)
 def integrate_store(y0, u0, m, c, k, w, phase, law, h, n_steps, store_every, out_y, out_u):
     """Integrate n_steps RK4 steps of size h (s) from (y0, u0) at t = 0, storing every
     ``store_every``-th state (row 0 = initial state) into out_y, out_u (n_out, N);
@@ -207,7 +206,6 @@ def integrate_store(y0, u0, m, c, k, w, phase, law, h, n_steps, store_every, out
     return status, abs(e_end - e0 - work), emax, work, step
 
 
-@nb.njit(cache=True)
 def extract_cycles(t, v, cum_p, cum_qv, out_start, out_amp, out_period, out_power, out_absqv):
     """Split a contact-velocity record v(t) into cycles between upward zero
     crossings (linearly interpolated). ``cum_p`` and ``cum_qv`` are the running
@@ -215,8 +213,8 @@ def extract_cycles(t, v, cum_p, cum_qv, out_start, out_amp, out_period, out_powe
     velocity amplitude = (max - min)/2 with parabolic refinement of the sampled
     extrema (m/s), period (s), mean power P (W), mean |Q v| (W). Returns the number
     of cycles written (at most the length of the output arrays)."""
-    n = t.shape[0]
-    cap = out_start.shape[0]
+    n = len(t)
+    cap = len(out_start)
     nc = 0
     have_start = False
     t_start = 0.0
@@ -261,7 +259,6 @@ def extract_cycles(t, v, cum_p, cum_qv, out_start, out_amp, out_period, out_powe
     return nc
 
 
-@nb.njit(cache=True, parallel=True)
 def sweep_kernel(
     m,
     c,
@@ -285,7 +282,7 @@ def sweep_kernel(
     The power integrals use the RK4 stage values (no extra force evaluation)."""
     n_cases = laws.shape[0]
     n = m.shape[0]
-    for ic in nb.prange(n_cases):
+    for ic in prange(n_cases):
         law = laws[ic]
         h = h_per_case[ic]
         ns = n_steps_per_case[ic]

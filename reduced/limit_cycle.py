@@ -43,7 +43,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from . import _kernels
+from . import _engine
 from .creep import ContactLaw
 from .model import OperatingPoint, TimeHistory, as_modes
 from .stability import friction_damping_ns_m, growth_rates
@@ -122,7 +122,7 @@ def cycles(history: TimeHistory) -> Cycles:
     qv = np.concatenate([[0.0], np.cumsum(0.5 * (aqv[1:] + aqv[:-1]) * dt)])
     cap = max(1, len(t) // 2 + 1)
     out = [np.empty(cap) for _ in range(5)]
-    n = _kernels.extract_cycles(t, v, p, qv, *out)
+    n = _engine.kernels_for(len(t)).extract_cycles(t, v, p, qv, *out)
     return Cycles(*(a[:n].copy() for a in out))
 
 

@@ -16,7 +16,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from . import _kernels
+from . import _engine, _kernels
 from .creep import ContactLaw, adhesion_ratio
 
 __all__ = [
@@ -210,7 +210,7 @@ class TimeHistory:
     P : power input to the modes Q v - sum c_i y_i'^2, W (Eq. 7).
     modes, contact, operating_point : the inputs.
     step_s : integration step, s (for the reference: the output spacing).
-    method : "rk4-numba" or the solve_ivp method name.
+    method : "rk4" (fixed step, :func:`simulate`) or the solve_ivp method name.
     energy_mismatch_j : |Delta E - int P dt| at the end, J (RK4 only; NaN otherwise).
     wheel_speed_rad_s : Omega, the wheel's rotation (0: off), rad/s.
     coordinates : the modal coordinates (:class:`Coordinates`) of the columns of
@@ -273,7 +273,7 @@ def coordinates(modes, wheel_speed_rad_s: float = 0.0) -> Coordinates:
 
 
 def law_vector(contact: ContactLaw, op: OperatingPoint) -> np.ndarray:
-    """Pack the creep law and operating point for the compiled kernels."""
+    """Pack the creep law and operating point for the RK4 kernels (:mod:`reduced._kernels`)."""
     return np.array(
         [
             contact.normal_load_n,
@@ -421,7 +421,8 @@ def simulate(
     energy_tolerance: float = 1e-2,
     wheel_speed_rad_s: float = 0.0,
 ) -> TimeHistory:
-    """Integrate the modal squeal model with compiled fixed-step RK4 (production path).
+    """Integrate the modal squeal model with fixed-step RK4 (production path; see
+    :mod:`reduced._engine` for when it runs compiled).
 
     Parameters
     ----------
@@ -491,11 +492,18 @@ def simulate(
         out_y = np.empty((n_out, n_coord))
         out_u = np.empty((n_out, n_coord))
         if n_coord == 1 and w[0] == 0.0:  # the paper's 1-DOF model: the scalar kernel
-            status, mismatch, emax, _work, _done = _kernels.integrate_store_1(
-                y0[0], u0[0], m[0], c[0], k[0], law, h_eff, n_steps, store_every, out_y[:, 0], out_u[:, 0]
+            kernels = _engine.kernels_for(n_steps)
+            status, mismatch, emax, _work, _done = kernels.integrate_store_1(
+                *(float(x[0]) for x in (y0, u0, m, c, k)),
+                tuple(law.tolist()),
+                h_eff,
+                n_steps,
+                store_every,
+                out_y[:, 0],
+                out_u[:, 0],
             )
         else:
-            status, mismatch, emax, _work, _done = _kernels.integrate_store(
+            status, mismatch, emax, _work, _done = _engine.compiled().integrate_store(
                 y0, u0, m, c, k, w, phase, law, h_eff, n_steps, store_every, out_y, out_u
             )
         ok = status == 0 and mismatch <= energy_tolerance * emax + 1e-300
@@ -509,7 +517,7 @@ def simulate(
                 contact,
                 operating_point,
                 h_eff,
-                "rk4-numba",
+                "rk4",
                 coords,
                 wheel_speed_rad_s,
                 mismatch,
@@ -553,8 +561,8 @@ def simulate_reference(
     coords = coordinates(modes, wheel_speed_rad_s)
     m, c, k, w, phase = coords.m, coords.c, coords.k, coords.w, coords.phase
     n = len(m)
-    law = law_vector(contact, operating_point)
-    force = _kernels.lateral_force  # compiled scalar creep law, same as the production path
+    law = tuple(law_vector(contact, operating_point).tolist())
+    force = _kernels.lateral_force  # the production path's creep law, interpreted
 
     def rhs(t, s):
         y, u = s[:n], s[n:]

@@ -16,7 +16,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from . import _kernels
+from . import _engine
 from .creep import ContactLaw
 from .limit_cycle import Cycles, analytic_growth_rate, limit_cycle, metrics_from_cycles
 from .model import OperatingPoint, as_modes, choose_time_step, law_vector, mode_arrays, simulate
@@ -126,7 +126,7 @@ def sweep(
     for lo in range(0, n_cases, chunk):
         hi = min(lo + chunk, n_cases)
         bufs = [np.zeros((hi - lo, cap)) for _ in range(5)]
-        _kernels.sweep_kernel(
+        _engine.compiled().sweep_kernel(
             m,
             c,
             k,

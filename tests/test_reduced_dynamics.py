@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 import reduced as r
-from reduced import _kernels
+from reduced import _engine, _kernels
 from reduced.model import law_vector
 
 TABLE1_MODE = r.ModalDOF(3.1, 1.6e8, 42.0)
@@ -155,9 +155,51 @@ def test_n_mode_kernel_with_one_mode_equals_paper_model(law, op_fig6):
     n, h = 5000, 1.0 / (F_UNDAMPED * 48)
     ya, ua = np.empty((n + 1, 1)), np.empty((n + 1, 1))
     yb, ub = np.empty(n + 1), np.empty(n + 1)
-    _kernels.integrate_store(np.zeros(1), np.zeros(1), m, c, k, np.zeros(1), np.zeros(1), lv, h, n, 1, ya, ua)
-    _kernels.integrate_store_1(0.0, 0.0, 3.1, 42.0, 1.6e8, lv, h, n, 1, yb, ub)
+    compiled = _engine.compiled()
+    compiled.integrate_store(np.zeros(1), np.zeros(1), m, c, k, np.zeros(1), np.zeros(1), lv, h, n, 1, ya, ua)
+    compiled.integrate_store_1(0.0, 0.0, 3.1, 42.0, 1.6e8, lv, h, n, 1, yb, ub)
     np.testing.assert_allclose(ua[:, 0], ub, rtol=1e-12, atol=1e-15)
+
+
+def test_interpreted_and_compiled_kernels_give_the_same_bits(law, op_fig6):
+    # the engine may run either form (a short run interpreted, the rest compiled): the
+    # choice must not change a single bit of the record or of its cycles
+    compiled, lv = _engine.compiled(), tuple(law_vector(law, op_fig6).tolist())
+    n, h = 20000, 1.0 / (F_UNDAMPED * 48)  # 0.36 s: growth and the start of saturation
+    runs = []
+    for kernels in (_kernels, compiled):
+        y, u = np.empty(n + 1), np.empty(n + 1)
+        status = kernels.integrate_store_1(0.0, 0.0, 3.1, 42.0, 1.6e8, lv, h, n, 1, y, u)
+        t = np.arange(n + 1) * h
+        cum = np.cumsum(np.abs(u))
+        out = [np.empty(n // 2) for _ in range(5)]
+        count = kernels.extract_cycles(t, u, cum, cum, *out)
+        runs.append((status, y, u, count, out))
+    (s1, y1, u1, c1, o1), (s2, y2, u2, c2, o2) = runs
+    assert s1 == s2 and c1 == c2 > 100
+    assert np.abs(u1).max() > 0.1  # it squeals: the creep law's nonlinear range is exercised
+    np.testing.assert_array_equal(y1, y2)
+    np.testing.assert_array_equal(u1, u2)
+    for a, b in zip(o1, o2):
+        np.testing.assert_array_equal(a[:c1], b[:c2])
+    # the N-coordinate kernel on a turning wheel (participations cos(w t + phase))
+    m, c, k = np.array([3.1, 3.1]), np.array([42.0, 42.0]), np.array([1.6e8, 1.6e8])
+    w, phase, lv_array = np.array([250.0, 250.0]), np.array([0.0, np.pi / 2]), np.array(lv)
+    rotating = []
+    for kernels in (_kernels, compiled):
+        y, u = np.empty((1001, 2)), np.empty((1001, 2))
+        z = np.full(2, 1e-6)
+        rotating.append((kernels.integrate_store(z, z, m, c, k, w, phase, lv_array, h, 1000, 1, y, u), u))
+    assert rotating[0][0] == rotating[1][0]
+    np.testing.assert_array_equal(rotating[0][1], rotating[1][1])
+
+
+def test_engine_runs_compiled_beyond_a_short_scalar_run():
+    compiled = _engine.compiled()
+    assert _engine.is_compiled_loaded()
+    assert _engine.kernels_for(_engine.INTERPRETED_MAX_STEPS + 1) is compiled
+    assert _engine.kernels_for(10, scalar=False) is compiled
+    assert _engine.kernels_for(10) is compiled  # once loaded, everything runs compiled
 
 
 def test_distant_second_mode_barely_changes_squeal(law, op_fig6):

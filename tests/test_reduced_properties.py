@@ -63,8 +63,8 @@ def test_creep_law_odd_bounded_and_opposing_sliding(zetas, law, v0):
     np.testing.assert_array_equal(slope_neg, slope)  # so the slope is even
     assert np.all(np.abs(mu) <= law.friction_coefficient)
     assert np.all(mu * z >= 0.0)  # friction opposes the sliding
-    # the compiled kernel evaluates the same law: Q(v) = -mu((Vc + v)/V0) W with Vc = 0
-    lv = law_vector(law, r.OperatingPoint(v0, 0.0))
+    # the RK4 kernels evaluate the same law: Q(v) = -mu((Vc + v)/V0) W with Vc = 0
+    lv = tuple(law_vector(law, r.OperatingPoint(v0, 0.0)).tolist())  # as simulate passes it
     for zi, mi in zip(z[:3], mu[:3]):
         q = _kernels.lateral_force(float(zi) * v0, lv)
         # (absolute: F(s) = 1 - e/2 - e/2 cancels when s >> s1, s2, amplifying round-off in s)

@@ -183,9 +183,10 @@ def test_critical_friction_slope_stabilises(law, op_fig6):
 # --------------------------------------------------------------------------------------
 def test_one_mode_in_the_n_mode_kernel_is_the_1dof_run(law, op_fig6):
     """The N-mode kernel with one coordinate gives the scalar kernel's numbers exactly."""
-    from reduced import _kernels
+    from reduced import _engine
     from reduced.model import law_vector
 
+    _kernels = _engine.compiled()
     md = r.ModalDOF(3.1, 1.6e8, 42.0)
     h, n = 1.0 / (48 * md.frequency_hz), 20000
     one_y, one_u = np.empty((n + 1, 1)), np.empty((n + 1, 1))
