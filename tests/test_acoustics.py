@@ -98,7 +98,7 @@ def wheel_field():
     design = ws.load_design()
     ms = ws.compute_modes(design, "fast")
     mode, _ = ws.pick_mode(ms, "n=3,c=0")
-    return design, mode, mode_radiation(design, ms, mode, mode.frequency_hz, default_microphone(design))[0]
+    return design, mode, mode_radiation(design, ms, mode, mode.frequency_hz, default_microphone(design)).field
 
 
 def test_wheel_energy_balance(wheel_field):

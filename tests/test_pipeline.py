@@ -466,3 +466,36 @@ def test_converge_command_writes_the_study(tmp_path):
     summary = json.loads((out / "summary.json").read_text())
     assert summary["presets"]["fast"]["matches_current"] is True
     assert (out / "convergence_fe.png").stat().st_size > 10_000 and (out / "presets.md").is_file()
+
+
+# --------------------------------------------------------------------------------------
+# the plot process
+# --------------------------------------------------------------------------------------
+def _write_pid(path: Path) -> None:
+    import os
+
+    path.write_text(str(os.getpid()))
+
+
+def _refuse(path: Path) -> None:
+    raise ValueError(f"cannot draw {path.name}")
+
+
+def test_plot_workers_write_in_other_processes_and_report_errors(tmp_path):
+    import os
+
+    from wheel_squeal.plotting import plot_workers
+
+    files = [tmp_path / f"{i}.txt" for i in range(3)]
+    with plot_workers(2) as plots:
+        for f in files:
+            plots.submit(_write_pid, f)
+        assert not any(f.exists() for f in files)  # queued, not drawn
+        plots.draw()
+        pids = {int(f.read_text()) for f in files}
+        assert os.getpid() not in pids
+        plots.submit(_refuse, tmp_path / "bad.png")
+        with pytest.raises(ValueError, match="cannot draw bad.png"):
+            plots.draw()
+        plots.submit(_write_pid, tmp_path / "never.txt")
+    assert not (tmp_path / "never.txt").exists()  # leaving the block discards the queue

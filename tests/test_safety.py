@@ -227,6 +227,24 @@ def test_previous_result_survives_a_kill_at_any_point(tmp_path, exchange):
     assert kill_at >= 3
 
 
+def test_a_killed_command_leaves_no_process_behind(tmp_path):
+    # the plot process (and its drawing children) end with the command: an orphan would
+    # hold the caller's pipes open and a script reading them would wait forever
+    import subprocess
+    import sys
+
+    pipe = [sys.executable, str(ROOT / "pipeline.py"), "simulate", *TABLE1_MODE_ARGS]
+    for delay in (0.2, 0.6):  # while the plot process imports; while it draws
+        p = subprocess.Popen(
+            [*pipe, "--out", str(tmp_path / f"sim{delay}")], stdout=subprocess.PIPE, stderr=subprocess.PIPE
+        )
+        time.sleep(delay)
+        p.send_signal(signal.SIGKILL)
+        t = time.perf_counter()
+        p.communicate(timeout=20)  # EOF: every holder of the pipes has gone
+        assert time.perf_counter() - t < 5
+
+
 def _publish_together(out: Path, barrier, tag: str) -> None:
     folder = ResultFolder(out)
     folder.open()

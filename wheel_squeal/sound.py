@@ -22,11 +22,13 @@ from .errors import RequestError
 
 __all__ = [
     "MICROPHONE_DISTANCE_M",
+    "Radiation",
     "Sound",
     "default_microphone",
     "mode_radiation",
     "mode_surface",
     "parse_microphone",
+    "ring_points",
     "sound_of",
 ]
 
@@ -67,8 +69,31 @@ def mode_surface(modeset, mode, frequency_hz: float, contact_velocity_m_s: float
     return Surface(points, velocity, int(mode.nodal_diameters))
 
 
+#: The circle on which the sound plot draws the SPL: this fraction of the air region's
+#: radius, at this many angles from the +z axis (0) to the -z axis (pi).
+RING_FRACTION, RING_ANGLES = 0.9, 181
+
+
+def ring_points(radius_m: float) -> np.ndarray:
+    """(r, z) [m] of the SPL circle (:data:`RING_FRACTION`, :data:`RING_ANGLES`) in an air
+    region of radius ``radius_m``, shape (RING_ANGLES, 2)."""
+    angle = np.linspace(0.0, np.pi, RING_ANGLES)
+    return RING_FRACTION * radius_m * np.stack([np.sin(angle), np.cos(angle)], axis=1)
+
+
+@dataclass(frozen=True)
+class Radiation:
+    """A mode's sound field at 1 m/s contact velocity (``acoustics.SoundField``) and its
+    pressure [Pa] (complex amplitude of cos(n theta)) where the outputs look: at the
+    microphone's (r, z) and on :func:`ring_points` (evaluated once, with the field)."""
+
+    field: object
+    microphone_pressure_pa: complex
+    ring_pressure_pa: np.ndarray
+
+
 #: The arrays a cached radiation holds (part of its key: another layout is another entry).
-STORED = ("scalars", "points", "triangles", "dof_points", "pressure", "microphone_pressure")
+STORED = ("scalars", "points", "triangles", "dof_points", "pressure", "microphone_pressure", "ring_pressure")
 
 
 def _field_arrays(field) -> dict[str, np.ndarray]:
@@ -123,10 +148,9 @@ def mode_radiation(
     cache: StageCache | None = None,
     modes_key: dict | None = None,
     air=None,
-):
-    """(the sound field of ``mode`` at 1 m/s contact velocity, ``acoustics.SoundField``,
-    made large enough to hold the microphone; P there [Pa], complex amplitude of
-    cos(n theta)); cached beside the modes when ``modes_key``
+) -> Radiation:
+    """The :class:`Radiation` of ``mode`` at 1 m/s contact velocity, its air region made
+    large enough to hold the microphone; cached beside the modes when ``modes_key``
     (:func:`wheel_squeal.api.modes_cache_key`) is given; ``air``: ``acoustics.Air``
     (default: 1.21 kg/m^3, 343 m/s)."""
     from acoustics import AIR, RadiationSettings, radiate
@@ -147,15 +171,19 @@ def mode_radiation(
         }
         try:
             arrays = cache.load("sound", key)
-            return _field_from(arrays), complex(arrays["microphone_pressure"][0])
+            return Radiation(
+                _field_from(arrays), complex(arrays["microphone_pressure"][0]), arrays["ring_pressure"]
+            )
         except CacheMiss:
             pass
     surface = mode_surface(modeset, mode, frequency_hz)
     field = radiate(surface, frequency_hz, air, settings, field_points=np.array([microphone[:2]]))
     at_microphone = complex(field.pressure_at(np.array([microphone[:2]]))[0])
+    ring = field.pressure_at(ring_points(field.mesh.radius))
     if key is not None:
-        cache.store("sound", key, {**_field_arrays(field), "microphone_pressure": np.array([at_microphone])})
-    return field, at_microphone
+        extra = {"microphone_pressure": np.array([at_microphone]), "ring_pressure": ring}
+        cache.store("sound", key, {**_field_arrays(field), **extra})
+    return Radiation(field, at_microphone, ring)
 
 
 @dataclass(frozen=True)
@@ -163,13 +191,21 @@ class Sound:
     """What a microphone and a sound power measurement would give for a tone of contact
     velocity amplitude ``velocity_amplitude_m_s``; ``field``: the radiation at 1 m/s,
     ``unit_pressure_pa``: its P at the microphone's (r, z) (complex amplitude of
-    cos(n theta))."""
+    cos(n theta)); ``ring_pressure_pa``: its P on :func:`ring_points`, when known."""
 
     field: object
     velocity_amplitude_m_s: float
     microphone: tuple[float, float, float]
     unit_pressure_pa: complex
     travelling: bool = False
+    ring_pressure_pa: np.ndarray | None = None
+
+    @property
+    def ring_unit_pressure_pa(self) -> np.ndarray:
+        """P [Pa] at 1 m/s on :func:`ring_points` (evaluated here when not known)."""
+        if self.ring_pressure_pa is not None:
+            return self.ring_pressure_pa
+        return self.field.pressure_at(ring_points(self.field.mesh.radius))
 
     @property
     def microphone_pressure_pa(self) -> float:
@@ -213,14 +249,25 @@ class Sound:
 
 
 def sound_of(
-    field, velocity_amplitude_m_s: float, microphone, travelling: bool = False, unit_pressure_pa=None
+    field,
+    velocity_amplitude_m_s: float,
+    microphone,
+    travelling: bool = False,
+    unit_pressure_pa=None,
+    ring_pressure_pa=None,
 ) -> Sound:
     """The levels of ``field`` (at 1 m/s) for a contact velocity amplitude [m/s] at a
-    microphone (r, z, theta); ``unit_pressure_pa``: P there at 1 m/s when known."""
+    microphone (r, z, theta); ``unit_pressure_pa``, ``ring_pressure_pa``: P there and on
+    the SPL circle at 1 m/s when known (:class:`Radiation`)."""
     if not (math.isfinite(velocity_amplitude_m_s) and velocity_amplitude_m_s >= 0):
         raise RequestError(f"velocity amplitude must be zero or positive, got {velocity_amplitude_m_s!r}")
     if unit_pressure_pa is None:
         unit_pressure_pa = complex(field.pressure_at(np.array([microphone[:2]]))[0])
     return Sound(
-        field, float(velocity_amplitude_m_s), tuple(microphone), complex(unit_pressure_pa), travelling
+        field,
+        float(velocity_amplitude_m_s),
+        tuple(microphone),
+        complex(unit_pressure_pa),
+        travelling,
+        ring_pressure_pa,
     )

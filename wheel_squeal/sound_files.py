@@ -27,6 +27,8 @@ def write_sound_plot(path: Path, sound) -> Path:
 
     from acoustics import spl_db
 
+    from .sound import ring_points
+
     field, v = sound.field, sound.velocity_amplitude_m_s
     pts, tri = field.mesh.points, field.mesh.triangles
     inside = np.hypot(*pts[tri].mean(axis=1).T) <= field.mesh.radius
@@ -49,11 +51,10 @@ def write_sound_plot(path: Path, sound) -> Path:
     )
     ax.legend(loc="lower right", fontsize=8)
     fig.colorbar(im, ax=ax, shrink=0.85)
-    angle = np.linspace(0.0, np.pi, 181)
-    rc = 0.9 * field.mesh.radius
-    ring = np.stack([rc * np.sin(angle), rc * np.cos(angle)], axis=1)
-    ring_level = spl_db(field.pressure_at(ring) * max(v, 1e-300))
-    ax2.plot(np.degrees(angle), ring_level, "k-")
+    ring = ring_points(field.mesh.radius)
+    rc = float(np.hypot(*ring[0]))
+    ring_level = spl_db(sound.ring_unit_pressure_pa * max(v, 1e-300))
+    ax2.plot(np.degrees(np.arctan2(ring[:, 0], ring[:, 1])), ring_level, "k-")
     ax2.set_ylim(float(np.max(ring_level)) - 50, float(np.max(ring_level)) + 5)
     ax2.set(
         xlabel="angle from the +z axis (deg)",

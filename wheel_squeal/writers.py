@@ -7,11 +7,8 @@ folder atomic, :mod:`wheel_squeal.outputs`).
 
 from __future__ import annotations
 
-import contextlib
 import math
-import multiprocessing
-from collections.abc import Iterator, Sequence
-from concurrent.futures import Executor, Future, ProcessPoolExecutor
+from collections.abc import Sequence
 from pathlib import Path
 
 import numpy as np
@@ -19,10 +16,10 @@ import numpy as np
 from geometry import WheelDesign
 
 from .outputs import write_csv
+from .plotting import PlotWorkers
 from .presets import Fidelity
 
 __all__ = [
-    "PlotWorkers",
     "compare_row",
     "compare_table",
     "dof_summary",
@@ -30,7 +27,6 @@ __all__ = [
     "mitigation_text",
     "modes_table",
     "multimode_text",
-    "plot_workers",
     "plot_times",
     "squeal_report",
     "stability_line",
@@ -132,63 +128,12 @@ def plot_times(sim) -> tuple[float, float]:
     return (round(growing, 2), round(max(min(t_lc, end - 5 * period), 0.0), 2))
 
 
-#: Processes that draw plots (:func:`plot_workers`): both cores of a small machine.
-PLOT_PROCESSES = 2
-
-
-class PlotWorkers:
-    """Draws plots in child processes that import matplotlib as soon as they start.
-
-    matplotlib's import (a third of a second) then overlaps the simulation, and the
-    figures are drawn side by side while the other files are written, instead of one
-    after the other. ``submit(fn, *args)`` runs ``fn(*args)`` in a child;
-    :func:`plot_workers` waits for every plot and re-raises a plot's error. Without
-    ``fork`` (not POSIX) the plots are drawn in this process, in order.
-    """
-
-    def __init__(self, executor: Executor | None):
-        self.executor = executor
-        self.futures: list[Future] = []
-
-    def submit(self, fn, *args, **kwargs) -> None:
-        if self.executor is None:
-            fn(*args, **kwargs)
-        else:
-            self.futures.append(self.executor.submit(fn, *args, **kwargs))
-
-    def wait(self) -> None:
-        """Wait for every plot submitted so far; re-raise the first error."""
-        while self.futures:
-            self.futures.pop(0).result()
-
-
-def _import_matplotlib() -> None:
-    import matplotlib.backends.backend_agg  # noqa: F401
-    import matplotlib.figure  # noqa: F401
-
-
-@contextlib.contextmanager
-def plot_workers(processes: int = PLOT_PROCESSES) -> Iterator[PlotWorkers]:
-    """:class:`PlotWorkers` for the ``with`` block; leaving it waits for the plots."""
-    if "fork" not in multiprocessing.get_all_start_methods():
-        yield PlotWorkers(None)
-        return
-    with ProcessPoolExecutor(
-        max_workers=processes, mp_context=multiprocessing.get_context("fork"), initializer=_import_matplotlib
-    ) as ex:
-        ex.submit(int)  # the first task starts the processes (and their matplotlib imports) now
-        workers = PlotWorkers(ex)
-        yield workers
-        workers.wait()
-
-
-def write_simulation_files(directory: Path, sim, plots: PlotWorkers | None = None) -> None:
-    """``timeseries.csv`` and the Fig. 4, 6-10 counterparts (PNG) of a simulation, written
-    by ``plots`` when given, one task per file (see :class:`PlotWorkers`)."""
+def write_simulation_files(directory: Path, sim, plots: PlotWorkers) -> None:
+    """``timeseries.csv`` and the Fig. 4, 6-10 counterparts (PNG) of a simulation, queued
+    on ``plots``, one job per file."""
     from reduced import write_time_history_plots, write_timeseries_csv
     from reduced.report import TIME_HISTORY_FIGURES
 
-    plots = plots or PlotWorkers(None)
     plots.submit(write_timeseries_csv, sim.history, directory)
     for figure in TIME_HISTORY_FIGURES:
         plots.submit(write_time_history_plots, sim.history, directory, plot_times(sim), (figure,))

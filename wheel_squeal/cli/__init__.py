@@ -9,6 +9,7 @@ bug: its traceback is shown, exit status 1.
 
 from __future__ import annotations
 
+import contextlib
 import os
 import sys
 import warnings
@@ -17,7 +18,8 @@ from collections.abc import Sequence
 from geometry import DesignError
 
 from ..errors import RequestError
-from .parser import build_parser
+from ..plotting import plot_workers
+from .parser import DRAWING_COMMANDS, build_parser
 
 __all__ = ["main", "run"]
 
@@ -42,17 +44,19 @@ def _one_line_warning(message, category, filename, lineno, file=None, line=None)
 def main(argv: Sequence[str] | None = None, prog: str | None = None) -> int:
     """Run the command line; returns the exit status (0 done, 1 computation failed or a
     bug, 2 request refused)."""
-    from .commands import COMMANDS
-
     args = build_parser(prog or os.path.basename(sys.argv[0]) or "wheel-squeal").parse_args(argv)
     if not os.environ.get("DISPLAY"):
         # Without an X server VTK tries X first and warns before falling back to EGL;
         # go straight to EGL (off-screen) so the terminal stays clean.
         os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkEGLRenderWindow")
-    with warnings.catch_warnings():
+    draws = args.command in DRAWING_COMMANDS
+    with warnings.catch_warnings(), plot_workers() if draws else contextlib.nullcontext() as plots:
         warnings.showwarning = _one_line_warning
         try:
-            return COMMANDS[args.command](args)
+            from .commands import COMMANDS  # after the plot process started: it imports meanwhile
+
+            command = COMMANDS[args.command]
+            return command(args, plots) if draws else command(args)
         except (RequestError, DesignError) as exc:
             print(f"error: {exc}", file=sys.stderr)
             return 2

@@ -236,6 +236,11 @@ def _add_modal(p: argparse.ArgumentParser) -> None:
     p.add_argument("--damping", type=non_negative, help="modal damping [N s/m]")
 
 
+#: The commands that draw figures: they run with a plot process started before them
+#: (:mod:`wheel_squeal.plotting`) and take it as their second argument.
+DRAWING_COMMANDS = frozenset({"run", "simulate"})
+
+
 def build_parser(prog: str = "wheel-squeal") -> argparse.ArgumentParser:
     """The parser of every command; ``args.command`` names the one chosen."""
     parser = _Parser(

@@ -10,6 +10,7 @@ from geometry import WheelDesign
 
 from .. import api
 from ..outputs import result_folder, write_json
+from ..plotting import PlotWorkers
 from ..presets import fidelity_for
 from ..progress import Progress
 from ..sound import Sound, default_microphone, mode_radiation, parse_microphone, sound_of
@@ -47,12 +48,14 @@ def mode_sound(
     ms, mode, fid = _axisym(args, design, modeset, mode, cache)
     key = api.modes_cache_key(design, fid, args.fmax)
     air = Air(args.air_density, args.sound_speed)
-    field, at_microphone = mode_radiation(design, ms, mode, frequency_hz, mic, cache, key, air)
-    return sound_of(field, amplitude_m_s, mic, travelling, at_microphone)
+    rad = mode_radiation(design, ms, mode, frequency_hz, mic, cache, key, air)
+    return sound_of(
+        rad.field, amplitude_m_s, mic, travelling, rad.microphone_pressure_pa, rad.ring_pressure_pa
+    )
 
 
-def write_sound_files(directory: Path, sound: Sound, plots=None) -> None:
-    """sound_field.png and pressure.vtu (written by ``plots`` when given)."""
+def write_sound_files(directory: Path, sound: Sound, plots: PlotWorkers | None = None) -> None:
+    """sound_field.png and pressure.vtu (queued on ``plots`` when given)."""
     for fn, name in ((write_sound_plot, "sound_field.png"), (write_pressure_vtu, "pressure.vtu")):
         if plots is not None:
             plots.submit(fn, directory / name, sound)

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import contextlib
 import time
 from pathlib import Path
 
@@ -13,6 +12,7 @@ from geometry import DesignError
 from .. import api, writers
 from ..errors import RequestError
 from ..outputs import result_folder, write_csv, write_json
+from ..plotting import PlotWorkers
 from ..presets import fidelity_for, rpm_to_speed
 from ..progress import Progress
 from ..sound_files import sound_text, write_sweep_spl
@@ -29,18 +29,17 @@ def _stability_summary(design, sq) -> dict:
     return {"stability": rows, "winner": rows[winner]}
 
 
-def cmd_run(args) -> int:
+def cmd_run(args, plots: PlotWorkers) -> int:
     design = design_of(args)
     out = args.out or Path("results") / design.name
     progress = Progress(args.quiet)
     t0 = time.perf_counter()
-    with result_folder(out, "run") as tmp, contextlib.ExitStack() as stack:
+    with result_folder(out, "run") as tmp:
         cache = cache_of(args)
         op = operating_point_of(args, design)
         contact = api.contact_law(design, args.c22)
         sq = squeal_mode(args, design, progress, cache, contact, op)
         omega = wheel_speed_rad_s(design, op, args.rotation)
-        plots = stack.enter_context(writers.plot_workers())  # after numba's import: children need it
         with progress.stage("squeal model"):
             sim = api.simulate(sq.dof, contact, op, args.duration, omega)
         multi = None
@@ -68,7 +67,7 @@ def cmd_run(args) -> int:
             fid = fidelity_for(args.fidelity, args.solver)
             write_files(tmp, api.mode_views(design, fid, args.fmax, ms, indices, cache))
         with progress.stage("plots"):
-            plots.wait()
+            plots.draw()
         write_json(
             tmp / "summary.json",
             {
@@ -99,14 +98,13 @@ def cmd_run(args) -> int:
     return 0
 
 
-def cmd_simulate(args) -> int:
+def cmd_simulate(args, plots: PlotWorkers) -> int:
     progress = Progress(args.quiet)
-    with result_folder(args.out, "simulate") as tmp, contextlib.ExitStack() as stack:
+    with result_folder(args.out, "simulate") as tmp:
         design = design_of(args)
         contact = api.contact_law(design, args.c22)
         op = operating_point_of(args, design)
         sq = squeal_mode(args, design, progress, cache_of(args), contact, op)
-        plots = stack.enter_context(writers.plot_workers())  # after numba's import: children need it
         with progress.stage("squeal model"):
             sim = api.simulate(
                 sq.dof, contact, op, args.duration, wheel_speed_rad_s(design, op, args.rotation)
@@ -123,7 +121,7 @@ def cmd_simulate(args) -> int:
         writers.write_simulation_files(tmp, sim, plots)
         write_json(tmp / "summary.json", summary)
         with progress.stage("plots"):
-            plots.wait()
+            plots.draw()
     print(writers.squeal_report(sim, sq.dof))
     print(f"-> {args.out}")
     return 0

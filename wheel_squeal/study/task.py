@@ -70,14 +70,17 @@ def run_case(job: CaseJob) -> dict:
 
 def _run(design: WheelDesign, job: CaseJob) -> dict:
     from geometry import wheel_mass
+    from reduced import load_compiled_kernels
 
     from .. import api
     from ..cache import StageCache
     from ..presets import fidelity_for
-    from ..sound import default_microphone, mode_radiation, sound_of
+    from ..sound import Radiation, default_microphone, mode_radiation, sound_of
     from ..stability import envelope
 
     cache = None if job.cache_dir is None else StageCache(job.cache_dir or None)
+    if "limit_cycle" in job.compute:
+        load_compiled_kernels()  # a worker runs many simulations: compiled, from the first
     modes = api.compute_modes(design, job.fidelity, fmax_hz=job.fmax_hz, cache=cache)
     shape = (len(job.crab_velocities_m_s), len(job.rpm))
     out: dict = {"status": "ok", "reason": "", "mass_kg": wheel_mass(design), "modes": len(modes.modes)}
@@ -90,7 +93,7 @@ def _run(design: WheelDesign, job: CaseJob) -> dict:
         results["growth_rate_1_s"] = env.growth_rate_1_s
         microphone = default_microphone(design)
         key = api.modes_cache_key(design, fidelity_for(job.fidelity), job.fmax_hz)
-        radiation: dict[int, tuple] = {}
+        radiation: dict[int, Radiation] = {}
         for (i, j), w in np.ndenumerate(env.winner):
             if env.growth_rate_1_s[i, j] <= 0:
                 continue  # nothing grows: no squeal here
@@ -108,8 +111,9 @@ def _run(design: WheelDesign, job: CaseJob) -> dict:
                     radiation[w] = mode_radiation(
                         design, modes, mode, mode.frequency_hz, microphone, cache, key
                     )
-                field, p_unit = radiation[w]
-                levels = sound_of(field, amp, microphone, unit_pressure_pa=p_unit).summary()
+                rad = radiation[w]
+                sound = sound_of(rad.field, amp, microphone, unit_pressure_pa=rad.microphone_pressure_pa)
+                levels = sound.summary()
                 results["spl_db"][i, j] = levels["spl_db"]
                 results["sound_power_level_db"][i, j] = levels["sound_power_level_db"]
     out |= {k: v.tolist() for k, v in results.items()}
