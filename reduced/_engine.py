@@ -2,16 +2,20 @@
 
 Loading numba and the cached machine code of the kernels costs, once per process, as
 much as interpreting some 10^5 scalar RK4 steps (``benchmarks/run_all.py`` measures
-where the two break even). So a single short run of a
-one-coordinate model (the paper's case, the command line's default) is interpreted, and
-everything else (several coordinates, long records, sweeps, any run in a process that
-has already loaded the compiled kernels) runs compiled. Both forms execute the same
-source with the same IEEE operations in the same order and give the same bits
+where the two break even). A process does not know how many runs will follow, so it
+rents before it buys: scalar (one-coordinate) integrations run interpreted until they
+have taken :data:`INTERPRETED_MAX_STEPS` steps in this process, about the price of the
+load, and compiled from then on. One run of the paper's model (the command line's
+default) is interpreted; a loop of runs in a notebook pays at most twice the best
+choice made in hindsight. Several coordinates, sweeps and any run in a process that has
+loaded the compiled kernels run compiled. Both forms execute the same source with the
+same IEEE operations in the same order and give the same bits
 (``tests/test_reduced_dynamics.py`` checks it), so the choice changes the speed only.
 """
 
 from __future__ import annotations
 
+import dataclasses
 import functools
 import types
 
@@ -31,8 +35,18 @@ _KERNELS = {
     "sweep_kernel": True,
 }
 
-#: the most scalar RK4 steps (or samples split into cycles) run interpreted
+#: scalar RK4 steps a process interprets before it loads the compiled kernels
 INTERPRETED_MAX_STEPS = 100_000
+
+
+@dataclasses.dataclass
+class _Interpreted:
+    """Scalar RK4 steps this process has interpreted so far."""
+
+    steps: int = 0
+
+
+_INTERPRETED = _Interpreted()
 
 
 @functools.cache
@@ -62,9 +76,23 @@ def is_compiled_loaded() -> bool:
     return compiled.cache_info().currsize > 0
 
 
-def kernels_for(steps: int, *, scalar: bool = True):
-    """The kernels to run ``steps`` steps (or samples) with: the interpreted module for a
-    short scalar job in a process without the compiled twins, the compiled twins otherwise."""
-    if scalar and steps <= INTERPRETED_MAX_STEPS and not is_compiled_loaded():
+def interprets(steps: int, scalar: bool, loaded: bool, interpreted_so_far: int) -> bool:
+    """The rule: interpret an integration of ``steps`` RK4 steps when it is scalar, the
+    compiled kernels are not ``loaded`` and the steps interpreted so far in this process
+    plus these stay within :data:`INTERPRETED_MAX_STEPS`."""
+    return scalar and not loaded and interpreted_so_far + steps <= INTERPRETED_MAX_STEPS
+
+
+def integration_kernels(steps: int, *, scalar: bool = True):
+    """The kernels for an integration of ``steps`` RK4 steps (:func:`interprets`)."""
+    if interprets(steps, scalar, is_compiled_loaded(), _INTERPRETED.steps):
+        _INTERPRETED.steps += steps
         return _kernels
     return compiled()
+
+
+def cycle_kernels(samples: int):
+    """The kernels to split a record of ``samples`` samples into cycles: interpreted while
+    the compiled kernels are not loaded, up to 4 x :data:`INTERPRETED_MAX_STEPS` samples
+    (a sample costs under a quarter of a scalar RK4 step interpreted)."""
+    return _kernels if not is_compiled_loaded() and samples <= 4 * INTERPRETED_MAX_STEPS else compiled()

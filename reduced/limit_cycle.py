@@ -122,7 +122,7 @@ def cycles(history: TimeHistory) -> Cycles:
     qv = np.concatenate([[0.0], np.cumsum(0.5 * (aqv[1:] + aqv[:-1]) * dt)])
     cap = max(1, len(t) // 2 + 1)
     out = [np.empty(cap) for _ in range(5)]
-    n = _engine.kernels_for(len(t)).extract_cycles(t, v, p, qv, *out)
+    n = _engine.cycle_kernels(len(t)).extract_cycles(t, v, p, qv, *out)
     return Cycles(*(a[:n].copy() for a in out))
 
 

@@ -492,7 +492,7 @@ def simulate(
         out_y = np.empty((n_out, n_coord))
         out_u = np.empty((n_out, n_coord))
         if n_coord == 1 and w[0] == 0.0:  # the paper's 1-DOF model: the scalar kernel
-            kernels = _engine.kernels_for(n_steps)
+            kernels = _engine.integration_kernels(n_steps)
             status, mismatch, emax, _work, _done = kernels.integrate_store_1(
                 *(float(x[0]) for x in (y0, u0, m, c, k)),
                 tuple(law.tolist()),

@@ -194,12 +194,18 @@ def test_interpreted_and_compiled_kernels_give_the_same_bits(law, op_fig6):
     np.testing.assert_array_equal(rotating[0][1], rotating[1][1])
 
 
-def test_engine_runs_compiled_beyond_a_short_scalar_run():
+def test_engine_interprets_until_it_has_paid_for_the_compiled_kernels():
+    limit = _engine.INTERPRETED_MAX_STEPS
+    assert _engine.interprets(limit, True, False, 0)  # one run of up to the limit
+    assert not _engine.interprets(limit + 1, True, False, 0)  # a long one: compiled at once
+    assert _engine.interprets(limit // 2, True, False, limit // 2)  # a second short run fits
+    assert not _engine.interprets(limit // 2, True, False, limit // 2 + 1)  # a third does not
+    assert not _engine.interprets(10, False, False, 0)  # several coordinates: compiled
+    assert not _engine.interprets(10, True, True, 0)  # once loaded, everything compiled
     compiled = _engine.compiled()
     assert _engine.is_compiled_loaded()
-    assert _engine.kernels_for(_engine.INTERPRETED_MAX_STEPS + 1) is compiled
-    assert _engine.kernels_for(10, scalar=False) is compiled
-    assert _engine.kernels_for(10) is compiled  # once loaded, everything runs compiled
+    assert _engine.integration_kernels(10) is compiled
+    assert _engine.cycle_kernels(10) is compiled
 
 
 def test_distant_second_mode_barely_changes_squeal(law, op_fig6):
