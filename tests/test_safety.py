@@ -243,6 +243,11 @@ def test_a_killed_command_leaves_no_process_behind(tmp_path):
         t = time.perf_counter()
         p.communicate(timeout=20)  # EOF: every holder of the pipes has gone
         assert time.perf_counter() - t < 5
+    # a refused request does not wait for the plot process, which then ends by itself
+    refused = [*pipe[:2], "run", "--design", str(tmp_path / "missing.toml"), "--out", str(tmp_path / "r")]
+    p = subprocess.Popen(refused, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    _, err = p.communicate(timeout=20)
+    assert p.returncode == 2 and "not found" in err
 
 
 def _publish_together(out: Path, barrier, tag: str) -> None:

@@ -81,6 +81,7 @@ class PlotWorkers:
         self.executor = executor
         self.processes = processes
         self.jobs: list[_Job] = []
+        self.drawn = False
 
     def submit(self, fn: Callable, *args, **kwargs) -> None:
         self.jobs.append((fn, args, kwargs))
@@ -92,6 +93,7 @@ class PlotWorkers:
         elif jobs:
             # one message: objects that several writers share are pickled once
             future: Future = self.executor.submit(_write_all, jobs, self.processes)
+            self.drawn = True
             future.result()
 
 
@@ -110,8 +112,12 @@ def plot_workers(processes: int | None = None) -> Iterator[PlotWorkers]:
         yield PlotWorkers(None, 1)
         return
     fork = multiprocessing.get_context("fork")
-    with ProcessPoolExecutor(
-        1, mp_context=fork, initializer=_start_plot_process, initargs=(PLOT_MODULES,)
-    ) as ex:
-        ex.submit(int)  # the first task starts the process (and its imports) now
-        yield PlotWorkers(ex, processes)
+    ex = ProcessPoolExecutor(1, mp_context=fork, initializer=_start_plot_process, initargs=(PLOT_MODULES,))
+    ex.submit(int)  # the first task starts the process (and its imports) now
+    workers = PlotWorkers(ex, processes)
+    try:
+        yield workers
+    finally:
+        # A plot process that drew is idle: stop it. One that did not (a refused request)
+        # may still be importing: it stops when that is done, or when this process ends.
+        ex.shutdown(wait=workers.drawn, cancel_futures=True)
