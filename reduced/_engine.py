@@ -51,7 +51,7 @@ _INTERPRETED = _Interpreted()
 
 @functools.cache
 def compiled() -> types.SimpleNamespace:
-    """The numba-compiled twins of :mod:`reduced._kernels` (cache=True), loaded once per
+    """The numba-compiled twins of :mod:`reduced._kernels` (cache=True), made once per
     process: each twin is the kernel's own code with its calls bound to the other twins."""
     import numba
 
@@ -66,8 +66,9 @@ def compiled() -> types.SimpleNamespace:
 
 
 def load_compiled_kernels() -> None:
-    """Load the compiled kernels now, so that every later run in this process (a study
-    worker's many simulations, a timed measurement) runs compiled."""
+    """Make the compiled kernels now (numba's import), so that every later run in this
+    process (a study worker's many simulations, a timed measurement) runs compiled; each
+    kernel's machine code is read from numba's cache at its first call."""
     compiled()
 
 
