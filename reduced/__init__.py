@@ -2,8 +2,8 @@
 
 Hertz contact -> creep law (Eq. 3, 6) -> modes at the contact point driven by the
 lateral creep force (Eq. 1, 2, 4, 5) -> linear stability of every mode -> time
-integration (fixed-step RK4, interpreted for one short run and numba-compiled otherwise;
-solve_ivp reference), optionally on a turning wheel (each pair
+integration (fixed-step RK4, interpreted while a process's runs are few and short,
+numba-compiled otherwise; solve_ivp reference), optionally on a turning wheel (each pair
 two travelling waves) -> limit-cycle metrics, the mode that carries the cycle,
 harmonic-balance predictor, grid sweeps, reports. Knows nothing of meshes: modes enter
 as (mass, stiffness, damping, nodal diameters) at the contact.

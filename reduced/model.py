@@ -503,7 +503,8 @@ def simulate(
                 out_u[:, 0],
             )
         else:
-            status, mismatch, emax, _work, _done = _engine.compiled().integrate_store(
+            kernels = _engine.integration_kernels(n_steps, scalar=False)
+            status, mismatch, emax, _work, _done = kernels.integrate_store(
                 y0, u0, m, c, k, w, phase, law, h_eff, n_steps, store_every, out_y, out_u
             )
         ok = status == 0 and mismatch <= energy_tolerance * emax + 1e-300
