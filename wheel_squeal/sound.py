@@ -91,6 +91,13 @@ class Radiation:
     microphone_pressure_pa: complex
     ring_pressure_pa: np.ndarray
 
+    @classmethod
+    def of(cls, field, microphone) -> Radiation:
+        """The radiation of ``field`` (``acoustics.SoundField`` at 1 m/s) seen from a
+        microphone (r, z[, theta])."""
+        at_microphone = complex(field.pressure_at(np.array([microphone[:2]]))[0])
+        return cls(field, at_microphone, field.pressure_at(ring_points(field.mesh.radius)))
+
 
 #: The arrays a cached radiation holds (part of its key: another layout is another entry).
 STORED = ("scalars", "points", "triangles", "dof_points", "pressure", "microphone_pressure", "ring_pressure")
@@ -178,34 +185,31 @@ def mode_radiation(
             pass
     surface = mode_surface(modeset, mode, frequency_hz)
     field = radiate(surface, frequency_hz, air, settings, field_points=np.array([microphone[:2]]))
-    at_microphone = complex(field.pressure_at(np.array([microphone[:2]]))[0])
-    ring = field.pressure_at(ring_points(field.mesh.radius))
+    rad = Radiation.of(field, microphone)
     if key is not None:
-        extra = {"microphone_pressure": np.array([at_microphone]), "ring_pressure": ring}
-        cache.store("sound", key, {**_field_arrays(field), **extra})
-    return Radiation(field, at_microphone, ring)
+        at = {
+            "microphone_pressure": np.array([rad.microphone_pressure_pa]),
+            "ring_pressure": rad.ring_pressure_pa,
+        }
+        cache.store("sound", key, {**_field_arrays(field), **at})
+    return rad
 
 
 @dataclass(frozen=True)
 class Sound:
     """What a microphone and a sound power measurement would give for a tone of contact
-    velocity amplitude ``velocity_amplitude_m_s``; ``field``: the radiation at 1 m/s,
-    ``unit_pressure_pa``: its P at the microphone's (r, z) (complex amplitude of
-    cos(n theta)); ``ring_pressure_pa``: its P on :func:`ring_points`, when known."""
+    velocity amplitude ``velocity_amplitude_m_s``, from the :class:`Radiation` at 1 m/s
+    (made for the microphone's (r, z); theta only sets the angular factor)."""
 
-    field: object
+    radiation: Radiation
     velocity_amplitude_m_s: float
     microphone: tuple[float, float, float]
-    unit_pressure_pa: complex
     travelling: bool = False
-    ring_pressure_pa: np.ndarray | None = None
 
     @property
-    def ring_unit_pressure_pa(self) -> np.ndarray:
-        """P [Pa] at 1 m/s on :func:`ring_points` (evaluated here when not known)."""
-        if self.ring_pressure_pa is not None:
-            return self.ring_pressure_pa
-        return self.field.pressure_at(ring_points(self.field.mesh.radius))
+    def field(self):
+        """The sound field at 1 m/s (``acoustics.SoundField``)."""
+        return self.radiation.field
 
     @property
     def microphone_pressure_pa(self) -> float:
@@ -213,7 +217,7 @@ class Sound:
         angle with the antinode's amplitude)."""
         n, theta = self.field.harmonic, self.microphone[2]
         angular = 1.0 if self.travelling else abs(math.cos(n * theta))
-        return abs(self.unit_pressure_pa) * angular * self.velocity_amplitude_m_s
+        return abs(self.radiation.microphone_pressure_pa) * angular * self.velocity_amplitude_m_s
 
     @property
     def sound_power_w(self) -> float:
@@ -229,7 +233,7 @@ class Sound:
         def level(fn, value):
             return float(fn(value)) if value > 0 else None
 
-        unit = sound_of(self.field, 1.0, self.microphone, self.travelling, self.unit_pressure_pa)
+        unit = Sound(self.radiation, 1.0, self.microphone, self.travelling)
         return {
             "sound_power_level_db": level(sound_power_level_db, self.sound_power_w),
             "spl_db": level(spl_db, self.microphone_pressure_pa),
@@ -249,25 +253,10 @@ class Sound:
 
 
 def sound_of(
-    field,
-    velocity_amplitude_m_s: float,
-    microphone,
-    travelling: bool = False,
-    unit_pressure_pa=None,
-    ring_pressure_pa=None,
+    radiation: Radiation, velocity_amplitude_m_s: float, microphone, travelling: bool = False
 ) -> Sound:
-    """The levels of ``field`` (at 1 m/s) for a contact velocity amplitude [m/s] at a
-    microphone (r, z, theta); ``unit_pressure_pa``, ``ring_pressure_pa``: P there and on
-    the SPL circle at 1 m/s when known (:class:`Radiation`)."""
+    """The levels of ``radiation`` (at 1 m/s) for a contact velocity amplitude [m/s] at a
+    microphone (r, z, theta)."""
     if not (math.isfinite(velocity_amplitude_m_s) and velocity_amplitude_m_s >= 0):
         raise RequestError(f"velocity amplitude must be zero or positive, got {velocity_amplitude_m_s!r}")
-    if unit_pressure_pa is None:
-        unit_pressure_pa = complex(field.pressure_at(np.array([microphone[:2]]))[0])
-    return Sound(
-        field,
-        float(velocity_amplitude_m_s),
-        tuple(microphone),
-        complex(unit_pressure_pa),
-        travelling,
-        ring_pressure_pa,
-    )
+    return Sound(radiation, float(velocity_amplitude_m_s), tuple(microphone), travelling)

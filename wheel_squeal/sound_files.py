@@ -53,7 +53,7 @@ def write_sound_plot(path: Path, sound) -> Path:
     fig.colorbar(im, ax=ax, shrink=0.85)
     ring = ring_points(field.mesh.radius)
     rc = float(np.hypot(*ring[0]))
-    ring_level = spl_db(sound.ring_unit_pressure_pa * max(v, 1e-300))
+    ring_level = spl_db(sound.radiation.ring_pressure_pa * max(v, 1e-300))
     ax2.plot(np.degrees(np.arctan2(ring[:, 0], ring[:, 1])), ring_level, "k-")
     ax2.set_ylim(float(np.max(ring_level)) - 50, float(np.max(ring_level)) + 5)
     ax2.set(

@@ -49,9 +49,7 @@ def mode_sound(
     key = api.modes_cache_key(design, fid, args.fmax)
     air = Air(args.air_density, args.sound_speed)
     rad = mode_radiation(design, ms, mode, frequency_hz, mic, cache, key, air)
-    return sound_of(
-        rad.field, amplitude_m_s, mic, travelling, rad.microphone_pressure_pa, rad.ring_pressure_pa
-    )
+    return sound_of(rad, amplitude_m_s, mic, travelling)
 
 
 def write_sound_files(directory: Path, sound: Sound, plots: PlotWorkers | None = None) -> None:

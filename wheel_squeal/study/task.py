@@ -111,9 +111,7 @@ def _run(design: WheelDesign, job: CaseJob) -> dict:
                     radiation[w] = mode_radiation(
                         design, modes, mode, mode.frequency_hz, microphone, cache, key
                     )
-                rad = radiation[w]
-                sound = sound_of(rad.field, amp, microphone, unit_pressure_pa=rad.microphone_pressure_pa)
-                levels = sound.summary()
+                levels = sound_of(radiation[w], amp, microphone).summary()
                 results["spl_db"][i, j] = levels["spl_db"]
                 results["sound_power_level_db"][i, j] = levels["sound_power_level_db"]
     out |= {k: v.tolist() for k, v in results.items()}
