@@ -33,7 +33,18 @@ from .report import (
     write_timeseries_csv,
 )
 from .saturate import longest_record_s, simulate_to_limit_cycle
-from .stability import ModeStability, StabilityResult, friction_damping_ns_m, linear_stability
+from .stability import (
+    Mitigation,
+    ModeStability,
+    StabilityMap,
+    StabilityResult,
+    critical_damping_ratio,
+    critical_friction_slope,
+    friction_damping_ns_m,
+    linear_stability,
+    mitigation,
+    stability_map,
+)
 from .sweep import SweepResult, sweep
 
 __all__ = [
@@ -70,6 +81,12 @@ __all__ = [
     "StabilityResult",
     "friction_damping_ns_m",
     "linear_stability",
+    "critical_damping_ratio",
+    "critical_friction_slope",
+    "StabilityMap",
+    "stability_map",
+    "Mitigation",
+    "mitigation",
     "summary_dicts",
     "write_timeseries_csv",
     "write_time_history_plots",

@@ -154,6 +154,12 @@ class OperatingPoint:
         """Quasi-static lateral creepage Vc/V0 (= angle of attack), dimensionless."""
         return self.crabbing_velocity_m_s / self.rolling_speed_m_s
 
+    def wheel_speed_rad_s(self, rolling_radius_m: float) -> float:
+        """Omega = V0 / R, the angular speed of a wheel of rolling radius R [m] rolling at
+        V0 [rad/s] (the speed at which a turning wheel's modes pass the contact)."""
+        _finite_positive("OperatingPoint", "rolling_radius_m", rolling_radius_m)
+        return self.rolling_speed_m_s / rolling_radius_m
+
 
 class IntegrationError(RuntimeError):
     """The time integration became unstable or inaccurate and could not be refined."""

@@ -35,7 +35,7 @@ exact values are found by root finding on the coupled eigenvalues.
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -45,11 +45,21 @@ from .creep import ContactLaw, adhesion_ratio_slope
 from .model import ModalDOF, OperatingPoint, as_modes
 
 __all__ = [
+    "EIGEN_SOLVES_PER_BOUND",
+    "Mitigation",
     "ModeStability",
+    "StabilityMap",
     "StabilityResult",
+    "critical_damping_ratio",
+    "critical_friction_slope",
+    "eigen_solve_seconds",
     "friction_damping_ns_m",
     "growth_rates",
     "linear_stability",
+    "mitigation",
+    "mitigation_seconds",
+    "stability_map",
+    "stability_seconds",
 ]
 
 
@@ -153,6 +163,13 @@ def _state_matrix(
 
 def _mode_eigenvalues(modes, damping, g, wheel_speed_rad_s, blocks):
     """Eigenvalues with Im >= 0, and for each mode the ones assigned to it."""
+    lam, assigned, _ = _eigen_shares(modes, damping, g, wheel_speed_rad_s, blocks)
+    return lam, assigned
+
+
+def _eigen_shares(modes, damping, g, wheel_speed_rad_s, blocks):
+    """:func:`_mode_eigenvalues` and each mode's share of each eigenvalue's vibration
+    energy, shape (modes, eigenvalues)."""
     A = _state_matrix(modes, damping, g, wheel_speed_rad_s, blocks)
     lam, vec = np.linalg.eig(A)
     keep = lam.imag >= 0.0
@@ -172,7 +189,7 @@ def _mode_eigenvalues(modes, damping, g, wheel_speed_rad_s, blocks):
         if not taken[j] and len(assigned[i]) < capacity[i]:
             assigned[i].append(int(j))
             taken[j] = True
-    return lam, assigned
+    return lam, assigned, share
 
 
 def growth_rates(modes, damping, g: float, wheel_speed_rad_s: float = 0.0) -> np.ndarray:
@@ -203,40 +220,326 @@ def _decreasing_root(fn, lo: float, hi: float, floor: float = -math.inf) -> floa
     return math.inf
 
 
+Bounds = str | Iterable[int] | None
+
+
+def _bound_indices(bounds: Bounds, n: int) -> set[int]:
+    if bounds is None:
+        return set()
+    if isinstance(bounds, str):
+        if bounds != "all":
+            raise ValueError(f"bounds must be 'all', None or mode indices, got {bounds!r}")
+        return set(range(n))
+    wanted = {int(i) for i in bounds}
+    if any(not 0 <= i < n for i in wanted):
+        raise ValueError(f"bounds: mode indices must lie in 0..{n - 1}, got {sorted(wanted)}")
+    return wanted
+
+
+def critical_damping_ratio(
+    modes, contact: ContactLaw, op: OperatingPoint, i: int, wheel_speed_rad_s: float = 0.0
+) -> float:
+    """The modal damping ratio of mode ``i`` above which it is stable at ``op``, the
+    other modes at their damping (0 if it is stable without damping): a root of its
+    growth rate, found on the coupled eigenvalues (about :data:`EIGEN_SOLVES_PER_BOUND`
+    eigen-solves)."""
+    modes = as_modes(modes)
+    g = friction_damping_ns_m(contact, op)
+    damping = np.array([md.damping_ns_m for md in modes])
+    crit_c = math.sqrt(modes[i].stiffness_n_m * modes[i].mass_kg)  # c = 2 zeta crit_c
+
+    def sigma_at_zeta(zeta: float) -> float:
+        d = damping.copy()
+        d[i] = 2.0 * zeta * crit_c
+        return float(growth_rates(modes, d, g, wheel_speed_rad_s)[i])
+
+    zeta_sep = -g / (2.0 * crit_c)  # the separated-mode value: the first bracket
+    return _decreasing_root(sigma_at_zeta, 0.0, max(2.0 * zeta_sep, 1e-6), floor=0.0)
+
+
+def critical_friction_slope(
+    modes, contact: ContactLaw, op: OperatingPoint, i: int, wheel_speed_rad_s: float = 0.0
+) -> float:
+    """The friction slope dmu/dzeta at the quasi-static creepage above which mode ``i``
+    is stable at ``op`` (a root of its growth rate, as :func:`critical_damping_ratio`)."""
+    modes = as_modes(modes)
+    damping = np.array([md.damping_ns_m for md in modes])
+    scale = contact.normal_load_n / op.rolling_speed_m_s  # g per unit of dmu/dzeta
+
+    def sigma_at_slope(slope: float) -> float:
+        return float(growth_rates(modes, damping, scale * slope, wheel_speed_rad_s)[i])
+
+    slope_sep = -modes[i].damping_ns_m / scale
+    width = abs(slope_sep) + 1e-3
+    return _decreasing_root(sigma_at_slope, slope_sep - width, slope_sep + width)
+
+
 def linear_stability(
-    modes, contact: ContactLaw, op: OperatingPoint, wheel_speed_rad_s: float = 0.0
+    modes,
+    contact: ContactLaw,
+    op: OperatingPoint,
+    wheel_speed_rad_s: float = 0.0,
+    bounds: Bounds = None,
 ) -> StabilityResult:
     """The linear stability of every mode at ``op`` (see the module docstring).
 
     ``modes``: a ModalDOF or a sequence of them (all seen at the same contact point);
     ``wheel_speed_rad_s``: Omega, rotation of the wheel [rad/s] (0: the paper's model,
-    no rotation; a rotating wheel needs the modes' ``nodal_diameters``).
+    no rotation; a rotating wheel needs the modes' ``nodal_diameters``); ``bounds``:
+    the modes whose critical damping ratio and friction slope are found (``"all"``, a
+    sequence of indices, or None): growth rates and frequencies take one eigen-solve,
+    each mode's bounds about :data:`EIGEN_SOLVES_PER_BOUND` more
+    (:func:`stability_seconds`); the others' bounds are NaN.
     """
     modes = as_modes(modes)
+    wanted = _bound_indices(bounds, len(modes))
     g = friction_damping_ns_m(contact, op)
     damping = np.array([md.damping_ns_m for md in modes])
     blocks = _blocks(modes, wheel_speed_rad_s)
     lam, assigned = _mode_eigenvalues(modes, damping, g, wheel_speed_rad_s, blocks)
-    scale = contact.normal_load_n / op.rolling_speed_m_s  # g per unit of dmu/dzeta
     result = []
-    for i, md in enumerate(modes):
-        js = assigned[i]
-        j = max(js, key=lambda jj: lam[jj].real)
+    for i in range(len(modes)):
+        j = max(assigned[i], key=lambda jj: lam[jj].real)
         sigma, fd = float(lam[j].real), float(abs(lam[j].imag)) / (2 * math.pi)
-        crit_c = math.sqrt(md.stiffness_n_m * md.mass_kg)  # c = 2 zeta crit_c
-
-        def sigma_at_zeta(zeta: float, i=i, crit_c=crit_c) -> float:
-            d = damping.copy()
-            d[i] = 2.0 * zeta * crit_c
-            return float(growth_rates(modes, d, g, wheel_speed_rad_s)[i])
-
-        def sigma_at_slope(slope: float, i=i) -> float:
-            return float(growth_rates(modes, damping, scale * slope, wheel_speed_rad_s)[i])
-
-        zeta_sep = -g / (2.0 * crit_c)  # the separated-mode values: the first bracket
-        zeta_crit = _decreasing_root(sigma_at_zeta, 0.0, max(2.0 * zeta_sep, 1e-6), floor=0.0)
-        slope_sep = -md.damping_ns_m / scale
-        width = abs(slope_sep) + 1e-3
-        slope_crit = _decreasing_root(sigma_at_slope, slope_sep - width, slope_sep + width)
+        zeta_crit = slope_crit = math.nan
+        if i in wanted:
+            zeta_crit = critical_damping_ratio(modes, contact, op, i, wheel_speed_rad_s)
+            slope_crit = critical_friction_slope(modes, contact, op, i, wheel_speed_rad_s)
         result.append(ModeStability(sigma, fd, zeta_crit, slope_crit))
     return StabilityResult(tuple(result), lam, g, float(wheel_speed_rad_s))
+
+
+# --------------------------------------------------------------------------------------
+# cost: every analysis here is a count of eigen-solves of the 2N-state matrix
+# --------------------------------------------------------------------------------------
+#: Eigen-solves one mode's two bounds take (the bracket and Brent's method on each):
+#: 14 to 28 measured on the shipped designs (9 to 30 modes, rotation off and on).
+EIGEN_SOLVES_PER_BOUND = 30
+#: One eigen-solve of the n-state system, with the assignment of its eigenvalues to the
+#: modes, costs about EIGEN_SECONDS_FIXED + EIGEN_SECONDS_40 (n / 40)^EIGEN_EXPONENT [s]
+#: (numpy.linalg.eig, LAPACK geev: measured 0.16 ms at n = 10, 1.1 ms at 40, 24 ms at
+#: 160, 0.47 s at 640 and 2.0 s at 1280 on a shared 2-core machine).
+EIGEN_SECONDS_FIXED = 1e-4
+EIGEN_SECONDS_40 = 1e-3
+EIGEN_EXPONENT = 2.2
+#: Rounds of raising a damping bound the mitigation takes, per mode: 0.5 to 1.0
+#: measured on the shipped designs (rotation off and on).
+MITIGATION_ROUNDS_PER_MODE = 0.8
+
+
+def _states(modes: Sequence[ModalDOF], rotation: bool) -> int:
+    """The size of the state matrix: 2 per mode, 4 per rotating pair."""
+    return sum(4 if (rotation and md.nodal_diameters >= 1) else 2 for md in modes)
+
+
+def eigen_solve_seconds(modes: Sequence[ModalDOF], rotation: bool = False) -> float:
+    """The estimated time of one eigen-solve of the coupled system of ``modes`` [s]."""
+    n = _states(modes, rotation)
+    return EIGEN_SECONDS_FIXED + EIGEN_SECONDS_40 * (n / 40) ** EIGEN_EXPONENT
+
+
+def stability_seconds(modes: Sequence[ModalDOF], rotation: bool = False, bounds: int = 0) -> float:
+    """The estimated time of :func:`linear_stability` with ``bounds`` modes' bounds [s]."""
+    return eigen_solve_seconds(modes, rotation) * (1 + EIGEN_SOLVES_PER_BOUND * bounds)
+
+
+# --------------------------------------------------------------------------------------
+# over an operating envelope: the map and what would stop the squeal
+# --------------------------------------------------------------------------------------
+def _wheel_speeds(speeds_m_s: np.ndarray, rolling_radius_m: float | None) -> np.ndarray:
+    if rolling_radius_m is None:
+        return np.zeros(len(speeds_m_s))
+    return np.array([OperatingPoint(float(v), 0.0).wheel_speed_rad_s(rolling_radius_m) for v in speeds_m_s])
+
+
+@dataclass(frozen=True)
+class StabilityMap:
+    """The linear stability over crabbing velocities x rolling speeds.
+
+    crab_velocities_m_s (n_vc,), rolling_speeds_m_s (n_speeds,); growth_rate_1_s
+    (n_vc, n_speeds): the largest growth rate, 1/s; winner (n_vc, n_speeds): the index
+    of the fastest-growing mode; damped_frequency_hz (n_vc, n_speeds): its frequency in
+    the frame of the contact, Hz.
+    """
+
+    crab_velocities_m_s: np.ndarray
+    rolling_speeds_m_s: np.ndarray
+    growth_rate_1_s: np.ndarray
+    winner: np.ndarray
+    damped_frequency_hz: np.ndarray
+
+
+def stability_map(
+    modes, contact: ContactLaw, crab_velocities_m_s, rolling_speeds_m_s, rolling_radius_m: float | None = None
+) -> StabilityMap:
+    """Growth rate, winning mode and its frequency over crabbing velocities [m/s] x
+    rolling speeds [m/s], one eigen-solve per point; ``rolling_radius_m``: the radius
+    of a turning wheel (Omega = V0 / R), None for the paper's model (no rotation)."""
+    modes = as_modes(modes)
+    vcs = np.asarray(crab_velocities_m_s, float)
+    speeds = np.asarray(rolling_speeds_m_s, float)
+    omegas = _wheel_speeds(speeds, rolling_radius_m)
+    damping = np.array([md.damping_ns_m for md in modes])
+    shape = (len(vcs), len(speeds))
+    growth, freq = np.empty(shape), np.empty(shape)
+    winner = np.empty(shape, dtype=np.int64)
+    for j, (v0, omega) in enumerate(zip(speeds, omegas)):
+        blocks = _blocks(modes, omega)
+        for i, vc in enumerate(vcs):
+            g = friction_damping_ns_m(contact, OperatingPoint(float(v0), float(vc)))
+            lam, assigned = _mode_eigenvalues(modes, damping, g, omega, blocks)
+            best = [max(js, key=lambda jj: lam[jj].real) for js in assigned]
+            w = int(np.argmax([lam[b].real for b in best]))
+            winner[i, j] = w
+            growth[i, j] = lam[best[w]].real
+            freq[i, j] = abs(lam[best[w]].imag) / (2 * math.pi)
+    return StabilityMap(vcs, speeds, growth, winner, freq)
+
+
+#: The damping bounds are raised by this fraction above the exact critical values, so
+#: that the coupling between modes (each bound moves the others' by about 1e-5) cannot
+#: leave a point marginally growing.
+MITIGATION_MARGIN = 1e-3
+
+
+@dataclass(frozen=True)
+class Mitigation:
+    """What would keep every mode stable over an envelope.
+
+    damping_ratio (n_modes,) : per mode, the smallest modal damping ratio (to
+        ``MITIGATION_MARGIN``) that keeps it stable at every point, the others at theirs:
+        what a wheel damper must give; damping_worst_point (n_modes, 2): (crab velocity
+        m/s, rolling speed m/s) where each bound binds;
+    friction_slope : the dmu/dzeta (at the quasi-static creepage) the creep curve must
+        not fall below anywhere, with the modes' own damping: what a friction modifier
+        must achieve; friction_worst_speed_m_s : the rolling speed where it binds;
+    settled : False when the damping bounds still left a point growing after the
+        rounds allowed (``reason`` says where); the bounds are then the last ones found.
+    """
+
+    damping_ratio: np.ndarray
+    damping_worst_point: np.ndarray
+    friction_slope: float
+    friction_worst_speed_m_s: float
+    settled: bool
+    reason: str = ""
+
+
+#: A damping ratio beyond which a wheel damper is not a remedy (critical damping).
+MAX_DAMPING_RATIO = 1.0
+
+
+#: An eigenvalue takes part in a mode's motion when the mode holds at least this share
+#: of its vibration energy.
+PARTICIPATION = 0.1
+
+
+def _damping_to_stop(modes, g: float, omega: float, i: int, zeta_now: float) -> float:
+    """The damping ratio of mode ``i`` (above ``zeta_now``) at which no eigenvalue in
+    whose motion it takes part (:data:`PARTICIPATION`) grows: bisection on their largest
+    growth rate, after doubling to bracket it (:data:`MAX_DAMPING_RATIO` if even that
+    leaves one growing). Used where two close modes trade their eigenvalues."""
+    crit_c = math.sqrt(modes[i].stiffness_n_m * modes[i].mass_kg)
+    damping = np.array([md.damping_ns_m for md in modes])
+    blocks = _blocks(modes, omega)
+
+    def largest(zeta: float) -> float:
+        d = damping.copy()
+        d[i] = 2.0 * zeta * crit_c
+        lam, _, share = _eigen_shares(modes, d, g, omega, blocks)
+        return float(np.max(lam.real[share[i] >= PARTICIPATION], initial=-math.inf))
+
+    lo = max(zeta_now, 1e-9)
+    hi = 2.0 * lo
+    while largest(hi) > 0.0:
+        lo, hi = hi, 2.0 * hi
+        if hi > MAX_DAMPING_RATIO:
+            return MAX_DAMPING_RATIO
+    while hi - lo > 1e-4 * hi:
+        mid = 0.5 * (lo + hi)
+        lo, hi = (mid, hi) if largest(mid) > 0.0 else (lo, mid)
+    return hi
+
+
+def mitigation_rounds(n_modes: int) -> int:
+    """Most rounds of raising a damping bound where a point still grows (each round
+    one map of the envelope and one bound)."""
+    return 4 * n_modes + 4
+
+
+def mitigation_seconds(modes, n_crab_velocities: int, n_speeds: int, rotation: bool = False) -> float:
+    """The estimated time of :func:`mitigation` [s]: a damping bound per mode at the
+    worst point and a friction-slope bound per mode and speed, then rounds of one map of
+    the envelope and one bound each (:data:`MITIGATION_ROUNDS_PER_MODE` per mode, as
+    measured; at most :func:`mitigation_rounds`)."""
+    modes = as_modes(modes)
+    rounds = MITIGATION_ROUNDS_PER_MODE * len(modes)
+    bounds = len(modes) * (1 + n_speeds) + rounds
+    solves = bounds * EIGEN_SOLVES_PER_BOUND / 2 + rounds * n_crab_velocities * n_speeds
+    return eigen_solve_seconds(modes, rotation) * solves
+
+
+def mitigation(
+    modes,
+    contact: ContactLaw,
+    crab_velocities_m_s,
+    rolling_speeds_m_s,
+    rolling_radius_m: float | None = None,
+    max_rounds: int | None = None,
+) -> Mitigation:
+    """The damping per mode and the friction slope that stop squeal over the envelope
+    of crabbing velocities x rolling speeds [m/s] (``rolling_radius_m``: a turning
+    wheel's radius, None for no rotation).
+
+    Each damping bound is found where the friction damping is most negative by root
+    finding on the coupled eigenvalues, then checked at every point of the envelope
+    with all modes at their new damping and raised (never lowered) where a point still
+    grows, for at most ``max_rounds`` rounds (:func:`mitigation_rounds`); the friction
+    slope bound is found at each speed at the largest crabbing velocity."""
+    modes = as_modes(modes)
+    vcs = np.asarray(crab_velocities_m_s, float)
+    speeds = np.asarray(rolling_speeds_m_s, float)
+    omegas = dict(zip(speeds.tolist(), _wheel_speeds(speeds, rolling_radius_m).tolist()))
+    points = [(float(vc), float(v0)) for vc in vcs for v0 in speeds]
+    g_at = {p: friction_damping_ns_m(contact, OperatingPoint(p[1], p[0])) for p in points}
+    worst = min(points, key=lambda p: g_at[p])
+    zeta = np.array(
+        [
+            critical_damping_ratio(modes, contact, OperatingPoint(worst[1], worst[0]), i, omegas[worst[1]])
+            for i in range(len(modes))
+        ]
+    )
+    where = np.array([worst] * len(modes), dtype=float)
+    rounds = mitigation_rounds(len(modes)) if max_rounds is None else max_rounds
+    settled, reason = False, ""
+    for _ in range(rounds):
+        damped = [d.with_damping_ratio(z * (1 + MITIGATION_MARGIN)) for d, z in zip(modes, zeta)]
+        damping = np.array([d.damping_ns_m for d in damped])
+        sigma = {p: growth_rates(damped, damping, g_at[p], omegas[p[1]]) for p in points}
+        p, i = max(((p, int(np.argmax(s))) for p, s in sigma.items()), key=lambda pi: sigma[pi[0]][pi[1]])
+        if sigma[p][i] <= 0.0:
+            settled = True
+            break
+        op = OperatingPoint(p[1], p[0])
+        new = critical_damping_ratio(damped, contact, op, i, omegas[p[1]])
+        if not new > zeta[i] * (1 + 2 * MITIGATION_MARGIN):
+            # two close modes trade their eigenvalues as one's damping changes, so the
+            # mode's own growth rate is no longer a decreasing function of it: find
+            # instead the damping at which no eigenvalue grows at this point
+            new = _damping_to_stop(damped, g_at[p], omegas[p[1]], i, zeta[i])
+        zeta[i] = new  # each round raises one bound, never lowers it
+        where[i] = p
+        reason = (
+            f"mode {i} still grows ({sigma[p][i]:.3g} 1/s) at Vc = {p[0]:.4g} m/s, "
+            f"V0 = {p[1]:.4g} m/s after {rounds} rounds of raising the damping bounds"
+        )
+    zeta = zeta * (1 + MITIGATION_MARGIN)
+    slopes = {
+        v0: max(
+            critical_friction_slope(modes, contact, OperatingPoint(v0, float(vcs[-1])), i, omegas[v0])
+            for i in range(len(modes))
+        )
+        for v0 in speeds.tolist()
+    }
+    v_bind = max(slopes, key=slopes.get)
+    return Mitigation(zeta, where, float(slopes[v_bind]), float(v_bind), settled, "" if settled else reason)

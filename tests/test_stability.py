@@ -91,7 +91,7 @@ def _three_modes(f_pair: float = 1150.0):
 def test_single_mode_is_the_analytic_eigenvalue(law, op_fig6):
     g = friction_damping_ns_m(law, op_fig6)
     md = r.ModalDOF(3.1, 1.6e8, 42.0)
-    s = r.linear_stability(md, law, op_fig6).modes[0]
+    s = r.linear_stability(md, law, op_fig6, bounds="all").modes[0]
     assert s.growth_rate_1_s == pytest.approx(-(md.damping_ns_m + g) / (2 * md.mass_kg), rel=1e-12)
     assert s.growth_rate_1_s == pytest.approx(8.63, abs=0.01)  # Table 1 at the Fig. 6 point
     assert s.critical_damping_ratio == pytest.approx(
@@ -111,7 +111,7 @@ def test_separated_modes_tend_to_the_single_mode_limit(law, op_fig6):
     g = friction_damping_ns_m(law, op_fig6)
     for mass, tol in ((300.0, 1e-6), (2.5, 1e-4)):
         modes = [r.ModalDOF.from_frequency(mass, f, 9.4e-4) for f in (300.0, 1143.0, 3000.0)]
-        got = r.linear_stability(modes, law, op_fig6)
+        got = r.linear_stability(modes, law, op_fig6, bounds="all")
         for md, s in zip(modes, got.modes):
             limit = -(md.damping_ns_m + g) / (2 * md.mass_kg)
             assert s.growth_rate_1_s == pytest.approx(limit, rel=0, abs=tol * abs(g) / (2 * md.mass_kg))
@@ -152,7 +152,7 @@ def test_critical_damping_is_where_the_time_domain_growth_changes_sign(law, op_f
     its pole changes sign within 2 % of the computed zeta_crit (a separated mode and
     one of the close pair)."""
     modes = _three_modes(1160.0)
-    s = r.linear_stability(modes, law, op_fig6).modes[which]
+    s = r.linear_stability(modes, law, op_fig6, bounds=[which]).modes[which]
 
     def growth(zeta: float) -> float:
         trial = list(modes)
@@ -169,7 +169,7 @@ def test_critical_damping_is_where_the_time_domain_growth_changes_sign(law, op_f
 
 def test_critical_friction_slope_stabilises(law, op_fig6):
     modes = _three_modes(1160.0)
-    res = r.linear_stability(modes, law, op_fig6)
+    res = r.linear_stability(modes, law, op_fig6, bounds="all")
     scale = law.normal_load_n / op_fig6.rolling_speed_m_s
     damping = [md.damping_ns_m for md in modes]
     for i, s in enumerate(res.modes):
@@ -250,7 +250,7 @@ def test_measured_damping_moves_the_winner(table1_fe):
     """The paper's rig squealed in (3,0): with the damping the stability table says the
     lower modes need, (3,0) is the only unstable mode left."""
     design, ms, contact, op = table1_fe
-    rows, _ = stability_table(design, ms, contact, op)
+    rows, _ = stability_table(design, ms, contact, op, bounds="all")
     damping = tuple(
         (
             f"n={row.mode.nodal_diameters},c={row.mode.nodal_circles}",
@@ -322,7 +322,9 @@ def test_mitigation_damping_and_friction_slope_stop_squeal_everywhere(table1_fe,
     vcs, rpms = np.linspace(0.0, 0.6, 13), [400.0, 600.0, 800.0]
     mit = mitigation(design, ms, contact, vcs, rpms, rotation)
     assert envelope(design, ms, contact, vcs, rpms, rotation).growth_rate_1_s.max() > 0  # squeals now
-    zeta = dict(zip((f"n={m.nodal_diameters},c={m.nodal_circles}" for m in mit.modes), mit.damping_ratio))
+    zeta = dict(
+        zip((f"n={m.nodal_diameters},c={m.nodal_circles}" for m in mit.modes), mit.result.damping_ratio)
+    )
     damped = design.replace(mode_damping=tuple(zeta.items()))
     env = envelope(damped, ms, contact, vcs, rpms, rotation)
     assert env.growth_rate_1_s.max() <= 1e-6
@@ -336,7 +338,7 @@ def test_mitigation_damping_and_friction_slope_stop_squeal_everywhere(table1_fe,
         worst = -math.inf
         for rpm in rpms:
             v0 = ws.presets.rpm_to_speed(rpm, design.rolling_radius)
-            g = contact.normal_load_n / v0 * factor * mit.friction_slope
+            g = contact.normal_load_n / v0 * factor * mit.result.friction_slope
             omega = v0 / design.rolling_radius if rotation else 0.0
             worst = max(worst, growth_rates(dofs, [d.damping_ns_m for d in dofs], g, omega).max())
         assert (worst > 0) == grows

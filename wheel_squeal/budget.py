@@ -1,7 +1,8 @@
 """The resource budget: what a request may cost before it is refused.
 
-Every modal solve and every sweep is estimated before it starts (``fem.cost`` for the
-FE, the RK4 step count for sweeps); a request beyond the budget is refused with a
+Every kind of work is estimated before it starts (``fem.cost`` for the FE, the RK4 step
+count for sweeps, the eigen-solve count for the stability analyses, the air mesh for
+sound, the case count for studies); a request beyond the budget is refused with a
 :class:`~wheel_squeal.errors.BudgetError` that states the estimate and how to proceed.
 
 Limits, each from the API argument / CLI flag, else the environment, else the default:
@@ -41,10 +42,6 @@ ENV_MAX_SECONDS = "WHEEL_SQUEAL_MAX_SECONDS"
 SWEEP_SECONDS_PER_STEP = 1.7e-7
 #: Bytes a running sweep case keeps per RK4 step (time, velocity, two power integrals).
 SWEEP_BYTES_PER_STEP = 32
-#: The stability map and both mitigations (rotation off and on) per operating point of
-#: 11 modes [s] (measured: 3.3 s for 50 x 3 points of the Table 1 wheel); the
-#: eigen-solves grow as the cube of the number of modes.
-ENVELOPE_SECONDS_PER_POINT = 0.022
 
 
 def available_memory() -> float:
@@ -150,14 +147,13 @@ class Budget:
         self._check_time(cost, seconds, remedy)
         return seconds
 
-    def check_envelope(self, n_points: int, n_modes: int, remedy: str) -> float:
-        """Refuse a stability map and mitigation over ``n_points`` operating points of
-        ``n_modes`` modes; returns the estimated run time [s]."""
-        seconds = n_points * (n_modes / 11) ** 3 * ENVELOPE_SECONDS_PER_POINT
-        cost = (
-            f"the stability envelope ({n_points:,} points, {n_modes} modes) would take "
-            f"about {_human_time(seconds)}"
+    def check_work(self, what: str, seconds: float, remedy: str, memory_bytes: float = 0.0) -> float:
+        """Refuse ``what`` (a phrase naming the work) estimated at ``seconds`` and
+        ``memory_bytes``; returns the estimated run time [s]."""
+        cost = f"{what} would take about {_human_time(seconds)}" + (
+            f" and {_human_bytes(memory_bytes)}" if memory_bytes else ""
         )
+        self._check_memory(cost, memory_bytes, remedy)
         self._check_time(cost, seconds, remedy)
         return seconds
 

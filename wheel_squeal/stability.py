@@ -23,6 +23,8 @@ from .presets import MAX_MULTIMODE, rpm_to_speed
 
 __all__ = [
     "Envelope",
+    "envelope_seconds",
+    "stability_seconds",
     "Mitigation",
     "MultiMode",
     "ModeStabilityRow",
@@ -39,7 +41,7 @@ __all__ = [
 
 def wheel_speed_rad_s(design: WheelDesign, op, rotation: bool) -> float:
     """Omega = V0 / R1 [rad/s] when the wheel's rotation is modelled, else 0."""
-    return op.rolling_speed_m_s / design.rolling_radius if rotation else 0.0
+    return op.wheel_speed_rad_s(design.rolling_radius) if rotation else 0.0
 
 
 def excitable(modeset) -> list:
@@ -81,16 +83,26 @@ class ModeStabilityRow:
         }
 
 
-def stability_table(design: WheelDesign, modeset, contact, op, rotation: bool = False):
+def stability_table(design: WheelDesign, modeset, contact, op, rotation: bool = False, bounds=None):
     """(rows, result): a :class:`ModeStabilityRow` per excitable mode, fastest first
-    is ``result.winner``; ``result`` the ``reduced.StabilityResult``."""
+    is ``result.winner``; ``result`` the ``reduced.StabilityResult``. ``bounds``: the
+    rows whose critical damping and friction slope are found ("all", indices, or None:
+    growth rates only, one eigen-solve; see ``reduced.linear_stability``)."""
     from reduced import linear_stability
 
     modes = excitable(modeset)
     if not modes:
         raise RequestError("no mode below fmax is seen at the contact: nothing can squeal there")
-    result = linear_stability(mode_dofs(modes, design), contact, op, wheel_speed_rad_s(design, op, rotation))
+    omega = wheel_speed_rad_s(design, op, rotation)
+    result = linear_stability(mode_dofs(modes, design), contact, op, omega, bounds=bounds)
     return [ModeStabilityRow(m, s) for m, s in zip(modes, result.modes)], result
+
+
+def stability_seconds(design: WheelDesign, modeset, rotation: bool = False, bounds: int = 0) -> float:
+    """The estimated time of :func:`stability_table` with ``bounds`` modes' bounds [s]."""
+    from reduced.stability import stability_seconds as seconds
+
+    return seconds(mode_dofs(excitable(modeset), design), rotation, bounds)
 
 
 def choose_mode(design: WheelDesign, modeset, mode: str, contact, op, rotation: bool = False):
@@ -118,73 +130,56 @@ def choose_mode(design: WheelDesign, modeset, mode: str, contact, op, rotation: 
     return chosen, why, rows
 
 
+def _speeds(design: WheelDesign, rpms) -> np.ndarray:
+    return np.array([rpm_to_speed(float(r), design.rolling_radius) for r in rpms])
+
+
 @dataclass(frozen=True)
 class Envelope:
     """The linear stability over a grid of crabbing velocities x wheel speeds.
 
     crab_velocities_m_s (n_vc,), rpm (n_speeds,); growth_rate_1_s (n_vc, n_speeds): the
     largest growth rate; winner (n_vc, n_speeds): index into ``modes`` of the
-    fastest-growing mode; modes: the excitable FE modes.
+    fastest-growing mode; damped_frequency_hz: its frequency at the contact; modes: the
+    excitable FE modes.
     """
 
     crab_velocities_m_s: np.ndarray
     rpm: np.ndarray
     growth_rate_1_s: np.ndarray
     winner: np.ndarray
+    damped_frequency_hz: np.ndarray
     modes: list
 
 
 def envelope(
     design: WheelDesign, modeset, contact, crab_velocities, rpms, rotation: bool = False
 ) -> Envelope:
-    """Growth rate and winning mode over crabbing velocities [m/s] x wheel speeds [rpm]."""
-    from reduced import OperatingPoint
-    from reduced.stability import friction_damping_ns_m, growth_rates
+    """Growth rate and winning mode over crabbing velocities [m/s] x wheel speeds [rpm]
+    (``reduced.stability_map``)."""
+    from reduced import stability_map
 
     modes = excitable(modeset)
-    dofs = mode_dofs(modes, design)
-    damping = [d.damping_ns_m for d in dofs]
-    vcs, rpms = np.asarray(crab_velocities, float), np.asarray(rpms, float)
-    growth = np.empty((len(vcs), len(rpms)))
-    winner = np.empty((len(vcs), len(rpms)), dtype=np.int64)
-    for j, rpm in enumerate(rpms):
-        v0 = rpm_to_speed(rpm, design.rolling_radius)
-        omega = v0 / design.rolling_radius if rotation else 0.0
-        for i, vc in enumerate(vcs):
-            g = friction_damping_ns_m(contact, OperatingPoint(v0, vc))
-            sigma = growth_rates(dofs, damping, g, omega)
-            winner[i, j] = int(np.argmax(sigma))
-            growth[i, j] = sigma[winner[i, j]]
-    return Envelope(vcs, rpms, growth, winner, modes)
-
-
-#: The damping bounds are raised by this fraction above the exact critical values, so
-#: that the coupling between modes (each bound moves the others' by about 1e-5) cannot
-#: leave a point marginally growing.
-MITIGATION_MARGIN = 1e-3
+    radius = design.rolling_radius if rotation else None
+    m = stability_map(mode_dofs(modes, design), contact, crab_velocities, _speeds(design, rpms), radius)
+    rpms = np.asarray(rpms, float)
+    return Envelope(m.crab_velocities_m_s, rpms, m.growth_rate_1_s, m.winner, m.damped_frequency_hz, modes)
 
 
 @dataclass(frozen=True)
 class Mitigation:
-    """What would keep every mode stable over an envelope.
-
-    damping_ratio : per excitable mode, the smallest modal damping ratio (to
-        ``MITIGATION_MARGIN``) that keeps it stable at every point, the others at theirs:
-        what a wheel damper must give;
-    friction_slope : the dmu/dzeta (at the quasi-static creepage) the creep curve must
-        not fall below anywhere, with the design's damping: what a friction modifier
-        must achieve; worst_point : (crab velocity m/s, rpm) where each bound binds.
-    """
+    """What would keep every mode stable over an envelope (``reduced.Mitigation`` with
+    the FE modes and wheel speeds): see :meth:`to_dict`."""
 
     modes: list
-    damping_ratio: np.ndarray
-    damping_worst_point: list[tuple[float, float]]
-    friction_slope: float
-    friction_worst_rpm: float
+    result: object
+    rpm: np.ndarray
 
     def to_dict(self, design: WheelDesign) -> dict:
         """JSON-ready: per mode its present and required damping ratio (and where it
-        binds), and the friction slope required."""
+        binds), the friction slope required, and whether the bounds settled."""
+        r = self.result
+        to_rpm = rpm_to_speed(1.0, design.rolling_radius)
         return {
             "damping": [
                 {
@@ -194,69 +189,40 @@ class Mitigation:
                     "damping_ratio": design.damping_ratio(m.nodal_diameters, m.nodal_circles),
                     "required_damping_ratio": float(z),
                     "at_crab_velocity_m_s": float(p[0]),
-                    "at_rpm": float(p[1]),
+                    "at_rpm": float(p[1]) / to_rpm,
                 }
-                for m, z, p in zip(self.modes, self.damping_ratio, self.damping_worst_point)
+                for m, z, p in zip(self.modes, r.damping_ratio, r.damping_worst_point)
             ],
-            "required_friction_slope": self.friction_slope,
-            "friction_slope_at_rpm": self.friction_worst_rpm,
+            "required_friction_slope": r.friction_slope,
+            "friction_slope_at_rpm": r.friction_worst_speed_m_s / to_rpm,
+            "settled": r.settled,
+            "reason": r.reason,
         }
 
 
 def mitigation(
     design: WheelDesign, modeset, contact, crab_velocities, rpms, rotation: bool = False
 ) -> Mitigation:
-    """The damping per mode and the friction slope that stop squeal over the envelope.
-
-    Each bound is found where it binds (the point of the most negative friction damping
-    for the damping, the lowest wheel speed for the slope) by root finding on the coupled
-    eigenvalues, then checked at every point of the envelope with all modes at their
-    new damping (and raised where a point still grows)."""
-    from reduced import OperatingPoint, linear_stability
-    from reduced.stability import friction_damping_ns_m, growth_rates
+    """The damping per mode and the friction slope that stop squeal over the envelope
+    (``reduced.mitigation``)."""
+    from reduced import mitigation as find
 
     modes = excitable(modeset)
-    dofs = mode_dofs(modes, design)
-    vcs, rpms = np.asarray(crab_velocities, float), np.asarray(rpms, float)
-    points = [(vc, rpm) for vc in vcs for rpm in rpms]
+    radius = design.rolling_radius if rotation else None
+    result = find(mode_dofs(modes, design), contact, crab_velocities, _speeds(design, rpms), radius)
+    return Mitigation(modes, result, np.asarray(rpms, float))
 
-    def op_at(vc, rpm):
-        return OperatingPoint(rpm_to_speed(rpm, design.rolling_radius), vc)
 
-    def omega(rpm):
-        return rpm_to_speed(rpm, design.rolling_radius) / design.rolling_radius if rotation else 0.0
+def envelope_seconds(design: WheelDesign, modeset, n_crab_velocities: int, n_speeds: int) -> float:
+    """The estimated time of the map and both mitigations (rotation off and on) [s]."""
+    from reduced.stability import eigen_solve_seconds, mitigation_seconds
 
-    g_at = {p: friction_damping_ns_m(contact, op_at(*p)) for p in points}
-    worst = min(points, key=lambda p: g_at[p])
-    zeta = np.array(
-        [
-            s.critical_damping_ratio
-            for s in linear_stability(dofs, contact, op_at(*worst), omega(worst[1])).modes
-        ]
+    dofs = mode_dofs(excitable(modeset), design)
+    points = n_crab_velocities * n_speeds
+    return sum(
+        points * eigen_solve_seconds(dofs, rot) + mitigation_seconds(dofs, n_crab_velocities, n_speeds, rot)
+        for rot in (False, True)
     )
-    where = [worst] * len(modes)
-    for _ in range(4 * len(modes) + 4):  # raise a mode's bound where a point still grows
-        damped = [d.with_damping_ratio(z * (1 + MITIGATION_MARGIN)) for d, z in zip(dofs, zeta)]
-        sig = {
-            p: growth_rates(damped, [d.damping_ns_m for d in damped], g_at[p], omega(p[1])) for p in points
-        }
-        p, i = max(((p, int(np.argmax(s))) for p, s in sig.items()), key=lambda pi: sig[pi[0]][pi[1]])
-        if sig[p][i] <= 0.0:
-            break
-        zeta[i] = linear_stability(damped, contact, op_at(*p), omega(p[1])).modes[i].critical_damping_ratio
-        where[i] = p
-    else:
-        raise RuntimeError("the damping bounds did not settle over the envelope")
-    zeta = zeta * (1 + MITIGATION_MARGIN)
-    slopes = {
-        rpm: max(
-            s.critical_friction_slope
-            for s in linear_stability(dofs, contact, op_at(float(vcs[-1]), rpm), omega(rpm)).modes
-        )
-        for rpm in rpms
-    }
-    rpm_bind = max(slopes, key=slopes.get)
-    return Mitigation(modes, zeta, where, float(slopes[rpm_bind]), float(rpm_bind))
 
 
 @dataclass(frozen=True)

@@ -214,6 +214,11 @@ def write_compare_plot(path: Path, rows: Sequence[dict], sims: Sequence) -> Path
     return path
 
 
+def _cell(value: float, width: int) -> str:
+    """A number in a text table, '-' where it was not computed (NaN)."""
+    return f"{value:{width}.3g}" if math.isfinite(value) else f"{'-':>{width}}"
+
+
 def stability_text(rows: Sequence, winner: int) -> str:
     """The stability of every excitable mode as text, the fastest-growing one marked."""
     lines = [
@@ -225,8 +230,8 @@ def stability_text(rows: Sequence, winner: int) -> str:
         mark = " <- fastest" if i == winner else (" unstable" if s.unstable else "")
         lines.append(
             f"{m.index:>3} {s.damped_frequency_hz:9.1f} {m.nodal_diameters:>2} {m.nodal_circles:>2} "
-            f"{m.family:<15} {s.growth_rate_1_s:11.3g} {s.critical_damping_ratio:10.3g} "
-            f"{s.critical_friction_slope:11.3g}{mark}"
+            f"{m.family:<15} {s.growth_rate_1_s:11.3g} {_cell(s.critical_damping_ratio, 10)} "
+            f"{_cell(s.critical_friction_slope, 11)}{mark}"
         )
     return "\n".join(lines)
 

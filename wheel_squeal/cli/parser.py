@@ -100,12 +100,18 @@ def grid_axis(text: str) -> list[float]:
     return values
 
 
-def _add_axis(p: argparse.ArgumentParser, flag: str, default, what: str, span: bool = False) -> None:
+def _add_axis(
+    p: argparse.ArgumentParser, flag: str, default, what: str, span: bool = False, filled: bool = True
+) -> None:
     """A sweep axis flag (:func:`grid_axis`); ``default``: (start, stop, points) when
-    ``span``, else the values."""
+    ``span``, else the values; ``filled=False`` leaves it None when not given (the
+    command fills it in, and can tell whether it was given)."""
     text = (":" if span else ",").join(f"{x:g}" for x in default)
     p.add_argument(
-        flag, type=grid_axis, default=grid_axis(text), help=f"{what}: START:STOP:N or list (default {text})"
+        flag,
+        type=grid_axis,
+        default=grid_axis(text) if filled else None,
+        help=f"{what}: START:STOP:N or list (default {text})",
     )
 
 
@@ -325,9 +331,20 @@ def build_parser(prog: str = "wheel-squeal") -> argparse.ArgumentParser:
         help="also the map over the envelope (stability.csv, stability.png) and the mitigation",
     )
     _add_axis(
-        p, "--envelope-crab-velocity", DEFAULT_ENVELOPE_CRAB_VELOCITIES, "the envelope's Vc [m/s]", span=True
+        p,
+        "--envelope-crab-velocity",
+        DEFAULT_ENVELOPE_CRAB_VELOCITIES,
+        "the envelope's Vc [m/s]",
+        span=True,
+        filled=False,
     )
-    _add_axis(p, "--envelope-rpm", DEFAULT_SPEEDS_RPM, "the envelope's wheel speeds [rev/min]")
+    _add_axis(p, "--envelope-rpm", DEFAULT_SPEEDS_RPM, "the envelope's wheel speeds [rev/min]", filled=False)
+    p.add_argument(
+        "--no-bounds",
+        action="store_true",
+        help="growth rates only: skip each mode's critical damping and friction slope "
+        "(about 30 eigen-solves per mode)",
+    )
 
     p = sub.add_parser("sound", help="sound of one mode at a given contact velocity (no time domain)")
     _add_common(p)

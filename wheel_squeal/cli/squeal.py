@@ -13,11 +13,22 @@ from .. import api, writers
 from ..errors import RequestError
 from ..outputs import result_folder, write_csv, write_json
 from ..plotting import PlotWorkers
-from ..presets import fidelity_for, rpm_to_speed
+from ..presets import DEFAULT_ENVELOPE_CRAB_VELOCITIES, DEFAULT_SPEEDS_RPM, fidelity_for, rpm_to_speed
 from ..progress import Progress
 from ..sound_files import sound_text, write_sweep_spl
-from ..stability import choose_mode, envelope, mitigation, multimode, stability_table, wheel_speed_rad_s
+from ..stability import (
+    choose_mode,
+    envelope,
+    envelope_seconds,
+    excitable,
+    mitigation,
+    multimode,
+    stability_seconds,
+    stability_table,
+    wheel_speed_rad_s,
+)
 from .common import budget_of, cache_of, design_of, modes_of, operating_point_of, squeal_mode, write_files
+from .parser import grid_axis
 from .sound import mode_sound, write_sound_files
 
 __all__ = ["cmd_compare", "cmd_run", "cmd_simulate", "cmd_stability", "cmd_sweep"]
@@ -205,15 +216,50 @@ def cmd_compare(args) -> int:
     return 0
 
 
+def _envelope_axes(args) -> tuple[np.ndarray, list[float]] | None:
+    """The envelope's axes, or None without --envelope (whose axes flags then refuse)."""
+    given = [f for f, v in (("--envelope-crab-velocity", args.envelope_crab_velocity),
+                            ("--envelope-rpm", args.envelope_rpm)) if v is not None]  # fmt: skip
+    if not args.envelope:
+        if given:
+            raise RequestError(f"{given[0]} shapes the envelope: give it with --envelope")
+        return None
+    vcs = args.envelope_crab_velocity or grid_axis(
+        ":".join(f"{x:g}" for x in DEFAULT_ENVELOPE_CRAB_VELOCITIES)
+    )
+    rpms = args.envelope_rpm or list(DEFAULT_SPEEDS_RPM)
+    if min(rpms) <= 0:
+        raise RequestError("--envelope-rpm: wheel speeds must be positive")
+    return np.asarray(vcs, float), rpms
+
+
 def cmd_stability(args) -> int:
     design = design_of(args)
     progress = Progress(args.quiet)
+    axes = _envelope_axes(args)
     with result_folder(args.out, "stability") as tmp:
         op = operating_point_of(args, design)
         contact = api.contact_law(design, args.c22)
+        budget = budget_of(args)
         fid, ms = modes_of(args, design, progress)
-        with progress.stage("linear stability"):
-            rows, result = stability_table(design, ms, contact, op, args.rotation)
+        n = len(excitable(ms))
+        bounds = None if args.no_bounds else "all"
+        seconds = budget.check_work(
+            f"the critical damping and friction slope of {n} modes",
+            stability_seconds(design, ms, args.rotation, 0 if bounds is None else n),
+            "lower --fmax, or give --no-bounds for the growth rates alone",
+        )
+        if axes is not None:
+            budget.check_work(
+                f"the stability envelope ({len(axes[0])} x {len(axes[1])} points, {n} modes) and its "
+                "mitigation",
+                envelope_seconds(design, ms, len(axes[0]), len(axes[1])),
+                "use fewer --envelope-crab-velocity points or a lower --fmax",
+            )
+        with progress.stage(
+            f"linear stability of {n} modes" + (f" (about {seconds:.2g} s)" if seconds > 2 else "")
+        ):
+            rows, result = stability_table(design, ms, contact, op, args.rotation, bounds=bounds)
         table = [r.to_dict(design) for r in rows]
         summary = {
             "design": design.name,
@@ -231,21 +277,16 @@ def cmd_stability(args) -> int:
             "modes": table,
             "winner": table[result.winner],
         }
-        if args.envelope:
-            vcs = np.asarray(args.envelope_crab_velocity)
-            if min(args.envelope_rpm) <= 0:
-                raise RequestError("--envelope-rpm: wheel speeds must be positive")
-            budget_of(args).check_envelope(
-                len(vcs) * len(args.envelope_rpm), len(rows), "use fewer --envelope-crab-velocity points"
-            )
-            with progress.stage(f"envelope {len(vcs)} x {len(args.envelope_rpm)} points"):
-                env = envelope(design, ms, contact, vcs, args.envelope_rpm, args.rotation)
+        if axes is not None:
+            vcs, rpms = axes
+            with progress.stage(f"envelope {len(vcs)} x {len(rpms)} points"):
+                env = envelope(design, ms, contact, vcs, rpms, args.rotation)
             with progress.stage("mitigation (rotation off and on)"):
                 summary["mitigation"] = {
                     "crab_velocity_m_s": [float(vcs[0]), float(vcs[-1])],
-                    "rpm": list(args.envelope_rpm),
+                    "rpm": list(rpms),
                     **{
-                        key: mitigation(design, ms, contact, vcs, args.envelope_rpm, rot).to_dict(design)
+                        key: mitigation(design, ms, contact, vcs, rpms, rot).to_dict(design)
                         for key, rot in (("rotation_off", False), ("rotation_on", True))
                     },
                 }
@@ -253,7 +294,7 @@ def cmd_stability(args) -> int:
             writers.write_envelope_plot(tmp / "stability.png", env)
         write_json(tmp / "summary.json", summary)
     print(writers.stability_text(rows, result.winner))
-    if args.envelope:
+    if axes is not None:
         print(writers.mitigation_text(summary["mitigation"]))
     print(f"-> {args.out}")
     return 0
