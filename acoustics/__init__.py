@@ -8,7 +8,15 @@ nothing of the modal or squeal models. Checked against the exact radiation of a 
 """
 
 from .exact import sphere_pressure, sphere_sound_power, sphere_surface
-from .helmholtz import RadiationSettings, SoundField, radiate
+from .helmholtz import (
+    BodyTraces,
+    RadiationCost,
+    RadiationSettings,
+    SoundField,
+    kirchhoff_pressure,
+    radiate,
+    radiation_cost,
+)
 from .medium import AIR, P_REF_PA, W_REF_W, Air, sound_power_level_db, spl_db
 from .mesh import AirMesh, air_mesh
 from .surface import Surface
@@ -17,13 +25,17 @@ __all__ = [
     "AIR",
     "Air",
     "AirMesh",
+    "BodyTraces",
+    "RadiationCost",
     "P_REF_PA",
     "RadiationSettings",
     "SoundField",
     "Surface",
     "W_REF_W",
     "air_mesh",
+    "kirchhoff_pressure",
     "radiate",
+    "radiation_cost",
     "sound_power_level_db",
     "sphere_pressure",
     "sphere_sound_power",

@@ -23,6 +23,7 @@ the measured reason for the layer (README).
 
 from __future__ import annotations
 
+import json
 import math
 from dataclasses import dataclass
 
@@ -32,7 +33,18 @@ from .medium import AIR, Air
 from .mesh import AirMesh, air_mesh
 from .surface import Surface
 
-__all__ = ["RadiationSettings", "SoundField", "far_field", "radiate"]
+__all__ = [
+    "BodyTraces",
+    "MeshSizes",
+    "RadiationCost",
+    "RadiationSettings",
+    "SoundField",
+    "far_field",
+    "kirchhoff_pressure",
+    "mesh_sizes",
+    "radiate",
+    "radiation_cost",
+]
 
 
 @dataclass(frozen=True)
@@ -67,13 +79,48 @@ class RadiationSettings:
 
 
 @dataclass(frozen=True, eq=False)
+class BodyTraces:
+    """The pressure and its normal derivative on the body, at quadrature points of its
+    outline (what the Kirchhoff-Helmholtz integral needs): points (2, Q) (r, z) [m],
+    normals (2, Q) out of the body, pressure (Q,) [Pa], normal_derivative (Q,) [Pa/m]
+    (dP/dn = -j w rho0 vn), weights (Q,) [m] (ds; the r of the measure not included)."""
+
+    points: np.ndarray
+    normals: np.ndarray
+    pressure: np.ndarray
+    normal_derivative: np.ndarray
+    weights: np.ndarray
+
+    def as_tuple(self) -> tuple:
+        return (self.points, self.normals, self.pressure, self.normal_derivative, self.weights)
+
+
+#: The names of a :class:`SoundField`'s arrays (:meth:`SoundField.to_arrays`): another
+#: layout is another cache entry.
+FIELD_ARRAYS = (
+    "points",
+    "triangles",
+    "dof_points",
+    "pressure",
+    "body_points",
+    "body_normals",
+    "body_pressure",
+    "body_normal_derivative",
+    "body_weights",
+    "scalars",
+)
+
+
+@dataclass(frozen=True, eq=False)
 class SoundField:
     """The pressure around the body for one harmonic, and what it radiates.
 
     mesh : the air mesh; pressure : P at the P2 nodes of ``dof_points`` (complex, Pa,
-    amplitude of cos(n theta)); sound_power_w : time-averaged radiated power [W], from
-    the far field (the Kirchhoff-Helmholtz integral over the circle rho = R), which
-    stays accurate for a poor radiator whose near field is almost all reactive;
+    amplitude of cos(n theta)); body : the pressure on the body (:class:`BodyTraces`),
+    from which :meth:`pressure_at` finds the pressure beyond the mesh and
+    :meth:`far_field` the directivity; sound_power_w : time-averaged radiated power [W],
+    from the far field (the Kirchhoff-Helmholtz integral over the body), which stays
+    accurate for a poor radiator whose near field is almost all reactive;
     radiation_efficiency : W / (rho c S <vn^2>); surface_power_w : (pi or 2 pi) / 2 Re
     integral P conj(vn) r ds over the body, and flux_power_w : the same through the
     circle rho = R (energy checks: equal to W for a good radiator); frequency_hz, harmonic.
@@ -82,6 +129,7 @@ class SoundField:
     mesh: AirMesh
     dof_points: np.ndarray
     pressure: np.ndarray
+    body: BodyTraces
     frequency_hz: float
     harmonic: int
     sound_power_w: float
@@ -90,17 +138,190 @@ class SoundField:
     flux_power_w: float
     air: Air
 
+    @property
+    def wavenumber(self) -> float:
+        """k = w / c [1/m]."""
+        return self.air.wavenumber(self.frequency_hz)
+
     def pressure_at(self, points_rz: np.ndarray) -> np.ndarray:
-        """P [Pa] (complex amplitude of cos(n theta)) at (r, z) points inside R."""
+        """P [Pa] (complex amplitude of cos(n theta)) at (r, z) points in the air: from
+        the finite elements inside the physical region rho <= R, from the
+        Kirchhoff-Helmholtz integral over the body beyond it (at any distance)."""
         points_rz = np.atleast_2d(np.asarray(points_rz, dtype=float))
         rho = np.hypot(points_rz[:, 0], points_rz[:, 1])
-        if np.any(rho > self.mesh.radius * (1 + 1e-9)):
-            raise ValueError(
-                f"field points beyond the physical region (rho <= {self.mesh.radius:.3g} m): "
-                "give them to radiate() so that it is made large enough"
-            )
-        basis = _basis(self.mesh)
-        return basis.probes(points_rz.T) @ self.pressure
+        out = np.empty(len(points_rz), dtype=complex)
+        near = rho <= self.mesh.radius * (1 - 1e-9)
+        if np.any(near):
+            out[near] = _basis(self.mesh).probes(points_rz[near].T) @ self.pressure
+        if np.any(~near):
+            out[~near] = kirchhoff_pressure(self.body, self.harmonic, self.wavenumber, points_rz[~near])
+        return out
+
+    def far_field(self, cos_theta: np.ndarray) -> np.ndarray:
+        """D(theta) [Pa m] with p ~ D(theta) cos(n phi) e^{-j k R} / R far from the body
+        (theta from the +z axis)."""
+        return far_field(self.body.as_tuple(), self.harmonic, self.wavenumber, np.asarray(cos_theta, float))
+
+    def vertex_pressure(self) -> np.ndarray:
+        """P [Pa] at the air mesh's vertices (its first P2 unknowns), shape (N,)."""
+        return self.pressure[: len(self.mesh.points)]
+
+    def to_arrays(self) -> dict[str, np.ndarray]:
+        """The field as named arrays (:data:`FIELD_ARRAYS`); :meth:`from_arrays` reads
+        them back exactly."""
+        b = self.body
+        scalars = {
+            "frequency_hz": self.frequency_hz,
+            "harmonic": float(self.harmonic),
+            "sound_power_w": self.sound_power_w,
+            "radiation_efficiency": self.radiation_efficiency,
+            "surface_power_w": self.surface_power_w,
+            "flux_power_w": self.flux_power_w,
+            "radius_m": self.mesh.radius,
+            "pml_thickness_m": self.mesh.pml_thickness,
+            "density_kg_m3": self.air.density_kg_m3,
+            "sound_speed_m_s": self.air.sound_speed_m_s,
+        }
+        return {
+            "points": self.mesh.points,
+            "triangles": self.mesh.triangles,
+            "dof_points": self.dof_points,
+            "pressure": self.pressure,
+            "body_points": b.points,
+            "body_normals": b.normals,
+            "body_pressure": b.pressure,
+            "body_normal_derivative": b.normal_derivative,
+            "body_weights": b.weights,
+            "scalars": np.array(json.dumps(scalars)),
+        }
+
+    @classmethod
+    def from_arrays(cls, arrays: dict[str, np.ndarray]) -> SoundField:
+        """The field of :meth:`to_arrays`."""
+        s = json.loads(str(arrays["scalars"]))
+        mesh = AirMesh(arrays["points"], arrays["triangles"], s["radius_m"], s["pml_thickness_m"])
+        body = BodyTraces(
+            arrays["body_points"],
+            arrays["body_normals"],
+            arrays["body_pressure"],
+            arrays["body_normal_derivative"],
+            arrays["body_weights"],
+        )
+        return cls(
+            mesh,
+            arrays["dof_points"],
+            arrays["pressure"],
+            body,
+            s["frequency_hz"],
+            int(s["harmonic"]),
+            s["sound_power_w"],
+            s["radiation_efficiency"],
+            s["surface_power_w"],
+            s["flux_power_w"],
+            Air(s["density_kg_m3"], s["sound_speed_m_s"]),
+        )
+
+
+@dataclass(frozen=True)
+class MeshSizes:
+    """The air region of a radiation: its radius R and layer thickness d [m], and the
+    element sizes far from and along the body [m]."""
+
+    radius_m: float
+    pml_thickness_m: float
+    size_far_m: float
+    size_near_m: float
+
+    def dofs(self) -> float:
+        """The estimated number of P2 unknowns of the air mesh: about
+        :data:`DOFS_PER_AREA` per element area over the half-disc of radius R + d, with
+        the refinement along the body (measured, ``benchmarks/run_all.py``)."""
+        outer = self.radius_m + self.pml_thickness_m
+        return DOFS_PER_AREA * (0.5 * math.pi * outer**2) / self.size_far_m**2 + DOFS_NEAR * (
+            self.radius_m / self.size_near_m
+        )
+
+
+#: P2 unknowns per square element size of air (gmsh's frontal-Delaunay triangles: about
+#: 2.3 triangles per h^2 and 2 unknowns per triangle), and per body length over the near
+#: element size (the refined band along the wheel): fitted to the measured meshes of the
+#: wheel's modes from 260 Hz to 20 kHz within 30 %.
+DOFS_PER_AREA = 4.6
+DOFS_NEAR = 60.0
+#: Seconds and bytes per unknown of a radiation solve (gmsh, assembly and the sparse LU
+#: of the 2-D problem), both growing beyond :data:`LU_FILL_DOFS` unknowns as the LU's
+#: fill does: measured 0.17 s / 5.4k, 1.5 s / 41k, 4.3 s / 92k, 16 s and 1.3 GB / 183k
+#: unknowns on the Table 1 wheel's modes (260 Hz to 17 kHz).
+SECONDS_PER_DOF = 4e-5
+BYTES_PER_DOF = 7000.0
+LU_FILL_DOFS = 1e5
+
+
+def mesh_sizes(
+    surface: Surface, frequency_hz: float, air: Air = AIR, settings: RadiationSettings | None = None
+) -> MeshSizes:
+    """The air region and element sizes :func:`radiate` uses for ``surface`` at
+    ``frequency_hz`` [Hz]."""
+    settings = settings or RadiationSettings()
+    lam = air.wavelength(frequency_hz)
+    radius = surface.scale * (1 + settings.margin)
+    seg = surface.segments()
+    seg_len = np.linalg.norm(surface.points[seg[:, 1]] - surface.points[seg[:, 0]], axis=1)
+    size_far = min(lam / settings.elements_per_wavelength, radius / 4)
+    size_near = min(size_far, float(np.median(seg_len)))
+    pml = settings.boundary == "pml"
+    thickness = max(settings.pml_wavelengths * lam, settings.pml_min_fraction * radius) if pml else 0.0
+    size_far = min(size_far, thickness / settings.pml_elements) if pml else size_far
+    return MeshSizes(radius, thickness, size_far, size_near)
+
+
+@dataclass(frozen=True)
+class RadiationCost:
+    """The estimated size of a radiation solve: unknowns, memory [bytes], time [s]."""
+
+    dofs: float
+    memory_bytes: float
+    seconds: float
+
+
+def radiation_cost(
+    surface: Surface, frequency_hz: float, air: Air = AIR, settings: RadiationSettings | None = None
+) -> RadiationCost:
+    """The estimated cost of :func:`radiate` (:data:`SECONDS_PER_DOF`,
+    :data:`BYTES_PER_DOF`), without meshing."""
+    dofs = mesh_sizes(surface, frequency_hz, air, settings).dofs()
+    fill = max(1.0, dofs / LU_FILL_DOFS)
+    return RadiationCost(dofs, BYTES_PER_DOF * dofs * fill**0.25, SECONDS_PER_DOF * dofs * fill)
+
+
+def kirchhoff_pressure(body: BodyTraces, n: int, k: float, points_rz: np.ndarray) -> np.ndarray:
+    """P [Pa] (amplitude of cos(n theta)) at (r, z) points outside the body, from the
+    Kirchhoff-Helmholtz integral over it:
+
+        p(x) = integral_S (p dG/dn_y - G dp/dn_y) dS,  G = e^{-j k d} / (4 pi d),
+
+    d = |x - y|, the normal out of the body. The angular integral is taken by the
+    trapezoidal rule over the full circle, exact to round-off for a smooth periodic
+    integrand once its points resolve cos(n phi), the phase k d and the peak of 1/d
+    (their number follows from n, k r and the point's distance from the body)."""
+    (r, z), (nr, nz), p, dp, ds = body.as_tuple()
+    points_rz = np.atleast_2d(np.asarray(points_rz, float))
+    out = np.empty(len(points_rz), dtype=complex)
+    r_max = float(np.max(r))
+    for m, (rx, zx) in enumerate(points_rz):
+        gap = float(np.min(np.hypot(r - rx, z - zx)))
+        count = 4 * (n + k * r_max) + 16 * r_max / max(gap, 1e-6 * r_max) + 64
+        phi = np.linspace(0.0, 2 * np.pi, int(min(count, 8192)), endpoint=False)[:, None]
+        c = np.cos(phi)
+        dx, dy, dz = rx - r[None, :] * c, -r[None, :] * np.sin(phi), zx - z[None, :]
+        d = np.sqrt(dx * dx + dy * dy + dz * dz)
+        G = np.exp(-1j * k * d) / (4 * np.pi * d)
+        towards = nr[None, :] * (rx * c - r[None, :]) + nz[None, :] * dz  # (x - y) . n_y
+        dG = (1j * k + 1.0 / d) * G * towards / d
+        ring = np.cos(n * phi)
+        integrand = ring * (p[None, :] * dG - dp[None, :] * G) * (r * ds)[None, :]
+        out[m] = integrand.sum() * (2 * np.pi / len(phi))
+    return out
 
 
 def _skfem_mesh(mesh: AirMesh):
@@ -138,9 +359,9 @@ def radiate(
     frequency_hz: float,
     air: Air = AIR,
     settings: RadiationSettings | None = None,
-    field_points: np.ndarray | None = None,
 ) -> SoundField:
-    """The sound field of ``surface`` vibrating at ``frequency_hz`` [Hz]."""
+    """The sound field of ``surface`` vibrating at ``frequency_hz`` [Hz] (its air region
+    is sized by the body alone: :meth:`SoundField.pressure_at` reaches any distance)."""
     import scipy.sparse.linalg as spla
     import skfem as fe
 
@@ -148,20 +369,10 @@ def radiate(
         raise ValueError(f"frequency must be positive, got {frequency_hz!r}")
     settings = settings or RadiationSettings()
     k = air.wavenumber(frequency_hz)
-    lam = air.wavelength(frequency_hz)
     n = int(surface.harmonic)
-    extent = surface.scale
-    radius = extent * (1 + settings.margin)
-    if field_points is not None and len(field_points):
-        radius = max(radius, 1.05 * float(np.max(np.hypot(*np.atleast_2d(field_points).T))))
-    seg = surface.segments()
-    seg_len = np.linalg.norm(surface.points[seg[:, 1]] - surface.points[seg[:, 0]], axis=1)
-    size_far = min(lam / settings.elements_per_wavelength, radius / 4)
-    size_near = min(size_far, float(np.median(seg_len)))
-    pml = settings.boundary == "pml"
-    thickness = max(settings.pml_wavelengths * lam, settings.pml_min_fraction * radius) if pml else 0.0
-    size_far = min(size_far, thickness / settings.pml_elements) if pml else size_far
-    mesh = air_mesh(surface, radius, thickness, size_far, size_near)
+    sizes = mesh_sizes(surface, frequency_hz, air, settings)
+    radius, thickness, pml = sizes.radius_m, sizes.pml_thickness_m, settings.boundary == "pml"
+    mesh = air_mesh(surface, radius, thickness, sizes.size_far_m, sizes.size_near_m)
     skm = _skfem_mesh(mesh)
     basis = fe.Basis(skm, fe.ElementTriP2(), intorder=4)
     tol = 1e-6 * (radius + thickness)
@@ -219,7 +430,7 @@ def radiate(
     power = angular * 0.5 * float(np.real(np.sum(p_surf * np.conj(vn) * r_q * jac)))
     mean_sq = angular * 0.5 * float(np.sum(np.abs(vn) ** 2 * r_q * jac))
     normal = -np.asarray(fb.normals)  # out of the body, into the air
-    body_traces = (
+    body = BodyTraces(
         x.reshape(2, -1),
         normal.reshape(2, -1),
         p_surf.ravel(),
@@ -227,11 +438,12 @@ def radiate(
         np.asarray(jac).ravel(),
     )
     flux = _flux(_circle_traces(skm, P, radius, tol), omega, air, angular)
-    far = _far_field_power(body_traces, n, k, air, angular)
+    far = _far_field_power(body.as_tuple(), n, k, air, angular)
     return SoundField(
         mesh,
         basis.doflocs.T.copy(),
         P,
+        body,
         float(frequency_hz),
         n,
         far,

@@ -7,7 +7,17 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["AIR", "P_REF_PA", "W_REF_W", "Air", "sound_power_level_db", "spl_db"]
+__all__ = [
+    "AIR",
+    "DENSITY_RANGE_KG_M3",
+    "P_REF_PA",
+    "SOUND_SPEED_RANGE_M_S",
+    "W_REF_W",
+    "Air",
+    "implausible_air",
+    "sound_power_level_db",
+    "spl_db",
+]
 
 #: Reference sound pressure (rms) [Pa] and sound power [W].
 P_REF_PA = 20e-6
@@ -43,6 +53,26 @@ class Air:
 
 #: Air at 20 degC (the defaults).
 AIR = Air()
+
+#: The fluids a wheel may radiate into, from thin air at altitude (0.4 kg/m^3, 300 m/s)
+#: to water (1000 kg/m^3, 1480 m/s), with room to spare; beyond them a value is a slip
+#: of units.
+DENSITY_RANGE_KG_M3 = (0.05, 2000.0)
+SOUND_SPEED_RANGE_M_S = (100.0, 2000.0)
+
+
+def implausible_air(density_kg_m3: float, sound_speed_m_s: float) -> str | None:
+    """One line naming an implausible density [kg/m^3] or sound speed [m/s] (and the
+    value meant, for a slip of units), or None."""
+    lo, hi = DENSITY_RANGE_KG_M3
+    if not (math.isfinite(density_kg_m3) and lo <= density_kg_m3 <= hi):
+        hint = f" (looks like g/cm^3: write {density_kg_m3 * 1000:g})" if 5e-5 <= density_kg_m3 < lo else ""
+        return f"air density {density_kg_m3:g} kg/m^3 is outside {lo:g} to {hi:g} kg/m^3{hint}"
+    lo, hi = SOUND_SPEED_RANGE_M_S
+    if not (math.isfinite(sound_speed_m_s) and lo <= sound_speed_m_s <= hi):
+        hint = f" (looks like km/s: write {sound_speed_m_s * 1000:g})" if 0.1 <= sound_speed_m_s < 2 else ""
+        return f"sound speed {sound_speed_m_s:g} m/s is outside {lo:g} to {hi:g} m/s{hint}"
+    return None
 
 
 def spl_db(pressure_amplitude_pa) -> np.ndarray:

@@ -93,7 +93,7 @@ def wheel_table() -> None:
             for name, settings in rows:
                 s, field = _timed(
                     lambda settings=settings, surface=surface, f=mode.frequency_hz: ac.radiate(
-                        surface, f, settings=settings, field_points=np.array([mic[:2]])
+                        surface, f, settings=settings
                     )
                 )
                 spl = float(ac.spl_db(field.pressure_at(np.array([mic[:2]]))[0]))

@@ -187,6 +187,20 @@ class Outline:
         return float(zs.min()), float(zs.max())
 
     # -- where things are -------------------------------------------------------------
+    def contains(self, xy: np.ndarray) -> np.ndarray:
+        """Whether each (r, z) point [m] lies inside the material (even-odd rule on the
+        polygon of :meth:`polygon`), shape (N,)."""
+        xy = np.atleast_2d(np.asarray(xy, dtype=float))
+        poly, _ = self.polygon()
+        a, b = poly, np.roll(poly, -1, axis=0)
+        inside = np.zeros(len(xy), dtype=bool)
+        for (r0, z0), (r1, z1) in zip(a, b):
+            crosses = (z0 > xy[:, 1]) != (z1 > xy[:, 1])
+            with np.errstate(divide="ignore", invalid="ignore"):
+                r_at = r0 + (xy[:, 1] - z0) * (r1 - r0) / (z1 - z0)
+            inside ^= crosses & (xy[:, 0] < r_at)
+        return inside
+
     def distance(self, xy: np.ndarray, segments: tuple[int, ...] | None = None) -> np.ndarray:
         """Distance [m] of points (N, 2) from the loop (or from the given segments)."""
         xy = np.atleast_2d(np.asarray(xy, float))

@@ -26,8 +26,13 @@ __all__ = [
     "Sound",
     "default_microphone",
     "mode_radiation",
+    "radiation_key",
     "mode_surface",
     "parse_microphone",
+    "microphone_for",
+    "Listener",
+    "air_for",
+    "check_velocity_amplitude",
     "ring_points",
     "sound_of",
 ]
@@ -52,6 +57,51 @@ def parse_microphone(text: str) -> tuple[float, float, float]:
     if not all(math.isfinite(v) for v in (r, z, theta)) or r < 0:
         raise RequestError(f"--microphone R,Z,THETA needs finite values and R >= 0, got {text!r}")
     return (r, z, theta)
+
+
+#: The farthest microphone [m]: beyond it a position is a slip of units (mm for m).
+MAX_MICROPHONE_DISTANCE_M = 1000.0
+
+
+def microphone_for(design: WheelDesign, text: str | None) -> tuple[float, float, float]:
+    """The microphone (r, z, theta) [m, m, rad] of ``--microphone`` text (None: the
+    default, :func:`default_microphone`), checked against the wheel: a position inside
+    its cross-section or absurdly far is refused (:class:`RequestError`)."""
+    from geometry.profile import half_profile
+
+    mic = parse_microphone(text) if text else default_microphone(design)
+    r, z, _ = mic
+    if math.hypot(r, z) > MAX_MICROPHONE_DISTANCE_M:
+        raise RequestError(
+            f"microphone at r {r:g} m, z {z:g} m is more than {MAX_MICROPHONE_DISTANCE_M:g} m from the "
+            "wheel (positions are in metres)"
+        )
+    if bool(half_profile(design).contains(np.array([[r, z]]))[0]):
+        raise RequestError(
+            f"microphone at r {r:g} m, z {z:g} m is inside the wheel's cross-section: place it in the air"
+        )
+    return mic
+
+
+@dataclass(frozen=True)
+class Listener:
+    """Where the sound is heard and through what: the microphone (r, z, theta) [m, m,
+    rad] and the air (``acoustics.Air``)."""
+
+    microphone: tuple[float, float, float]
+    air: object
+
+
+def air_for(density_kg_m3: float, sound_speed_m_s: float):
+    """``acoustics.Air`` of the given density and sound speed, refused
+    (:class:`RequestError`) outside the plausible ranges (``acoustics.implausible_air``)."""
+    from acoustics import Air
+    from acoustics.medium import implausible_air
+
+    problem = implausible_air(density_kg_m3, sound_speed_m_s)
+    if problem:
+        raise RequestError(problem)
+    return Air(density_kg_m3, sound_speed_m_s)
 
 
 def mode_surface(modeset, mode, frequency_hz: float, contact_velocity_m_s: float = 1.0):
@@ -99,51 +149,22 @@ class Radiation:
         return cls(field, at_microphone, field.pressure_at(ring_points(field.mesh.radius)))
 
 
-#: The arrays a cached radiation holds (part of its key: another layout is another entry).
-STORED = ("scalars", "points", "triangles", "dof_points", "pressure", "microphone_pressure", "ring_pressure")
+def radiation_key(modes_key: dict, mode, frequency_hz: float, air) -> dict:
+    """The cache key of a mode's radiation (its field at 1 m/s): the modes', the mode,
+    the frequency, the air, the settings and the acoustics code."""
+    from acoustics import RadiationSettings
+    from acoustics.helmholtz import FIELD_ARRAYS
 
-
-def _field_arrays(field) -> dict[str, np.ndarray]:
-    scalars = np.array(
-        [
-            field.frequency_hz,
-            field.harmonic,
-            field.sound_power_w,
-            field.radiation_efficiency,
-            field.surface_power_w,
-            field.flux_power_w,
-            field.mesh.radius,
-            field.mesh.pml_thickness,
-            field.air.density_kg_m3,
-            field.air.sound_speed_m_s,
-        ]
-    )
     return {
-        "scalars": scalars,
-        "points": field.mesh.points,
-        "triangles": field.mesh.triangles,
-        "dof_points": field.dof_points,
-        "pressure": field.pressure,
+        **modes_key,
+        "stage": "sound",
+        "mode": mode.index,
+        "frequency_hz": round(float(frequency_hz), 6),
+        "settings": repr(RadiationSettings()),
+        "air": repr(air),
+        "code": code_version("acoustics"),
+        "stored": list(FIELD_ARRAYS),
     }
-
-
-def _field_from(arrays: dict[str, np.ndarray]):
-    from acoustics import Air, AirMesh, SoundField
-
-    s = arrays["scalars"]
-    mesh = AirMesh(arrays["points"], arrays["triangles"], float(s[6]), float(s[7]))
-    return SoundField(
-        mesh,
-        arrays["dof_points"],
-        arrays["pressure"],
-        float(s[0]),
-        int(s[1]),
-        float(s[2]),
-        float(s[3]),
-        float(s[4]),
-        float(s[5]),
-        Air(float(s[8]), float(s[9])),
-    )
 
 
 def mode_radiation(
@@ -155,44 +176,62 @@ def mode_radiation(
     cache: StageCache | None = None,
     modes_key: dict | None = None,
     air=None,
+    budget=None,
 ) -> Radiation:
-    """The :class:`Radiation` of ``mode`` at 1 m/s contact velocity, its air region made
-    large enough to hold the microphone; cached beside the modes when ``modes_key``
-    (:func:`wheel_squeal.api.modes_cache_key`) is given; ``air``: ``acoustics.Air``
-    (default: 1.21 kg/m^3, 343 m/s)."""
-    from acoustics import AIR, RadiationSettings, radiate
+    """The :class:`Radiation` of ``mode`` at 1 m/s contact velocity seen from the
+    microphone; the field is cached beside the modes when ``modes_key``
+    (:func:`wheel_squeal.api.modes_cache_key`) is given, and so are the pressures at
+    the microphone and on the plot's circle (a warm run needs no finite elements);
+    ``air``: ``acoustics.Air`` (default: 1.21 kg/m^3, 343 m/s); ``budget``: a
+    :class:`~wheel_squeal.budget.Budget` the solve is estimated against first."""
+    from acoustics import AIR, SoundField, radiate
 
-    settings, air = RadiationSettings(), air or AIR
-    key = None
+    air = air or AIR
+    key = at_key = None
     if cache is not None and modes_key is not None:
-        key = {
-            **modes_key,
-            "stage": "sound",
-            "mode": mode.index,
-            "frequency_hz": round(float(frequency_hz), 6),
+        key = radiation_key(modes_key, mode, frequency_hz, air)
+        at_key = {
+            **key,
+            "stage": "sound-at",
             "microphone_rz": [round(microphone[0], 9), round(microphone[1], 9)],
-            "settings": repr(settings),
-            "air": repr(air),
-            "code": code_version("acoustics"),
-            "stored": list(STORED),
         }
         try:
-            arrays = cache.load("sound", key)
-            return Radiation(
-                _field_from(arrays), complex(arrays["microphone_pressure"][0]), arrays["ring_pressure"]
-            )
+            field = SoundField.from_arrays(cache.load("sound", key))
         except CacheMiss:
-            pass
+            field = None
+        if field is not None:
+            try:
+                at = cache.load("sound-at", at_key)
+                return Radiation(field, complex(at["microphone_pressure"][0]), at["ring_pressure"])
+            except CacheMiss:
+                rad = Radiation.of(field, microphone)
+                cache.store("sound-at", at_key, _at_arrays(rad))
+                return rad
     surface = mode_surface(modeset, mode, frequency_hz)
-    field = radiate(surface, frequency_hz, air, settings, field_points=np.array([microphone[:2]]))
+    if budget is not None:
+        from acoustics import radiation_cost
+
+        cost = radiation_cost(surface, frequency_hz, air)
+        budget.check_work(
+            f"the sound of mode {mode.index} ({mode.label()}) at {frequency_hz:.6g} Hz "
+            f"({cost.dofs:,.0f} unknowns of air)",
+            cost.seconds,
+            "a lower frequency is cheaper (the air mesh grows as its square)",
+            cost.memory_bytes,
+        )
+    field = radiate(surface, frequency_hz, air)
     rad = Radiation.of(field, microphone)
     if key is not None:
-        at = {
-            "microphone_pressure": np.array([rad.microphone_pressure_pa]),
-            "ring_pressure": rad.ring_pressure_pa,
-        }
-        cache.store("sound", key, {**_field_arrays(field), **at})
+        cache.store("sound", key, field.to_arrays())
+        cache.store("sound-at", at_key, _at_arrays(rad))
     return rad
+
+
+def _at_arrays(rad: Radiation) -> dict[str, np.ndarray]:
+    return {
+        "microphone_pressure": np.array([rad.microphone_pressure_pa]),
+        "ring_pressure": rad.ring_pressure_pa,
+    }
 
 
 @dataclass(frozen=True)
@@ -252,11 +291,25 @@ class Sound:
         }
 
 
+#: The largest contact velocity amplitude a level is computed for [m/s]: squeal
+#: reaches a fraction of the crabbing velocity (under 1 m/s); beyond this it is a slip.
+MAX_VELOCITY_AMPLITUDE_M_S = 100.0
+
+
+def check_velocity_amplitude(velocity_amplitude_m_s: float) -> None:
+    """Refuse (:class:`RequestError`) a contact velocity amplitude [m/s] that is negative,
+    not finite or above :data:`MAX_VELOCITY_AMPLITUDE_M_S`."""
+    v = velocity_amplitude_m_s
+    if not (math.isfinite(v) and 0 <= v <= MAX_VELOCITY_AMPLITUDE_M_S):
+        raise RequestError(
+            f"velocity amplitude must be from 0 to {MAX_VELOCITY_AMPLITUDE_M_S:g} m/s, got {v!r}"
+        )
+
+
 def sound_of(
     radiation: Radiation, velocity_amplitude_m_s: float, microphone, travelling: bool = False
 ) -> Sound:
     """The levels of ``radiation`` (at 1 m/s) for a contact velocity amplitude [m/s] at a
     microphone (r, z, theta)."""
-    if not (math.isfinite(velocity_amplitude_m_s) and velocity_amplitude_m_s >= 0):
-        raise RequestError(f"velocity amplitude must be zero or positive, got {velocity_amplitude_m_s!r}")
+    check_velocity_amplitude(velocity_amplitude_m_s)
     return Sound(radiation, float(velocity_amplitude_m_s), tuple(microphone), travelling)

@@ -14,11 +14,6 @@ from .outputs import write_csv
 __all__ = ["sound_text", "write_pressure_vtu", "write_sound_plot", "write_sweep_spl"]
 
 
-def _vertex_pressure(field, velocity: float) -> np.ndarray:
-    """P [Pa] at the mesh vertices (the first P2 unknowns) for a contact velocity [m/s]."""
-    return field.pressure[: len(field.mesh.points)] * velocity
-
-
 def write_sound_plot(path: Path, sound) -> Path:
     """sound_field.png: SPL in the (r, z) plane around the wheel (both sides of the
     axis, theta = 0 and pi), and the SPL on the circle of 0.9 R, with the microphone."""
@@ -32,7 +27,7 @@ def write_sound_plot(path: Path, sound) -> Path:
     field, v = sound.field, sound.velocity_amplitude_m_s
     pts, tri = field.mesh.points, field.mesh.triangles
     inside = np.hypot(*pts[tri].mean(axis=1).T) <= field.mesh.radius
-    level = spl_db(_vertex_pressure(field, max(v, 1e-300)))
+    level = spl_db(field.vertex_pressure() * max(v, 1e-300))
     top = float(np.max(level[np.unique(tri[inside])]))
     level = np.clip(np.nan_to_num(level, neginf=top - 60), top - 60, None)  # P = 0 on the axis
     fig = Figure(figsize=(11, 4.8))
@@ -74,7 +69,7 @@ def write_pressure_vtu(path: Path, sound) -> Path:
     from acoustics import spl_db
 
     field = sound.field
-    p = _vertex_pressure(field, sound.velocity_amplitude_m_s)
+    p = field.vertex_pressure() * sound.velocity_amplitude_m_s
     pts = np.column_stack([field.mesh.points, np.zeros(len(field.mesh.points))])
     mesh = meshio.Mesh(
         pts,
@@ -91,13 +86,21 @@ def write_pressure_vtu(path: Path, sound) -> Path:
 
 
 def sound_text(summary: dict) -> str:
-    """One line: the levels and where they were taken."""
+    """One line: the levels, at which contact velocity and where they were taken."""
     r, z, theta = summary["microphone_m"]
+    where = f"at the microphone (r {r:g} m, z {z:g} m, theta {theta:g})"
+    v = summary["velocity_amplitude_m_s"]
+    if summary["sound_power_level_db"] is None:
+        return f"SOUND: none (contact velocity amplitude {v:g} m/s)"
+    spl = (
+        f"SPL {summary['spl_db']:.1f} dB re 20 uPa {where}"
+        if summary["spl_db"] is not None
+        else f"no pressure {where}: a pressure node of this mode (on the axis, or theta on a nodal diameter)"
+    )
     return (
-        f"SOUND: sound power level {summary['sound_power_level_db']:.1f} dB re 1 pW, SPL "
-        f"{summary['spl_db']:.1f} dB re 20 uPa at the microphone (r {r:g} m, z {z:g} m, theta "
-        f"{theta:g}), radiation efficiency {summary['radiation_efficiency']:.3g}, "
-        f"{summary['frequency_hz']:.1f} Hz (wheel alone, free field)"
+        f"SOUND: sound power level {summary['sound_power_level_db']:.1f} dB re 1 pW, {spl}, "
+        f"radiation efficiency {summary['radiation_efficiency']:.3g}, {summary['frequency_hz']:.1f} Hz, "
+        f"contact velocity {v:.4g} m/s (wheel alone, free field)"
     )
 
 

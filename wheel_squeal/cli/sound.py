@@ -5,7 +5,6 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from acoustics import Air
 from geometry import WheelDesign
 
 from .. import api
@@ -13,12 +12,20 @@ from ..outputs import result_folder, write_json
 from ..plotting import PlotWorkers
 from ..presets import fidelity_for
 from ..progress import Progress
-from ..sound import Sound, default_microphone, mode_radiation, parse_microphone, sound_of
+from ..sound import (
+    Listener,
+    Sound,
+    air_for,
+    check_velocity_amplitude,
+    microphone_for,
+    mode_radiation,
+    sound_of,
+)
 from ..sound_files import sound_text, write_pressure_vtu, write_sound_plot
 from ..stability import choose_mode
-from .common import cache_of, design_of, modes_of
+from .common import budget_of, cache_of, design_of, modes_of
 
-__all__ = ["cmd_sound", "mode_sound", "write_sound_files"]
+__all__ = ["cmd_sound", "listener_of", "mode_sound", "write_sound_files"]
 
 
 def _axisym(args, design: WheelDesign, modeset, mode, cache, progress: Progress | None = None):
@@ -32,6 +39,12 @@ def _axisym(args, design: WheelDesign, modeset, mode, cache, progress: Progress 
     return ms, same, fid
 
 
+def listener_of(args, design: WheelDesign) -> Listener:
+    """The command's ``--microphone``, ``--air-density`` and ``--sound-speed``, checked
+    before any work (:func:`wheel_squeal.sound.microphone_for`, ``air_for``)."""
+    return Listener(microphone_for(design, args.microphone), air_for(args.air_density, args.sound_speed))
+
+
 def mode_sound(
     args,
     design: WheelDesign,
@@ -40,16 +53,17 @@ def mode_sound(
     frequency_hz: float,
     amplitude_m_s: float,
     cache,
+    listener: Listener,
     travelling=False,
 ) -> Sound:
     """The levels of ``mode`` at ``frequency_hz`` [Hz] for a contact velocity amplitude
-    [m/s], at ``--microphone`` (default: :func:`wheel_squeal.sound.default_microphone`)."""
-    mic = parse_microphone(args.microphone) if args.microphone else default_microphone(design)
+    [m/s], heard by ``listener``; the radiation is estimated against the budget first."""
     ms, mode, fid = _axisym(args, design, modeset, mode, cache)
     key = api.modes_cache_key(design, fid, args.fmax)
-    air = Air(args.air_density, args.sound_speed)
-    rad = mode_radiation(design, ms, mode, frequency_hz, mic, cache, key, air)
-    return sound_of(rad, amplitude_m_s, mic, travelling)
+    rad = mode_radiation(
+        design, ms, mode, frequency_hz, listener.microphone, cache, key, listener.air, budget_of(args)
+    )
+    return sound_of(rad, amplitude_m_s, listener.microphone, travelling)
 
 
 def write_sound_files(directory: Path, sound: Sound, plots: PlotWorkers | None = None) -> None:
@@ -64,6 +78,8 @@ def write_sound_files(directory: Path, sound: Sound, plots: PlotWorkers | None =
 def cmd_sound(args) -> int:
     design = design_of(args)
     progress = Progress(args.quiet)
+    listener = listener_of(args, design)
+    check_velocity_amplitude(args.velocity_amplitude)
     with result_folder(args.out, "sound") as tmp:
         cache = cache_of(args)
         fid, ms = modes_of(args, design, progress, cache)
@@ -72,7 +88,7 @@ def cmd_sound(args) -> int:
         )
         f = args.frequency or mode.frequency_hz
         with progress.stage(f"sound of mode {mode.index} ({mode.label()}) at {f:.1f} Hz"):
-            sound = mode_sound(args, design, ms, mode, f, args.velocity_amplitude, cache)
+            sound = mode_sound(args, design, ms, mode, f, args.velocity_amplitude, cache, listener)
         write_sound_files(tmp, sound)
         zeta = design.damping_ratio(mode.nodal_diameters, mode.nodal_circles)
         write_json(

@@ -29,7 +29,7 @@ from ..stability import (
 )
 from .common import budget_of, cache_of, design_of, modes_of, operating_point_of, squeal_mode, write_files
 from .parser import grid_axis
-from .sound import mode_sound, write_sound_files
+from .sound import listener_of, mode_sound, write_sound_files
 
 __all__ = ["cmd_compare", "cmd_run", "cmd_simulate", "cmd_stability", "cmd_sweep"]
 
@@ -45,6 +45,7 @@ def cmd_run(args, plots: PlotWorkers) -> int:
     out = args.out or Path("results") / design.name
     progress = Progress(args.quiet)
     t0 = time.perf_counter()
+    listener = listener_of(args, design)
     with result_folder(out, "run") as tmp:
         cache = cache_of(args)
         op = operating_point_of(args, design)
@@ -68,7 +69,9 @@ def cmd_run(args, plots: PlotWorkers) -> int:
                 travelling = bool(args.rotation) and sq.mode.nodal_diameters >= 1
                 tone = sq.mode.frequency_hz - sq.mode.nodal_diameters * omega / (2 * np.pi) * travelling
                 amplitude = sim.limit_cycle.velocity_amplitude_m_s
-                sound = mode_sound(args, design, sq.modeset, sq.mode, tone, amplitude, cache, travelling)
+                sound = mode_sound(
+                    args, design, sq.modeset, sq.mode, tone, amplitude, cache, listener, travelling
+                )
                 write_sound_files(tmp, sound, plots)
         with progress.stage("report"):
             writers.write_simulation_files(tmp, sim, plots)
@@ -142,8 +145,9 @@ def cmd_sweep(args) -> int:
     from reduced import write_sweep_csv, write_sweep_plot
 
     progress = Progress(args.quiet)
+    design = design_of(args)
+    listener = listener_of(args, design) if args.sound else None
     with result_folder(args.out, "sweep") as tmp:
-        design = design_of(args)
         contact = api.contact_law(design, args.c22)
         cache = cache_of(args)
         sq = squeal_mode(args, design, progress, cache, contact, api.operating_point(design))
@@ -160,7 +164,9 @@ def cmd_sweep(args) -> int:
             if sq.mode is None:
                 raise RequestError("--sound needs the FE mode (its shape radiates): not with --mass")
             with progress.stage("sound"):
-                sound = mode_sound(args, design, sq.modeset, sq.mode, sq.mode.frequency_hz, 1.0, cache)
+                sound = mode_sound(
+                    args, design, sq.modeset, sq.mode, sq.mode.frequency_hz, 1.0, cache, listener
+                )
                 write_sweep_spl(tmp, vcs, args.rpm, result, sound)
         write_json(
             tmp / "summary.json",
