@@ -17,7 +17,6 @@ import hashlib
 import json
 import math
 import re
-import tomllib
 import warnings
 from dataclasses import dataclass, fields
 from pathlib import Path
@@ -25,6 +24,7 @@ from typing import Any
 
 from .outline import Outline, OutlineError, outline_from_mapping
 from .parametric import parametric_outline
+from .textfile import read_toml
 
 
 class DesignError(ValueError):
@@ -154,12 +154,18 @@ class WheelDesign:
             if not isinstance(self.profile, Outline):
                 raise DesignError(f"profile must be an Outline, got {type(self.profile).__name__}")
             o = self.profile
-            zlo, zhi = o.axial_extent(RIM_WIDTH_AT * o.contact[0])
+            # a hoop shallower than 5 % of its radius: measured half way to the bore
+            at = max(RIM_WIDTH_AT * o.contact[0], 0.5 * (o.bore_radius + o.contact[0]))
+            try:
+                zlo, zhi = o.axial_extent(at)
+                thinnest = o.wall_thickness()
+            except OutlineError as exc:
+                raise DesignError(f"profile: {exc}") from None
             derived = {
                 "rolling_radius": float(o.contact[0]),
                 "crown_radius": o.contact_crown_radius(),
                 "bore_radius": o.bore_radius,
-                "web_thickness": o.wall_thickness(),
+                "web_thickness": thinnest,
                 "rim_width": 2 * max(abs(zlo), abs(zhi)),
             }
             for key, value in derived.items():
@@ -262,16 +268,7 @@ class WheelDesign:
     def from_toml(cls, path: str | Path) -> WheelDesign:
         """Load a design; missing keys take the Table 1 defaults, unknown keys are errors."""
         path = Path(path)
-        try:
-            text = path.read_text()
-        except FileNotFoundError:
-            raise DesignError(f"design file not found: {path}") from None
-        except OSError as exc:
-            raise DesignError(f"cannot read design file {path}: {exc.strerror}") from None
-        try:
-            data = tomllib.loads(text)
-        except tomllib.TOMLDecodeError as exc:
-            raise DesignError(f"{path}: not valid TOML ({exc})") from None
+        _, data = read_toml(path, "design file", DesignError)
         if "name" not in data and not _NAME.fullmatch(path.stem):
             raise DesignError(
                 f"{path}: the file name {path.stem!r} is not a usable design name ({_NAME_RULE}); "

@@ -26,6 +26,9 @@ from typing import Any
 
 import numpy as np
 
+from ._polyline import crossing_pairs, ray_hits, segment_distances
+from .textfile import read_text
+
 __all__ = [
     "ARC_CHORDS",
     "Outline",
@@ -49,6 +52,11 @@ ARC_CHORDS = 64
 MIN_SEGMENT_REL = 1e-4
 #: Distance within which a point counts as on the boundary, relative to the largest radius.
 ON_BOUNDARY_REL = 1e-6
+#: A wall is measured across it: a ray counts where it meets the far face within
+#: 60 degrees of head-on (not grazing past an acute corner next to its start).
+WALL_FACING = 0.5
+#: Beyond this many polygon edges the wall thickness casts fewer rays per edge.
+MANY_EDGES = 2000
 #: Largest angle [deg] between the outward normal at the contact point and the radial
 #: direction: the contact model's normal is radial.
 MAX_CONTACT_TILT_DEG = 15.0
@@ -124,13 +132,8 @@ class Outline:
 
     def polygon(self, chords: int = ARC_CHORDS) -> tuple[np.ndarray, np.ndarray]:
         """The loop as a polygon: vertices (P, 2), arcs cut in ``chords`` chords, and
-        the segment each polygon edge belongs to (P,)."""
-        pts, seg = [], []
-        for i in range(self.n_segments):
-            n = 1 if self.bulges[i] == 0.0 else chords
-            pts.append(self.segment_points(i, n)[:-1])
-            seg.append(np.full(n, i))
-        return np.concatenate(pts), np.concatenate(seg)
+        the segment each polygon edge belongs to (P,) (read-only arrays)."""
+        return _polygon(self, chords)
 
     # -- measures ---------------------------------------------------------------------
     def _green(self) -> tuple[float, float]:
@@ -192,27 +195,30 @@ class Outline:
         polygon of :meth:`polygon`), shape (N,)."""
         xy = np.atleast_2d(np.asarray(xy, dtype=float))
         poly, _ = self.polygon()
-        a, b = poly, np.roll(poly, -1, axis=0)
+        (r0, z0), (r1, z1) = poly.T, np.roll(poly, -1, axis=0).T
         inside = np.zeros(len(xy), dtype=bool)
-        for (r0, z0), (r1, z1) in zip(a, b):
-            crosses = (z0 > xy[:, 1]) != (z1 > xy[:, 1])
+        for k, (r, z) in enumerate(xy):
+            crosses = (z0 > z) != (z1 > z)
             with np.errstate(divide="ignore", invalid="ignore"):
-                r_at = r0 + (xy[:, 1] - z0) * (r1 - r0) / (z1 - z0)
-            inside ^= crosses & (xy[:, 0] < r_at)
+                r_at = r0 + (z - z0) * (r1 - r0) / (z1 - z0)
+            inside[k] = bool(np.count_nonzero(crosses & (r < r_at)) % 2)
         return inside
 
     def distance(self, xy: np.ndarray, segments: tuple[int, ...] | None = None) -> np.ndarray:
         """Distance [m] of points (N, 2) from the loop (or from the given segments)."""
         xy = np.atleast_2d(np.asarray(xy, float))
-        best = np.full(len(xy), np.inf)
-        for i in range(self.n_segments) if segments is None else segments:
-            best = np.minimum(best, _segment_distance(self, i, xy))
+        chosen = np.arange(self.n_segments) if segments is None else np.asarray(segments, dtype=np.int64)
+        bulges = np.asarray(self.bulges)[chosen]
+        straight = chosen[bulges == 0.0]
+        pts = np.asarray(self.points, float)
+        best = segment_distances(xy, pts[straight], pts[(straight + 1) % self.n_segments])
+        for i in chosen[bulges != 0.0]:
+            best = np.minimum(best, _segment_distance(self, int(i), xy))
         return best
 
     def contact_segment(self) -> int:
         """The segment the contact point lies on (the first, at a vertex)."""
-        d = [float(_segment_distance(self, i, np.array([self.contact]))[0]) for i in range(self.n_segments)]
-        return int(np.argmin(d))
+        return _contact_segment(self)
 
     def contact_crown_radius(self) -> float:
         """Transverse radius of the tread at the contact point [m], inf on a straight one."""
@@ -225,24 +231,39 @@ class Outline:
         mirrored = pts * np.array([1.0, -1.0])
         return bool(self.distance(mirrored).max() <= rtol * self.scale)
 
-    def wall_thickness(self) -> float:
+    def thinnest_wall(self) -> tuple[float, tuple[float, float]]:
         """The thinnest wall [m]: the shortest distance across the material along the
-        inward normal, from the middle 90 % of every straight segment and the chord
-        midpoints of every arc (the elements-through-the-web rule sizes meshes by it).
-        For the parametric wheel it is the web's thickness."""
+        inward normal to a face it meets within 60 degrees of head-on
+        (:data:`WALL_FACING`), from the middle 90 % of every straight segment and the
+        chord midpoints of every arc (the elements-through-the-web rule sizes meshes by it).
+        For the parametric wheel it is the web's thickness. Returns the thickness [m]
+        and the (r, z) [m] the thinnest ray starts from."""
         poly, seg = self.polygon()
         nxt = np.roll(poly, -1, axis=0)
-        starts, normals = [], []
-        for k in range(len(poly)):
-            e = nxt[k] - poly[k]
-            n = np.array([-e[1], e[0]]) / np.hypot(*e) * self.orientation  # into the material
-            t = np.linspace(0.05, 0.95, 19) if self.bulges[seg[k]] == 0.0 else np.array([0.5])
-            starts.append(poly[k] + t[:, None] * e)
-            normals.append(np.tile(n, (len(t), 1)))
-        s, n = np.concatenate(starts), np.concatenate(normals)
+        e = nxt - poly
+        n = np.stack([-e[:, 1], e[:, 0]], axis=1) / np.hypot(*e.T)[:, None] * self.orientation  # inward
+        straight = np.asarray(self.bulges)[seg] == 0.0
+        # 19 rays from each straight edge, one from each arc chord's middle; of
+        # thousands of edges (a dense polyline) every so many, 3 rays each
+        edges = np.arange(len(poly))
+        if len(poly) > MANY_EDGES:
+            length = np.hypot(*e.T)
+            long_ = length > 8.0 * float(np.median(length))
+            edges = np.union1d(np.linspace(0, len(poly) - 1, MANY_EDGES).astype(np.int64), edges[long_])
+        many = np.linspace(0.05, 0.95, 19 if len(poly) <= MANY_EDGES else 3)
+        t = [many if straight[i] else np.array([0.5]) for i in edges]
+        k = np.repeat(edges, [len(x) for x in t])
+        s = poly[k] + np.concatenate(t)[:, None] * e[k]
         lift = 1e-9 * self.scale  # start just inside, off the segment itself
-        best = float((_ray_hits(poly, s + lift * n, n) + lift).min())
-        return float(f"{best:.12g}")  # the same value for the same wall, however computed
+        hits = ray_hits(s + lift * n[k], n[k], poly, nxt, facing=WALL_FACING)
+        j = int(np.argmin(hits))
+        best = float(hits[j] + lift)
+        # the same value for the same wall, however computed
+        return float(f"{best:.12g}"), (float(s[j, 0]), float(s[j, 1]))
+
+    def wall_thickness(self) -> float:
+        """The thinnest wall [m] (:meth:`thinnest_wall`)."""
+        return self.thinnest_wall()[0]
 
     def mid_surface(self, n: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """The profile's mid-surface line from the bore to the contact radius: at each of
@@ -271,6 +292,39 @@ class Outline:
             "clamp": list(self.clamp),
             "contact": list(self.contact),
         }
+
+
+@functools.lru_cache(maxsize=64)
+def _contact_segment(o: Outline) -> int:
+    """:meth:`Outline.contact_segment`, cached (meshing asks for it per surface)."""
+    xy = np.array([o.contact])
+    pts = np.asarray(o.points, float)
+    k = np.arange(o.n_segments)
+    d = _point_segment_each(xy[0], pts[k], pts[(k + 1) % o.n_segments])
+    for i in np.flatnonzero(np.asarray(o.bulges) != 0.0):
+        d[i] = float(_segment_distance(o, int(i), xy)[0])
+    return int(np.argmin(d))
+
+
+def _point_segment_each(x: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """The distance of the point x to each straight edge a -> b, shape (E,)."""
+    d = b - a
+    t = np.clip(((x - a) * d).sum(axis=1) / np.maximum((d * d).sum(axis=1), 1e-300), 0.0, 1.0)
+    return np.hypot(*(x - (a + t[:, None] * d)).T)
+
+
+@functools.lru_cache(maxsize=64)
+def _polygon(o: Outline, chords: int) -> tuple[np.ndarray, np.ndarray]:
+    """:meth:`Outline.polygon`, cached: checks, measures and meshing all walk it."""
+    pts, seg = [], []
+    for i in range(o.n_segments):
+        n = 1 if o.bulges[i] == 0.0 else chords
+        pts.append(o.segment_points(i, n)[:-1])
+        seg.append(np.full(n, i))
+    poly, index = np.concatenate(pts), np.concatenate(seg)
+    for a in (poly, index):
+        a.setflags(write=False)
+    return poly, index
 
 
 @functools.lru_cache(maxsize=64)
@@ -329,21 +383,6 @@ def _inward_normals(o: Outline, i: int, pts: np.ndarray) -> np.ndarray:
     radial = (pts - c) / R
     # travelling counter-clockwise about the centre (th > 0) the centre is on the left
     return -radial * np.sign(th) * o.orientation
-
-
-def _ray_hits(poly: np.ndarray, start: np.ndarray, direction: np.ndarray) -> np.ndarray:
-    """Distance from each start point along its direction to the first polygon edge."""
-    a, b = poly, np.roll(poly, -1, axis=0)
-    e = b - a  # (P, 2)
-    # start + t d = a + u e  ->  solve for t, u per (ray, edge)
-    d = direction[:, None, :]
-    w = a[None] - start[:, None, :]
-    den = d[..., 0] * e[None, :, 1] - d[..., 1] * e[None, :, 0]
-    with np.errstate(divide="ignore", invalid="ignore"):
-        t = (w[..., 0] * e[None, :, 1] - w[..., 1] * e[None, :, 0]) / den
-        u = (w[..., 0] * d[..., 1] - w[..., 1] * d[..., 0]) / den
-    ok = (np.abs(den) > 1e-300) & (t > 0) & (u >= 0) & (u <= 1)
-    return np.where(ok, t, np.inf).min(axis=1)
 
 
 def _vertical_crossings(poly: np.ndarray, r: float) -> np.ndarray:
@@ -437,39 +476,20 @@ def _check_simple(poly: np.ndarray, seg: np.ndarray, k: int) -> None:
     """No two polygon edges of the loop cross or touch, except neighbours at their
     shared vertex (and neighbours must not fold back onto each other)."""
     a, b = poly, np.roll(poly, -1, axis=0)
-    p = len(poly)
-    idx = np.arange(p)
-    i, j = np.triu_indices(p, 1)
-    adjacent = (j == i + 1) | ((i == 0) & (j == p - 1))
-    i, j = i[~adjacent], j[~adjacent]
-
-    def orient(p1, p2, p3):
-        return (p2[..., 0] - p1[..., 0]) * (p3[..., 1] - p1[..., 1]) - (p2[..., 1] - p1[..., 1]) * (
-            p3[..., 0] - p1[..., 0]
-        )
-
-    o1, o2 = orient(a[i], b[i], a[j]), orient(a[i], b[i], b[j])
-    o3, o4 = orient(a[j], b[j], a[i]), orient(a[j], b[j], b[i])
-    hit = (np.sign(o1) != np.sign(o2)) & (np.sign(o3) != np.sign(o4))
-    # collinear edges overlapping (all four orientations zero): compare their extents
-    flat = (o1 == 0) & (o2 == 0) & (o3 == 0) & (o4 == 0)
-    if flat.any():
-        lo_i, hi_i = np.minimum(a[i], b[i]), np.maximum(a[i], b[i])
-        lo_j, hi_j = np.minimum(a[j], b[j]), np.maximum(a[j], b[j])
-        hit |= flat & np.all((lo_i <= hi_j) & (lo_j <= hi_i), axis=1)
-    if hit.any():
-        m = int(np.argmax(hit))
+    pair = crossing_pairs(a, b)
+    if pair is not None:
+        i, j = pair
         raise OutlineError(
-            f"the outline intersects itself: segment {seg[i[m]]} crosses segment {seg[j[m]]} "
-            f"near {_pt(tuple((a[i[m]] + b[i[m]]) / 2))}"
+            f"the outline intersects itself: segment {seg[i]} crosses segment {seg[j]} "
+            f"near {_pt(tuple((a[i] + b[i]) / 2))}"
         )
     # neighbours folding back: the turn at a vertex of (nearly) 180 degrees
     e = b - a
-    e /= np.linalg.norm(e, axis=1)[:, None]
+    e = e / np.linalg.norm(e, axis=1)[:, None]
     prev = np.roll(e, 1, axis=0)
     back = np.einsum("ij,ij->i", e, prev) < -1 + 1e-9
     if back.any():
-        v = int(idx[back][0])
+        v = int(np.flatnonzero(back)[0])
         raise OutlineError(f"the outline folds back on itself at {_pt(tuple(poly[v]))} (segment {seg[v]})")
 
 
@@ -533,9 +553,9 @@ def _bulge_from_centre(p, q, centre, i: int, source: str) -> float:
 
 def _read_csv(path: Path, source: str) -> tuple[list[tuple[float, float]], list[float]]:
     try:
-        text = path.read_text()
-    except OSError as exc:
-        raise OutlineError(f"{source}: cannot read the profile file {path}: {exc.strerror}") from None
+        text = read_text(path, "profile file", OutlineError)
+    except OutlineError as exc:
+        raise OutlineError(f"{source}: {exc}") from None
     rows = [row for row in csv.reader(text.splitlines()) if row and not row[0].lstrip().startswith("#")]
     if not rows or [c.strip() for c in rows[0]][:2] != ["r", "z"]:
         raise OutlineError(f"{path}: the first line must be the header r,z[,bulge] (metres)")
@@ -596,7 +616,12 @@ def outline_from_mapping(data: Any, source: str = "design", base: Path | None = 
                 f"{source}: [profile] bulges must be a list of {len(pts)} numbers (one per segment)"
             )
         bulges = [_number(b, f"bulge {i}", source) for i, b in enumerate(raw)]
-    for arc in data.get("arcs", []):
+    arcs = data.get("arcs", [])
+    if not isinstance(arcs, list):
+        raise OutlineError(
+            f"{source}: [profile] arcs is a list of {{segment = i, centre = [r, z]}}, got {arcs!r}"
+        )
+    for arc in arcs:
         if not (isinstance(arc, dict) and set(arc) == {"segment", "centre"}):
             raise OutlineError(f"{source}: each [profile] arcs entry is {{segment = i, centre = [r, z]}}")
         i = arc["segment"]
@@ -614,6 +639,7 @@ def outline_from_mapping(data: Any, source: str = "design", base: Path | None = 
         clamp = tuple(raw)
     else:
         clamp = _bore_segments(pts, bulges)
+    pts, bulges, clamp = _merge_collinear(pts, bulges, clamp)
     shifted = tuple((r, z - zc) for r, z in pts)
     try:
         return Outline(shifted, tuple(bulges), clamp, (rc, 0.0))
@@ -635,6 +661,45 @@ def _closed(
             "repeat the first point at the end to close the loop"
         )
     return pts[:-1], bulges[:-1]
+
+
+#: Two consecutive straight segments run on as one when their directions differ by
+#: less than this (radians): a face a CAD export split into many pieces.
+COLLINEAR_RAD = 1e-9
+
+
+def _merge_collinear(
+    pts: list[tuple[float, float]], bulges: list[float], clamp: tuple[int, ...]
+) -> tuple[list[tuple[float, float]], list[float], tuple[int, ...]]:
+    """The loop with every run of consecutive straight, collinear segments (same
+    direction within :data:`COLLINEAR_RAD`) as one segment, and the clamp's indices
+    renumbered (a run is never half clamped: its clamped and free parts stay apart)."""
+    k = len(pts)
+    if k < 4:
+        return pts, bulges, clamp
+    p = np.asarray(pts, float)
+    d = np.roll(p, -1, axis=0) - p  # segment i runs from vertex i to i + 1
+    unit = d / np.maximum(np.hypot(*d.T), 1e-300)[:, None]
+    prev = np.roll(unit, 1, axis=0)  # the segment ending at vertex i
+    straight = np.asarray(bulges) == 0.0
+    clamped = np.zeros(k, dtype=bool)
+    clamped[[i for i in clamp if isinstance(i, int) and 0 <= i < k]] = True
+    cross = unit[:, 0] * prev[:, 1] - unit[:, 1] * prev[:, 0]
+    removable = (
+        straight
+        & np.roll(straight, 1)
+        & (clamped == np.roll(clamped, 1))
+        & (np.abs(cross) < COLLINEAR_RAD)
+        & (np.einsum("ij,ij->i", unit, prev) > 0)
+    )
+    if not removable.any() or removable.all():
+        return pts, bulges, clamp
+    kept = np.flatnonzero(~removable)
+    new_index = np.cumsum(~removable) - 1  # the merged segment each original one joins
+    new_index[: kept[0]] = len(kept) - 1  # the run wrapping past vertex 0
+    merged_clamp = tuple(sorted({int(new_index[i]) for i in clamp if isinstance(i, int) and 0 <= i < k}))
+    bad = tuple(i for i in clamp if not (isinstance(i, int) and 0 <= i < k))
+    return [pts[i] for i in kept], [bulges[i] for i in kept], merged_clamp + bad
 
 
 def _bore_segments(pts: list[tuple[float, float]], bulges: list[float]) -> tuple[int, ...]:

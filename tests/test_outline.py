@@ -188,7 +188,7 @@ BAD = {
     ),
     "short segment": (
         dict(
-            points=_closed(T1_POINTS[:2] + [[0.0325 + 1e-6, 0.0075]] + T1_POINTS[2:]),
+            points=_closed(T1_POINTS[:2] + [[0.0325 + 1e-6, 0.0075 + 1e-7]] + T1_POINTS[2:]),
             bulges=T1_BULGES[:1] + [0.0] + T1_BULGES[1:],
             contact=[0.213, 0.0],
         ),

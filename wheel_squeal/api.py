@@ -123,10 +123,15 @@ def modes_cache_key(design: WheelDesign, fid: Fidelity, fmax_hz: float) -> dict:
     }
 
 
+#: An outline with more segments than this shorter than half the element size is named
+#: as the reason when its solve is refused.
+DENSE_OUTLINE_SEGMENTS = 100
+
+
 def check_modes_budget(design: WheelDesign, fid: Fidelity, fmax_hz: float, budget: Budget):
     """Estimate the modal solve (``fem.cost``) and refuse it beyond ``budget``."""
     from fem.cost import estimate_cost
-    from geometry.mesh import mesh_size
+    from geometry.mesh import mesh_size, short_segment_lengths
 
     h = mesh_size(design, elements_through_web=fid.elements_through_web)
     cost = estimate_cost(design, fid.solver, h, fmax_hz)
@@ -136,6 +141,18 @@ def check_modes_budget(design: WheelDesign, fid: Fidelity, fmax_hz: float, budge
         + (", the axisymmetric solver" if fid.solver != "axisym" else "")
         + " or a lower fmax"
     )
+    dense = len(short_segment_lengths(design, h))
+    if design.profile is not None:
+        thickness, (r, z) = design.profile.thinnest_wall()
+        remedy += (
+            f" (the mesh is sized by the outline's thinnest wall, {thickness * 1e3:.3g} mm at "
+            f"r {r:.4g} m, z {z:.4g} m)"
+        )
+    if dense > DENSE_OUTLINE_SEGMENTS:
+        remedy = (
+            f"its outline has {dense:,} segments shorter than half the {h * 1e3:.3g} mm elements, and "
+            "the mesh follows each: join them into fewer segments or arcs"
+        )
     budget.check_solve(
         f"{design.name} with the {fid.name} preset ({fid.solver}, "
         f"{fid.elements_through_web} per web, {h * 1e3:.3g} mm elements, "

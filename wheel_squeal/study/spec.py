@@ -34,7 +34,6 @@ import hashlib
 import itertools
 import json
 import math
-import tomllib
 from dataclasses import dataclass, fields
 from pathlib import Path
 from typing import Any
@@ -42,6 +41,7 @@ from typing import Any
 import numpy as np
 
 from geometry import SECTIONS, DesignError, WheelDesign
+from geometry.textfile import read_toml
 
 from ..errors import RequestError
 from ..presets import DEFAULT_DESIGN, FIDELITIES
@@ -235,14 +235,7 @@ def load_spec(path: str | Path) -> StudySpec:
     """Read and check a study specification (see the module docstring)."""
     path = Path(path)
     src = str(path)
-    try:
-        text = path.read_text()
-    except OSError as exc:
-        raise RequestError(f"cannot read study spec {path}: {exc.strerror}") from None
-    try:
-        data = tomllib.loads(text)
-    except tomllib.TOMLDecodeError as exc:
-        raise RequestError(f"{src}: not valid TOML ({exc})") from None
+    text, data = read_toml(path, "study spec", RequestError)
     unknown = set(data) - _TOP
     if unknown:
         raise RequestError(f"{src}: unknown key(s) {sorted(unknown)}; allowed: {', '.join(sorted(_TOP))}")
