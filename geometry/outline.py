@@ -557,9 +557,11 @@ def _read_csv(path: Path, source: str) -> tuple[list[tuple[float, float]], list[
     except OutlineError as exc:
         raise OutlineError(f"{source}: {exc}") from None
     rows = [row for row in csv.reader(text.splitlines()) if row and not row[0].lstrip().startswith("#")]
-    if not rows or [c.strip() for c in rows[0]][:2] != ["r", "z"]:
-        raise OutlineError(f"{path}: the first line must be the header r,z[,bulge] (metres)")
-    header = [c.strip() for c in rows[0]]
+    header = [c.strip() for c in rows[0]] if rows else []
+    if header not in (["r", "z"], ["r", "z", "bulge"]):
+        raise OutlineError(
+            f"{path}: the first line must be the header r,z or r,z,bulge (metres), got {','.join(header)!r}"
+        )
     pts, bulges = [], []
     for n, row in enumerate(rows[1:], start=2):
         if len(row) != len(header):

@@ -80,7 +80,24 @@ def test_wear_and_samples_specs(tmp_path):
         ("[samples]\nn = 10\nrim_depth = { gauss = [1, 2] }\n", "normal"),
         ("[grid]\nrim_depth = [0.03]\n[samples]\nn = 2\n", r"either \[grid\] or \[samples\]"),
         ('fidelity = "best"\n[grid]\nrim_depth = [0.03]\n', "fidelity"),
-        ("[grid]\nsqueal_mode = [1.0]\n", "not a design parameter"),
+        ("[grid]\nsqueal_mode = [1.0]\n", "a name the results use"),
+        ("[grid]\nnormal_load_n = [1.0]\n", "not a design parameter"),
+        ("base = 5\n[grid]\nrim_depth = [0.03]\n", "a string"),
+        ("[grid]\nrpm = { values = [0, 1], add = { rim_depth = 1.0 } }\n", "a name the results use"),
+        ("[grid]\ndesign_x = { values = [0, 1], add = { rim_depth = 1.0 } }\n", "a name the results use"),
+        ('[grid]\n"" = { values = [0, 1], add = { rim_depth = 1.0 } }\n', "letters, digits"),
+        ("[grid]\nrim_depth = { start = 0.03, stop = 0.04, num = 3, step = 1 }\n", "unknown key"),
+        ("[grid]\nx = { values = [0, 1], add = { web_thickness_rim = 1.0 } }\n", "does not set"),
+        (
+            "[grid]\na = { start = 0, stop = 1, num = 100000, add = { rim_depth = 1e-9 } }\n"
+            "b = { start = 0, stop = 1, num = 100000, add = { web_thickness = 1e-9 } }\n",
+            "more than a study takes",
+        ),
+        (
+            "[grid]\nrim_depth = [0.03]\n[operating]\ncrab_velocity = { start = 0, stop = 1, num = 100000 }\n"
+            "rpm = { start = 100, stop = 1000, num = 100000 }\n",
+            "more than a study takes",
+        ),
         (f'base = "{ROOT / "designs" / "curved_web.toml"}"\n[grid]\nrim_depth = [0.03]\n', "is an outline"),
     ],
 )

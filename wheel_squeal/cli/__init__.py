@@ -11,7 +11,9 @@ from __future__ import annotations
 
 import contextlib
 import os
+import signal
 import sys
+import threading
 import warnings
 from collections.abc import Sequence
 
@@ -41,10 +43,21 @@ def _one_line_warning(message, category, filename, lineno, file=None, line=None)
     print(f"warning: {str(message).splitlines()[0]}", file=sys.stderr)
 
 
+class Terminated(KeyboardInterrupt):
+    """SIGTERM (sent by timeout, batch schedulers, systemd): stop as on Ctrl-C, so that
+    the same clean-up runs (staging folders removed, worker processes stopped)."""
+
+
+def _terminate(signum, frame) -> None:
+    raise Terminated
+
+
 def main(argv: Sequence[str] | None = None, prog: str | None = None) -> int:
     """Run the command line; returns the exit status (0 done, 1 computation failed or a
-    bug, 2 request refused)."""
+    bug, 2 request refused, 130 interrupted, 143 terminated)."""
     args = build_parser(prog or os.path.basename(sys.argv[0]) or "wheel-squeal").parse_args(argv)
+    if threading.current_thread() is threading.main_thread():
+        signal.signal(signal.SIGTERM, _terminate)
     if not os.environ.get("DISPLAY"):
         # Without an X server VTK tries X first and warns before falling back to EGL;
         # go straight to EGL (off-screen) so the terminal stays clean.
@@ -60,6 +73,9 @@ def main(argv: Sequence[str] | None = None, prog: str | None = None) -> int:
         except (RequestError, DesignError) as exc:
             print(f"error: {exc}", file=sys.stderr)
             return 2
+        except Terminated:
+            print("terminated", file=sys.stderr)
+            return 143
         except KeyboardInterrupt:
             print("interrupted", file=sys.stderr)
             return 130

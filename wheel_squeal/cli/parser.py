@@ -370,6 +370,7 @@ def build_parser(prog: str = "wheel-squeal") -> argparse.ArgumentParser:
     )
     p.add_argument("--quiet", action="store_true", help="no progress on stderr")
     _add_cache(p)
+    _add_budget(p)
 
     p = sub.add_parser("render", help="mode-shape PNGs (and GIFs), off-screen")
     _add_common(p)

@@ -5,7 +5,7 @@ from __future__ import annotations
 from ..errors import RequestError
 from ..outputs import result_folder
 from ..progress import Progress
-from .common import cache_of
+from .common import budget_of, cache_of
 
 __all__ = ["cmd_study"]
 
@@ -26,7 +26,12 @@ def cmd_study(args) -> int:
     # the staging folder exists before the work: an unusable --out is refused at once
     with result_folder(args.out, "study") as tmp:
         results = case_results(
-            spec, workers=args.workers, scheduler=args.scheduler, cache=cache, progress=progress
+            spec,
+            workers=args.workers,
+            scheduler=args.scheduler,
+            cache=cache,
+            progress=progress,
+            budget=budget_of(args),
         )
         ds = study_dataset(spec, results)
         files = write_study_files(ds, spec, tmp)

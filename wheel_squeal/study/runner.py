@@ -2,10 +2,11 @@
 
 Each case is one task (:func:`~wheel_squeal.study.task.run_case`). Finished cases are
 stored in the client's stage cache as they arrive, so a study that is interrupted and
-started again computes only the cases still missing. A worker that dies takes its task
-with it: on the local pool the pool is rebuilt and the unfinished cases are submitted
-again (a case whose worker dies three times is recorded as failed); a dask scheduler
-reschedules the tasks of a lost worker itself.
+started again computes only the cases still missing. An outcome the environment caused
+(a worker that died, a refusal under a temporary budget) is reported but never stored:
+the next run computes that case again. A local worker that dies is charged to the one
+case it was running, which is submitted again (up to :data:`MAX_WORKER_DEATHS` times);
+a dask scheduler reschedules the tasks of a lost worker itself.
 """
 
 from __future__ import annotations
@@ -13,23 +14,38 @@ from __future__ import annotations
 import json
 import os
 from collections.abc import Callable
-from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
-from concurrent.futures.process import BrokenProcessPool
 
 import numpy as np
 
+from ..api import check_modes_budget
+from ..budget import Budget
 from ..cache import CacheMiss, StageCache, code_version, library_versions
 from ..errors import RequestError
+from ..presets import fidelity_for
 from ..progress import Progress
+from .cost import estimate_study
+from .pool import Death, run_on_pool
 from .spec import StudySpec
 from .task import CODE_PACKAGES, CaseJob, run_case
 
-__all__ = ["MAX_WORKER_DEATHS", "SCHEDULER_ENV", "case_results", "missing_dependencies"]
+__all__ = [
+    "MAX_WORKER_DEATHS",
+    "SCHEDULER_ENV",
+    "case_results",
+    "check_scheduler_address",
+    "local_workers",
+    "missing_dependencies",
+]
 
-#: A case whose worker dies this many times is recorded as failed.
+#: A case whose worker dies this many times is recorded as failed (for this run only).
 MAX_WORKER_DEATHS = 3
 #: The environment variable dask itself reads for the scheduler's address.
 SCHEDULER_ENV = "DASK_SCHEDULER_ADDRESS"
+#: Memory one local worker takes besides its case's modal solve [bytes] (the imports of
+#: the chain and a case's arrays: measured about 300 MB).
+WORKER_BYTES = 400e6
+#: Seconds to wait for a dask scheduler's handshake.
+SCHEDULER_TIMEOUT_S = 5.0
 
 
 def _case_key(spec: StudySpec, changes) -> dict:
@@ -49,16 +65,32 @@ def case_results(
     scheduler: str | None = None,
     cache: StageCache | None = None,
     progress: Progress | None = None,
+    budget: Budget | None = None,
 ) -> list[dict]:
     """The result of every case of ``spec`` (in :meth:`StudySpec.cases` order).
 
-    ``workers``: local processes (default: this machine's cores; 1 runs in this process);
-    ``scheduler``: a dask.distributed scheduler address (default ``$DASK_SCHEDULER_ADDRESS``;
-    then ``workers`` is not used); ``cache``: the stage cache of the FE and of the
-    finished cases (None: neither is kept, and an interrupted study starts over).
+    ``workers``: local processes (default: this machine's cores, at most what its
+    memory holds, :func:`local_workers`; 1 runs in this process); ``scheduler``: a
+    dask.distributed scheduler address (default ``$DASK_SCHEDULER_ADDRESS``; then
+    ``workers`` is not used); ``cache``: the stage cache of the finished cases and, for a
+    grid study, of the FE (None: neither is kept, and an interrupted study starts over);
+    ``budget``: the limits the study is estimated against before any case runs (its
+    time on the workers found, its results' memory) and each case's modal solve
+    (default: :meth:`Budget.from_environment`).
     """
     progress = progress or Progress(quiet=True)
+    budget = budget or Budget.from_environment()
     scheduler = scheduler or os.environ.get(SCHEDULER_ENV) or None
+    if scheduler:
+        scheduler = check_scheduler_address(scheduler)
+    cost = estimate_study(spec)
+    check_modes_budget(spec.base, fidelity_for(spec.fidelity), spec.fmax_hz, budget)
+    budget.check_work(
+        f"the results of {spec.n_cases:,} designs x {spec.n_points:,} operating points",
+        0.0,
+        "use fewer designs or operating points",
+        cost.memory_bytes,
+    )
     cases = spec.cases()
     keys = [_case_key(spec, c.changes) for c in cases]
     results: list[dict | None] = [None] * len(cases)
@@ -69,9 +101,11 @@ def case_results(
             except CacheMiss:
                 pass
     todo = [i for i, r in enumerate(results) if r is None]
-    # local workers share this machine's cache; a cluster's workers use their own
-    # default one (a path here may not exist there)
-    worker_cache = None if cache is None or not cache.enabled else ("" if scheduler else str(cache.root))
+    # A grid's designs may be asked for again (another operating grid), a sample's
+    # not: their modes are not kept. Local workers share this machine's cache; a
+    # cluster's workers use their own default one (a path here may not exist there).
+    keep_fe = cache is not None and cache.enabled and not spec.samples
+    worker_cache = ("" if scheduler else str(cache.root)) if keep_fe else None
     jobs = {
         i: CaseJob(
             spec.base,
@@ -82,10 +116,23 @@ def case_results(
             spec.crab_velocities_m_s,
             spec.rpm,
             worker_cache,
+            budget.max_dofs,
         )  # fmt: skip
         for i in todo
     }
-    where = f"dask scheduler {scheduler}" if scheduler else f"{_workers(workers)} local process(es)"
+    n_local = 1 if scheduler else local_workers(workers, progress)
+    where = f"dask scheduler {scheduler}" if scheduler else f"{n_local} local process(es)"
+
+    def check_time(parallel: int) -> None:
+        budget.check_work(
+            f"the study ({len(todo):,} designs x {spec.n_points:,} operating points, about "
+            f"{cost.case_seconds:.2g} s each, on {parallel} worker(s))",
+            cost.seconds(len(todo), parallel),
+            "use fewer designs or operating points, a faster fidelity, or more workers (a cluster)",
+        )
+
+    if not scheduler:
+        check_time(n_local)
     progress.say(
         f"study {spec.name}: {len(cases)} cases, {len(cases) - len(todo)} from an earlier run, "
         f"{len(todo)} to compute on {where}"
@@ -94,80 +141,133 @@ def case_results(
 
     def done(i: int, result: dict) -> None:
         results[i] = result
-        if cache is not None:
+        if cache is not None and not result.get("transient"):
             cache.store("study", keys[i], {"result": np.array(json.dumps(result))})
         report(sum(r is not None for r in results), len(results))
+
+    def died(death: Death) -> bool:
+        if death.count >= MAX_WORKER_DEATHS:
+            done(death.case, _transient(f"its worker process died {death.count} times"))
+            return False
+        progress.say(f"a worker process died: case {death.case} submitted again")
+        return True
 
     if not todo:
         pass
     elif scheduler:
-        _on_dask(scheduler, jobs, done)
-    elif _workers(workers) == 1:
+        _on_dask(scheduler, jobs, done, check_time)
+    elif n_local == 1:
         for i, job in jobs.items():
             done(i, run_case(job))
     else:
-        _on_pool(_workers(workers), jobs, done, progress)
+        run_on_pool(n_local, jobs, run_case, done, died)
     return results  # type: ignore[return-value]
 
 
-def _workers(workers: int | None) -> int:
-    if workers is None:
-        return len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1)
-    if workers < 1:
-        raise RequestError(f"workers must be at least 1, got {workers}")
-    return workers
+def _transient(reason: str) -> dict:
+    """A case's outcome caused by the environment: reported, never stored."""
+    return {"status": "failed", "reason": reason, "transient": True}
 
 
-def _on_pool(n: int, jobs: dict[int, CaseJob], done: Callable[[int, dict], None], progress: Progress) -> None:
-    """Run ``jobs`` on ``n`` local processes; rebuild the pool when a worker dies."""
-    deaths = dict.fromkeys(jobs, 0)
-    pending = dict(jobs)
-    while pending:
-        with ProcessPoolExecutor(max_workers=min(n, len(pending))) as pool:
-            futures = {pool.submit(run_case, job): i for i, job in pending.items()}
-            broken = False
-            while futures:
-                finished, _ = wait(futures, return_when=FIRST_COMPLETED)
-                for f in finished:
-                    i = futures.pop(f)
-                    try:
-                        result = f.result()
-                    except BrokenProcessPool:
-                        broken = True
-                        continue
-                    del pending[i]
-                    done(i, result)
-                if broken:
-                    break
-        if broken:
-            for f in futures:
-                f.cancel()
-            for i in list(pending):
-                deaths[i] += 1
-                if deaths[i] >= MAX_WORKER_DEATHS:
-                    del pending[i]
-                    done(
-                        i,
-                        {"status": "failed", "reason": f"its worker process died {MAX_WORKER_DEATHS} times"},
-                    )
-            progress.say(f"a worker process died: {len(pending)} case(s) submitted again")
+def local_workers(requested: int | None, progress: Progress | None = None) -> int:
+    """The local worker processes to use: ``requested`` (default: the cores), at most the
+    cores this process may run on and what the free memory holds (:data:`WORKER_BYTES`
+    each); a smaller number than requested is said on ``progress``."""
+    from ..budget import MEMORY_FRACTION, available_memory
+
+    if requested is not None and requested < 1:
+        raise RequestError(f"workers must be at least 1, got {requested}")
+    cores = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1)
+    memory = max(1, int(MEMORY_FRACTION * available_memory() // WORKER_BYTES))
+    n = min(requested or cores, cores, memory)
+    if requested is not None and n < requested and progress is not None:
+        why = f"{cores} core(s)" if n == cores else f"memory for {memory}"
+        progress.say(f"{requested} workers asked, {n} used ({why}): more would not run faster")
+    return n
 
 
-def _on_dask(address: str, jobs: dict[int, CaseJob], done: Callable[[int, dict], None]) -> None:
+def check_scheduler_address(address: str) -> str:
+    """``tcp://HOST:PORT`` (or ``HOST:PORT``) checked, as ``tcp://HOST:PORT``; any other
+    form is refused (:class:`RequestError`) with what to give instead."""
+    text = address.strip()
+    what = f"--scheduler {address!r}"
+    if not text:
+        raise RequestError(f"{what}: give the scheduler's address, tcp://HOST:8786")
+    scheme, sep, rest = text.partition("://")
+    if not sep:
+        scheme, rest = "tcp", text
+    if scheme in ("http", "https"):
+        raise RequestError(
+            f"{what} looks like the dashboard's web address; the scheduler listens on tcp://HOST:8786"
+        )
+    if scheme != "tcp":
+        raise RequestError(f"{what}: only tcp://HOST:PORT schedulers are supported (not {scheme}://)")
+    host, colon, port = rest.rstrip("/").rpartition(":")
+    if not colon or not host or not port.isdigit() or not 0 < int(port) < 65536:
+        raise RequestError(f"{what}: expected tcp://HOST:PORT with a port from 1 to 65535")
+    return f"tcp://{host}:{int(port)}"
+
+
+def _reachable(address: str) -> None:
+    """Refuse at once (RequestError) a scheduler whose port refuses or does not answer."""
+    import socket
+
+    host, _, port = address.removeprefix("tcp://").rpartition(":")
+    try:
+        socket.create_connection((host.strip("[]"), int(port)), timeout=SCHEDULER_TIMEOUT_S).close()
+    except OSError as exc:
+        reason = exc.strerror or type(exc).__name__
+        raise RequestError(f"cannot reach the dask scheduler at {address}: {reason}") from None
+
+
+def _connect(client_type, address: str):
+    """A dask Client of the scheduler at ``address``, or RequestError within a few
+    seconds: the handshake runs in a thread given :data:`SCHEDULER_TIMEOUT_S` plus a
+    margin, because a server that is not a scheduler (a web server on the port) can keep
+    dask's own timeout from ever firing."""
+    import threading
+
+    outcome: dict = {}
+
+    def connect() -> None:
+        try:
+            outcome["client"] = client_type(address, timeout=f"{SCHEDULER_TIMEOUT_S:g}s")
+        except Exception as exc:  # reported below, in this thread
+            outcome["error"] = exc
+
+    thread = threading.Thread(target=connect, name="dask-handshake", daemon=True)
+    thread.start()
+    thread.join(SCHEDULER_TIMEOUT_S + 3.0)
+    if "client" in outcome:
+        return outcome["client"]
+    why = type(outcome["error"]).__name__ if "error" in outcome else "no answer"
+    raise RequestError(f"no dask scheduler answers at {address} within {SCHEDULER_TIMEOUT_S:g} s ({why})")
+
+
+def _on_dask(
+    address: str,
+    jobs: dict[int, CaseJob],
+    done: Callable[[int, dict], None],
+    check_time: Callable[[int], None],
+) -> None:
     try:
         from distributed import Client, as_completed
+        from distributed.scheduler import KilledWorker
     except ImportError:
         raise RequestError(_MISSING) from None
-    try:
-        client = Client(address, timeout="20s")
-    except (OSError, TimeoutError) as exc:
-        raise RequestError(f"cannot reach the dask scheduler at {address}: {exc}") from None
+    _reachable(address)
+    client = _connect(Client, address)
     with client:
+        check_time(max(1, sum(client.nthreads().values())))
         order = list(jobs)
         futures = client.map(run_case, [jobs[i] for i in order], pure=False, retries=1)
         index = {f.key: i for f, i in zip(futures, order)}
         for future in as_completed(futures):
-            done(index[future.key], future.result())
+            try:
+                result = future.result()
+            except KilledWorker as exc:
+                result = _transient(f"its dask workers died ({exc})")
+            done(index[future.key], result)
 
 
 _MISSING = "the study command needs xarray and dask.distributed: pip install -e '.[study]'"

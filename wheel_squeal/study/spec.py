@@ -34,6 +34,7 @@ import hashlib
 import itertools
 import json
 import math
+import re
 from dataclasses import dataclass, fields
 from pathlib import Path
 from typing import Any
@@ -45,6 +46,7 @@ from geometry.textfile import read_toml
 
 from ..errors import RequestError
 from ..presets import DEFAULT_DESIGN, FIDELITIES
+from .task import RESULT_FIELDS
 
 __all__ = ["COMPUTE", "Case", "Dimension", "StudySpec", "load_spec"]
 
@@ -52,6 +54,17 @@ __all__ = ["COMPUTE", "Case", "Dimension", "StudySpec", "load_spec"]
 COMPUTE = ("stability", "limit_cycle", "sound")
 _TOP = {"name", "description", "base", "fidelity", "fmax", "compute", "grid", "samples", "operating"}
 _DESIGN_FIELDS = {f.name for f in fields(WheelDesign) if f.type in (float, "float", "float | None")}
+#: Most points of one axis, designs of one study, and operating points per design:
+#: refused before anything is made (a typo like num = 1e9 must not allocate first).
+MAX_AXIS_POINTS = 100_000
+MAX_CASES = 1_000_000
+MAX_OPERATING_POINTS = 10_000
+#: The names of the results' own variables and coordinates (:mod:`.dataset`): no
+#: dimension may take one.
+RESERVED_NAMES = frozenset(
+    {"sample", "crab_velocity", "rpm", "status", "reason", "mass_kg", "modes", "squeal_mode", *RESULT_FIELDS}
+)
+_NAME = re.compile(r"[A-Za-z_][A-Za-z0-9_]*")
 
 
 @dataclass(frozen=True)
@@ -95,6 +108,16 @@ class StudySpec:
     def kind(self) -> str:
         return "samples" if self.samples else "grid"
 
+    @property
+    def n_cases(self) -> int:
+        """The number of designs (without making them)."""
+        return self.samples or math.prod(len(d.values) for d in self.dimensions)
+
+    @property
+    def n_points(self) -> int:
+        """The number of operating points per design."""
+        return len(self.crab_velocities_m_s) * len(self.rpm)
+
     def cases(self) -> list[Case]:
         """Every design of the study, in a fixed order (grid: C order over the
         dimensions; samples: by sample number, drawn with ``seed``)."""
@@ -127,7 +150,10 @@ class StudySpec:
                 offsets[f] = offsets.get(f, 0.0) + c * float(v)
         fields_ = set(sets) | set(offsets)
         return tuple(
-            sorted((f, sets.get(f, float(getattr(self.base, f))) + offsets.get(f, 0.0)) for f in fields_)
+            sorted(
+                (f, (sets[f] if f in sets else float(getattr(self.base, f))) + offsets.get(f, 0.0))
+                for f in fields_
+            )
         )
 
     def digest(self) -> str:
@@ -156,9 +182,16 @@ def _axis(v: Any, what: str, src: str) -> tuple[float, ...]:
             raise RequestError(f"{src}: {what} is empty")
         return tuple(_num(x, what, src) for x in v)
     if isinstance(v, dict) and {"start", "stop", "num"} <= set(v):
+        extra = set(v) - {"start", "stop", "num"}
+        if extra:
+            raise RequestError(
+                f"{src}: {what}: unknown key(s) {sorted(extra)}; an axis is {{start, stop, num}}"
+            )
         n = v["num"]
-        if isinstance(n, bool) or not isinstance(n, int) or not 1 <= n <= 100_000:
-            raise RequestError(f"{src}: {what}: num must be an integer from 1 to 100000, got {n!r}")
+        if isinstance(n, bool) or not isinstance(n, int) or not 1 <= n <= MAX_AXIS_POINTS:
+            raise RequestError(
+                f"{src}: {what}: num must be an integer from 1 to {MAX_AXIS_POINTS}, got {n!r}"
+            )
         a, b = _num(v["start"], what, src), _num(v["stop"], what, src)
         return tuple(float(x) for x in np.linspace(a, b, n))
     raise RequestError(f"{src}: {what} must be a list of numbers or {{start, stop, num}}")
@@ -173,11 +206,26 @@ def _add(v: Any, what: str, src: str) -> tuple[tuple[str, float], ...]:
     return tuple(sorted((k, _num(c, f"{what}.add.{k}", src)) for k, c in v.items()))
 
 
+def _check_name(name: str, where: str, src: str) -> None:
+    """A dimension's name becomes a coordinate of the results: a plain identifier that
+    is not one of theirs."""
+    if not _NAME.fullmatch(name):
+        raise RequestError(
+            f"{src}: {where} {name!r}: a name is letters, digits and _ (not starting with a digit)"
+        )
+    if name in RESERVED_NAMES or name.startswith("design_"):
+        raise RequestError(
+            f"{src}: {where} {name!r} is a name the results use ({', '.join(sorted(RESERVED_NAMES))}, "
+            "design_*): choose another"
+        )
+
+
 def _grid(table: Any, src: str) -> tuple[Dimension, ...]:
     if not isinstance(table, dict) or not table:
         raise RequestError(f"{src}: [grid] must be a table of parameters")
     dims = []
     for name, v in table.items():
+        _check_name(name, "[grid]", src)
         add = ()
         if isinstance(v, dict) and "add" in v:
             add = _add(v["add"], name, src)
@@ -206,6 +254,7 @@ def _samples(table: Any, src: str) -> tuple[int, int, tuple[Dimension, ...]]:
     for name, v in table.items():
         if name in ("n", "seed"):
             continue
+        _check_name(name, "[samples]", src)
         ok = (
             isinstance(v, dict)
             and len(set(v) & {"normal", "uniform"}) == 1
@@ -239,6 +288,8 @@ def load_spec(path: str | Path) -> StudySpec:
     unknown = set(data) - _TOP
     if unknown:
         raise RequestError(f"{src}: unknown key(s) {sorted(unknown)}; allowed: {', '.join(sorted(_TOP))}")
+    if "base" in data and not isinstance(data["base"], str):
+        raise RequestError(f"{src}: base must be a design file's path (a string), got {data['base']!r}")
     base_path = Path(data["base"]) if "base" in data else DEFAULT_DESIGN
     if not base_path.is_absolute() and "base" in data:
         base_path = path.parent / base_path
@@ -274,6 +325,12 @@ def load_spec(path: str | Path) -> StudySpec:
                 f"{src}: the base design {base.name!r} is an outline: {', '.join(fixed)} cannot be varied "
                 "(vary material, contact or damping, or give a parametric base)"
             )
+    absent = sorted({f for d in dims for f, _ in d.add if getattr(base, f) is None})
+    if absent:
+        raise RequestError(
+            f"{src}: add offsets {', '.join(absent)}, which the base design {base.name!r} does not set "
+            "(give the field's values in [grid] instead)"
+        )
     op = data.get("operating", {})
     if not isinstance(op, dict) or set(op) - {"crab_velocity", "rpm"}:
         raise RequestError(f"{src}: [operating] takes crab_velocity and rpm")
@@ -281,6 +338,14 @@ def load_spec(path: str | Path) -> StudySpec:
     rpms = _axis(op.get("rpm", [800.0]), "[operating] rpm", src)
     if min(rpms) <= 0:
         raise RequestError(f"{src}: [operating] rpm must be positive")
+    n_cases = n if n else math.prod(len(d.values) for d in dims)
+    if n_cases > MAX_CASES:
+        raise RequestError(f"{src}: {n_cases:,} designs is more than a study takes ({MAX_CASES:,})")
+    if len(vcs) * len(rpms) > MAX_OPERATING_POINTS:
+        raise RequestError(
+            f"{src}: {len(vcs):,} x {len(rpms):,} operating points is more than a study takes "
+            f"({MAX_OPERATING_POINTS:,} per design)"
+        )
     name = data.get("name", path.stem)
     return StudySpec(
         name=str(name),

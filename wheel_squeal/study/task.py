@@ -15,7 +15,7 @@ import numpy as np
 
 from geometry import DesignError, MeshError, WheelDesign
 
-from ..errors import RequestError
+from ..errors import BudgetError, RequestError
 
 __all__ = ["CODE_PACKAGES", "CaseJob", "run_case", "RESULT_FIELDS"]
 
@@ -30,8 +30,9 @@ RESULT_FIELDS = ("growth_rate_1_s", "frequency_hz", "amplitude_m_s", "spl_db", "
 @dataclass(frozen=True)
 class CaseJob:
     """What one task needs: the base design and its changes, the FE preset and band, what
-    to compute, the operating grid, and the worker's cache folder (None: no cache; "":
-    the worker's default one, :func:`wheel_squeal.cache.default_cache_root`)."""
+    to compute, the operating grid, the worker's cache folder (None: no cache; "": the
+    worker's default one, :func:`wheel_squeal.cache.default_cache_root`) and the limit
+    of its modal solve (None: the worker's environment's)."""
 
     base: WheelDesign
     changes: tuple[tuple[str, float], ...]
@@ -41,6 +42,7 @@ class CaseJob:
     crab_velocities_m_s: tuple[float, ...]
     rpm: tuple[float, ...]
     cache_dir: str | None = None
+    max_dofs: float | None = None
 
 
 def _failure(status: str, reason: str) -> dict:
@@ -50,7 +52,8 @@ def _failure(status: str, reason: str) -> dict:
 def run_case(job: CaseJob) -> dict:
     """Mesh, modes, the stability map, the limit cycle of the fastest-growing mode and its
     sound at every operating point. Returns ``status`` ("ok", "invalid", "failed"),
-    ``reason`` and, when ok, the mass, the modes found, and per operating point the
+    ``reason`` (``transient``: True when the environment caused the outcome, a budget
+    refusal) and, when ok, the mass, the modes found, and per operating point the
     squeal mode's label (``squeal_mode``, "" where nothing grows) and
     :data:`RESULT_FIELDS` (NaN where they do not apply)."""
     from fem.eigen import EigenError, blas_threads
@@ -64,6 +67,8 @@ def run_case(job: CaseJob) -> dict:
         # one thread per task: a study's parallelism is across its tasks
         with blas_threads(1):
             return _run(design, job)
+    except BudgetError as exc:  # the limit of this run, not the design: not final
+        return {**_failure("failed", f"refused by the budget: {exc}"), "transient": True}
     except (MeshError, EigenError, IntegrationError, RequestError) as exc:
         return _failure("failed", f"{type(exc).__name__}: {exc}")
 
@@ -73,6 +78,7 @@ def _run(design: WheelDesign, job: CaseJob) -> dict:
     from reduced import load_compiled_kernels
 
     from .. import api
+    from ..budget import Budget
     from ..cache import StageCache
     from ..presets import fidelity_for
     from ..sound import Radiation, default_microphone, mode_radiation, sound_of
@@ -81,7 +87,8 @@ def _run(design: WheelDesign, job: CaseJob) -> dict:
     cache = None if job.cache_dir is None else StageCache(job.cache_dir or None)
     if "limit_cycle" in job.compute:
         load_compiled_kernels()  # a worker runs many simulations: compiled, from the first
-    modes = api.compute_modes(design, job.fidelity, fmax_hz=job.fmax_hz, cache=cache)
+    budget = Budget.from_environment(job.max_dofs)
+    modes = api.compute_modes(design, job.fidelity, fmax_hz=job.fmax_hz, cache=cache, budget=budget)
     shape = (len(job.crab_velocities_m_s), len(job.rpm))
     out: dict = {"status": "ok", "reason": "", "mass_kg": wheel_mass(design), "modes": len(modes.modes)}
     nan = np.full(shape, np.nan)

@@ -1,0 +1,134 @@
+"""A pool of local worker processes that knows which case each one runs.
+
+Each worker process runs one case at a time, sent to it over its own pipe, so that
+when a worker dies (killed, out of memory, a crash in a native library) exactly the
+case it was running is charged with the death; the other workers go on and a new one
+takes the dead one's place. Workers die with the process that started them (Linux
+``PR_SET_PDEATHSIG``, and a check of the parent's pid), whether it ends, is killed with
+SIGKILL or stops on SIGTERM; they ignore SIGINT (the parent handles Ctrl-C and stops
+them).
+"""
+
+from __future__ import annotations
+
+import contextlib
+import ctypes
+import multiprocessing as mp
+import os
+import signal
+import sys
+from collections.abc import Callable
+from dataclasses import dataclass
+from multiprocessing.connection import Connection, wait
+
+__all__ = ["Death", "run_on_pool"]
+
+#: prctl's option: the signal a process gets when its parent thread ends (Linux).
+_PR_SET_PDEATHSIG = 1
+
+
+def die_with_parent(parent_pid: int) -> None:
+    """Make this process receive SIGKILL when its parent ends (Linux; elsewhere a no-op),
+    and end now if the parent already has."""
+    if sys.platform.startswith("linux"):
+        with contextlib.suppress(OSError, AttributeError):
+            ctypes.CDLL(None, use_errno=True).prctl(_PR_SET_PDEATHSIG, signal.SIGKILL)
+    if os.getppid() != parent_pid:  # the parent ended before prctl took effect
+        os._exit(1)
+
+
+def _worker(conn: Connection, parent_pid: int, task: Callable) -> None:
+    die_with_parent(parent_pid)
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    signal.signal(signal.SIGTERM, signal.SIG_DFL)
+    while True:
+        try:
+            message = conn.recv()
+        except EOFError:
+            return
+        if message is None:
+            return
+        i, job = message
+        try:
+            conn.send((i, task(job), None))
+        except Exception as exc:  # a bug in the task: the parent re-raises it
+            conn.send((i, None, exc))
+
+
+@dataclass
+class _Slot:
+    process: mp.process.BaseProcess
+    conn: Connection
+    case: int | None = None
+
+
+@dataclass(frozen=True)
+class Death:
+    """A case whose worker died ``count`` times (the caller decides when to give up)."""
+
+    case: int
+    count: int
+
+
+def run_on_pool(
+    n: int,
+    jobs: dict[int, object],
+    task: Callable,
+    done: Callable[[int, object], None],
+    died: Callable[[Death], bool],
+) -> None:
+    """Run ``task(job)`` for every job on ``n`` worker processes; ``done(i, result)`` as
+    each finishes. When the worker running case i dies, ``died(Death(i, count))`` is
+    asked whether to submit it again (True) or not (False). A task that raises re-raises
+    in this process. Every worker is stopped on return, on an exception and on
+    KeyboardInterrupt."""
+    ctx = mp.get_context("fork")
+    queue = list(jobs)
+    deaths = dict.fromkeys(jobs, 0)
+    slots: list[_Slot] = []
+
+    def start() -> _Slot:
+        parent, child = ctx.Pipe()
+        p = ctx.Process(target=_worker, args=(child, os.getpid(), task), daemon=True)
+        p.start()
+        child.close()
+        return _Slot(p, parent)
+
+    try:
+        slots = [start() for _ in range(min(n, len(queue)))]
+        while queue or any(s.case is not None for s in slots):
+            for s in slots:
+                if s.case is None and queue:
+                    s.case = queue.pop(0)
+                    s.conn.send((s.case, jobs[s.case]))
+            busy = [s for s in slots if s.case is not None]
+            ready = wait([s.conn for s in busy] + [s.process.sentinel for s in busy])
+            for s in busy:
+                if s.conn in ready or s.process.sentinel in ready:
+                    try:  # a result sent just before the worker ended is still read
+                        i, result, error = s.conn.recv() if s.conn.poll() else (None, None, None)
+                    except (EOFError, OSError):
+                        i = None
+                    if i is not None:
+                        s.case = None
+                        if error is not None:
+                            raise error
+                        done(i, result)
+                        continue
+                if not s.process.is_alive():
+                    i = s.case
+                    deaths[i] += 1
+                    s.process.join()
+                    s.conn.close()
+                    new = start()
+                    s.process, s.conn, s.case = new.process, new.conn, None
+                    if died(Death(i, deaths[i])):
+                        queue.insert(0, i)
+    finally:
+        for s in slots:
+            with contextlib.suppress(OSError, ValueError):
+                s.conn.close()
+            if s.process.is_alive():
+                s.process.kill()
+        for s in slots:
+            s.process.join(5)
