@@ -275,7 +275,7 @@ class WheelDesign:
                 'set name = "..." in the file'
             )
         design = cls.from_mapping(data, default_name=path.stem, source=str(path), base=path.parent)
-        if not set(data) & (set(SECTIONS) | {"profile"}):
+        if not set(data) & (set(SECTIONS) | {"profile", "squeal"}):
             warnings.warn(
                 f"design file {path} gives no [wheel], [material], [roller], [contact] "
                 "or [damping] values: it is the default Table 1 wheel",
@@ -421,6 +421,17 @@ _MODE = re.compile(r"n=\d+(,c=\d+)?|\d+|f=[0-9.]+([eE][+-]?\d+)?")
 _MODE_KEY = re.compile(r"n=(\d+),c=(\d+)")
 
 
+def _canonical_mode_key(label: str, source: str) -> str:
+    """``n=N,c=C`` of a [squeal.damping] key, written the one way the modes' labels are
+    (``"n = 01, c = 0"`` is ``"n=1,c=0"``)."""
+    m = _MODE_KEY.fullmatch(label.replace(" ", ""))
+    if m is None:
+        raise DesignError(
+            f'{source}: [squeal.damping] key {label!r}: use "n=N,c=C" (nodal diameters, circles)'
+        )
+    return f"n={int(m.group(1))},c={int(m.group(2))}"
+
+
 def _squeal_from_mapping(value: Any, source: str) -> dict[str, Any]:
     """squeal_mode and mode_damping from the [squeal] table."""
     if not isinstance(value, dict):
@@ -434,12 +445,18 @@ def _squeal_from_mapping(value: Any, source: str) -> dict[str, Any]:
         elif sub == "damping":
             if not isinstance(v, dict):
                 raise DesignError(f'{source}: [squeal.damping] must be a table of "n=N,c=C" = ratio')
-            items = []
+            items: dict[str, tuple[str, float]] = {}
             for label, ratio in v.items():
                 if isinstance(ratio, bool) or not isinstance(ratio, int | float):
                     raise DesignError(f"{source}: [squeal.damping] {label!r} must be a number")
-                items.append((label.replace(" ", ""), float(ratio)))
-            out["mode_damping"] = tuple(sorted(items))
+                key = _canonical_mode_key(label, source)
+                if key in items:
+                    first = items[key][0]
+                    raise DesignError(
+                        f"{source}: [squeal.damping] {first!r} and {label!r} name the same mode ({key})"
+                    )
+                items[key] = (label, float(ratio))
+            out["mode_damping"] = tuple(sorted((k, r) for k, (_, r) in items.items()))
         else:
             raise DesignError(f"{source}: unknown key '{sub}' in [squeal]; allowed: damping, mode")
     return out
@@ -452,7 +469,7 @@ def _check_mode_damping(v: Any) -> None:
         if not (isinstance(item, tuple) and len(item) == 2 and isinstance(item[0], str)):
             raise DesignError('mode_damping must be a tuple of ("n=N,c=C", ratio) pairs')
         label, ratio = item
-        if not _MODE_KEY.fullmatch(label):
+        if _canonical_mode_key(label, "design") != label:
             raise DesignError(f'[squeal.damping] key {label!r}: use "n=N,c=C" (nodal diameters, circles)')
         if not (math.isfinite(ratio) and 0.0 <= ratio < 1.0):
             raise DesignError(f"[squeal.damping] {label} = {ratio}: a modal damping ratio in [0, 1)")

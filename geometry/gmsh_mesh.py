@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import math
 import os
+import signal
 import threading
 from collections.abc import Iterator
 from contextlib import contextmanager
@@ -81,7 +82,12 @@ def gmsh_session(verbose: bool) -> Iterator[object]:
         current = None
         if owner:
             interruptible = threading.current_thread() is threading.main_thread()
+            handler = signal.getsignal(signal.SIGTERM) if interruptible else None
             gmsh.initialize(readConfigFiles=False, interruptible=interruptible)
+            if handler is not None:
+                # gmsh installs its own SIGTERM handler, which exits at once: give the
+                # process's back, so that a terminated run still cleans up
+                signal.signal(signal.SIGTERM, handler)
         else:
             current = gmsh.model.getCurrent()
             for name in _OPTIONS_TOUCHED:

@@ -514,3 +514,290 @@ def test_a_server_that_is_not_a_scheduler_is_one_line_within_seconds(tmp_path, s
             proc.kill()
             proc.wait()
         sock.close()
+
+
+# --------------------------------------------------------------------------------------
+# the design's measured damping: applied or refused, never ignored
+# --------------------------------------------------------------------------------------
+def test_measured_damping_keys_are_read_the_way_modes_are_named(tmp_path):
+    import wheel_squeal as ws
+
+    d = ws.load_design(_write(tmp_path / "a.toml", b'[squeal.damping]\n"n = 01, c = 0" = 6e-3\n'))
+    assert d.mode_damping == (("n=1,c=0", 6e-3),)
+    assert d.damping_ratio(1, 0) == 6e-3  # applied to the (1,0) mode
+
+
+@pytest.mark.parametrize(
+    ("text", "word"),
+    [
+        (b'[squeal.damping]\n"n=1,c=0" = 6e-3\n"n=01,c=0" = 5e-3\n', "name the same mode"),
+        (b'[squeal.damping]\n"n=9,c=3" = 6e-3\n', "not among the"),
+        (b'[squeal.damping]\n"(1,0)" = 6e-3\n', "n=N,c=C"),
+    ],
+)
+def test_measured_damping_that_cannot_be_applied_is_refused(tmp_path, text, word):
+    design = _write(tmp_path / "d.toml", text)
+    r = run_cli("stability", "--fidelity", "fast", "--no-bounds", "--design", design, "--out", tmp_path / "o",
+                "--quiet", "--cache-dir", tmp_path / "c")  # fmt: skip
+    refused(r, word)
+
+
+# --------------------------------------------------------------------------------------
+# the smaller ones
+# --------------------------------------------------------------------------------------
+@pytest.mark.parametrize(
+    ("args", "word"),
+    [
+        (["run", "--multimode", "--duration", "1e-6", "--fidelity", "fast"], "periods of the lowest mode"),
+        (
+            [
+                "simulate",
+                *("--mass", "3.1", "--stiffness", "1.6e8", "--damping", "42"),
+                "--rotation",
+                "--nodal-diameters",
+                "100000",
+            ],
+            "more than its frequency",
+        ),  # fmt: skip
+        (["run", "--rpm", "1e-9", "--fidelity", "fast"], "RK4 steps"),
+        (["stability", "--envelope-rpm", "400", "--fidelity", "fast"], "with --envelope"),
+        (["calibrate", "--free", "nonsense", "--target-frequency", "1143"], "not a design parameter"),
+    ],
+)
+def test_smaller_refusals_are_one_line_and_write_nothing(tmp_path, args, word):
+    out = tmp_path / "o"
+    r, elapsed = timed_cli(*args, "--out", out, "--quiet", timeout=60)
+    refused(r, word, seconds=20, elapsed=elapsed)
+    assert not out.exists()
+
+
+def test_cache_clear_leaves_a_users_empty_folder(tmp_path):
+    folder = tmp_path / "mine"
+    folder.mkdir()
+    r = run_cli("cache", "clear", "--cache-dir", folder)
+    assert r.returncode == 0 and folder.is_dir()
+
+
+def test_cache_clear_on_a_read_only_cache_is_one_line(tmp_path, monkeypatch):
+    """Root ignores file modes, so the read-only file system is simulated: unlink fails
+    as on a read-only mount (EROFS)."""
+    import errno
+    import os
+
+    from wheel_squeal.cache import StageCache
+    from wheel_squeal.errors import RequestError
+
+    cache = StageCache(tmp_path / "c")
+    cache.store("modes", {"k": 1}, {"a": np.zeros(3)})
+
+    def read_only(*a, **k):
+        raise OSError(errno.EROFS, os.strerror(errno.EROFS))
+
+    monkeypatch.setattr(Path, "unlink", read_only)
+    with pytest.raises(RequestError, match="cannot be cleared"):
+        cache.clear()
+
+
+def test_a_terminated_run_cleans_up_as_an_interrupted_one(tmp_path):
+    """SIGTERM (timeout, batch schedulers) mid-computation: exit 143, the staging folder
+    removed, nothing at --out (gmsh's own SIGTERM handler, which exits at once, is
+    replaced)."""
+    import signal
+    import subprocess
+    import sys
+
+    out = tmp_path / "o"
+    p = subprocess.Popen(
+        [sys.executable, str(ROOT / "pipeline.py"), "modes", "--solver", "3d-tet", "--fidelity", "balanced",
+         "--no-cache", "--out", str(out), "--quiet"],
+        stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+    )  # fmt: skip
+    time.sleep(4.0)  # meshing or solving
+    assert p.poll() is None
+    p.send_signal(signal.SIGTERM)
+    _, err = p.communicate(timeout=30)
+    assert p.returncode == 143 and "terminated" in err
+    assert list(tmp_path.iterdir()) == []
+
+
+# --------------------------------------------------------------------------------------
+# a bounded cache
+# --------------------------------------------------------------------------------------
+def test_the_cache_keeps_under_its_limit_evicting_the_least_recently_used(tmp_path, monkeypatch):
+    import os
+
+    from wheel_squeal import cache as cache_module
+    from wheel_squeal.cache import StageCache
+
+    cache = StageCache(tmp_path / "c")
+    cache.set_limit(2_000_000)
+    blob = {"a": np.zeros(250_000)}  # 2 MB uncompressed: about 2 MB on disk
+    now = time.time()
+    for k in range(3):
+        cache.store("modes", {"k": k}, {"a": np.full(62_500, k, dtype=float)})  # 0.5 MB each
+        os.utime(cache.path("modes", {"k": k}), (now - 3600 + k, now - 3600 + k))  # an hour ago
+    cache.load("modes", {"k": 0})  # used again: now the most recent
+    cache.store("modes", {"k": 9}, blob)
+    n, size = cache.info()
+    assert size <= 2_000_000 or n == 2  # the new entry is in use: never evicted
+    kept = {k for k in (0, 1, 2, 9) if cache.path("modes", {"k": k}).exists()}
+    assert 9 in kept and 0 in kept and 1 not in kept  # the least recently used went first
+    monkeypatch.setattr(cache_module, "IN_USE_S", 0.0)
+    assert cache.evict() >= 0 and cache.info()[1] <= 2_000_000
+
+
+def test_cache_info_shows_its_size_and_limit(tmp_path):
+    r = run_cli("cache", "limit", "500M", "--cache-dir", tmp_path / "c")
+    assert r.returncode == 0 and "of 500 MB" in r.stdout
+    r = run_cli("cache", "info", "--cache-dir", tmp_path / "c", env={"WHEEL_SQUEAL_CACHE_SIZE": "3G"})
+    assert "of 3000 MB (from $WHEEL_SQUEAL_CACHE_SIZE)" in r.stdout
+    r = run_cli("cache", "limit", "5Q", "--cache-dir", tmp_path / "c")
+    refused(r, "size like")
+
+
+# --------------------------------------------------------------------------------------
+# random outlines and random study specs: a result or a one-line error, and which
+# --------------------------------------------------------------------------------------
+from hypothesis import HealthCheck, given, settings  # noqa: E402
+from hypothesis import strategies as st  # noqa: E402
+
+
+def _segments_cross(points: np.ndarray) -> bool:
+    """Whether a closed polygon's non-neighbouring edges cross or touch: every pair
+    compared in plain numpy (independent of the k-d tree the outline check uses)."""
+    a = points
+    b = np.roll(points, -1, axis=0)
+    n = len(a)
+    for i in range(n):
+        j = np.arange(i + 2, n if i > 0 else n - 1)
+        if not len(j):
+            continue
+
+        def orient(p, q, r):
+            return (q[..., 0] - p[..., 0]) * (r[..., 1] - p[..., 1]) - (q[..., 1] - p[..., 1]) * (
+                r[..., 0] - p[..., 0]
+            )
+
+        o1, o2 = orient(a[i], b[i], a[j]), orient(a[i], b[i], b[j])
+        o3, o4 = orient(a[j], b[j], a[i]), orient(a[j], b[j], b[i])
+        if np.any((np.sign(o1) != np.sign(o2)) & (np.sign(o3) != np.sign(o4))):
+            return True
+    return False
+
+
+BORE_R, TREAD_R = 0.06, 0.19
+
+
+@st.composite
+def random_loops(draw):
+    """Closed loops of up to 2,500 vertices around (0.12, 0), with a flat bore and a
+    flat tread: star-shaped (simple) when the angles are sorted, often self-crossing
+    when two vertices are swapped; segments at least 30 um long (the shortest segment
+    is a check of its own)."""
+    n = draw(st.sampled_from([3, 5, 8, 13, 40, 300, 2500]))
+    seed = draw(st.integers(0, 2**31 - 1))
+    rng = np.random.default_rng(seed)
+    centre = np.array([0.12, 0.0])
+    # a flat bore at r = 0.06 (the clamp) and a flat tread at r = 0.19 (the contact)
+    fixed = np.array([[TREAD_R, -0.01], [TREAD_R, 0.01], [BORE_R, 0.01], [BORE_R, -0.01]])
+    gaps = np.arctan2(*(fixed - centre).T[::-1])  # the angles they take
+    angles = rng.uniform(0, 2 * np.pi, n)
+    near_fixed = (angles < 0.2) | (np.abs(angles - np.pi) < 0.2) | (angles > 2 * np.pi - 0.2)
+    angles = angles[~near_fixed]
+    radii = rng.uniform(0.03, 0.055, len(angles))  # inside the bore and the tread
+    free = np.stack([0.12 + radii * np.cos(angles), radii * np.sin(angles)], axis=1)
+    pts = np.vstack([free, fixed])[np.argsort(np.mod(np.concatenate([angles, gaps]), 2 * np.pi))]
+    if draw(st.booleans()) and len(pts) > 5:
+        k = rng.integers(0, len(pts), size=2)
+        pts[k] = pts[k[::-1]]  # two vertices swapped: the loop may cross itself
+    keep = np.hypot(*np.diff(np.vstack([pts, pts[:1]]), axis=0).T) > 3e-5
+    return pts[keep]
+
+
+@settings(max_examples=40, deadline=None, derandomize=True, suppress_health_check=[HealthCheck.too_slow])
+@given(points=random_loops())
+def test_random_outlines_are_a_wheel_or_one_line_that_says_why(points):
+    from geometry import DesignError, WheelDesign
+    from geometry.outline import OutlineError, outline_from_mapping
+
+    loop = [list(map(float, p)) for p in points] + [list(map(float, points[0]))]
+    contact = [TREAD_R, 0.0]
+    mapping = {"points": loop, "contact": contact}
+    crosses = _segments_cross(points)
+    try:
+        outline = outline_from_mapping(mapping, "random")
+        design = WheelDesign(name="random", profile=outline)
+    except (OutlineError, DesignError) as exc:
+        message = str(exc)
+        assert "\n" not in message
+        if crosses:
+            assert "intersects itself" in message or "folds back" in message or "shorter than" in message
+        else:
+            assert "intersects itself" not in message, message  # a simple loop is never called crossed
+        return
+    assert not crosses
+    assert 0 < design.web_thickness <= 2 * 0.09 and design.rolling_radius == pytest.approx(contact[0])
+    assert design.bore_radius == pytest.approx(BORE_R)
+
+
+_WEAR = "{{ values = [0.0, 0.002], add = {{ rolling_radius = -1.0, rim_depth = -1.0 }} }}"
+_ABSENT = "{{ values = [0, 1], add = {{ fillet_rim = 1.0, web_thickness_rim = 1.0 }} }}"
+_HUGE = "{{ start = 0, stop = 1, num = 100000, add = {{ %s = 1e-9 }} }}"
+#: A grid, and the phrase of its refusal (None: a valid study).
+_AXES = {
+    "rim_depth": ("[grid]\nrim_depth = {{ start = 0.03, stop = 0.036, num = {n} }}\n", None),
+    "web": ("[grid]\nweb_thickness = [0.013, 0.015, 0.017]\n", None),
+    "wear": (f"[grid]\nwear = {_WEAR}\n", None),
+    "reserved": ("[grid]\nspl_db = [1.0, 2.0]\n", "a name the results use"),
+    "unknown": ("[grid]\nrim_depth = {{ start = 0.03, stop = 0.036, num = 3, step = 2 }}\n", "unknown key"),
+    "not_a_field": ("[grid]\nrim_deep = [0.03]\n", "not a design parameter"),
+    "absent": (f"[grid]\nx = {_ABSENT}\n", "does not set"),
+    "huge": (
+        f"[grid]\na = {_HUGE % 'rim_depth'}\nb = {_HUGE % 'web_thickness'}\n",
+        "more than a study takes",
+    ),
+}
+
+
+@settings(max_examples=40, deadline=None, derandomize=True)
+@given(
+    axis=st.sampled_from(sorted(_AXES)),
+    n=st.integers(1, 6),
+    points=st.tuples(st.integers(1, 4), st.integers(1, 3)),
+    base=st.sampled_from(
+        ['base = "{root}/designs/table1.toml"\n', "base = 5\n", "", 'base = "nowhere.toml"\n']
+    ),
+    fidelity=st.sampled_from(['fidelity = "fast"\n', 'fidelity = "best"\n', ""]),
+)
+def test_random_study_specs_are_a_study_or_one_line_that_says_why(
+    tmp_path_factory, axis, n, points, base, fidelity
+):
+    from wheel_squeal.errors import RequestError
+    from wheel_squeal.study import load_spec
+    from wheel_squeal.study.cost import estimate_study
+
+    grid, problem = _AXES[axis]
+    vcs = ", ".join(f"{0.1 * (k + 1):g}" for k in range(points[0]))
+    rpms = ", ".join(str(400 + 200 * k) for k in range(points[1]))
+    text = (
+        base.format(root=ROOT) + fidelity + grid.format(n=n)
+        + f"[operating]\ncrab_velocity = [{vcs}]\nrpm = [{rpms}]\n"
+    )  # fmt: skip
+    expected = (
+        "a string" if base.startswith("base = 5") else
+        "not found" if "nowhere" in base else
+        "fidelity" if "best" in fidelity else
+        problem
+    )  # fmt: skip
+    path = tmp_path_factory.mktemp("spec") / "s.toml"
+    path.write_text(text)
+    try:
+        spec = load_spec(path)
+    except RequestError as exc:
+        assert expected is not None and expected in str(exc) and "\n" not in str(exc), (text, str(exc))
+        return
+    assert expected is None, text
+    assert spec.n_points == points[0] * points[1]
+    assert spec.n_cases == {"rim_depth": n, "web": 3, "wear": 2}[axis] == len(spec.cases())
+    cost = estimate_study(spec)
+    assert 0 < cost.case_seconds < 60 and cost.memory_bytes > 0

@@ -42,6 +42,7 @@ from .progress import Progress
 __all__ = [
     "Simulation",
     "build_mesh",
+    "check_named_modes",
     "check_modes_budget",
     "compute_modes",
     "contact_law",
@@ -195,6 +196,7 @@ def compute_modes(
         try:
             ms = ModeSet.from_arrays(cache.load("modes", key))
             progress.say("modes: loaded from cache")
+            check_named_modes(design, ms, fmax_hz)
             return ms
         except CacheMiss:
             pass
@@ -209,7 +211,20 @@ def compute_modes(
     if cache is not None and ms.modes:
         # an empty band is not cached, so its warning is shown again on the next request
         cache.store("modes", key, ms.to_arrays())
+    check_named_modes(design, ms, fmax_hz)
     return ms
+
+
+def check_named_modes(design: WheelDesign, modeset, fmax_hz: float) -> None:
+    """Refuse (:class:`RequestError`) a design whose ``[squeal.damping]`` names a mode
+    that is not among ``modeset``'s: its damping would be silently unused."""
+    labels = {f"n={m.nodal_diameters},c={m.nodal_circles}" for m in modeset.modes}
+    missing = [k for k, _ in design.mode_damping if k not in labels]
+    if missing:
+        raise RequestError(
+            f"{design.name}: [squeal.damping] names {', '.join(missing)}, not among the {len(modeset.modes)} "
+            f"modes below {fmax_hz:g} Hz: raise --fmax or remove it"
+        )
 
 
 def pick_mode(modeset, mode: str = "default"):
@@ -370,23 +385,68 @@ class Simulation:
         return summary_dicts(self.limit_cycle, self.operating_point, self.contact)
 
 
-def simulate(dof, contact, op, duration: float | None = None, wheel_speed_rad_s: float = 0.0) -> Simulation:
+def simulate(
+    dof,
+    contact,
+    op,
+    duration: float | None = None,
+    wheel_speed_rad_s: float = 0.0,
+    budget: Budget | None = None,
+) -> Simulation:
     """Integrate the squeal model from rest (``reduced.simulate_to_limit_cycle``): one
     mode or several together (a list), ``duration`` [s] fixed or None to run until the
-    outcome is known, on a wheel turning at ``wheel_speed_rad_s`` (0: the paper's model)."""
+    outcome is known, on a wheel turning at ``wheel_speed_rad_s`` (0: the paper's model).
+    The RK4 steps are counted first and the run refused beyond ``budget`` (default:
+    :meth:`Budget.from_environment`): a very low rolling speed makes the contact stiff
+    and the step tiny."""
     from reduced import longest_record_s, simulate_to_limit_cycle
+    from reduced.model import MAX_STORED_SAMPLES
+    from reduced.saturate import FIRST_DURATION_S
+    from reduced.sweep import sweep_steps
 
+    dofs = list(dof) if isinstance(dof, list | tuple) else [dof]
+    for d in dofs:
+        split = d.nodal_diameters * abs(wheel_speed_rad_s)
+        if split >= d.angular_frequency_rad_s:
+            raise RequestError(
+                f"a mode of {d.frequency_hz:.4g} Hz with {d.nodal_diameters} nodal diameters on a wheel "
+                f"turning at {wheel_speed_rad_s:.4g} rad/s would split by +-{split / (2 * math.pi):.4g} Hz, "
+                "more than its frequency: give the mode's true nodal diameters"
+            )
     if duration is not None:
         if not (math.isfinite(duration) and duration > 0):
             raise RequestError(f"duration must be positive, got {duration:g}")
+        shortest = MIN_RECORD_PERIODS / min(d.frequency_hz for d in dofs)
+        if duration < shortest:
+            raise RequestError(
+                f"duration {duration:g} s is shorter than {MIN_RECORD_PERIODS} periods of the lowest mode "
+                f"({shortest:.3g} s): a limit cycle needs them"
+            )
         longest = longest_record_s(dof, wheel_speed_rad_s=wheel_speed_rad_s)
         if duration > longest:
             raise RequestError(
                 f"duration {duration:g} s is too long to record: at most {longest:.3g} s "
                 "fit (48 samples per period of the highest mode, 10 million samples)"
             )
-    history, lc = simulate_to_limit_cycle(dof, contact, op, duration, wheel_speed_rad_s=wheel_speed_rad_s)
+    steps = sweep_steps(dof, contact, op, duration or FIRST_DURATION_S)
+    (budget or Budget.from_environment()).check_sweep(
+        1,
+        steps,
+        len(dofs),
+        1,
+        "a higher rolling speed (the contact stiffens as it falls) or a shorter duration",
+        stored_steps=MAX_STORED_SAMPLES,
+    )
+    try:
+        history, lc = simulate_to_limit_cycle(dof, contact, op, duration, wheel_speed_rad_s=wheel_speed_rad_s)
+    except ValueError as exc:  # the model refuses what it cannot integrate, in its own words
+        raise RequestError(str(exc)) from None
     return Simulation(history, lc, contact, op)
+
+
+#: A simulated record covers at least this many periods of its lowest mode (the
+#: limit-cycle analysis fits an envelope over cycles).
+MIN_RECORD_PERIODS = 10
 
 
 def sweep(

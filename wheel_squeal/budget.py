@@ -133,15 +133,22 @@ class Budget:
         self._check_time(cost, seconds, remedy)
 
     def check_sweep(
-        self, n_cases: int, steps_per_case: float, n_modes: int, threads: int, remedy: str
+        self,
+        n_cases: int,
+        steps_per_case: float,
+        n_modes: int,
+        threads: int,
+        remedy: str,
+        stored_steps: float | None = None,
     ) -> float:
-        """Refuse a sweep of ``n_cases`` RK4 runs of ``steps_per_case`` steps each;
-        returns the estimated run time [s]."""
+        """Refuse a sweep of ``n_cases`` RK4 runs of ``steps_per_case`` steps each (of
+        which ``stored_steps`` are kept, default all); returns the estimated run time [s]."""
         seconds = n_cases * steps_per_case * n_modes * SWEEP_SECONDS_PER_STEP / max(threads, 1)
-        memory = threads * steps_per_case * SWEEP_BYTES_PER_STEP
+        memory = threads * min(steps_per_case, stored_steps or steps_per_case) * SWEEP_BYTES_PER_STEP
+        what = f"the sweep ({n_cases:,} cases of " if n_cases > 1 else "the squeal model ("
         cost = (
-            f"the sweep ({n_cases:,} cases of {steps_per_case:,.0f} RK4 steps) would need "
-            f"about {_human_bytes(memory)} and {_human_time(seconds)}"
+            f"{what}{steps_per_case:,.0f} RK4 steps) would need about {_human_bytes(memory)} and "
+            f"{_human_time(seconds)}"
         )
         self._check_memory(cost, memory, remedy)
         self._check_time(cost, seconds, remedy)

@@ -16,6 +16,12 @@ and the run goes on without storing.
 
 Location: ``--cache-dir``, else ``$WHEEL_SQUEAL_CACHE`` (an empty value counts as unset),
 else ``$XDG_CACHE_HOME/wheel-squeal`` (``~/.cache/wheel-squeal``).
+
+Size: the entries are kept under a limit (:data:`DEFAULT_MAX_BYTES`, or the cache's
+own setting, ``cache limit SIZE``, or ``$WHEEL_SQUEAL_CACHE_SIZE``); after a store
+beyond it the least recently used entries are removed (a load refreshes an entry's
+time), except those used in the last :data:`IN_USE_S` seconds, which a running process
+may still read back.
 """
 
 from __future__ import annotations
@@ -31,6 +37,7 @@ import os
 import re
 import sys
 import tempfile
+import time
 import zipfile
 from collections.abc import Callable
 from pathlib import Path
@@ -40,6 +47,8 @@ import numpy as np
 from .errors import RequestError
 
 __all__ = [
+    "DEFAULT_MAX_BYTES",
+    "ENV_SIZE",
     "CacheMiss",
     "ENV_VAR",
     "MARKER",
@@ -47,9 +56,27 @@ __all__ = [
     "code_version",
     "default_cache_root",
     "library_versions",
+    "parse_size",
 ]
 
 ENV_VAR = "WHEEL_SQUEAL_CACHE"
+#: The size limit's environment variable, and its default (a few hundred designs'
+#: modes and sound fields, small beside a laptop's disk).
+ENV_SIZE = "WHEEL_SQUEAL_CACHE_SIZE"
+DEFAULT_MAX_BYTES = 2 * 10**9
+#: Entries used this recently [s] are never evicted: a running process may read them.
+IN_USE_S = 600.0
+_UNITS = {
+    "": 1,
+    "B": 1,
+    "K": 10**3,
+    "KB": 10**3,
+    "M": 10**6,
+    "MB": 10**6,
+    "G": 10**9,
+    "GB": 10**9,
+    "T": 10**12,
+}
 #: The file that marks a folder as a stage cache of this tool.
 MARKER = ".wheel-squeal-cache"
 #: The tool's name in every entry's metadata.
@@ -96,6 +123,23 @@ def library_versions(*distributions: str) -> dict[str, str]:
         except importlib.metadata.PackageNotFoundError:
             out[name] = "absent"
     return out
+
+
+def parse_size(text: str) -> int:
+    """Bytes of a size like ``500M``, ``2G``, ``1.5GB`` or ``1000000``; RequestError
+    otherwise."""
+    m = re.fullmatch(r"\s*([0-9]*\.?[0-9]+(?:[eE][+-]?[0-9]+)?)\s*([A-Za-z]*)\s*", text)
+    unit = m.group(2).upper() if m else None
+    if m is None or unit not in _UNITS:
+        raise RequestError(f"cache size {text!r}: give bytes or a size like 500M or 2G")
+    size = float(m.group(1)) * _UNITS[unit]
+    if not size >= 1e6:
+        raise RequestError(f"cache size {text!r}: at least 1M")
+    return int(size)
+
+
+def _human(n: float) -> str:
+    return f"{n / 1e9:.2f} GB" if n >= 1e9 else f"{n / 1e6:.1f} MB"
 
 
 class CacheMiss(Exception):
@@ -202,6 +246,8 @@ class StageCache:
             self.misses.append(stage)
             raise CacheMiss from None
         self.hits.append(stage)
+        with contextlib.suppress(OSError):
+            os.utime(p)  # recently used: the last to be evicted
         return arrays
 
     def store(self, stage: str, key: dict, arrays: dict[str, np.ndarray]) -> None:
@@ -224,6 +270,8 @@ class StageCache:
                 with contextlib.suppress(OSError):
                     os.unlink(tmp)
             self._cannot_store(exc)
+            return
+        self.evict()
 
     # -- housekeeping -------------------------------------------------------------------
     def _entries(self) -> list[Path]:
@@ -243,28 +291,104 @@ class StageCache:
         entries = self._entries()
         return len(entries), sum(f.stat().st_size for f in entries)
 
+    # -- size --------------------------------------------------------------------------
+    @property
+    def max_bytes(self) -> int:
+        """The size limit: ``$WHEEL_SQUEAL_CACHE_SIZE``, else the cache's own setting
+        (:meth:`set_limit`), else :data:`DEFAULT_MAX_BYTES`."""
+        env = os.environ.get(ENV_SIZE, "").strip()
+        if env:
+            return parse_size(env)
+        try:
+            own = json.loads((self.root / MARKER).read_text()).get("max_bytes")
+        except (OSError, ValueError, AttributeError):
+            own = None
+        return int(own) if isinstance(own, int | float) and own >= 1e6 else DEFAULT_MAX_BYTES
+
+    def set_limit(self, max_bytes: int) -> None:
+        """Keep ``max_bytes`` as this cache's size limit (in its marker), and evict down
+        to it now."""
+        if not self._ensure_root():
+            raise RequestError(f"cache folder {self.root} cannot be written")
+        marker = self.root / MARKER
+        try:
+            data = json.loads(marker.read_text())
+        except (OSError, ValueError):
+            data = {}
+        data = {**(data if isinstance(data, dict) else {}), "tool": ENTRY_TOOL, "max_bytes": int(max_bytes)}
+        try:
+            fd, tmp = tempfile.mkstemp(prefix=f"{MARKER}.", suffix=".tmp", dir=self.root)
+            with os.fdopen(fd, "w") as f:
+                f.write(json.dumps(data) + "\n")
+            os.replace(tmp, marker)
+        except OSError as exc:
+            raise RequestError(f"cache folder {self.root} cannot be written ({exc.strerror})") from None
+        self.evict()
+
+    def evict(self) -> int:
+        """Remove the least recently used entries until the cache is under its limit,
+        sparing those used in the last :data:`IN_USE_S` seconds; returns how many went."""
+        limit = self.max_bytes
+        entries = []
+        for stage_dir in _stage_dirs(self.root):
+            with contextlib.suppress(OSError), os.scandir(stage_dir) as it:
+                for e in it:
+                    if _ENTRY.fullmatch(e.name) and e.is_file(follow_symlinks=False):
+                        with contextlib.suppress(OSError):
+                            st = e.stat(follow_symlinks=False)
+                            entries.append((st.st_mtime, st.st_size, e.path))
+        total = sum(size for _, size, _ in entries)
+        if total <= limit:
+            return 0
+        removed = 0
+        now = time.time()
+        for mtime, size, path in sorted(entries):
+            if total <= 0.9 * limit or now - mtime < IN_USE_S:
+                break  # down to 90 %: the next stores do not evict one by one
+            if _is_entry(Path(path)):
+                with contextlib.suppress(OSError):
+                    os.unlink(path)
+                    total -= size
+                    removed += 1
+        return removed
+
     def clear(self) -> int:
         """Remove every entry this tool wrote; returns how many. Refuses a folder that is
         not a cache (no marker); leaves anything else in it where it is."""
         if not self.root.exists():
             return 0
-        if not (self.root / MARKER).is_file():
+        marked = (self.root / MARKER).is_file()
+        if not marked:
             self._check_root()  # refuses a folder that is not (even an unmarked) cache
         n = 0
-        for f in self._entries():
-            f.unlink()
-            n += 1
-        for stage_dir in [p for p in self.root.iterdir() if p.is_dir() and not p.is_symlink()]:
-            for f in stage_dir.iterdir():
-                if f.is_file() and _TMP.fullmatch(f.name):
-                    f.unlink()
-            with contextlib.suppress(OSError):
-                stage_dir.rmdir()
-        if {c.name for c in self.root.iterdir()} <= {MARKER}:
+        try:
+            for f in self._entries():
+                f.unlink()
+                n += 1
+            for stage_dir in [p for p in self.root.iterdir() if p.is_dir() and not p.is_symlink()]:
+                for f in stage_dir.iterdir():
+                    if f.is_file() and _TMP.fullmatch(f.name):
+                        f.unlink()
+                with contextlib.suppress(OSError):
+                    stage_dir.rmdir()
+        except OSError as exc:
+            raise RequestError(
+                f"cache folder {self.root} cannot be cleared ({exc.strerror or exc}); {n} entries removed"
+            ) from None
+        # the root goes only if this tool made it (its marker): a user's empty folder stays
+        if marked and {c.name for c in self.root.iterdir()} <= {MARKER}:
             with contextlib.suppress(OSError):
                 (self.root / MARKER).unlink(missing_ok=True)
                 self.root.rmdir()
         return n
+
+
+def _stage_dirs(root: Path) -> list[str]:
+    try:
+        with os.scandir(root) as it:
+            return [e.path for e in it if e.is_dir(follow_symlinks=False)]
+    except OSError:
+        return []
 
 
 def _is_entry(path: Path) -> bool:

@@ -68,20 +68,7 @@ def calibrate(
             raise RequestError(f"{name} must be a positive relative uncertainty, got {u:g}")
     from scipy.optimize import least_squares
 
-    allowed = [k for keys in SECTIONS.values() for k in keys]
-    for name in free:
-        if name not in allowed:
-            raise RequestError(
-                f"free parameter {name!r} is not a design parameter; choose from {', '.join(allowed)}"
-            )
-    if target_frequency_hz is None and target_modal_mass_kg is None:
-        raise RequestError("give a target frequency and/or a target modal mass")
-    for name, v in (
-        ("target_frequency_hz", target_frequency_hz),
-        ("target_modal_mass_kg", target_modal_mass_kg),
-    ):
-        if v is not None and not (math.isfinite(v) and v > 0):
-            raise RequestError(f"{name} must be positive, got {v:g}")
+    check_request(free, target_frequency_hz, target_modal_mass_kg)
     progress = progress or Progress(quiet=True)
     fid = fidelity_for(fidelity)
     mode = mode or design.squeal_mode or "default"
@@ -133,6 +120,27 @@ def calibrate(
         np.sqrt(np.mean(np.square(sol.fun[[bool(target_frequency_hz), bool(target_modal_mass_kg)]])))
     )
     return Calibration(d, dict(zip(free, map(float, sol.x))), m.frequency_hz, m.modal_mass, res, evaluations)
+
+
+def check_request(
+    free: Sequence[str], target_frequency_hz: float | None, target_modal_mass_kg: float | None
+) -> None:
+    """Refuse (:class:`RequestError`) free parameters that are not design parameters and
+    missing or non-positive targets: before anything is written."""
+    allowed = [k for keys in SECTIONS.values() for k in keys]
+    for name in free:
+        if name not in allowed:
+            raise RequestError(
+                f"free parameter {name!r} is not a design parameter; choose from {', '.join(allowed)}"
+            )
+    if target_frequency_hz is None and target_modal_mass_kg is None:
+        raise RequestError("give a target frequency and/or a target modal mass")
+    for name, v in (
+        ("target_frequency_hz", target_frequency_hz),
+        ("target_modal_mass_kg", target_modal_mass_kg),
+    ):
+        if v is not None and not (math.isfinite(v) and v > 0):
+            raise RequestError(f"{name} must be positive, got {v:g}")
 
 
 def calibrated_design_path(out: Path, name: str) -> Path:

@@ -14,6 +14,7 @@ import os
 import signal
 import sys
 import threading
+import time
 import warnings
 from collections.abc import Sequence
 
@@ -52,12 +53,34 @@ def _terminate(signum, frame) -> None:
     raise Terminated
 
 
+#: Seconds a terminated command has to clean up before it ends regardless (it may be
+#: inside a long native computation, where no Python code runs until it returns).
+TERMINATE_GRACE_S = 5.0
+
+
+def _stop_on_sigterm() -> None:
+    """SIGTERM raises :class:`Terminated` in the main thread; if that has not ended the
+    process within :data:`TERMINATE_GRACE_S` (a LAPACK or numba call does not return to
+    Python until done), a watcher thread ends it: a half-written result stays hidden
+    beside ``--out`` and is removed by the next run, and worker processes die with it."""
+    r, w = os.pipe()
+    os.set_blocking(w, False)
+    signal.set_wakeup_fd(w)  # written by the C-level handler at once, even mid-computation
+    signal.signal(signal.SIGTERM, _terminate)
+
+    def watch() -> None:
+        while signal.SIGTERM not in os.read(r, 64):
+            pass
+        time.sleep(TERMINATE_GRACE_S)
+        os._exit(143)
+
+    threading.Thread(target=watch, name="sigterm-watch", daemon=True).start()
+
+
 def main(argv: Sequence[str] | None = None, prog: str | None = None) -> int:
     """Run the command line; returns the exit status (0 done, 1 computation failed or a
     bug, 2 request refused, 130 interrupted, 143 terminated)."""
     args = build_parser(prog or os.path.basename(sys.argv[0]) or "wheel-squeal").parse_args(argv)
-    if threading.current_thread() is threading.main_thread():
-        signal.signal(signal.SIGTERM, _terminate)
     if not os.environ.get("DISPLAY"):
         # Without an X server VTK tries X first and warns before falling back to EGL;
         # go straight to EGL (off-screen) so the terminal stays clean.
@@ -99,6 +122,7 @@ def run(prog: str | None = None) -> None:
     modules) takes about 0.3 s, a fifth of a typical command; the streams are flushed
     and the process ends without it.
     """
+    _stop_on_sigterm()
     status = main(prog=prog)
     sys.stdout.flush()
     sys.stderr.flush()

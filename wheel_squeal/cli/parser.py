@@ -414,7 +414,8 @@ def build_parser(prog: str = "wheel-squeal") -> argparse.ArgumentParser:
     p.add_argument("--quick", action="store_true", help="only the cheapest rungs")
     p.add_argument("--quiet", action="store_true")
 
-    p = sub.add_parser("cache", help="inspect or clear the stage cache")
-    p.add_argument("action", choices=["clear", "info"])
+    p = sub.add_parser("cache", help="inspect, limit or clear the stage cache")
+    p.add_argument("action", choices=["clear", "info", "limit"])
+    p.add_argument("size", nargs="?", help="with limit: the cache's size limit, like 500M or 5G (default 2G)")
     p.add_argument("--cache-dir", type=Path)
     return parser

@@ -53,7 +53,7 @@ def cmd_run(args, plots: PlotWorkers) -> int:
         sq = squeal_mode(args, design, progress, cache, contact, op)
         omega = wheel_speed_rad_s(design, op, args.rotation)
         with progress.stage("squeal model"):
-            sim = api.simulate(sq.dof, contact, op, args.duration, omega)
+            sim = api.simulate(sq.dof, contact, op, args.duration, omega, budget_of(args))
         multi = None
         if args.multimode is not None:
             with progress.stage("multi-mode squeal model"):
@@ -120,9 +120,8 @@ def cmd_simulate(args, plots: PlotWorkers) -> int:
         op = operating_point_of(args, design)
         sq = squeal_mode(args, design, progress, cache_of(args), contact, op)
         with progress.stage("squeal model"):
-            sim = api.simulate(
-                sq.dof, contact, op, args.duration, wheel_speed_rad_s(design, op, args.rotation)
-            )
+            omega = wheel_speed_rad_s(design, op, args.rotation)
+            sim = api.simulate(sq.dof, contact, op, args.duration, omega, budget_of(args))
         summary = {
             "design": design.name,
             "modal_parameters": writers.dof_summary(sq.dof),
@@ -206,7 +205,9 @@ def cmd_compare(args) -> int:
                 fid, ms = modes_of(args, d, progress, cache)
                 mode, _, _ = choose_mode(d, ms, args.mode, contact, op, args.rotation)
                 dof = api.modal_dof(mode, d)
-                sim = api.simulate(dof, contact, op, args.duration, wheel_speed_rad_s(d, op, args.rotation))
+                sim = api.simulate(
+                    dof, contact, op, args.duration, wheel_speed_rad_s(d, op, args.rotation), budget_of(args)
+                )
             except (RequestError, DesignError) as exc:
                 raise RequestError(f"design {d.name}: {exc}") from None
             rows.append(writers.compare_row(d, mode, dof, sim))

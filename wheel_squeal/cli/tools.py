@@ -2,9 +2,11 @@
 
 from __future__ import annotations
 
+import os
 from pathlib import Path
 
-from ..cache import StageCache
+from ..cache import ENV_SIZE, StageCache, parse_size
+from ..errors import RequestError
 from ..outputs import result_folder, write_text_atomic
 from ..progress import Progress
 from .common import design_of
@@ -13,10 +15,11 @@ __all__ = ["cmd_cache", "cmd_calibrate", "cmd_converge"]
 
 
 def cmd_calibrate(args) -> int:
-    from ..calibration import CALIBRATED_MARK, calibrate, calibrated_design_path
+    from ..calibration import CALIBRATED_MARK, calibrate, calibrated_design_path, check_request
 
     design = design_of(args)
     free = [f for part in args.free for f in part.split(",") if f]
+    check_request(free, args.target_frequency, args.target_modal_mass)
     name = f"{design.name}_calibrated"
     design.replace(name=name)  # a valid name, checked before the work
     path = calibrated_design_path(Path(args.out), name) if args.out else None
@@ -66,7 +69,18 @@ def cmd_cache(args) -> int:
     cache = StageCache(args.cache_dir)
     if args.action == "clear":
         print(f"removed {cache.clear()} cache entries from {cache.root}")
-    else:
-        n, size = cache.info()
-        print(f"{cache.root}: {n} entries, {size / 1e6:.1f} MB")
+        return 0
+    if args.action == "limit":
+        if args.size is None:
+            raise RequestError("cache limit takes a size, like 500M or 5G")
+        cache.set_limit(parse_size(args.size))
+    elif args.size is not None:
+        raise RequestError(f"cache {args.action} takes no size")
+    n, size = cache.info()
+    limit = cache.max_bytes
+    source = f" (from ${ENV_SIZE})" if os.environ.get(ENV_SIZE, "").strip() else ""
+    print(
+        f"{cache.root}: {n} entries, {size / 1e6:.1f} MB of {limit / 1e6:.0f} MB{source}; "
+        "the least recently used go beyond it"
+    )
     return 0
