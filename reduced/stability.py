@@ -45,7 +45,7 @@ from .creep import ContactLaw, adhesion_ratio_slope
 from .model import ModalDOF, OperatingPoint, as_modes
 
 __all__ = [
-    "EIGEN_SOLVES_PER_BOUND",
+    "bound_solves",
     "Mitigation",
     "ModeStability",
     "StabilityMap",
@@ -241,7 +241,7 @@ def critical_damping_ratio(
 ) -> float:
     """The modal damping ratio of mode ``i`` above which it is stable at ``op``, the
     other modes at their damping (0 if it is stable without damping): a root of its
-    growth rate, found on the coupled eigenvalues (about :data:`EIGEN_SOLVES_PER_BOUND`
+    growth rate, found on the coupled eigenvalues (about half :func:`bound_solves`
     eigen-solves)."""
     modes = as_modes(modes)
     g = friction_damping_ns_m(contact, op)
@@ -288,7 +288,7 @@ def linear_stability(
     no rotation; a rotating wheel needs the modes' ``nodal_diameters``); ``bounds``:
     the modes whose critical damping ratio and friction slope are found (``"all"``, a
     sequence of indices, or None): growth rates and frequencies take one eigen-solve,
-    each mode's bounds about :data:`EIGEN_SOLVES_PER_BOUND` more
+    each mode's bounds :func:`bound_solves` more
     (:func:`stability_seconds`); the others' bounds are NaN.
     """
     modes = as_modes(modes)
@@ -312,16 +312,20 @@ def linear_stability(
 # --------------------------------------------------------------------------------------
 # cost: every analysis here is a count of eigen-solves of the 2N-state matrix
 # --------------------------------------------------------------------------------------
-#: Eigen-solves one mode's two bounds take (the bracket and Brent's method on each):
-#: 14 to 28 measured on the shipped designs (9 to 30 modes, rotation off and on).
-EIGEN_SOLVES_PER_BOUND = 30
+def bound_solves(n_modes: int) -> float:
+    """Eigen-solves one mode's two bounds take (the bracket and Brent's method on each):
+    more among more modes, whose eigenvalues lie closer: measured 14.5 to 15 at 11
+    modes, 19 at 15, 23 to 27 at 31 on the shipped designs, rotation off and on."""
+    return 12.0 + 0.4 * n_modes
+
+
 #: One eigen-solve of the n-state system, with the assignment of its eigenvalues to the
-#: modes, costs about EIGEN_SECONDS_FIXED + EIGEN_SECONDS_40 (n / 40)^EIGEN_EXPONENT [s]
-#: (numpy.linalg.eig, LAPACK geev: measured 0.16 ms at n = 10, 1.1 ms at 40, 24 ms at
-#: 160, 0.47 s at 640 and 2.0 s at 1280 on a shared 2-core machine).
-EIGEN_SECONDS_FIXED = 1e-4
-EIGEN_SECONDS_40 = 1e-3
-EIGEN_EXPONENT = 2.2
+#: modes, costs about EIGEN_SECONDS[0] + EIGEN_SECONDS[1] n + EIGEN_SECONDS[2] n^3 /
+#: (1 + n / EIGEN_SECONDS[3]) [s] (numpy.linalg.eig, LAPACK geev: Python's overhead, then
+#: the cubic work, which spreads over the cores as n grows; measured 0.16 ms at n = 10,
+#: 0.4 ms at 22, 0.8 ms at 42, 18 ms at 122, 0.45 s at 640 and 2.0 s at 1280 on a
+#: shared 2-core machine; benchmarks/bench_estimates.py).
+EIGEN_SECONDS = (1e-4, 1e-5, 1e-8, 250.0)
 #: Rounds of raising a damping bound the mitigation takes, per mode: 0.5 to 1.0
 #: measured on the shipped designs (rotation off and on).
 MITIGATION_ROUNDS_PER_MODE = 0.8
@@ -335,12 +339,13 @@ def _states(modes: Sequence[ModalDOF], rotation: bool) -> int:
 def eigen_solve_seconds(modes: Sequence[ModalDOF], rotation: bool = False) -> float:
     """The estimated time of one eigen-solve of the coupled system of ``modes`` [s]."""
     n = _states(modes, rotation)
-    return EIGEN_SECONDS_FIXED + EIGEN_SECONDS_40 * (n / 40) ** EIGEN_EXPONENT
+    fixed, linear, cubic, spread = EIGEN_SECONDS
+    return fixed + linear * n + cubic * n**3 / (1 + n / spread)
 
 
 def stability_seconds(modes: Sequence[ModalDOF], rotation: bool = False, bounds: int = 0) -> float:
     """The estimated time of :func:`linear_stability` with ``bounds`` modes' bounds [s]."""
-    return eigen_solve_seconds(modes, rotation) * (1 + EIGEN_SOLVES_PER_BOUND * bounds)
+    return eigen_solve_seconds(modes, rotation) * (1 + bound_solves(len(modes)) * bounds)
 
 
 # --------------------------------------------------------------------------------------
@@ -475,7 +480,7 @@ def mitigation_seconds(modes, n_crab_velocities: int, n_speeds: int, rotation: b
     modes = as_modes(modes)
     rounds = MITIGATION_ROUNDS_PER_MODE * len(modes)
     bounds = len(modes) * (1 + n_speeds) + rounds
-    solves = bounds * EIGEN_SOLVES_PER_BOUND / 2 + rounds * n_crab_velocities * n_speeds
+    solves = bounds * bound_solves(len(modes)) / 2 + rounds * n_crab_velocities * n_speeds
     return eigen_solve_seconds(modes, rotation) * solves
 
 

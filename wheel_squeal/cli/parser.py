@@ -343,7 +343,7 @@ def build_parser(prog: str = "wheel-squeal") -> argparse.ArgumentParser:
         "--no-bounds",
         action="store_true",
         help="growth rates only: skip each mode's critical damping and friction slope "
-        "(about 30 eigen-solves per mode)",
+        "(some 15-30 eigen-solves per mode)",
     )
 
     p = sub.add_parser("sound", help="sound of one mode at a given contact velocity (no time domain)")

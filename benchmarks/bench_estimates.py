@@ -1,0 +1,130 @@
+"""The budget's estimates against what the work then takes, on every shipped design
+and study spec: the stability bounds of every mode, the envelope map with its
+mitigation (rotation off and on, as ``stability --envelope`` runs them), the sound of
+the squeal mode (air unknowns and time), and whole studies on one worker.
+
+    .venv/bin/python benchmarks/bench_estimates.py [--fidelity balanced] [--quick]
+
+A refusal is only as good as its estimate: each must be within a factor 2 of the
+measurement (the last column). ``--quick`` skips the studies and the railway wheel's
+envelope (about a minute of the run's four).
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+import time
+from functools import partial
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT))
+
+import numpy as np  # noqa: E402
+
+import wheel_squeal as ws  # noqa: E402
+from wheel_squeal.presets import DEFAULT_ENVELOPE_CRAB_VELOCITIES, DEFAULT_SPEEDS_RPM  # noqa: E402
+
+
+def timed(fn):
+    t0 = time.perf_counter()
+    out = fn()
+    return time.perf_counter() - t0, out
+
+
+def row(kind: str, what: str, estimate: float, measured: float, unit: str = "s") -> bool:
+    ratio = estimate / measured if measured > 0 else float("inf")
+    ok = 0.5 <= ratio <= 2.0
+    print(
+        f"| {kind} | {what} | {estimate:.3g} {unit} | {measured:.3g} {unit} | {ratio:.2f} | "
+        f"{'yes' if ok else 'NO'} |",
+        flush=True,
+    )
+    return ok
+
+
+def designs(fidelity: str, quick: bool) -> list[bool]:
+    from acoustics import radiate, radiation_cost
+    from wheel_squeal.sound import mode_surface
+    from wheel_squeal.stability import (
+        choose_mode,
+        envelope,
+        envelope_seconds,
+        excitable,
+        mitigation,
+        stability_seconds,
+        stability_table,
+    )
+
+    start, stop, num = DEFAULT_ENVELOPE_CRAB_VELOCITIES
+    vcs, rpms = np.linspace(start, stop, num), list(DEFAULT_SPEEDS_RPM)
+    oks = []
+    radiate(mode_surface(*_warm_modes(fidelity)), 500.0)  # imports and first calls, not counted
+    for path in sorted((ROOT / "designs").glob("*.toml")):
+        d = ws.load_design(path)
+        ms = ws.compute_modes(d, fidelity, cache=ws.StageCache())
+        contact, op = ws.contact_law(d), ws.operating_point(d)
+        n = len(excitable(ms))
+        for rotation in (False, True):
+            t, _ = timed(partial(stability_table, d, ms, contact, op, rotation, bounds="all"))
+            label = f"{d.name}, {n} modes" + (", rotation" if rotation else "")
+            oks.append(row("stability bounds", label, stability_seconds(d, ms, rotation, n), t))
+        if not (quick and d.name == "railway_920"):
+            t = sum(
+                timed(partial(fn, d, ms, contact, vcs, rpms, rotation))[0]
+                for rotation in (False, True)
+                for fn in (envelope, mitigation)
+            )
+            oks.append(
+                row("envelope + mitigation", f"{d.name}, {n} modes", envelope_seconds(d, ms, num, 3), t)
+            )
+        mode, _, _ = choose_mode(d, ms, "auto", contact, op)
+        surface = mode_surface(ms, mode, mode.frequency_hz)
+        cost = radiation_cost(surface, mode.frequency_hz)
+        t, field = timed(partial(radiate, surface, mode.frequency_hz))
+        what = f"{d.name} {mode.label()} {mode.frequency_hz:.0f} Hz"
+        oks.append(row("sound: air unknowns", what, cost.dofs, len(field.pressure), "DOFs"))
+        oks.append(row("sound: time", what, cost.seconds, t))
+    return oks
+
+
+def _warm_modes(fidelity: str):
+    ms = ws.compute_modes(ws.load_design(), fidelity, cache=ws.StageCache())
+    mode, _ = ws.pick_mode(ms, "n=3,c=0")
+    return ms, mode, 500.0
+
+
+def studies() -> list[bool]:
+    from reduced import load_compiled_kernels
+    from wheel_squeal.study import load_spec
+    from wheel_squeal.study.cost import estimate_study
+    from wheel_squeal.study.runner import case_results
+
+    load_compiled_kernels()  # as a worker does before its first case
+    oks = []
+    for path in sorted((ROOT / "studies").glob("*.toml")):
+        spec = load_spec(path)
+        cost = estimate_study(spec)
+        t, _ = timed(partial(case_results, spec, workers=1))
+        what = f"{spec.name}: {spec.n_cases} designs x {spec.n_points} points, one worker"
+        oks.append(row("study", what, cost.seconds(spec.n_cases, 1), t))
+    return oks
+
+
+def main() -> int:
+    p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    p.add_argument("--fidelity", default="balanced")
+    p.add_argument("--quick", action="store_true")
+    args = p.parse_args()
+    print("| work | case | estimate | measured | ratio | within 2x |")
+    print("|---|---|---|---|---|---|")
+    oks = designs(args.fidelity, args.quick)
+    if not args.quick:
+        oks += studies()
+    print(f"\n{sum(oks)} of {len(oks)} estimates within a factor 2 of the measurement")
+    return 0 if all(oks) else 1
+
+
+if __name__ == "__main__":
+    sys.exit(main())
