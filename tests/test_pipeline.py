@@ -281,7 +281,7 @@ def test_run_default_writes_the_full_report(tmp_path):
     )
     assert r.returncode == 0, r.stderr
     s2 = json.loads((out2 / "summary.json").read_text())
-    assert s2["cache"] == {"hits": ["modes", "sound", "views"], "misses": []}
+    assert s2["cache"] == {"hits": ["modes", "sound", "sound-at", "views"], "misses": []}
     assert s2["modes"] == s["modes"] and s2["selected_mode"] == s["selected_mode"]
     assert s2["operating_point"]["crabbing_velocity_m_s"] == 0.3
     assert s2["limit_cycle"]["velocity_amplitude_m_s"] < s["limit_cycle"]["velocity_amplitude_m_s"]

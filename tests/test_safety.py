@@ -523,10 +523,12 @@ def test_plot_windows_stay_inside_the_record(tmp_path):
 
 
 def test_empty_design_file_says_it_is_the_default(tmp_path):
+    empty = tmp_path / "empty.toml"
+    empty.write_text("")
     r = run_cli(
         "modes",
         "--design",
-        "/dev/null",
+        empty,
         "--fidelity",
         "fast",
         "--out",

@@ -12,8 +12,6 @@ and are estimated against a :class:`~wheel_squeal.budget.Budget` before they sta
 from __future__ import annotations
 
 import math
-import tempfile
-from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -24,17 +22,20 @@ from geometry import WheelDesign
 from geometry import load_design as _read_design
 
 from .budget import Budget
-from .cache import CacheMiss, StageCache, code_version, library_versions
 from .errors import RequestError
+from .modes import (
+    build_mesh,
+    check_modes_budget,
+    check_named_modes,
+    compute_modes,
+    mode_views,
+    modes_cache_key,
+    pick_mode,
+)
 from .presets import (
     DEFAULT_CRAB_VELOCITY_M_S,
     DEFAULT_DESIGN,
-    DEFAULT_FIDELITY,
-    DEFAULT_FMAX_HZ,
     DEFAULT_RPM,
-    FIDELITIES,
-    Fidelity,
-    fidelity_for,
     rpm_to_speed,
 )
 from .progress import Progress
@@ -61,217 +62,6 @@ __all__ = [
 def load_design(path: str | Path | None = None) -> WheelDesign:
     """A wheel design from TOML; None gives the default, ``designs/table1.toml``."""
     return _read_design(DEFAULT_DESIGN if path is None else path)
-
-
-# --------------------------------------------------------------------------------------
-# mesh and modes (cached)
-# --------------------------------------------------------------------------------------
-def _mesh_key(
-    design: WheelDesign, dim: int, order: int, size: float | None, elements_through_web: int | None
-) -> dict:
-    return {
-        "stage": f"mesh{dim}d",
-        "design": design.content_hash("structure"),
-        "order": order,
-        "size": size,
-        "elements_through_web": elements_through_web,
-        "code": code_version("geometry"),
-        "libraries": library_versions("numpy", "gmsh"),
-    }
-
-
-def build_mesh(
-    design: WheelDesign,
-    dim: int = 2,
-    order: int = 2,
-    size: float | None = None,
-    elements_through_web: int | None = None,
-    cache: StageCache | None = None,
-):
-    """Mesh the design: the 2-D half-profile (``dim=2``) or the revolved solid (``dim=3``);
-    ``size`` [m] or ``elements_through_web`` (default ``geometry.mesh.mesh_size``)."""
-    from geometry import gmsh_mesh
-    from geometry.mesh import ProfileMesh, SolidMesh
-
-    if size is not None and not (math.isfinite(size) and size > 0):
-        raise RequestError(f"size must be a positive length in m, got {size}")
-    if elements_through_web is not None and elements_through_web < 1:
-        raise RequestError(f"elements_through_web must be at least 1, got {elements_through_web}")
-    cls = ProfileMesh if dim == 2 else SolidMesh
-    key = _mesh_key(design, dim, order, size, elements_through_web)
-    if cache is not None:
-        try:
-            return cls.from_arrays(cache.load(f"mesh{dim}d", key))
-        except CacheMiss:
-            pass
-    mesher = gmsh_mesh.mesh_profile if dim == 2 else gmsh_mesh.mesh_wheel
-    mesh = mesher(design, size=size, elements_through_web=elements_through_web, order=order)
-    if cache is not None:
-        cache.store(f"mesh{dim}d", key, mesh.to_arrays())
-    return mesh
-
-
-def modes_cache_key(design: WheelDesign, fid: Fidelity, fmax_hz: float) -> dict:
-    """The cache key of a modal solve: what its result depends on, and nothing else."""
-    return {
-        "stage": "modes",
-        "design": design.content_hash("structure"),
-        "method": fid.method,
-        "elements_through_web": fid.elements_through_web,
-        "fmax_hz": float(fmax_hz),
-        "code": code_version("geometry", "fem"),
-        "libraries": library_versions("numpy", "scipy", "scikit-fem", "gmsh"),
-    }
-
-
-#: An outline with more segments than this shorter than half the element size is named
-#: as the reason when its solve is refused.
-DENSE_OUTLINE_SEGMENTS = 100
-
-
-def check_modes_budget(design: WheelDesign, fid: Fidelity, fmax_hz: float, budget: Budget):
-    """Estimate the modal solve (``fem.cost``) and refuse it beyond ``budget``."""
-    from fem.cost import estimate_cost
-    from geometry.mesh import mesh_size, short_segment_lengths
-
-    h = mesh_size(design, elements_through_web=fid.elements_through_web)
-    cost = estimate_cost(design, fid.solver, h, fmax_hz)
-    cheaper = [n for n, f in FIDELITIES.items() if f.elements_through_web < fid.elements_through_web]
-    remedy = (
-        (f"use the {cheaper[0]} preset" if cheaper else "use a coarser preset")
-        + (", the axisymmetric solver" if fid.solver != "axisym" else "")
-        + " or a lower fmax"
-    )
-    dense = len(short_segment_lengths(design, h))
-    if design.profile is not None:
-        thickness, (r, z) = design.profile.thinnest_wall()
-        remedy += (
-            f" (the mesh is sized by the outline's thinnest wall, {thickness * 1e3:.3g} mm at "
-            f"r {r:.4g} m, z {z:.4g} m)"
-        )
-    if dense > DENSE_OUTLINE_SEGMENTS:
-        remedy = (
-            f"its outline has {dense:,} segments shorter than half the {h * 1e3:.3g} mm elements, and "
-            "the mesh follows each: join them into fewer segments or arcs"
-        )
-    budget.check_solve(
-        f"{design.name} with the {fid.name} preset ({fid.solver}, "
-        f"{fid.elements_through_web} per web, {h * 1e3:.3g} mm elements, "
-        f"modes <= {fmax_hz:g} Hz)",
-        cost.dofs,
-        cost.memory_bytes,
-        cost.seconds,
-        remedy,
-    )
-    return cost
-
-
-def compute_modes(
-    design: WheelDesign,
-    fidelity: str | Fidelity = DEFAULT_FIDELITY,
-    solver: str | None = None,
-    fmax_hz: float = DEFAULT_FMAX_HZ,
-    cache: StageCache | None = None,
-    progress: Progress | None = None,
-    budget: Budget | None = None,
-):
-    """Eigenmodes of the bore-clamped wheel up to ``fmax_hz`` [Hz] as a ``fem.ModeSet``.
-
-    ``fidelity`` is a preset name (fast | balanced | accurate) or a :class:`Fidelity`;
-    ``solver`` another solver for the preset (a name of ``fem.solvers.SOLVERS``). With a
-    ``cache`` the mesh and the modes are re-used whenever geometry, material, fidelity,
-    code and libraries are unchanged. A solve that is not cached is estimated first and
-    refused (:class:`~wheel_squeal.errors.BudgetError`) beyond the ``budget`` (default:
-    :meth:`Budget.from_environment`).
-    """
-    from fem.modes import ModeSet
-    from fem.solvers import SOLVERS, solve_modes
-
-    fid = fidelity if isinstance(fidelity, Fidelity) else fidelity_for(fidelity, solver)
-    if not (math.isfinite(fmax_hz) and fmax_hz > 0):
-        raise RequestError(f"fmax must be a positive frequency in Hz, got {fmax_hz}")
-    progress = progress or Progress(quiet=True)
-    key = modes_cache_key(design, fid, fmax_hz)
-    if cache is not None:
-        try:
-            ms = ModeSet.from_arrays(cache.load("modes", key))
-            progress.say("modes: loaded from cache")
-            check_named_modes(design, ms, fmax_hz)
-            return ms
-        except CacheMiss:
-            pass
-    check_modes_budget(design, fid, fmax_hz, budget or Budget.from_environment())
-    dim = SOLVERS[fid.solver].mesh_dim
-    with progress.stage(f"mesh ({dim}-D, {fid.name})"):
-        mesh = build_mesh(
-            design, dim=dim, order=fid.mesh_order, elements_through_web=fid.elements_through_web, cache=cache
-        )
-    with progress.stage(f"modes ({fid.method}, f <= {fmax_hz:g} Hz)"):
-        ms = solve_modes(design, mesh, fid.solver, order=fid.order, fmax_hz=fmax_hz)
-    if cache is not None and ms.modes:
-        # an empty band is not cached, so its warning is shown again on the next request
-        cache.store("modes", key, ms.to_arrays())
-    check_named_modes(design, ms, fmax_hz)
-    return ms
-
-
-def check_named_modes(design: WheelDesign, modeset, fmax_hz: float) -> None:
-    """Refuse (:class:`RequestError`) a design whose ``[squeal.damping]`` names a mode
-    that is not among ``modeset``'s: its damping would be silently unused."""
-    labels = {f"n={m.nodal_diameters},c={m.nodal_circles}" for m in modeset.modes}
-    missing = [k for k, _ in design.mode_damping if k not in labels]
-    if missing:
-        raise RequestError(
-            f"{design.name}: [squeal.damping] names {', '.join(missing)}, not among the {len(modeset.modes)} "
-            f"modes below {fmax_hz:g} Hz: raise --fmax or remove it"
-        )
-
-
-def pick_mode(modeset, mode: str = "default"):
-    """A mode by its description, and why it was picked: ``mode`` is default (the (3, 0)
-    axial mode) | INDEX | n=3[,c=0] | f=HZ. (The fastest-growing mode, ``auto``, needs
-    an operating point: :func:`wheel_squeal.stability.choose_mode`.)"""
-    from fem.modes import ModeSelection, select_mode
-
-    try:
-        return select_mode(modeset.modes, ModeSelection.parse(str(mode)))
-    except (ValueError, LookupError) as exc:
-        raise RequestError(str(exc).strip("'\"")) from None
-
-
-def mode_views(
-    design: WheelDesign,
-    fid: Fidelity,
-    fmax_hz: float,
-    modeset,
-    indices: Sequence[int],
-    cache: StageCache | None,
-) -> dict[str, bytes]:
-    """``modes.vtu`` (every mode, for ParaView) and a PNG of each mode in ``indices``, as
-    {file name: bytes}. They depend on the modes only, so they are cached beside them:
-    a run that changes the operating point copies them instead of starting VTK."""
-    key = {
-        **modes_cache_key(design, fid, fmax_hz),
-        "stage": "views",
-        "indices": list(indices),
-        "view_libraries": library_versions("pyvista", "vtk", "meshio"),
-    }
-    if cache is not None:
-        try:
-            return {name: arr.tobytes() for name, arr in cache.load("views", key).items()}
-        except CacheMiss:
-            pass
-    from fem.render import mode_file_stem, render_mode, write_modes_vtu
-
-    with tempfile.TemporaryDirectory() as scratch:
-        scratch = Path(scratch)
-        write_modes_vtu(modeset, scratch / "modes.vtu")
-        for i in indices:
-            render_mode(modeset, i, scratch / f"{mode_file_stem(modeset, i)}.png")
-        files = {f.name: f.read_bytes() for f in scratch.iterdir()}
-    if cache is not None:
-        cache.store("views", key, {k: np.frombuffer(v, np.uint8) for k, v in files.items()})
-    return files
 
 
 # --------------------------------------------------------------------------------------
@@ -416,12 +206,6 @@ def simulate(
     if duration is not None:
         if not (math.isfinite(duration) and duration > 0):
             raise RequestError(f"duration must be positive, got {duration:g}")
-        shortest = MIN_RECORD_PERIODS / min(d.frequency_hz for d in dofs)
-        if duration < shortest:
-            raise RequestError(
-                f"duration {duration:g} s is shorter than {MIN_RECORD_PERIODS} periods of the lowest mode "
-                f"({shortest:.3g} s): a limit cycle needs them"
-            )
         longest = longest_record_s(dof, wheel_speed_rad_s=wheel_speed_rad_s)
         if duration > longest:
             raise RequestError(
@@ -429,6 +213,11 @@ def simulate(
                 "fit (48 samples per period of the highest mode, 10 million samples)"
             )
     steps = sweep_steps(dof, contact, op, duration or FIRST_DURATION_S)
+    if steps < MIN_RECORD_STEPS:
+        raise RequestError(
+            f"duration {duration:g} s is {steps} RK4 step(s) of {duration / steps:.3g} s: a record needs "
+            f"at least {MIN_RECORD_STEPS} ({MIN_RECORD_STEPS * duration / steps:.3g} s)"
+        )
     (budget or Budget.from_environment()).check_sweep(
         1,
         steps,
@@ -444,9 +233,8 @@ def simulate(
     return Simulation(history, lc, contact, op)
 
 
-#: A simulated record covers at least this many periods of its lowest mode (the
-#: limit-cycle analysis fits an envelope over cycles).
-MIN_RECORD_PERIODS = 10
+#: The fewest RK4 steps a simulated record may have (its analysis needs samples).
+MIN_RECORD_STEPS = 16
 
 
 def sweep(

@@ -330,14 +330,8 @@ def build_parser(prog: str = "wheel-squeal") -> argparse.ArgumentParser:
         action="store_true",
         help="also the map over the envelope (stability.csv, stability.png) and the mitigation",
     )
-    _add_axis(
-        p,
-        "--envelope-crab-velocity",
-        DEFAULT_ENVELOPE_CRAB_VELOCITIES,
-        "the envelope's Vc [m/s]",
-        span=True,
-        filled=False,
-    )
+    vcs = DEFAULT_ENVELOPE_CRAB_VELOCITIES
+    _add_axis(p, "--envelope-crab-velocity", vcs, "the envelope's Vc [m/s]", span=True, filled=False)
     _add_axis(p, "--envelope-rpm", DEFAULT_SPEEDS_RPM, "the envelope's wheel speeds [rev/min]", filled=False)
     p.add_argument(
         "--no-bounds",
