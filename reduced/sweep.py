@@ -11,7 +11,7 @@ violated) is re-run through :func:`reduced.model.simulate`, which refines the st
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -29,7 +29,7 @@ def numba_threads() -> int:
     return int(numba.get_num_threads())
 
 
-__all__ = ["SweepResult", "sweep", "sweep_steps"]
+__all__ = ["SweepResult", "sweep", "sweep_points", "sweep_steps"]
 
 #: cases per thread in one call of the compiled kernel (bounds the per-chunk buffers)
 CHUNK_PER_THREAD = 16
@@ -90,14 +90,52 @@ def sweep(
     duration : simulated time per case, s (slow growth near Vc = 0.5 m/s needs > 1 s).
     progress : called as ``progress(done, total)`` after each chunk of cases.
     """
-    modes = as_modes(modes)
     vcs = np.atleast_1d(np.asarray(crabbing_velocities, dtype=float))
     v0s = np.atleast_1d(np.asarray(rolling_speeds, dtype=float))
+    ops = [OperatingPoint(v0, vc) for vc in vcs for v0 in v0s]  # validates every pair
+    out = sweep_points(
+        modes, contact, ops, duration, steps_per_period=steps_per_period,
+        energy_tolerance=energy_tolerance, progress=progress,
+    )  # fmt: skip
+    shape = (len(vcs), len(v0s))
+    return SweepResult(
+        crabbing_velocities_m_s=vcs,
+        rolling_speeds_m_s=v0s,
+        velocity_amplitude_m_s=out["amp"].reshape(shape),
+        frequency_hz=out["freq"].reshape(shape),
+        growth_rate_1_s=out["growth"].reshape(shape),
+        growth_rate_analytic_1_s=out["sigma"].reshape(shape),
+        squeal=out["squeal"].reshape(shape),
+        saturated=out["saturated"].reshape(shape),
+        time_to_saturation_s=out["tsat"].reshape(shape),
+        duration_s=float(duration),
+    )
+
+
+def sweep_points(
+    modes,
+    contact: ContactLaw,
+    ops: Sequence[OperatingPoint],
+    duration: float,
+    *,
+    steps_per_period: int = 48,
+    energy_tolerance: float = 1e-2,
+    progress: Callable[[int, int], None] | None = None,
+) -> dict[str, np.ndarray]:
+    """:func:`sweep` at any list of operating points: flat arrays ``amp`` (m/s),
+    ``freq`` (Hz), ``growth`` and ``sigma`` (fitted and analytic growth, 1/s), ``tsat``
+    (s), ``squeal`` and ``saturated`` (bool), one entry per point."""
+    modes = as_modes(modes)
     duration = float(duration)
     if not (math.isfinite(duration) and duration > 0):
         raise ValueError(f"duration must be positive and finite (s), got {duration!r}")
-    ops = [OperatingPoint(v0, vc) for vc in vcs for v0 in v0s]  # validates every pair
     m, c, k = mode_arrays(modes)
+    n_cases = len(ops)
+    out = {name: np.full(n_cases, np.nan) for name in ("amp", "freq", "growth", "sigma", "tsat")}
+    out["squeal"] = np.zeros(n_cases, dtype=bool)
+    out["saturated"] = np.zeros(n_cases, dtype=bool)
+    if not n_cases:
+        return out
     laws = np.array([law_vector(contact, op) for op in ops])
     h_nominal = np.array([choose_time_step(modes, contact, op, steps_per_period) for op in ops])
     n_steps = np.ceil(duration / h_nominal - 1e-9).astype(np.int64)
@@ -114,45 +152,27 @@ def sweep(
     h = duration / n_steps
     f_max = max(md.frequency_hz for md in modes)
     cap = int(duration * f_max * 2.0) + 16
-    n_cases = len(ops)
     ncyc = np.zeros(n_cases, dtype=np.int64)
     status = np.zeros(n_cases, dtype=np.int64)
     mismatch = np.zeros(n_cases)
     emax = np.zeros(n_cases)
-    out = {name: np.full(n_cases, np.nan) for name in ("amp", "freq", "growth", "sigma", "tsat")}
-    squeal = np.zeros(n_cases, dtype=bool)
-    saturated = np.zeros(n_cases, dtype=bool)
     chunk = CHUNK_PER_THREAD * max(1, numba_threads())
     for lo in range(0, n_cases, chunk):
         hi = min(lo + chunk, n_cases)
         bufs = [np.zeros((hi - lo, cap)) for _ in range(5)]
         _engine.compiled().sweep_kernel(
-            m,
-            c,
-            k,
-            laws[lo:hi],
-            h[lo:hi],
-            n_steps[lo:hi],
-            cap,
-            *bufs,
-            ncyc[lo:hi],
-            status[lo:hi],
-            mismatch[lo:hi],
-            emax[lo:hi],
-        )
+            m, c, k, laws[lo:hi], h[lo:hi], n_steps[lo:hi], cap, *bufs,
+            ncyc[lo:hi], status[lo:hi], mismatch[lo:hi], emax[lo:hi],
+        )  # fmt: skip
         for i in range(lo, hi):
             op = ops[i]
             if status[i] != 0 or mismatch[i] > energy_tolerance * emax[i] + 1e-300:
                 lc = limit_cycle(
                     simulate(
-                        modes,
-                        contact,
-                        op,
-                        duration,
-                        steps_per_period=steps_per_period,
-                        energy_tolerance=energy_tolerance,
+                        modes, contact, op, duration,
+                        steps_per_period=steps_per_period, energy_tolerance=energy_tolerance,
                     )
-                )
+                )  # fmt: skip
             else:
                 cyc = Cycles(*(b[i - lo, : int(ncyc[i])] for b in bufs))
                 lc = metrics_from_cycles(
@@ -166,20 +186,8 @@ def sweep(
             out["growth"][i] = lc.growth_rate_1_s
             out["sigma"][i] = lc.growth_rate_analytic_1_s
             out["tsat"][i] = lc.time_to_saturation_s
-            squeal[i] = lc.squeal
-            saturated[i] = lc.saturated
+            out["squeal"][i] = lc.squeal
+            out["saturated"][i] = lc.saturated
         if progress is not None:
             progress(hi, n_cases)
-    shape = (len(vcs), len(v0s))
-    return SweepResult(
-        crabbing_velocities_m_s=vcs,
-        rolling_speeds_m_s=v0s,
-        velocity_amplitude_m_s=out["amp"].reshape(shape),
-        frequency_hz=out["freq"].reshape(shape),
-        growth_rate_1_s=out["growth"].reshape(shape),
-        growth_rate_analytic_1_s=out["sigma"].reshape(shape),
-        squeal=squeal.reshape(shape),
-        saturated=saturated.reshape(shape),
-        time_to_saturation_s=out["tsat"].reshape(shape),
-        duration_s=duration,
-    )
+    return out

@@ -138,7 +138,7 @@ def test_run_reports_sound_and_sweep_draws_fig5_in_db(tmp_path):
     )
     amp = json.loads((tmp_path / "run" / "summary.json").read_text())["limit_cycle"]["velocity_amplitude_m_s"]
     assert s["spl_db"] == pytest.approx(s["per_unit_velocity"]["spl_db"] + 20 * math.log10(amp), abs=1e-6)
-    assert "SOUND: sound power level" in r.stdout
+    assert "SOUND: sound power level" in r.stdout and "VERDICT: squeals" in r.stdout
     assert (tmp_path / "run" / "sound_field.png").stat().st_size > 20_000
     assert (tmp_path / "run" / "pressure.vtu").exists()
     r = run_cli(
@@ -147,8 +147,11 @@ def test_run_reports_sound_and_sweep_draws_fig5_in_db(tmp_path):
     )
     assert r.returncode == 0, r.stderr
     rows = (tmp_path / "sweep" / "sweep_spl.csv").read_text().splitlines()
-    assert rows[0] == "crab_velocity_m_s,rpm,velocity_amplitude_m_s,spl_db,sound_power_level_db"
-    assert len(rows) == 1 + 3 * 2 and (tmp_path / "sweep" / "sweep_spl.png").exists()
+    assert rows[0] == (
+        "crab_velocity_m_s,rpm,rolling_speed_m_s,verdict_mode,squeals,saturated,amplitude_m_s,spl_db,"
+        "sound_power_level_db"
+    )
+    assert len(rows) == 1 + 3 * 2 and (tmp_path / "sweep" / "sweep.png").exists()  # SPL in its lower panel
 
 
 def test_sound_command(tmp_path):

@@ -271,7 +271,13 @@ def test_run_default_writes_the_full_report(tmp_path):
     assert s["limit_cycle"]["squeal"] is True
     assert (out / "modes.vtu").exists() and (out / "timeseries.csv").exists()
     assert list(out.glob("mode_*_n3_c0_axial.png"))
-    assert "SQUEAL" in r.stdout and str(out) in r.stdout
+    assert "VERDICT: squeals in (3,0) axial" in r.stdout and str(out) in r.stdout
+    assert r.stdout.strip().splitlines()[-3].startswith("VERDICT:")  # the answer is the last thing said
+    v = s["verdict"]
+    assert {"squeals", "mode", "tone_hz", "growth_rate_1_s", "amplitude_m_s", "saturated", "spl_db",
+            "sound_power_level_db", "reason", "override", "model_pick"} <= set(v)  # fmt: skip
+    assert v["mode"] == "(3,0) axial" and v["model_pick"]["mode"] == "(1,0) axial"  # table1 names (3,0)
+    assert v["amplitude_m_s"] == s["limit_cycle"]["velocity_amplitude_m_s"] and v["saturated"] is True
     assert s["cache"]["hits"] == []
 
     # only the crabbing velocity changes: mesh, modes and mode views come from the cache
@@ -307,7 +313,7 @@ def test_compare_shows_geometry_moves_the_squeal_prediction(tmp_path):
     rows = {row["design"]: row for row in json.loads((out / "summary.json").read_text())["designs"]}
     thin, thick = rows["thin_web"], rows["thick_web"]
     # a thicker web is a stiffer plate: the (3,0) mode moves up by far more than 10 %
-    assert thick["frequency_hz"] / thin["frequency_hz"] - 1 > 0.10
+    assert thick["mode_frequency_hz"] / thin["mode_frequency_hz"] - 1 > 0.10
     assert thin["modal_mass_kg"] != pytest.approx(thick["modal_mass_kg"], rel=0.02)
     assert thin["growth_rate_1_s"] != pytest.approx(thick["growth_rate_1_s"], rel=0.02)
     assert (out / "compare.png").stat().st_size > 10_000
@@ -396,12 +402,12 @@ def test_sweep_command(tmp_path):
     assert r.returncode == 0, r.stderr
     lines = (out / "sweep.csv").read_text().splitlines()
     assert lines[0] == (
-        "crab_velocity_m_s,rpm,rolling_speed_m_s,squeal,velocity_amplitude_m_s,"
-        "frequency_hz,growth_rate_1_s,time_to_saturation_s"
+        "crab_velocity_m_s,rpm,rolling_speed_m_s,verdict_mode,squeals,saturated,amplitude_m_s,"
+        "tone_hz,growth_rate_1_s,time_to_saturation_s"
     )
     assert len(lines) == 1 + 5 * 2
     first = lines[1].split(",")
-    assert float(first[0]) == 0.0 and first[3] == "false"  # Vc = 0: no squeal
+    assert float(first[0]) == 0.0 and first[4] == "False"  # Vc = 0: no squeal
     assert (out / "sweep.png").exists()
 
 

@@ -620,10 +620,10 @@ def test_default_run_writes_into_results_of_the_working_folder(sandbox, tmp_path
         "run", "--fidelity", "fast", "--render", "none", "--quiet", "--cache-dir", tmp_path / "c", cwd=sandbox
     )
     assert r.returncode == 0, r.stderr
-    assert (sandbox / "results" / "table1" / "summary.json").is_file()
+    assert (sandbox / "results" / "run" / "table1" / "summary.json").is_file()  # results/COMMAND/NAME
     assert snapshot(sandbox / "results" / "keep") == before
     assert math.isfinite(
-        json.loads((sandbox / "results" / "table1" / "summary.json").read_text())["limit_cycle"][
+        json.loads((sandbox / "results" / "run" / "table1" / "summary.json").read_text())["limit_cycle"][
             "velocity_amplitude_m_s"
         ]
     )

@@ -36,6 +36,7 @@ from .presets import (
     DEFAULT_CRAB_VELOCITY_M_S,
     DEFAULT_DESIGN,
     DEFAULT_RPM,
+    designs_folder,
     rpm_to_speed,
 )
 from .progress import Progress
@@ -55,13 +56,44 @@ __all__ = [
     "operating_point",
     "pick_mode",
     "simulate",
+    "shipped_designs",
     "sweep",
 ]
 
 
 def load_design(path: str | Path | None = None) -> WheelDesign:
-    """A wheel design from TOML; None gives the default, ``designs/table1.toml``."""
-    return _read_design(DEFAULT_DESIGN if path is None else path)
+    """A wheel design from TOML: a file, or the name of a design shipped with the tool
+    (``"thin_web"``, from any folder; :func:`shipped_designs`); None gives the default,
+    ``table1``. A bad design raises :class:`RequestError` naming the problem."""
+    from geometry import DesignError
+
+    if path is None:
+        path = DEFAULT_DESIGN
+    p = Path(path)
+    if not p.exists() and p.suffix == "" and len(p.parts) == 1:
+        shipped = designs_folder() / f"{p.name}.toml"
+        if shipped.is_file():
+            p = shipped
+        else:
+            names = ", ".join(shipped_designs())
+            raise RequestError(f"design {str(path)!r} is neither a file nor a shipped design ({names})")
+    try:
+        return _read_design(p)
+    except DesignError as exc:
+        raise RequestError(str(exc)) from None
+
+
+def shipped_designs() -> dict[str, str]:
+    """The designs shipped with the tool: {name: description}."""
+    from geometry import DesignError
+
+    out = {}
+    for f in sorted(designs_folder().glob("*.toml")):
+        try:
+            out[f.stem] = _read_design(f).description
+        except DesignError:  # a broken shipped design is a bug the tests catch
+            out[f.stem] = ""
+    return out
 
 
 # --------------------------------------------------------------------------------------

@@ -19,9 +19,11 @@ from geometry import WheelDesign
 
 from .cache import CacheMiss, StageCache, code_version
 from .errors import RequestError
+from .presets import DEFAULT_FIDELITY, DEFAULT_FMAX_HZ, fidelity_for
 
 __all__ = [
     "MICROPHONE_DISTANCE_M",
+    "mode_sound",
     "Radiation",
     "Sound",
     "default_microphone",
@@ -313,3 +315,49 @@ def sound_of(
     microphone (r, z, theta)."""
     check_velocity_amplitude(velocity_amplitude_m_s)
     return Sound(radiation, float(velocity_amplitude_m_s), tuple(microphone), travelling)
+
+
+def mode_sound(
+    design: WheelDesign,
+    modeset,
+    mode,
+    frequency_hz: float,
+    velocity_amplitude_m_s: float = 1.0,
+    *,
+    listener: Listener | None = None,
+    travelling: bool = False,
+    fidelity: str = DEFAULT_FIDELITY,
+    fmax_hz: float = DEFAULT_FMAX_HZ,
+    cache: StageCache | None = None,
+    budget=None,
+    memo: dict | None = None,
+) -> Sound:
+    """The sound of ``mode`` (of ``modeset``, solved with ``fidelity`` up to ``fmax_hz``)
+    vibrating at ``frequency_hz`` [Hz] with a contact velocity amplitude [m/s]:
+    what ``listener`` (default: :func:`default_microphone`, air at 20 degC) hears and the
+    power radiated (a travelling wave on a turning wheel: ``travelling``).
+
+    The surface velocity comes from the axisymmetric solver's shape: a mode set of
+    another solver is solved again axisymmetrically (the same preset) and the mode of
+    the same label taken. The radiation is cached beside the modes (``cache``),
+    estimated against ``budget`` first, and kept in ``memo`` (a dict) for later calls of
+    the same process (a study's operating points).
+    """
+    from acoustics import AIR
+
+    from .modes import compute_modes, modes_cache_key, pick_mode
+
+    listener = listener or Listener(default_microphone(design), AIR)
+    fid = fidelity_for(fidelity)
+    if modeset.solver != "axisym":
+        modeset = compute_modes(design, fid, fmax_hz=fmax_hz, cache=cache, budget=budget)
+        mode, _ = pick_mode(modeset, f"n={mode.nodal_diameters},c={mode.nodal_circles}")
+    mic = listener.microphone
+    memo_key = (id(modeset), mode.index, round(float(frequency_hz), 6), repr(listener.air), mic[:2])
+    rad = None if memo is None else memo.get(memo_key)
+    if rad is None:
+        key = modes_cache_key(design, fid, fmax_hz) if cache is not None else None
+        rad = mode_radiation(design, modeset, mode, frequency_hz, mic, cache, key, listener.air, budget)
+        if memo is not None:
+            memo[memo_key] = rad
+    return sound_of(rad, velocity_amplitude_m_s, mic, travelling)

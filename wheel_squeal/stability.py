@@ -105,6 +105,45 @@ def stability_seconds(design: WheelDesign, modeset, rotation: bool = False, boun
     return seconds(mode_dofs(excitable(modeset), design), rotation, bounds)
 
 
+def margin_of(
+    design: WheelDesign, rows: Sequence[ModeStabilityRow], contact, op, rotation: bool = False
+) -> dict:
+    """How far from squeal a point where no mode grows is: the least stable mode, its
+    growth rate [1/s], and the damping ratio below which (or the friction slope
+    dmu/dzeta below which) it would grow, with the values now; ``words`` says it."""
+    from reduced import linear_stability
+
+    i = max(range(len(rows)), key=lambda k: rows[k].stability.growth_rate_1_s)
+    m = rows[i].mode
+    omega = wheel_speed_rad_s(design, op, rotation)
+    dofs = mode_dofs([r.mode for r in rows], design)
+    result = linear_stability(dofs, contact, op, omega, bounds=[i])
+    s = result.modes[i]
+    zeta_now = design.damping_ratio(m.nodal_diameters, m.nodal_circles)
+    slope_now = result.friction_damping_ns_m * op.rolling_speed_m_s / contact.normal_load_n
+    damping = (
+        f"a damping ratio below {s.critical_damping_ratio:.3g} (it has {zeta_now:.3g})"
+        if s.critical_damping_ratio > 0
+        else "no damping at all"
+    )
+    words = (
+        f"the least stable, {m.label()} at {s.damped_frequency_hz:.1f} Hz, decays at "
+        f"{s.growth_rate_1_s:.3g} 1/s; "
+        f"it would grow with {damping} or a creep curve falling more steeply than dmu/dzeta = "
+        f"{s.critical_friction_slope:.3g} (now {slope_now:.3g})"
+    )
+    return {
+        "mode": m.label(),
+        "mode_index": m.index,
+        "growth_rate_1_s": s.growth_rate_1_s,
+        "damping_ratio": zeta_now,
+        "grows_below_damping_ratio": s.critical_damping_ratio,
+        "friction_slope": slope_now,
+        "grows_below_friction_slope": s.critical_friction_slope,
+        "words": words,
+    }
+
+
 def choose_mode(design: WheelDesign, modeset, mode: str, contact, op, rotation: bool = False):
     """The mode a run simulates, why, and the stability table.
 
@@ -272,6 +311,7 @@ def multimode(
     rotation: bool = False,
     count: int = MAX_MULTIMODE,
     duration: float | None = None,
+    budget=None,
 ) -> MultiMode:
     """The ``count`` most unstable modes of ``rows`` (:func:`stability_table`) integrated
     together from rest; with none unstable, the least stable one alone."""
@@ -283,5 +323,7 @@ def multimode(
         raise RequestError(f"--multimode takes 1 or more modes, got {count}")
     ranked = sorted(rows, key=lambda r: -r.stability.growth_rate_1_s)
     chosen = [r.mode for r in ranked if r.stability.unstable][:count] or [ranked[0].mode]
-    sim = simulate(mode_dofs(chosen, design), contact, op, duration, wheel_speed_rad_s(design, op, rotation))
+    sim = simulate(
+        mode_dofs(chosen, design), contact, op, duration, wheel_speed_rad_s(design, op, rotation), budget
+    )
     return MultiMode(chosen, sim, modal_content(sim.history), ranked[0].mode)

@@ -17,16 +17,23 @@ from geometry import WheelDesign
 
 from .outputs import write_csv
 from .plotting import PlotWorkers
-from .presets import Fidelity
+from .presets import Fidelity, rpm_to_speed
+
+#: The resolution of every figure the commands draw [dots per inch].
+PLOT_DPI = 110
 
 __all__ = [
     "compare_row",
+    "modal_dof_summary",
     "compare_table",
     "dof_summary",
     "modes_summary",
+    "operating_point_summary",
     "mitigation_text",
     "modes_table",
     "multimode_text",
+    "analysis_header",
+    "write_multimode_plot",
     "plot_times",
     "squeal_report",
     "stability_line",
@@ -51,13 +58,13 @@ def dof_summary(dof) -> dict:
 
 def modes_summary(design: WheelDesign, modeset, selected, fid: Fidelity, why: str | None = None) -> dict:
     """``summary.json``'s modal part: every mode with its labels and contact m, k, c, the
-    selected mode (and why), the solver, DOFs and timings."""
+    selected mode (and why; None when no mode was selected), the solver, DOFs and timings."""
 
     def zeta(m) -> float:
         return design.damping_ratio(m.nodal_diameters, m.nodal_circles)
 
-    sel = selected.to_dict(zeta(selected))
-    if why is not None:
+    sel = selected.to_dict(zeta(selected)) if selected is not None else None
+    if why is not None and sel is not None:
         sel["why"] = why
     return {
         "design": design.name,
@@ -67,6 +74,17 @@ def modes_summary(design: WheelDesign, modeset, selected, fid: Fidelity, why: st
         "modes": [m.to_dict(zeta(m)) for m in modeset.modes],
         "selected_mode": sel,
         "timings_s": dict(modeset.timings_s),
+    }
+
+
+def operating_point_summary(op, design: WheelDesign) -> dict:
+    """The operating point (SI units, and the wheel speed in rev/min)."""
+    return {
+        "rolling_speed_m_s": op.rolling_speed_m_s,
+        "rpm": op.rolling_speed_m_s / rpm_to_speed(1.0, design.rolling_radius),
+        "crabbing_velocity_m_s": op.crabbing_velocity_m_s,
+        "creepage": op.creepage,
+        "wheel_speed_rad_s": op.wheel_speed_rad_s(design.rolling_radius),
     }
 
 
@@ -89,12 +107,26 @@ def modes_table(modes, design: WheelDesign, selected=None) -> str:
     return "\n".join(lines)
 
 
-def squeal_report(sim, dof) -> str:
-    """Modal parameters, contact ellipse, operating point and the verdict, as text."""
+def analysis_header(a) -> str:
+    """One line: the design, the preset, how many modes grow at the operating point."""
+    op = a.operating_point
+    rpm = op.rolling_speed_m_s / rpm_to_speed(1.0, a.design.rolling_radius)
+    grow = sum(r.stability.unstable for r in a.rows)
+    preset = f"{a.fidelity.name} preset{', rotating' if a.rotation else ''}"
+    return (
+        f"{a.design.name} ({preset}): {grow} of {len(a.rows)} modes seen at the contact grow at "
+        f"{rpm:.0f} RPM, Vc = {op.crabbing_velocity_m_s:.4g} m/s"
+    )
+
+
+def squeal_report(sim, dof, label: str | None = None) -> str:
+    """The simulated mode's modal parameters, the contact ellipse, the operating point and
+    its limit cycle, as text (the verdict is :meth:`wheel_squeal.verdict.Verdict.lines`)."""
     s = sim.summary()
     lc, op, ct = s["limit_cycle"], s["operating_point"], s["contact"]
+    of = f" of {label}" if label else ""
     lines = [
-        f"modal parameters: f = {dof.frequency_hz:.1f} Hz, m = {dof.mass_kg:.3f} kg, "
+        f"modal parameters{of}: f = {dof.frequency_hz:.1f} Hz, m = {dof.mass_kg:.3f} kg, "
         f"k = {dof.stiffness_n_m:.4g} N/m, c = {dof.damping_ns_m:.2f} N s/m",
         f"contact ellipse: a = {ct['semi_axis_a_m'] * 1e3:.3f} mm (rolling), "
         f"b = {ct['semi_axis_b_m'] * 1e3:.3f} mm, C22 = {ct['c22']:.3g}, "
@@ -106,12 +138,15 @@ def squeal_report(sim, dof) -> str:
         state = "limit cycle" if sim.limit_cycle.saturated else "still growing at the end of the run"
         tsat = lc["time_to_saturation_s"]
         lines.append(
-            f"SQUEAL: velocity amplitude {lc['velocity_amplitude_m_s']:.4g} m/s ({state}), "
+            f"limit cycle{of}: velocity amplitude {lc['velocity_amplitude_m_s']:.4g} m/s ({state}), "
             f"{lc['frequency_hz']:.1f} Hz, growth rate {lc['growth_rate_1_s']:.3g} 1/s"
             + (f", saturated after {tsat:.3f} s" if tsat is not None else "")
         )
     else:
-        lines.append(f"no squeal (linear growth rate {sim.limit_cycle.growth_rate_analytic_1_s:.3g} 1/s)")
+        rate = sim.limit_cycle.growth_rate_analytic_1_s
+        lines.append(
+            f"limit cycle{of}: none, the oscillation does not sustain (linear growth rate {rate:.3g} 1/s)"
+        )
     return "\n".join(lines)
 
 
@@ -151,66 +186,117 @@ def sweep_table(crab_velocities: np.ndarray, rpms: np.ndarray, result) -> str:
     return "\n".join(lines)
 
 
-def compare_row(design: WheelDesign, mode, dof, sim) -> dict:
-    """One design's line of ``compare.csv``."""
-    lc = sim.summary()["limit_cycle"]
+def compare_row(a) -> dict:
+    """One design's line of ``compare.csv``: its verdict (mode, tone, growth, amplitude,
+    saturated, levels, reason), the named mode's and the model's own pick beside it, and
+    the contact modal parameters of the verdict's mode (``a``: a
+    :class:`~wheel_squeal.chain.Analysis`)."""
+    v = a.verdict
+    d = v.to_dict()
+    o = v.outcome or v.named or v.pick
+    dof = modal_dof_summary(a, o)
     return {
-        "design": design.name,
-        "mode_index": mode.index,
-        "mode": mode.label(),
-        "frequency_hz": mode.frequency_hz,
+        "design": a.design.name,
+        "squeals": v.squeals,
+        "verdict_mode": d["mode"] or "",
+        "tone_hz": d["tone_hz"],
+        "growth_rate_1_s": d["growth_rate_1_s"],
+        "amplitude_m_s": d["amplitude_m_s"],
+        "saturated": d["saturated"],
+        "spl_db": d["spl_db"],
+        "sound_power_level_db": d["sound_power_level_db"],
+        "override_mode": v.named.label if v.named else "",
+        "override_growth_rate_1_s": v.named.growth_rate_1_s if v.named else None,
+        "model_pick": v.pick.label if v.pick else "",
+        "model_pick_growth_rate_1_s": v.pick.growth_rate_1_s if v.pick else None,
+        "mode_frequency_hz": o.mode.frequency_hz if o else None,
+        **dof,
+        "reason": v.reason,
+    }
+
+
+def modal_dof_summary(a, outcome) -> dict:
+    """The contact modal mass, stiffness and damping of ``outcome``'s mode (None without)."""
+    from .api import modal_dof
+
+    if outcome is None:
+        return {"modal_mass_kg": None, "modal_stiffness_n_m": None, "modal_damping_ns_m": None}
+    dof = modal_dof(outcome.mode, a.design)
+    return {
         "modal_mass_kg": dof.mass_kg,
         "modal_stiffness_n_m": dof.stiffness_n_m,
         "modal_damping_ns_m": dof.damping_ns_m,
-        "growth_rate_1_s": lc["growth_rate_1_s"],
-        "squeal": lc["squeal"],
-        "velocity_amplitude_m_s": lc["velocity_amplitude_m_s"],
-        "time_to_saturation_s": lc["time_to_saturation_s"],
     }
 
 
 def compare_table(rows: Sequence[dict]) -> str:
     """The designs side by side, as text."""
+
+    def num(v, fmt: str, width: int) -> str:
+        return f"{v:{width}{fmt}}" if v is not None else f"{'-':>{width}}"
+
     lines = [
-        f"{'design':<16} {'mode':<14} {'f [Hz]':>8} {'m [kg]':>7} {'k [N/m]':>10} "
-        f"{'growth [1/s]':>12} {'amp [m/s]':>9}"
+        f"{'design':<16} {'verdict':<16} {'tone [Hz]':>9} {'growth [1/s]':>12} {'amp [m/s]':>9} "
+        f"{'SPL [dB]':>8} {'L_W [dB]':>8} {'model pick':<14}"
     ]
     for r in rows:
-        amp = f"{r['velocity_amplitude_m_s']:9.4f}" if r["squeal"] else f"{'-':>9}"
-        g = r["growth_rate_1_s"]
+        verdict = r["verdict_mode"] or "no squeal"
+        amp = num(r["amplitude_m_s"], ".4f", 9) + ("" if r["saturated"] or not r["squeals"] else "*")
+        tone, growth = num(r["tone_hz"], ".1f", 9), num(r["growth_rate_1_s"], ".3g", 12)
+        spl, power = num(r["spl_db"], ".1f", 8), num(r["sound_power_level_db"], ".1f", 8)
         lines.append(
-            f"{r['design']:<16} {r['mode']:<14} {r['frequency_hz']:8.1f} {r['modal_mass_kg']:7.3f} "
-            f"{r['modal_stiffness_n_m']:10.4g} {(g if g is not None else float('nan')):12.3g} {amp}"
+            f"{r['design']:<16} {verdict:<16} {tone} {growth} {amp} {spl} {power} {r['model_pick']:<14}"
         )
+    if any(r["squeals"] and not r["saturated"] for r in rows):
+        lines.append("* still growing at the end of the run: not a limit cycle")
     return "\n".join(lines)
 
 
-def write_compare_plot(path: Path, rows: Sequence[dict], sims: Sequence) -> Path:
-    """Growth to the limit cycle, frequency and contact modal mass of each design."""
+def write_compare_plot(path: Path, rows: Sequence[dict], analyses: Sequence) -> Path:
+    """Each design's growth to its limit cycle (the verdict's mode), its tone with the
+    verdict mode named, and its level at the microphone."""
     from matplotlib.figure import Figure
 
-    fig = Figure(figsize=(14, 4.2))
+    fig = Figure(figsize=(14, 4.4))
     axes = fig.subplots(1, 3)
-    for r, sim in zip(rows, sims):
-        cyc = sim.limit_cycle.cycles
-        axes[0].plot(cyc.start_s, cyc.amplitude_m_s, label=f"{r['design']} ({r['frequency_hz']:.0f} Hz)")
-    vc = abs(sims[0].operating_point.crabbing_velocity_m_s)
+    fig.subplots_adjust(left=0.06, right=0.98, bottom=0.28, top=0.9, wspace=0.3)
+    top = 0.0
+    for r, a in zip(rows, analyses):
+        o = a.outcome
+        if o is None:
+            continue
+        cyc = o.simulation.limit_cycle.cycles
+        style = "-" if o.saturated else "--"
+        axes[0].plot(cyc.start_s, cyc.amplitude_m_s, style, label=f"{r['design']}: {o.label}")
+        top = max(top, float(np.max(cyc.amplitude_m_s, initial=0)))
+    vc = abs(analyses[0].operating_point.crabbing_velocity_m_s)
     axes[0].axhline(vc, color="k", ls=":", lw=1, label="Vc")
-    axes[0].set_ylim(
-        0, 1.1 * max([vc] + [float(np.max(s.limit_cycle.cycles.amplitude_m_s, initial=0)) for s in sims])
+    axes[0].set_ylim(0, 1.1 * max(vc, top))
+    axes[0].set(
+        xlabel="time (s)", ylabel="contact velocity amplitude (m/s)", title="growth (dashed: still growing)"
     )
-    axes[0].set(xlabel="time [s]", ylabel="velocity amplitude [m/s]", title="growth to the limit cycle")
-    axes[0].legend(fontsize=8)
+    axes[0].legend(fontsize=7)
     x = np.arange(len(rows))
     names = [r["design"] for r in rows]
-    axes[1].bar(x, [r["frequency_hz"] for r in rows], color="tab:blue")
-    axes[1].set(xticks=x, ylabel="frequency [Hz]", title="squeal mode frequency")
+    tones = [r["tone_hz"] or 0.0 for r in rows]
+    bars = axes[1].bar(x, tones, color="tab:blue")
+    for b, r in zip(bars, rows):
+        axes[1].annotate(r["verdict_mode"] or "no squeal", (b.get_x() + b.get_width() / 2, b.get_height()),
+                         ha="center", va="bottom", fontsize=7)  # fmt: skip
+    axes[1].set(xticks=x, ylabel="squeal tone (Hz)", title="tone and the mode that squeals")
     axes[1].set_xticklabels(names, rotation=30, ha="right")
-    axes[2].bar(x, [r["modal_mass_kg"] for r in rows], color="tab:orange")
-    axes[2].set(xticks=x, ylabel="modal mass at contact [kg]", title="contact modal mass")
+    spl = [r["spl_db"] if r["spl_db"] is not None else np.nan for r in rows]
+    axes[2].bar(
+        x, spl, color=["tab:orange" if r["saturated"] else "none" for r in rows], edgecolor="tab:orange"
+    )
+    finite = [v for v in spl if np.isfinite(v)]
+    if finite:
+        axes[2].set_ylim(min(finite) - 20, max(finite) + 5)
+    axes[2].set(
+        xticks=x, ylabel="SPL at the microphone (dB re 20 uPa)", title="level (hollow: not a limit cycle)"
+    )
     axes[2].set_xticklabels(names, rotation=30, ha="right")
-    fig.tight_layout()
-    fig.savefig(path, dpi=110)
+    fig.savefig(path, dpi=PLOT_DPI)
     return path
 
 
@@ -306,6 +392,40 @@ def write_envelope_plot(path: Path, env) -> Path:
     ax.legend(title="fastest mode", fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0))
     ax.grid(alpha=0.3)
     fig.savefig(path, dpi=110)
+    return path
+
+
+def write_multimode_plot(path: Path, multi) -> Path:
+    """multimode.png: each mode's velocity envelope over time (log scale): which mode
+    takes the contact, and when."""
+    from matplotlib.figure import Figure
+
+    h = multi.simulation.history
+    coords = h.coordinates
+    f_low = min(m.frequency_hz for m in multi.modes)
+    block = max(1, int(round(1.0 / (f_low * float(h.t[1] - h.t[0])))))  # one lowest period
+    n = len(h.t) // block * block
+    fig = Figure(figsize=(8, 4.5))
+    ax = fig.subplots()
+    fig.subplots_adjust(left=0.1, right=0.72, bottom=0.12, top=0.9)
+    t = h.t[:n].reshape(-1, block).mean(axis=1)
+    for i, (m, share) in enumerate(zip(multi.modes, multi.content.energy_share)):
+        cols = np.flatnonzero(coords.mode == i) if coords is not None else np.array([i])
+        speed = np.sqrt((h.v_modes[:n, cols] ** 2).sum(axis=1))
+        envelope = speed.reshape(-1, block).max(axis=1)
+        ax.semilogy(
+            t, np.maximum(envelope, 1e-12), lw=1.2, label=f"{m.label()}, {m.frequency_hz:.0f} Hz: {share:.1%}"
+        )
+    ax.set(
+        xlabel="time (s)",
+        ylabel="modal velocity envelope (m/s)",
+        title=f"Multi-mode run: {multi.carrier.label()} carries the limit cycle",
+    )
+    ax.legend(
+        title="mode: share of the final energy", fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0)
+    )
+    ax.grid(alpha=0.3, which="both")
+    fig.savefig(path, dpi=PLOT_DPI)
     return path
 
 

@@ -80,7 +80,10 @@ def _stop_on_sigterm() -> None:
 def main(argv: Sequence[str] | None = None, prog: str | None = None) -> int:
     """Run the command line; returns the exit status (0 done, 1 computation failed or a
     bug, 2 request refused, 130 interrupted, 143 terminated)."""
-    args = build_parser(prog or os.path.basename(sys.argv[0]) or "wheel-squeal").parse_args(argv)
+    parser = build_parser(prog or os.path.basename(sys.argv[0]) or "wheel-squeal")
+    args, unknown = parser.parse_known_args(argv)
+    if unknown:  # the subcommand's own error: it points to its --help
+        parser.subcommands[args.command].error(f"unrecognized arguments: {' '.join(unknown)}")
     if not os.environ.get("DISPLAY"):
         # Without an X server VTK tries X first and warns before falling back to EGL;
         # go straight to EGL (off-screen) so the terminal stays clean.

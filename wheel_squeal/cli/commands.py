@@ -8,7 +8,7 @@ from .fe import cmd_mesh, cmd_modes, cmd_render
 from .sound import cmd_sound
 from .squeal import cmd_compare, cmd_run, cmd_simulate, cmd_stability, cmd_sweep
 from .study import cmd_study
-from .tools import cmd_cache, cmd_calibrate, cmd_converge
+from .tools import cmd_cache, cmd_calibrate, cmd_converge, cmd_designs
 
 __all__ = ["COMMANDS"]
 
@@ -25,5 +25,6 @@ COMMANDS = {
     "render": cmd_render,
     "calibrate": cmd_calibrate,
     "converge": cmd_converge,
+    "designs": cmd_designs,
     "cache": cmd_cache,
 }

@@ -11,12 +11,15 @@ from .. import api, writers
 from ..budget import Budget
 from ..cache import StageCache
 from ..errors import RequestError
-from ..presets import fidelity_for
+from ..presets import DEFAULT_SPEEDS_RPM, fidelity_for, rpm_to_speed
 from ..progress import Progress
 from ..stability import choose_mode
 
 __all__ = [
     "Squeal",
+    "speeds_or_rpm",
+    "analysis_of",
+    "out_of",
     "budget_of",
     "cache_of",
     "design_of",
@@ -95,3 +98,47 @@ def squeal_mode(args, design: WheelDesign, progress: Progress, cache: StageCache
     progress.say(f"squeal mode: {mode.index} ({why}), {mode.frequency_hz:.1f} Hz")
     summary = writers.modes_summary(design, ms, mode, fid, why)
     return Squeal(api.modal_dof(mode, design), ms, mode, summary, rows)
+
+
+def out_of(args, name: str) -> Path:
+    """The command's result folder: ``--out``, else ``results/COMMAND/NAME`` below the
+    working folder (NAME: the design's, the study's, or the compared designs')."""
+    return args.out if args.out is not None else Path("results") / args.command / name
+
+
+def analysis_of(args, design: WheelDesign, progress: Progress, cache: StageCache, listener=None, modes=None):
+    """:func:`wheel_squeal.chain.analyse` with the command's flags."""
+    from ..chain import analyse
+
+    return analyse(
+        design,
+        rpm=args.rpm,
+        speed=getattr(args, "speed", None),
+        crab_velocity=args.crab_velocity,
+        angle_of_attack=args.angle_of_attack,
+        fidelity=args.fidelity,
+        solver=args.solver,
+        fmax_hz=args.fmax,
+        mode=getattr(args, "mode", "auto") or "auto",
+        rotation=getattr(args, "rotation", False),
+        multimode_count=getattr(args, "multimode", None),
+        duration=getattr(args, "duration", None),
+        listener=listener,
+        c22=args.c22,
+        modes=modes,
+        cache=cache,
+        budget=budget_of(args),
+        progress=progress,
+    )
+
+
+def speeds_or_rpm(args, design: WheelDesign) -> list[float]:
+    """A sweep's wheel speeds [rev/min]: ``--rpm``, or ``--speed`` (m/s at the contact)
+    converted with the design's rolling radius."""
+    if args.speed is not None:
+        if args.rpm is not None:
+            raise RequestError("give --rpm or --speed, not both")
+        if min(args.speed) <= 0:
+            raise RequestError("--speed: rolling speeds must be positive")
+        return [v / rpm_to_speed(1.0, design.rolling_radius) for v in args.speed]
+    return list(args.rpm) if args.rpm is not None else list(DEFAULT_SPEEDS_RPM)

@@ -9,7 +9,7 @@ from ..errors import RequestError
 from ..outputs import result_folder, write_json
 from ..progress import Progress
 from ..stability import choose_mode
-from .common import budget_of, cache_of, design_of, modes_of, write_files
+from .common import budget_of, cache_of, design_of, modes_of, out_of, write_files
 
 __all__ = ["cmd_mesh", "cmd_modes", "cmd_render"]
 
@@ -28,7 +28,8 @@ def cmd_mesh(args) -> int:
     if args.size is not None and args.elements_through_web is not None:
         raise RequestError("give --size or --elements-through-web, not both")
     progress = Progress(args.quiet)
-    with result_folder(args.out, "mesh") as tmp:
+    out = out_of(args, design.name)
+    with result_folder(out, "mesh") as tmp:
         h = mesh_size(design, args.size, args.elements_through_web, args.dim)
         n = estimate_element_count(design, h, args.dim)
         nodes_per_element = {(2, 1): 0.6, (2, 2): 2.2, (3, 1): 0.2, (3, 2): 1.9}[(args.dim, args.order)]
@@ -74,7 +75,7 @@ def cmd_mesh(args) -> int:
     print(
         f"{design.name}: {summary['nodes']} nodes, {summary['elements']} elements, "
         f"volume {summary['mesh_volume_m3']:.6e} m^3 ({rel:+.3%} vs exact), "
-        f"{seconds:.2f} s -> {args.out}"
+        f"{seconds:.2f} s -> {out}"
     )
     return 0
 
@@ -82,7 +83,8 @@ def cmd_mesh(args) -> int:
 def cmd_modes(args) -> int:
     design = design_of(args)
     progress = Progress(args.quiet)
-    with result_folder(args.out, "modes") as tmp:
+    out = out_of(args, design.name)
+    with result_folder(out, "modes") as tmp:
         cache = cache_of(args)
         fid, ms = modes_of(args, design, progress, cache)
         if not ms.modes:
@@ -96,7 +98,7 @@ def cmd_modes(args) -> int:
         f"selected: mode {selected.index} ({why}), {selected.frequency_hz:.1f} Hz, "
         f"m = {selected.modal_mass:.3f} kg"
     )
-    print(f"{ms.solver}, {ms.dofs} DOFs, {fid.name} -> {args.out}")
+    print(f"{ms.solver}, {ms.dofs} DOFs, {fid.name} -> {out}")
     return 0
 
 
@@ -105,7 +107,8 @@ def cmd_render(args) -> int:
 
     design = design_of(args)
     progress = Progress(args.quiet)
-    with result_folder(args.out, "render") as tmp:
+    out = out_of(args, design.name)
+    with result_folder(out, "render") as tmp:
         _, ms = modes_of(args, design, progress)
         indices = None
         if args.modes:
@@ -118,5 +121,5 @@ def cmd_render(args) -> int:
                 raise RequestError(f"mode index {bad[0]} out of range 0..{len(ms.modes) - 1}")
         with progress.stage("render"):
             paths = render_modes(ms, tmp, indices=indices, gif=args.gif)
-    print(f"{len(paths)} files -> {args.out}")
+    print(f"{len(paths)} files -> {out}")
     return 0

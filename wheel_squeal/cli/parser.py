@@ -25,6 +25,7 @@ from ..presets import (
     DEFAULT_RPM,
     DEFAULT_SPEEDS_RPM,
     DEFAULT_SWEEP_CRAB_VELOCITIES,
+    DEFAULT_SWEEP_DURATION_S,
     FIDELITIES,
     MAX_MULTIMODE,
 )
@@ -115,14 +116,22 @@ def _add_axis(
     )
 
 
-def _add_common(
-    p: argparse.ArgumentParser, out_required: bool = True, out_default=None, cache: bool = True
-) -> None:
-    p.add_argument("--design", type=Path, help="wheel design TOML (default: the Table 1 wheel)")
-    if out_required:
-        p.add_argument("--out", type=Path, required=True, help="output folder")
-    else:
-        p.add_argument("--out", type=Path, default=out_default, help="output folder")
+#: Where a command writes when ``--out`` is not given (below the working folder).
+OUT_HELP = "result folder (default: results/COMMAND/NAME, NAME the design's or the study's)"
+
+
+def _add_out(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--out", type=Path, help=OUT_HELP)
+
+
+def _add_common(p: argparse.ArgumentParser, cache: bool = True) -> None:
+    p.add_argument(
+        "--design",
+        type=Path,
+        help="wheel design: a TOML file, or the name of a shipped design (see the designs command; "
+        "default: the Table 1 wheel)",
+    )
+    _add_out(p)
     p.add_argument("--quiet", action="store_true", help="no progress on stderr")
     if cache:
         _add_cache(p)
@@ -255,11 +264,12 @@ def build_parser(prog: str = "wheel-squeal") -> argparse.ArgumentParser:
         "contact modal parameters -> curve-squeal limit cycle.",
     )
     sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
+    parser.subcommands = sub.choices  # type: ignore[attr-defined]  # for errors that name the command
 
     p = sub.add_parser("run", help="design -> modes -> squeal limit cycle -> report (default: Table 1)")
-    _add_common(p, out_required=False)
+    _add_common(p)
     _add_fe(p)
-    _add_operating(p, speed=False)
+    _add_operating(p)
     p.add_argument(
         "--render",
         choices=["selected", "all", "none"],
@@ -304,25 +314,31 @@ def build_parser(prog: str = "wheel-squeal") -> argparse.ArgumentParser:
     _add_fe(p)
     _add_modal(p)
     _add_axis(p, "--crab-velocity", DEFAULT_SWEEP_CRAB_VELOCITIES, "crabbing velocities [m/s]", span=True)
-    _add_axis(p, "--rpm", DEFAULT_SPEEDS_RPM, "wheel speeds [rev/min]")
-    p.add_argument("--duration", type=positive, default=1.5, help="simulated time per case [s]")
+    _add_axis(p, "--rpm", DEFAULT_SPEEDS_RPM, "wheel speeds [rev/min]", filled=False)
+    p.add_argument("--speed", type=grid_axis, help="rolling speeds at the contact [m/s], instead of --rpm")
+    p.add_argument(
+        "--duration",
+        type=positive,
+        default=DEFAULT_SWEEP_DURATION_S,
+        help="simulated time per case [s] (default %(default)g)",
+    )
     p.add_argument("--c22", type=c22_value, help="C22 or 'kalker'")
     p.add_argument("--sound", action="store_true", help="also the SPL at the microphone (Fig. 5 in dB)")
     _add_microphone(p)
 
     p = sub.add_parser("compare", help="several designs at the same operating point")
     p.add_argument("designs", nargs="+", type=Path, help="design TOML files")
-    p.add_argument("--out", type=Path, default=Path("results") / "compare", help="output folder")
+    _add_out(p)
     p.add_argument("--quiet", action="store_true")
     _add_cache(p)
     _add_budget(p)
     _add_fe(p)
-    _add_operating(p, speed=False)
+    _add_operating(p)
     _add_rotation(p)
 
     p = sub.add_parser("stability", help="linear stability of every mode: which squeals, what stops it")
     _add_common(p)
-    _add_fe(p, mode=False)
+    _add_fe(p)
     _add_operating(p, duration=False)
     _add_rotation(p)
     p.add_argument(
@@ -356,7 +372,7 @@ def build_parser(prog: str = "wheel-squeal") -> argparse.ArgumentParser:
         "study", help="many designs (grid or samples) over an operating grid, locally or on dask"
     )
     p.add_argument("spec", type=Path, help="study specification TOML (see studies/)")
-    p.add_argument("--out", type=Path, required=True, help="output folder")
+    _add_out(p)
     p.add_argument("--workers", type=_count, help="local worker processes (default: the machine's cores)")
     p.add_argument(
         "--scheduler",
@@ -403,10 +419,14 @@ def build_parser(prog: str = "wheel-squeal") -> argparse.ArgumentParser:
     p.add_argument("--quiet", action="store_true")
 
     p = sub.add_parser("converge", help="speed/accuracy study: mesh ladders, solvers, integrator")
-    p.add_argument("--design", type=Path, help="wheel design TOML (default: the Table 1 wheel)")
-    p.add_argument("--out", type=Path, required=True, help="output folder")
+    p.add_argument(
+        "--design", type=Path, help="wheel design TOML or shipped name (default: the Table 1 wheel)"
+    )
+    _add_out(p)
     p.add_argument("--quick", action="store_true", help="only the cheapest rungs")
     p.add_argument("--quiet", action="store_true")
+
+    sub.add_parser("designs", help="the designs shipped with the tool (give one by name: --design NAME)")
 
     p = sub.add_parser("cache", help="inspect, limit or clear the stage cache")
     p.add_argument("action", choices=["clear", "info", "limit"])

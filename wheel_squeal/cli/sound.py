@@ -10,60 +10,19 @@ from geometry import WheelDesign
 from .. import api
 from ..outputs import result_folder, write_json
 from ..plotting import PlotWorkers
-from ..presets import fidelity_for
 from ..progress import Progress
-from ..sound import (
-    Listener,
-    Sound,
-    air_for,
-    check_velocity_amplitude,
-    microphone_for,
-    mode_radiation,
-    sound_of,
-)
+from ..sound import Listener, Sound, air_for, check_velocity_amplitude, microphone_for, mode_sound
 from ..sound_files import sound_text, write_pressure_vtu, write_sound_plot
 from ..stability import choose_mode
-from .common import budget_of, cache_of, design_of, modes_of
+from .common import budget_of, cache_of, design_of, modes_of, out_of
 
-__all__ = ["cmd_sound", "listener_of", "mode_sound", "write_sound_files"]
-
-
-def _axisym(args, design: WheelDesign, modeset, mode, cache, progress: Progress | None = None):
-    """The mode set and mode from the axisymmetric solver (the one whose shapes give the
-    surface velocity): the given ones, or the same mode solved axisymmetrically."""
-    if modeset.solver == "axisym":
-        return modeset, mode, fidelity_for(args.fidelity)
-    fid = fidelity_for(args.fidelity)
-    ms = api.compute_modes(design, fid, fmax_hz=args.fmax, cache=cache, progress=progress)
-    same, _ = api.pick_mode(ms, f"n={mode.nodal_diameters},c={mode.nodal_circles}")
-    return ms, same, fid
+__all__ = ["cmd_sound", "listener_of", "write_sound_files"]
 
 
 def listener_of(args, design: WheelDesign) -> Listener:
     """The command's ``--microphone``, ``--air-density`` and ``--sound-speed``, checked
     before any work (:func:`wheel_squeal.sound.microphone_for`, ``air_for``)."""
     return Listener(microphone_for(design, args.microphone), air_for(args.air_density, args.sound_speed))
-
-
-def mode_sound(
-    args,
-    design: WheelDesign,
-    modeset,
-    mode,
-    frequency_hz: float,
-    amplitude_m_s: float,
-    cache,
-    listener: Listener,
-    travelling=False,
-) -> Sound:
-    """The levels of ``mode`` at ``frequency_hz`` [Hz] for a contact velocity amplitude
-    [m/s], heard by ``listener``; the radiation is estimated against the budget first."""
-    ms, mode, fid = _axisym(args, design, modeset, mode, cache)
-    key = api.modes_cache_key(design, fid, args.fmax)
-    rad = mode_radiation(
-        design, ms, mode, frequency_hz, listener.microphone, cache, key, listener.air, budget_of(args)
-    )
-    return sound_of(rad, amplitude_m_s, listener.microphone, travelling)
 
 
 def write_sound_files(directory: Path, sound: Sound, plots: PlotWorkers | None = None) -> None:
@@ -80,7 +39,8 @@ def cmd_sound(args) -> int:
     progress = Progress(args.quiet)
     listener = listener_of(args, design)
     check_velocity_amplitude(args.velocity_amplitude)
-    with result_folder(args.out, "sound") as tmp:
+    out = out_of(args, design.name)
+    with result_folder(out, "sound") as tmp:
         cache = cache_of(args)
         fid, ms = modes_of(args, design, progress, cache)
         mode, why, _ = choose_mode(
@@ -88,7 +48,18 @@ def cmd_sound(args) -> int:
         )
         f = args.frequency or mode.frequency_hz
         with progress.stage(f"sound of mode {mode.index} ({mode.label()}) at {f:.1f} Hz"):
-            sound = mode_sound(args, design, ms, mode, f, args.velocity_amplitude, cache, listener)
+            sound = mode_sound(
+                design,
+                ms,
+                mode,
+                f,
+                args.velocity_amplitude,
+                listener=listener,
+                fidelity=args.fidelity,
+                fmax_hz=args.fmax,
+                cache=cache,
+                budget=budget_of(args),
+            )
         write_sound_files(tmp, sound)
         zeta = design.damping_ratio(mode.nodal_diameters, mode.nodal_circles)
         write_json(
@@ -103,5 +74,5 @@ def cmd_sound(args) -> int:
         )
     print(f"{design.name}: mode {mode.index} {mode.label()} ({why}), {mode.frequency_hz:.1f} Hz")
     print(sound_text(sound.summary()))
-    print(f"-> {args.out}")
+    print(f"-> {out}")
     return 0

@@ -3,119 +3,91 @@
 from __future__ import annotations
 
 import time
-from pathlib import Path
 
 import numpy as np
-
-from geometry import DesignError
 
 from .. import api, writers
 from ..errors import RequestError
 from ..outputs import result_folder, write_csv, write_json
 from ..plotting import PlotWorkers
-from ..presets import DEFAULT_ENVELOPE_CRAB_VELOCITIES, DEFAULT_SPEEDS_RPM, fidelity_for, rpm_to_speed
+from ..presets import DEFAULT_ENVELOPE_CRAB_VELOCITIES, DEFAULT_SPEEDS_RPM
 from ..progress import Progress
-from ..sound_files import sound_text, write_sweep_spl
+from ..sound_files import sound_text
 from ..stability import (
-    choose_mode,
     envelope,
     envelope_seconds,
     excitable,
     mitigation,
-    multimode,
     stability_seconds,
     stability_table,
     wheel_speed_rad_s,
 )
-from .common import budget_of, cache_of, design_of, modes_of, operating_point_of, squeal_mode, write_files
+from .common import (
+    analysis_of,
+    budget_of,
+    cache_of,
+    design_of,
+    modes_of,
+    operating_point_of,
+    out_of,
+    speeds_or_rpm,
+    squeal_mode,
+    write_files,
+)
 from .parser import grid_axis
-from .sound import listener_of, mode_sound, write_sound_files
+from .sound import listener_of, write_sound_files
 
 __all__ = ["cmd_compare", "cmd_run", "cmd_simulate", "cmd_stability", "cmd_sweep"]
 
 
-def _stability_summary(design, sq) -> dict:
-    rows = [r.to_dict(design) for r in sq.stability]
-    winner = max(range(len(rows)), key=lambda i: rows[i]["growth_rate_1_s"])
-    return {"stability": rows, "winner": rows[winner]}
-
-
 def cmd_run(args, plots: PlotWorkers) -> int:
     design = design_of(args)
-    out = args.out or Path("results") / design.name
+    out = out_of(args, design.name)
     progress = Progress(args.quiet)
     t0 = time.perf_counter()
     listener = listener_of(args, design)
     with result_folder(out, "run") as tmp:
         cache = cache_of(args)
-        op = operating_point_of(args, design)
-        contact = api.contact_law(design, args.c22)
-        sq = squeal_mode(args, design, progress, cache, contact, op)
-        omega = wheel_speed_rad_s(design, op, args.rotation)
-        with progress.stage("squeal model"):
-            sim = api.simulate(sq.dof, contact, op, args.duration, omega, budget_of(args))
-        multi = None
-        if args.multimode is not None:
-            with progress.stage("multi-mode squeal model"):
-                multi = multimode(
-                    design, sq.stability, contact, op, args.rotation, args.multimode, args.duration
-                )
-        sound = None
-        if sim.limit_cycle.squeal:
-            with progress.stage("sound"):
-                # The tone: the mode's frequency, or its backward wave's on a turning wheel
-                # (the limit cycle's fitted frequency differs by a few 1e-4: not worth a
-                # new radiation solve per operating point).
-                travelling = bool(args.rotation) and sq.mode.nodal_diameters >= 1
-                tone = sq.mode.frequency_hz - sq.mode.nodal_diameters * omega / (2 * np.pi) * travelling
-                amplitude = sim.limit_cycle.velocity_amplitude_m_s
-                sound = mode_sound(
-                    args, design, sq.modeset, sq.mode, tone, amplitude, cache, listener, travelling
-                )
-                write_sound_files(tmp, sound, plots)
-        with progress.stage("report"):
-            writers.write_simulation_files(tmp, sim, plots)
-        mode, ms = sq.mode, sq.modeset
-        indices = {"selected": [mode.index], "none": [], "all": list(range(len(ms.modes)))}[args.render]
+        a = analysis_of(args, design, progress, cache, listener)
+        o = a.outcome
+        if o is not None:
+            with progress.stage("report"):
+                writers.write_simulation_files(tmp, o.simulation, plots)
+        if a.verdict.outcome is not None and a.verdict.outcome.sound is not None:
+            write_sound_files(tmp, a.verdict.outcome.sound, plots)
+        if a.multimode is not None:
+            plots.submit(writers.write_multimode_plot, tmp / "multimode.png", a.multimode)
+        ms = a.modeset
+        shown = [o.mode.index] if o is not None else []
+        indices = {"selected": shown, "none": [], "all": list(range(len(ms.modes)))}[args.render]
         with progress.stage("mode views"):
-            fid = fidelity_for(args.fidelity, args.solver)
-            write_files(tmp, api.mode_views(design, fid, args.fmax, ms, indices, cache))
+            write_files(tmp, api.mode_views(design, a.fidelity, args.fmax, ms, indices, cache))
         with progress.stage("plots"):
             plots.draw()
-        write_json(
-            tmp / "summary.json",
-            {
-                **sq.summary,
-                **_stability_summary(design, sq),
-                **sim.summary(),
-                "rotation": bool(args.rotation),
-                "sound": sound.summary() if sound is not None else None,
-                **({"multimode": multi.summary()} if multi is not None else {}),
-                "modal_parameters": writers.dof_summary(sq.dof),
-                "timings_s": {**progress.timings, "total": time.perf_counter() - t0},
-                "cache": {"hits": cache.hits, "misses": cache.misses},
-            },
-        )
-    print(
-        f"{design.name}: squeal mode {mode.index}: {mode.label()} "
-        f"({sq.summary['selected_mode']['why']}), {mode.frequency_hz:.1f} Hz"
-    )
-    print(writers.stability_line(sq.stability, mode))
-    print(writers.squeal_report(sim, sq.dof))
-    print(sound_text(sound.summary()) if sound is not None else "no sound: no squeal")
-    if multi is not None:
-        print(writers.multimode_text(multi))
-    print(
-        f"files: {out}/ (summary.json, timeseries.csv, *.png, modes.vtu, pressure.vtu)  "
-        f"[{time.perf_counter() - t0:.1f} s]"
-    )
+        summary = {
+            **a.to_dict(),
+            "timings_s": {**progress.timings, "total": time.perf_counter() - t0},
+            "cache": {"hits": cache.hits, "misses": cache.misses},
+        }
+        write_json(tmp / "summary.json", summary)
+    print(writers.analysis_header(a))
+    if o is not None:
+        print(writers.squeal_report(o.simulation, api.modal_dof(o.mode, design), o.label))
+    if a.verdict.outcome is not None and a.verdict.outcome.sound is not None:
+        print(sound_text(a.verdict.outcome.sound.summary()))
+    if a.multimode is not None:
+        print(writers.multimode_text(a.multimode))
+    print("\n".join(a.verdict.lines()))
+    seconds = time.perf_counter() - t0
+    print(f"files: {out}/ (summary.json, timeseries.csv, *.png, modes.vtu, pressure.vtu)  [{seconds:.1f} s]")
     return 0
 
 
 def cmd_simulate(args, plots: PlotWorkers) -> int:
     progress = Progress(args.quiet)
-    with result_folder(args.out, "simulate") as tmp:
-        design = design_of(args)
+    design = design_of(args)
+    out = out_of(args, design.name)
+    with result_folder(out, "simulate") as tmp:
         contact = api.contact_law(design, args.c22)
         op = operating_point_of(args, design)
         sq = squeal_mode(args, design, progress, cache_of(args), contact, op)
@@ -136,90 +108,93 @@ def cmd_simulate(args, plots: PlotWorkers) -> int:
         with progress.stage("plots"):
             plots.draw()
     print(writers.squeal_report(sim, sq.dof))
-    print(f"-> {args.out}")
+    print(f"-> {out}")
     return 0
 
 
 def cmd_sweep(args) -> int:
-    from reduced import write_sweep_csv, write_sweep_plot
+    from ..sweep_files import sweep_table, write_sweep_csv, write_sweep_plot, write_sweep_spl
+    from ..sweeps import sweep_verdicts
 
     progress = Progress(args.quiet)
     design = design_of(args)
     listener = listener_of(args, design) if args.sound else None
-    with result_folder(args.out, "sweep") as tmp:
+    explicit = (args.mass, args.stiffness, args.damping)
+    out = out_of(args, design.name)
+    with result_folder(out, "sweep") as tmp:
         contact = api.contact_law(design, args.c22)
         cache = cache_of(args)
-        sq = squeal_mode(args, design, progress, cache, contact, api.operating_point(design))
-        speeds = [rpm_to_speed(r, design.rolling_radius) for r in args.rpm]
-        vcs = args.crab_velocity
-        with progress.stage(f"sweep {len(vcs)} x {len(speeds)} cases, {args.duration:g} s each"):
-            result = api.sweep(
-                sq.dof, contact, vcs, speeds, args.duration, budget=budget_of(args), progress=progress
-            )
-        write_sweep_csv(result, tmp, wheel_radius_m=design.rolling_radius)
-        write_sweep_plot(result, tmp, wheel_radius_m=design.rolling_radius)
-        sound = None
+        dof = ms = None
+        if any(v is not None for v in explicit):
+            if any(v is None for v in explicit):
+                raise RequestError("--mass, --stiffness and --damping go together: give all three")
+            dof = api.explicit_dof(*explicit)
+        else:
+            _, ms = modes_of(args, design, progress, cache)
+        vcs, rpms = args.crab_velocity, speeds_or_rpm(args, design)
+        with progress.stage(f"sweep {len(vcs)} x {len(rpms)} points, {args.duration:g} s each"):
+            grid = sweep_verdicts(
+                design, vcs, rpms, args.duration, modeset=ms, dof=dof, contact=contact, mode=args.mode,
+                sound=args.sound, listener=listener, fidelity=args.fidelity, fmax_hz=args.fmax, cache=cache,
+                budget=budget_of(args), progress=progress,
+            )  # fmt: skip
+        write_sweep_csv(tmp / "sweep.csv", grid)
+        write_sweep_plot(tmp / "sweep.png", grid)
         if args.sound:
-            if sq.mode is None:
-                raise RequestError("--sound needs the FE mode (its shape radiates): not with --mass")
-            with progress.stage("sound"):
-                sound = mode_sound(
-                    args, design, sq.modeset, sq.mode, sq.mode.frequency_hz, 1.0, cache, listener
-                )
-                write_sweep_spl(tmp, vcs, args.rpm, result, sound)
+            write_sweep_spl(tmp / "sweep_spl.csv", grid)
         write_json(
             tmp / "summary.json",
             {
                 "design": design.name,
-                "modal_parameters": writers.dof_summary(sq.dof),
+                "named_mode": grid.named or None,
                 "duration_s": args.duration,
-                "sound_per_unit_velocity": sound.summary() if sound is not None else None,
+                "points": len(vcs) * len(rpms),
+                "squealing_points": int(grid.squeals.sum()),
+                "still_growing_points": int((grid.squeals & ~grid.saturated).sum()),
                 "timings_s": progress.timings,
             },
         )
-    print(writers.sweep_table(vcs, args.rpm, result))
-    if sound is not None:
-        print(f"per 1 m/s: {sound_text(sound.summary())}")
-        print("SPL at the microphone per case: sweep_spl.csv, sweep_spl.png")
-    print(f"velocity amplitude [m/s] ('-' = no squeal) -> {args.out}")
+    print(sweep_table(grid))
+    print(f"-> {out} (sweep.csv, sweep.png{', sweep_spl.csv' if args.sound else ''})")
     return 0
 
 
 def cmd_compare(args) -> int:
     progress = Progress(args.quiet)
-    with result_folder(args.out, "compare") as tmp:
+    designs = []
+    for path in args.designs:
+        try:
+            designs.append(api.load_design(path))
+        except RequestError as exc:
+            raise RequestError(f"design {path}: {exc}") from None
+    if len({d.name for d in designs}) != len(designs):
+        raise RequestError("two designs have the same name; give each a distinct name")
+    out = out_of(args, "+".join(d.name for d in designs)[:80])
+    with result_folder(out, "compare") as tmp:
         cache = cache_of(args)
-        designs = []
-        for path in args.designs:
-            try:
-                designs.append(api.load_design(path))
-            except DesignError as exc:
-                raise RequestError(f"design {path}: {exc}") from None
-        if len({d.name for d in designs}) != len(designs):
-            raise RequestError("two designs have the same name; give each a distinct name")
-        rows, sims = [], []
+        analyses = []
         for d in designs:
             progress.say(f"design {d.name}")
             try:
-                op, contact = operating_point_of(args, d), api.contact_law(d, args.c22)
-                fid, ms = modes_of(args, d, progress, cache)
-                mode, _, _ = choose_mode(d, ms, args.mode, contact, op, args.rotation)
-                dof = api.modal_dof(mode, d)
-                sim = api.simulate(
-                    dof, contact, op, args.duration, wheel_speed_rad_s(d, op, args.rotation), budget_of(args)
-                )
-            except (RequestError, DesignError) as exc:
+                analyses.append(analysis_of(args, d, progress, cache))
+            except RequestError as exc:
                 raise RequestError(f"design {d.name}: {exc}") from None
-            rows.append(writers.compare_row(d, mode, dof, sim))
-            sims.append(sim)
+        rows = [writers.compare_row(a) for a in analyses]
         write_csv(tmp / "compare.csv", rows)
-        writers.write_compare_plot(tmp / "compare.png", rows, sims)
+        writers.write_compare_plot(tmp / "compare.png", rows, analyses)
         write_json(
             tmp / "summary.json",
-            {"designs": rows, "fidelity": fid.name, "operating_point": sims[0].summary()["operating_point"]},
+            {
+                "designs": rows,
+                "verdicts": {a.design.name: a.verdict.to_dict() for a in analyses},
+                "fidelity": analyses[0].fidelity.name,
+                "operating_point": writers.operating_point_summary(analyses[0].operating_point, designs[0]),
+            },
         )
     print(writers.compare_table(rows))
-    print(f"-> {args.out}")
+    for a in analyses:
+        print(f"{a.design.name}: " + "\n  ".join(a.verdict.lines()))
+    print(f"-> {out}")
     return 0
 
 
@@ -244,11 +219,13 @@ def cmd_stability(args) -> int:
     design = design_of(args)
     progress = Progress(args.quiet)
     axes = _envelope_axes(args)
-    with result_folder(args.out, "stability") as tmp:
+    out = out_of(args, design.name)
+    with result_folder(out, "stability") as tmp:
         op = operating_point_of(args, design)
         contact = api.contact_law(design, args.c22)
         budget = budget_of(args)
-        fid, ms = modes_of(args, design, progress)
+        cache = cache_of(args)
+        fid, ms = modes_of(args, design, progress, cache)
         n = len(excitable(ms))
         bounds = None if args.no_bounds else "all"
         seconds = budget.check_work(
@@ -268,18 +245,15 @@ def cmd_stability(args) -> int:
         ):
             rows, result = stability_table(design, ms, contact, op, args.rotation, bounds=bounds)
         table = [r.to_dict(design) for r in rows]
+        with progress.stage("verdict"):
+            a = analysis_of(args, design, progress, cache, modes=ms)
         summary = {
+            "verdict": a.verdict.to_dict(),
             "design": design.name,
             "fidelity": fid.name,
             "solver": ms.solver,
             "rotation": bool(args.rotation),
-            "operating_point": {
-                "rolling_speed_m_s": op.rolling_speed_m_s,
-                "rpm": op.rolling_speed_m_s / rpm_to_speed(1.0, design.rolling_radius),
-                "crabbing_velocity_m_s": op.crabbing_velocity_m_s,
-                "creepage": op.creepage,
-                "wheel_speed_rad_s": wheel_speed_rad_s(design, op, True),
-            },
+            "operating_point": writers.operating_point_summary(op, design),
             "friction_damping_ns_m": result.friction_damping_ns_m,
             "modes": table,
             "winner": table[result.winner],
@@ -303,5 +277,6 @@ def cmd_stability(args) -> int:
     print(writers.stability_text(rows, result.winner))
     if axes is not None:
         print(writers.mitigation_text(summary["mitigation"]))
-    print(f"-> {args.out}")
+    print("\n".join(a.verdict.lines()))
+    print(f"-> {out}")
     return 0

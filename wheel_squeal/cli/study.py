@@ -5,7 +5,7 @@ from __future__ import annotations
 from ..errors import RequestError
 from ..outputs import result_folder
 from ..progress import Progress
-from .common import budget_of, cache_of
+from .common import budget_of, cache_of, out_of
 
 __all__ = ["cmd_study"]
 
@@ -24,7 +24,8 @@ def cmd_study(args) -> int:
     progress = Progress(args.quiet)
     cache = None if args.no_cache else cache_of(args)
     # the staging folder exists before the work: an unusable --out is refused at once
-    with result_folder(args.out, "study") as tmp:
+    out = out_of(args, spec.name)
+    with result_folder(out, "study") as tmp:
         results = case_results(
             spec,
             workers=args.workers,
@@ -42,5 +43,5 @@ def cmd_study(args) -> int:
         f"{counts['failed']} failed) x {ds.sizes['crab_velocity']} crabbing velocities x "
         f"{ds.sizes['rpm']} speeds"
     )
-    print(f"files: {args.out}/ ({', '.join(files)})")
+    print(f"files: {out}/ ({', '.join(files)})")
     return 0

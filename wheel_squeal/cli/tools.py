@@ -9,9 +9,9 @@ from ..cache import ENV_SIZE, StageCache, parse_size
 from ..errors import RequestError
 from ..outputs import result_folder, write_text_atomic
 from ..progress import Progress
-from .common import design_of
+from .common import design_of, out_of
 
-__all__ = ["cmd_cache", "cmd_calibrate", "cmd_converge"]
+__all__ = ["cmd_cache", "cmd_calibrate", "cmd_converge", "cmd_designs"]
 
 
 def cmd_calibrate(args) -> int:
@@ -59,9 +59,20 @@ def cmd_converge(args) -> int:
     from ..convergence import run_convergence
 
     design = design_of(args)
-    with result_folder(args.out, "converge") as tmp:
+    out = out_of(args, design.name)
+    with result_folder(out, "converge") as tmp:
         rows = run_convergence(design, tmp, quick=args.quick, progress=Progress(args.quiet).say)
-    print(f"{len(rows)} rungs -> {args.out}/convergence.csv (and plots)")
+    print(f"{len(rows)} rungs -> {out}/convergence.csv (and plots)")
+    return 0
+
+
+def cmd_designs(args) -> int:
+    from ..api import shipped_designs
+
+    for name, description in shipped_designs().items():
+        first = description.split(". ")[0].split(": ")[0]
+        print(f"{name:<16} {first if len(first) <= 90 else first[:89] + '...'}")
+    print("give one by name from any folder: --design NAME")
     return 0
 
 

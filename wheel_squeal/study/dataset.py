@@ -4,9 +4,14 @@ Dimensions: one per varied quantity of a grid study (or ``sample``), then
 ``crab_velocity`` [m/s] and ``rpm``. Per design: ``status`` (ok | invalid | failed),
 ``reason`` (the one-line reason when not ok), ``mass_kg``, ``modes`` and the value of
 every design field the study changes (``design_<field>``). Per design and operating
-point: ``squeal_mode`` ("n=N,c=C,family" of the fastest-growing mode, "" where nothing
-grows), ``growth_rate_1_s``, ``frequency_hz``, ``amplitude_m_s`` (limit-cycle contact
-velocity), ``spl_db`` (at the default microphone) and ``sound_power_level_db``.
+point, the verdict there (:mod:`wheel_squeal.verdict`): ``verdict_mode`` (the label of
+the mode that squeals, "" where none), ``squeals``, ``saturated`` (False: still growing
+at the end of the run, not a limit cycle), ``tone_hz``, ``growth_rate_1_s`` (the
+squealing mode's; where none squeals the largest of all, <= 0),
+``amplitude_m_s`` (contact velocity), ``spl_db`` (at the default microphone) and
+``sound_power_level_db``; the model's own pick (``model_pick`` and its
+``model_pick_growth_rate_1_s``) and, when the base design names a mode (the attribute
+``named_mode``), that mode's ``override_growth_rate_1_s``.
 """
 
 from __future__ import annotations
@@ -18,16 +23,18 @@ import numpy as np
 
 from ..cache import code_version
 from .spec import StudySpec
-from .task import CODE_PACKAGES, RESULT_FIELDS
+from .task import CODE_PACKAGES, FLAG_FIELDS, LABEL_FIELDS, RESULT_FIELDS
 
 __all__ = ["study_dataset", "write_study_files"]
 
 _UNITS = {
     "growth_rate_1_s": "1/s",
-    "frequency_hz": "Hz",
+    "tone_hz": "Hz",
     "amplitude_m_s": "m/s",
     "spl_db": "dB re 20 uPa",
     "sound_power_level_db": "dB re 1 pW",
+    "model_pick_growth_rate_1_s": "1/s",
+    "override_growth_rate_1_s": "1/s",
     "mass_kg": "kg",
 }
 
@@ -54,7 +61,8 @@ def study_dataset(spec: StudySpec, results: list[dict]):
     mass = np.full(shape, np.nan)
     modes = np.zeros(shape, dtype=np.int64)
     per_op = {k: np.full(shape + n_op, np.nan) for k in RESULT_FIELDS}
-    label = np.full(shape + n_op, "", dtype=object)
+    flags = {k: np.zeros(shape + n_op, dtype=bool) for k in FLAG_FIELDS}
+    labels = {k: np.full(shape + n_op, "", dtype=object) for k in LABEL_FIELDS}
     changed = sorted({k for c in cases for k, _ in c.changes})
     fields_ = {k: np.full(shape, np.nan) for k in changed}
     sampled = {d.name: np.full(shape, np.nan) for d in spec.dimensions} if spec.samples else {}
@@ -71,15 +79,19 @@ def study_dataset(spec: StudySpec, results: list[dict]):
         mass[at], modes[at] = r["mass_kg"], r["modes"]
         for k in RESULT_FIELDS:
             per_op[k][at] = np.asarray(r[k], dtype=float)
-        label[at] = np.asarray(r["squeal_mode"], dtype=object)
+        for k in FLAG_FIELDS:
+            flags[k][at] = np.asarray(r[k], dtype=bool)
+        for k in LABEL_FIELDS:
+            labels[k][at] = np.asarray(r[k], dtype=object)
 
     data = {
         "status": (design_dims, status.astype(str)),
         "reason": (design_dims, reason.astype(str)),
         "mass_kg": (design_dims, mass),
         "modes": (design_dims, modes),
-        "squeal_mode": (design_dims + op_dims, label.astype(str)),
     }
+    data |= {k: (design_dims + op_dims, v.astype(str)) for k, v in labels.items()}
+    data |= {k: (design_dims + op_dims, v) for k, v in flags.items()}
     data |= {k: (design_dims + op_dims, v) for k, v in per_op.items()}
     data |= {f"design_{k}": (design_dims, v) for k, v in fields_.items()}
     if spec.samples:  # the drawn values of each sampled quantity, as coordinates
@@ -96,6 +108,7 @@ def study_dataset(spec: StudySpec, results: list[dict]):
         "base_design": spec.base.name,
         "fidelity": spec.fidelity,
         "fmax_hz": spec.fmax_hz,
+        "named_mode": spec.base.squeal_mode,
         "spec": spec.source,
         "code_version": code_version(*CODE_PACKAGES),
         "created": _dt.datetime.now(_dt.UTC).isoformat(timespec="seconds"),
@@ -126,7 +139,7 @@ def _plots(ds, spec: StudySpec, folder: Path) -> list[str]:
         fig, axes = plt.subplots(1, 2, figsize=(10, 4))
         ok = ds["status"] == "ok"
         for ax, var, xlabel in (
-            (axes[0], "frequency_hz", "squeal tone [Hz]"),
+            (axes[0], "tone_hz", "squeal tone [Hz]"),
             (axes[1], "spl_db" if "sound" in spec.compute else "amplitude_m_s", None),
         ):
             values = ds[var].where(ok).values.ravel()

@@ -17,14 +17,25 @@ from geometry import DesignError, MeshError, WheelDesign
 
 from ..errors import BudgetError, RequestError
 
-__all__ = ["CODE_PACKAGES", "CaseJob", "run_case", "RESULT_FIELDS"]
+__all__ = ["CODE_PACKAGES", "FLAG_FIELDS", "LABEL_FIELDS", "CaseJob", "RESULT_FIELDS", "run_case"]
 
 #: The packages whose code a case's result depends on (its cache key, the dataset's
 #: provenance).
 CODE_PACKAGES = ("geometry", "fem", "reduced", "acoustics", "wheel_squeal")
 
-#: The per-operating-point results of a case, each (n_crab_velocities, n_rpm).
-RESULT_FIELDS = ("growth_rate_1_s", "frequency_hz", "amplitude_m_s", "spl_db", "sound_power_level_db")
+#: The per-operating-point results of a case, each (n_crab_velocities, n_rpm): numbers
+#: (NaN where they do not apply), flags, and mode labels ("" where none).
+RESULT_FIELDS = (
+    "tone_hz",
+    "growth_rate_1_s",
+    "amplitude_m_s",
+    "spl_db",
+    "sound_power_level_db",
+    "model_pick_growth_rate_1_s",
+    "override_growth_rate_1_s",
+)
+FLAG_FIELDS = ("squeals", "saturated")
+LABEL_FIELDS = ("verdict_mode", "model_pick")
 
 
 @dataclass(frozen=True)
@@ -50,12 +61,12 @@ def _failure(status: str, reason: str) -> dict:
 
 
 def run_case(job: CaseJob) -> dict:
-    """Mesh, modes, the stability map, the limit cycle of the fastest-growing mode and its
-    sound at every operating point. Returns ``status`` ("ok", "invalid", "failed"),
-    ``reason`` (``transient``: True when the environment caused the outcome, a budget
-    refusal) and, when ok, the mass, the modes found, and per operating point the
-    squeal mode's label (``squeal_mode``, "" where nothing grows) and
-    :data:`RESULT_FIELDS` (NaN where they do not apply)."""
+    """Mesh and modes once, then at every operating point the verdict of
+    ``wheel_squeal.chain.analyse`` (stability, limit cycle, sound, as ``compute`` asks).
+    Returns ``status`` ("ok", "invalid", "failed"), ``reason`` (``transient``: True when
+    the environment caused the outcome, a budget refusal) and, when ok, the mass, the
+    modes found, and per operating point :data:`RESULT_FIELDS`, :data:`FLAG_FIELDS` and
+    :data:`LABEL_FIELDS`."""
     from fem.eigen import EigenError, blas_threads
     from reduced.model import IntegrationError
 
@@ -80,47 +91,41 @@ def _run(design: WheelDesign, job: CaseJob) -> dict:
     from .. import api
     from ..budget import Budget
     from ..cache import StageCache
-    from ..presets import fidelity_for
-    from ..sound import Radiation, default_microphone, mode_radiation, sound_of
-    from ..stability import envelope
+    from ..chain import analyse
 
     cache = None if job.cache_dir is None else StageCache(job.cache_dir or None)
-    if "limit_cycle" in job.compute:
+    simulate = "limit_cycle" in job.compute
+    if simulate:
         load_compiled_kernels()  # a worker runs many simulations: compiled, from the first
     budget = Budget.from_environment(job.max_dofs)
     modes = api.compute_modes(design, job.fidelity, fmax_hz=job.fmax_hz, cache=cache, budget=budget)
     shape = (len(job.crab_velocities_m_s), len(job.rpm))
     out: dict = {"status": "ok", "reason": "", "mass_kg": wheel_mass(design), "modes": len(modes.modes)}
-    nan = np.full(shape, np.nan)
-    results = {k: nan.copy() for k in RESULT_FIELDS}
-    label = np.full(shape, "", dtype=object)
+    numbers = {k: np.full(shape, np.nan) for k in RESULT_FIELDS}
+    flags = {k: np.zeros(shape, dtype=bool) for k in FLAG_FIELDS}
+    labels = {k: np.full(shape, "", dtype=object) for k in LABEL_FIELDS}
+    memo: dict = {}  # each mode radiates once per design
     if "stability" in job.compute:
-        contact = api.contact_law(design)
-        env = envelope(design, modes, contact, job.crab_velocities_m_s, job.rpm)
-        results["growth_rate_1_s"] = env.growth_rate_1_s
-        microphone = default_microphone(design)
-        key = api.modes_cache_key(design, fidelity_for(job.fidelity), job.fmax_hz)
-        radiation: dict[int, Radiation] = {}
-        for (i, j), w in np.ndenumerate(env.winner):
-            if env.growth_rate_1_s[i, j] <= 0:
-                continue  # nothing grows: no squeal here
-            mode = env.modes[w]
-            label[i, j] = f"n={mode.nodal_diameters},c={mode.nodal_circles},{mode.family}"
-            results["frequency_hz"][i, j] = mode.frequency_hz
-            if "limit_cycle" not in job.compute:
-                continue
-            op = api.operating_point(design, rpm=job.rpm[j], crab_velocity=job.crab_velocities_m_s[i])
-            sim = api.simulate(api.modal_dof(mode, design), contact, op)
-            amp = float(sim.limit_cycle.velocity_amplitude_m_s)
-            results["amplitude_m_s"][i, j] = amp
-            if "sound" in job.compute and amp > 0:
-                if w not in radiation:
-                    radiation[w] = mode_radiation(
-                        design, modes, mode, mode.frequency_hz, microphone, cache, key
-                    )
-                levels = sound_of(radiation[w], amp, microphone).summary()
-                results["spl_db"][i, j] = levels["spl_db"]
-                results["sound_power_level_db"][i, j] = levels["sound_power_level_db"]
-    out |= {k: v.tolist() for k, v in results.items()}
-    out["squeal_mode"] = label.tolist()
+        for (i, j), _ in np.ndenumerate(numbers["tone_hz"]):
+            a = analyse(
+                design, rpm=job.rpm[j], crab_velocity=job.crab_velocities_m_s[i], fidelity=job.fidelity,
+                fmax_hz=job.fmax_hz, modes=modes, simulate_modes=simulate, sound="sound" in job.compute,
+                cache=cache, budget=budget, memo=memo, margin=False,
+            )  # fmt: skip
+            v = a.verdict.to_dict()
+            for k in ("tone_hz", "growth_rate_1_s", "amplitude_m_s", "spl_db", "sound_power_level_db"):
+                numbers[k][i, j] = np.nan if v[k] is None else v[k]
+            if not v["squeals"]:  # how far from squeal: the largest growth rate (<= 0)
+                numbers["growth_rate_1_s"][i, j] = a.stability.growth_rate_1_s
+            flags["squeals"][i, j], flags["saturated"][i, j] = v["squeals"], v["saturated"]
+            labels["verdict_mode"][i, j] = v["mode"] or ""
+            pick, named = a.verdict.pick, a.verdict.named
+            if pick is not None:
+                labels["model_pick"][i, j] = pick.label
+                numbers["model_pick_growth_rate_1_s"][i, j] = pick.growth_rate_1_s
+            if named is not None:
+                numbers["override_growth_rate_1_s"][i, j] = named.growth_rate_1_s
+    out |= {k: v.tolist() for k, v in numbers.items()}
+    out |= {k: v.tolist() for k, v in flags.items()}
+    out |= {k: v.tolist() for k, v in labels.items()}
     return out

@@ -1,0 +1,183 @@
+"""The verdict over a grid of crabbing velocities x wheel speeds (the paper's Fig. 5):
+at every point the rule of :mod:`wheel_squeal.verdict` (the named mode as asked where it
+squeals, else the fastest-growing mode), each mode's points run together in the
+compiled sweep kernel, and the levels of the mode that squeals there.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from geometry import WheelDesign
+
+from .budget import Budget
+from .errors import RequestError
+from .presets import rpm_to_speed
+from .progress import Progress
+
+if TYPE_CHECKING:
+    from fem.modes import ModeSet
+    from reduced import ContactLaw, ModalDOF
+
+    from .sound import Listener
+
+__all__ = ["VerdictGrid", "sweep_verdicts"]
+
+
+@dataclass(frozen=True, eq=False)
+class VerdictGrid:
+    """The verdict at every point of crabbing velocities (n_vc,) [m/s] x wheel speeds
+    (n_rpm,) [rev/min]; the 2-D arrays have shape (n_vc, n_rpm).
+
+    mode : the label of the mode that squeals ("" where none); squeals, saturated : bool
+    (saturated False: still growing at the end of the run, its amplitude and level are
+    not a limit cycle's); amplitude_m_s, tone_hz, time_to_saturation_s : of that mode's
+    run (NaN where no squeal); growth_rate_1_s : its linear growth rate (the largest of
+    all modes where none squeals); spl_db, sound_power_level_db : its levels (NaN without
+    sound or squeal). named : the mode named by the design or ``--mode`` ("" if none).
+    rolling_speeds_m_s : the speeds at the contact; duration_s : each run's length.
+    """
+
+    crab_velocities_m_s: np.ndarray
+    rpm: np.ndarray
+    rolling_speeds_m_s: np.ndarray
+    mode: np.ndarray
+    squeals: np.ndarray
+    saturated: np.ndarray
+    amplitude_m_s: np.ndarray
+    tone_hz: np.ndarray
+    growth_rate_1_s: np.ndarray
+    time_to_saturation_s: np.ndarray
+    spl_db: np.ndarray
+    sound_power_level_db: np.ndarray
+    named: str
+    duration_s: float
+
+
+def sweep_verdicts(
+    design: WheelDesign,
+    crab_velocities,
+    rpms,
+    duration: float,
+    *,
+    modeset: ModeSet | None = None,
+    dof: ModalDOF | None = None,
+    contact: ContactLaw,
+    mode: str = "auto",
+    sound: bool = False,
+    listener: Listener | None = None,
+    fidelity: str = "balanced",
+    fmax_hz: float = 5000.0,
+    cache=None,
+    budget: Budget | None = None,
+    progress: Progress | None = None,
+) -> VerdictGrid:
+    """The verdict over the grid, each point run ``duration`` [s] from rest: from the FE
+    modes (``modeset``, with the design's damping), or from one mode given directly
+    (``dof``: then it is the only candidate). ``sound`` adds the levels heard by
+    ``listener`` (the mode's radiation is computed once, at 1 m/s)."""
+    from reduced import OperatingPoint
+    from reduced.stability import friction_damping_ns_m, growth_rates
+    from reduced.sweep import MAX_SWEEP_STEPS, numba_threads, sweep_points, sweep_steps
+
+    from .api import modal_dof
+    from .modes import pick_mode
+    from .stability import excitable, mode_dofs
+
+    progress = progress or Progress(quiet=True)
+    budget = budget or Budget.from_environment()
+    vcs = np.atleast_1d(np.asarray(crab_velocities, float))
+    rpms = np.atleast_1d(np.asarray(rpms, float))
+    if not (np.all(np.isfinite(vcs)) and np.all(np.isfinite(rpms)) and np.all(rpms > 0)):
+        raise RequestError("crabbing velocities must be finite and wheel speeds positive")
+    if not (math.isfinite(duration) and duration > 0):
+        raise RequestError(f"duration must be positive, got {duration:g}")
+    speeds = np.array([rpm_to_speed(r, design.rolling_radius) for r in rpms])
+    ops = [OperatingPoint(float(v0), float(vc)) for vc in vcs for v0 in speeds]
+    shape = (len(vcs), len(rpms))
+    if dof is not None:
+        modes, dofs, named_i, named = [None], [dof], 0, "the given mode"
+    else:
+        modes = excitable(modeset)
+        if not modes:
+            raise RequestError("no mode below fmax is seen at the contact: nothing can squeal there")
+        dofs = mode_dofs(modes, design)
+        named_mode = None
+        if mode != "auto":
+            named_mode, _ = pick_mode(modeset, mode)
+        elif design.squeal_mode:
+            named_mode, _ = pick_mode(modeset, design.squeal_mode)
+        if named_mode is not None:
+            modal_dof(named_mode, design)  # a node at the contact: its one-line refusal
+        named_i = next((k for k, m in enumerate(modes) if named_mode and m.index == named_mode.index), None)
+        named = named_mode.label() if named_mode is not None else ""
+    damping = [d.damping_ns_m for d in dofs]
+    sigma = np.array([growth_rates(dofs, damping, friction_damping_ns_m(contact, op)) for op in ops])
+    steps = max(sweep_steps(dofs, contact, op, duration) for op in ops[:: max(1, len(ops) // 50)])
+    if steps > MAX_SWEEP_STEPS:
+        raise RequestError(
+            f"a sweep case needs {steps:,} RK4 steps (limit {MAX_SWEEP_STEPS:,}): a very stiff or light "
+            "mode or a very low rolling speed; shorten the duration"
+        )
+    runs = len(ops) * (2 if named_i is not None and dof is None else 1)
+    seconds = budget.check_sweep(runs, steps, 1, numba_threads(), "use fewer points or a shorter duration")
+    report = progress.counter("sweep", "cases") if seconds > 2.0 else None
+
+    label = np.full(len(ops), "", dtype=object)
+    out = {k: np.full(len(ops), np.nan) for k in ("amp", "freq", "tsat", "growth")}
+    squeals, saturated = np.zeros(len(ops), bool), np.zeros(len(ops), bool)
+    chosen = np.full(len(ops), -1)
+
+    def run(i_mode: int, where: np.ndarray) -> np.ndarray:
+        """Run mode ``i_mode`` at the points ``where``; keep those where it squeals."""
+        res = sweep_points(dofs[i_mode], contact, [ops[k] for k in where], duration, progress=report)
+        keep = res["squeal"]
+        for name in ("amp", "freq", "tsat"):
+            out[name][where[keep]] = res[name][keep]
+        squeals[where[keep]] = True
+        saturated[where[keep]] = res["saturated"][keep]
+        chosen[where[keep]] = i_mode
+        return where[keep]
+
+    remaining = np.arange(len(ops))
+    if named_i is not None:
+        took = run(named_i, remaining)
+        remaining = np.setdiff1d(remaining, took)
+    if dof is None:
+        fastest = np.argmax(sigma, axis=1)
+        grows = remaining[(sigma[remaining, fastest[remaining]] > 0) & (fastest[remaining] != named_i)]
+        for i_mode in np.unique(fastest[grows]):
+            run(int(i_mode), grows[fastest[grows] == i_mode])
+    for k in range(len(ops)):
+        if chosen[k] >= 0:
+            label[k] = modes[chosen[k]].label() if dof is None else named
+            out["growth"][k] = sigma[k, chosen[k]]
+        else:
+            out["growth"][k] = sigma[k].max()
+    spl, power = np.full(len(ops), np.nan), np.full(len(ops), np.nan)
+    if sound and squeals.any():
+        if dof is not None:
+            raise RequestError("--sound needs the FE mode (its shape radiates): not with --mass")
+        from acoustics import sound_power_level_db, spl_db
+
+        from .sound import mode_sound
+
+        for i_mode in np.unique(chosen[chosen >= 0]):
+            m = modes[int(i_mode)]
+            with progress.stage(f"sound of {m.label()}"):
+                unit = mode_sound(
+                    design, modeset, m, m.frequency_hz, 1.0, listener=listener, fidelity=fidelity,
+                    fmax_hz=fmax_hz, cache=cache, budget=budget,
+                )  # fmt: skip
+            at = chosen == i_mode
+            spl[at] = spl_db(unit.microphone_pressure_pa * out["amp"][at])
+            power[at] = sound_power_level_db(unit.sound_power_w * out["amp"][at] ** 2)
+    return VerdictGrid(
+        vcs, rpms, speeds, label.reshape(shape), squeals.reshape(shape), saturated.reshape(shape),
+        out["amp"].reshape(shape), out["freq"].reshape(shape), out["growth"].reshape(shape),
+        out["tsat"].reshape(shape), spl.reshape(shape), power.reshape(shape), named, float(duration),
+    )  # fmt: skip

@@ -1,0 +1,212 @@
+"""The one answer to "does it squeal, in which mode, at what tone, how loud": the rule
+and its result, the same for every command and the Python API.
+
+The rule, at one operating point:
+
+- no mode grows (the linear stability of every mode the contact sees): **no squeal**,
+  with the margin: the least stable mode, how fast it decays, and the damping ratio or
+  friction slope that would make it grow;
+- otherwise the squeal mode is the fastest-growing one (with a multi-mode run: the mode
+  that carries the multi-mode limit cycle, which the time domain decides);
+- a mode named by the design (``[squeal] mode``) or by the user (``--mode``) is an
+  **override**: it is simulated and reported as asked, and the model's own pick stands
+  beside it. When the named mode is stable here and another grows, the verdict says so
+  and reports the squeal (and level) of the model's pick: never "no squeal" while a mode
+  grows.
+
+Whether it squeals is the time domain's answer where the squeal mode was simulated (its
+oscillation sustains itself from rest), the linear analysis's otherwise. A run that
+ends still growing is a state of its own (``saturated`` False): its level is "not a
+limit cycle".
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    from fem.modes import Mode
+
+    from .api import Simulation
+    from .sound import Sound
+
+__all__ = ["ModeOutcome", "Verdict", "Wave", "wave_of"]
+
+#: How a mode is seen from the (fixed) contact: standing (the paper's model), or on a
+#: turning wheel, the backward or forward travelling wave of a pair.
+Wave = str
+
+
+def wave_of(mode: Mode, frequency_hz: float, wheel_speed_rad_s: float) -> Wave:
+    """ "standing", or for a pair on a turning wheel the wave whose frequency
+    (f0 -/+ n Omega / 2 pi) ``frequency_hz`` [Hz] is nearer: "backward" or "forward"."""
+    if wheel_speed_rad_s == 0.0 or mode.nodal_diameters == 0:
+        return "standing"
+    return "backward" if frequency_hz < mode.frequency_hz else "forward"
+
+
+def wave_frequency_hz(mode: Mode, wave: Wave, wheel_speed_rad_s: float) -> float:
+    """The tone of ``wave`` at the contact and a microphone fixed in space [Hz]: f0, or
+    f0 -/+ n Omega / 2 pi."""
+    shift = mode.nodal_diameters * wheel_speed_rad_s / (2 * math.pi)
+    return mode.frequency_hz + {"standing": 0.0, "backward": -shift, "forward": shift}[wave]
+
+
+def _num(x) -> float | None:
+    if x is None:
+        return None
+    x = float(x)
+    return x if math.isfinite(x) else None
+
+
+@dataclass(frozen=True)
+class ModeOutcome:
+    """One mode at the operating point: its linear growth rate and frequency, and when
+    simulated its limit cycle (``simulation``) and sound.
+
+    growth_rate_1_s : the linear growth rate, 1/s. damped_frequency_hz : the linear
+    frequency at the contact, Hz. wave : see :func:`wave_of`. energy_share : its share of
+    a multi-mode limit cycle's vibration energy (None: simulated alone).
+    """
+
+    mode: Mode
+    growth_rate_1_s: float
+    damped_frequency_hz: float
+    wave: Wave = "standing"
+    simulation: Simulation | None = None
+    sound: Sound | None = None
+    energy_share: float | None = None
+
+    @property
+    def label(self) -> str:
+        return self.mode.label()
+
+    @property
+    def grows(self) -> bool:
+        """Whether its linear growth rate is positive."""
+        return self.growth_rate_1_s > 0.0
+
+    @property
+    def squeals(self) -> bool:
+        """The time domain's answer (a self-sustained oscillation from rest) where it was
+        simulated, the linear one otherwise."""
+        if self.simulation is None:
+            return self.grows
+        return bool(self.simulation.limit_cycle.squeal)
+
+    @property
+    def saturated(self) -> bool:
+        """Whether the simulated oscillation reached its limit cycle (False: still
+        growing at the end of the run, or not simulated)."""
+        return self.simulation is not None and bool(self.simulation.limit_cycle.saturated)
+
+    @property
+    def amplitude_m_s(self) -> float | None:
+        """Contact velocity amplitude [m/s] at the end of the run (None: not simulated)."""
+        if self.simulation is None:
+            return None
+        return _num(self.simulation.limit_cycle.velocity_amplitude_m_s)
+
+    @property
+    def tone_hz(self) -> float:
+        """The tone a fixed microphone hears [Hz]: the limit cycle's frequency where it
+        squeals, else the linear frequency."""
+        if self.simulation is not None and self.squeals:
+            f = _num(self.simulation.limit_cycle.frequency_hz)
+            if f is not None:
+                return f
+        return self.damped_frequency_hz
+
+    @property
+    def duration_s(self) -> float | None:
+        return None if self.simulation is None else float(self.simulation.history.t[-1])
+
+    def levels(self) -> dict:
+        """SPL at the microphone and sound power level [dB] (None without sound)."""
+        s = self.sound.summary() if self.sound is not None else {}
+        return {"spl_db": s.get("spl_db"), "sound_power_level_db": s.get("sound_power_level_db")}
+
+    def to_dict(self) -> dict:
+        return {
+            "mode": self.label,
+            "mode_index": self.mode.index,
+            "squeals": self.squeals,
+            "tone_hz": _num(self.tone_hz),
+            "wave": self.wave,
+            "growth_rate_1_s": _num(self.growth_rate_1_s),
+            "amplitude_m_s": self.amplitude_m_s,
+            "saturated": self.saturated,
+            **self.levels(),
+            **({"energy_share": self.energy_share} if self.energy_share is not None else {}),
+        }
+
+
+@dataclass(frozen=True)
+class Verdict:
+    """The answer at one operating point (see the module docstring).
+
+    squeals : bool. outcome : the squealing mode's :class:`ModeOutcome` (None: no
+    squeal). reason : the rule applied, in words. named : the outcome of the mode the
+    design or the user named (None: none named). pick : the model's own pick (the
+    fastest-growing mode, or the multi-mode carrier; None: nothing grows). margin : with
+    no squeal, the least stable mode, its growth rate and what would make it grow.
+    """
+
+    squeals: bool
+    outcome: ModeOutcome | None
+    reason: str
+    named: ModeOutcome | None = None
+    pick: ModeOutcome | None = None
+    margin: dict | None = None
+
+    def get(self, key: str):
+        """A field of the verdict's outcome (None without squeal)."""
+        return None if self.outcome is None else self.outcome.to_dict().get(key)
+
+    def to_dict(self) -> dict:
+        """``summary.json``'s ``verdict``."""
+        o = self.outcome
+        out = {
+            "squeals": self.squeals,
+            "mode": o.label if o else None,
+            "mode_index": o.mode.index if o else None,
+            "tone_hz": _num(o.tone_hz) if o else None,
+            "wave": o.wave if o else None,
+            "growth_rate_1_s": _num(o.growth_rate_1_s) if o else None,
+            "amplitude_m_s": o.amplitude_m_s if o else None,
+            "saturated": o.saturated if o else False,
+            **(o.levels() if o else {"spl_db": None, "sound_power_level_db": None}),
+            "reason": self.reason,
+        }
+        if self.named is not None:
+            out["override"] = self.named.to_dict()
+            out["model_pick"] = self.pick.to_dict() if self.pick is not None else None
+        if self.margin is not None:
+            out["margin"] = self.margin
+        return out
+
+    def lines(self) -> list[str]:
+        """The verdict as the last lines a command prints."""
+        o = self.outcome
+        if not self.squeals or o is None:
+            return [f"VERDICT: no squeal. {self.reason}"]
+        state = (
+            "limit cycle"
+            if o.saturated
+            else f"still growing after {o.duration_s:.3g} s: not a limit cycle"
+            if o.simulation is not None
+            else "linear analysis only"
+        )
+        levels = o.levels()
+        spl, power = levels["spl_db"], levels["sound_power_level_db"]
+        level = f", SPL {spl:.1f} dB at the microphone, sound power {power:.1f} dB" if spl is not None else ""
+        amplitude = (
+            f", {o.amplitude_m_s:.4g} m/s at the contact ({state})" if o.amplitude_m_s is not None else ""
+        )
+        wave = f", its {o.wave} wave" if o.wave != "standing" else ""
+        return [
+            f"VERDICT: squeals in {o.label} at {o.tone_hz:.1f} Hz{wave}{amplitude}{level}",
+            f"  why: {self.reason}",
+        ]
