@@ -7,11 +7,10 @@ nothing of those downstream of them. The notebook API (plain functions on plain
 objects, :mod:`wheel_squeal.api`)::
 
     import wheel_squeal as ws
-    design = ws.load_design()                       # designs/table1.toml
-    modes = ws.compute_modes(design, "balanced")    # fem.ModeSet
-    mode, why = ws.pick_mode(modes, "n=3")
-    sim = ws.simulate(ws.modal_dof(mode, design), ws.contact_law(design),
-                      ws.operating_point(design, rpm=800, crab_velocity=0.39))
+    a = ws.analyse(ws.load_design("thin_web"), rpm=800, crab_velocity=0.39)
+    print(a.verdict.lines()[0])                     # does it squeal, in which mode, how loud
+    modes = a.modeset                               # fem.ModeSet; a.rows: every mode's stability
+    sim = a.outcome.simulation                      # the limit cycle the verdict rests on
 
 The command line: ``wheel-squeal --help`` (:mod:`wheel_squeal.cli`).
 """
@@ -29,18 +28,33 @@ from .api import (
     modes_cache_key,
     operating_point,
     pick_mode,
+    shipped_designs,
     simulate,
     sweep,
 )
 from .budget import Budget
 from .cache import CacheMiss, StageCache
+from .chain import Analysis, analyse
 from .errors import BudgetError, RequestError
 from .presets import DEFAULT_DESIGN, DEFAULT_FIDELITY, FIDELITIES, Fidelity, fidelity_for
 from .progress import Progress
+from .sound import Listener, Sound, mode_sound
 from .stability import choose_mode, envelope, mitigation, multimode, stability_table
+from .sweeps import VerdictGrid, sweep_verdicts
+from .verdict import ModeOutcome, Verdict
 
 __all__ = [
+    "Analysis",
     "Budget",
+    "Listener",
+    "ModeOutcome",
+    "Sound",
+    "Verdict",
+    "VerdictGrid",
+    "analyse",
+    "mode_sound",
+    "shipped_designs",
+    "sweep_verdicts",
     "BudgetError",
     "CacheMiss",
     "DEFAULT_DESIGN",

@@ -37,12 +37,13 @@ def write_sound_plot(path: Path, sound) -> Path:
         t = Triangulation(sign * pts[:, 0], pts[:, 1], tri[inside])
         im = ax.tripcolor(t, level, shading="gouraud", cmap="magma", vmin=top - 40, vmax=top)
     r, z, _ = sound.microphone
-    ax.plot([r], [z], "c^", ms=8, label="microphone")
+    ax.plot([r], [z], "c^", ms=8, label=f"microphone (r {r:g} m, z {z:g} m)")
     ax.set(
         aspect="equal",
         xlabel="r (m)  [theta = 0 right, pi left]",
         ylabel="z (m)",
-        title=f"SPL (dB re 20 uPa), {field.frequency_hz:.0f} Hz, n = {field.harmonic}",
+        title=f"SPL (dB re 20 uPa), {field.frequency_hz:.0f} Hz, n = {field.harmonic}, "
+        f"{v:.3g} m/s at the contact",
     )
     ax.legend(loc="lower right", fontsize=8)
     fig.colorbar(im, ax=ax, shrink=0.85)

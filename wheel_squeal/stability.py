@@ -292,7 +292,7 @@ class MultiMode:
         c = self.content
         return {
             "modes": [m.index for m in self.modes],
-            "energy_share": {str(m.index): float(s) for m, s in zip(self.modes, c.energy_share)},
+            "energy_share": {m.label(): float(s) for m, s in zip(self.modes, c.energy_share)},
             "carrier_mode": self.carrier.index,
             "carrier": self.carrier.label(),
             "peak_frequency_hz": c.peak_frequency_hz,

@@ -9,7 +9,6 @@ module imports numpy at most (no SciPy, matplotlib, numba, gmsh or scikit-fem), 
 from __future__ import annotations
 
 import argparse
-import math
 from pathlib import Path
 
 from acoustics.medium import AIR
@@ -29,12 +28,9 @@ from ..presets import (
     FIDELITIES,
     MAX_MULTIMODE,
 )
+from .arguments import c22_value, count, finite, grid_axis, non_negative, positive
 
-__all__ = ["MAX_AXIS_POINTS", "build_parser", "grid_axis"]
-
-#: Most points of one sweep axis (START:STOP:N): a typo like 0:1:1000000000 must not
-#: allocate gigabytes before the budget has a say.
-MAX_AXIS_POINTS = 1_000_000
+__all__ = ["build_parser"]
 
 
 class _Parser(argparse.ArgumentParser):
@@ -42,63 +38,6 @@ class _Parser(argparse.ArgumentParser):
 
     def error(self, message: str):  # type: ignore[override]
         self.exit(2, f"error: {message} (see {self.prog} --help)\n")
-
-
-def _number(text: str) -> float:
-    try:
-        return float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected a number, got {text!r}") from None
-
-
-def positive(text: str) -> float:
-    v = _number(text)
-    if not (math.isfinite(v) and v > 0):
-        raise argparse.ArgumentTypeError(f"must be positive, got {text}")
-    return v
-
-
-def non_negative(text: str) -> float:
-    v = _number(text)
-    if not (math.isfinite(v) and v >= 0):
-        raise argparse.ArgumentTypeError(f"must be zero or positive, got {text}")
-    return v
-
-
-def finite(text: str) -> float:
-    v = _number(text)
-    if not math.isfinite(v):
-        raise argparse.ArgumentTypeError(f"must be finite, got {text}")
-    return v
-
-
-def c22_value(text: str) -> float | str:
-    return "kalker" if text.lower() == "kalker" else positive(text)
-
-
-def grid_axis(text: str) -> list[float]:
-    """``START:STOP:N`` (N points, inclusive) or a comma list, as a list of floats."""
-    bad = argparse.ArgumentTypeError(f"expected START:STOP:N or a comma list of numbers, got {text!r}")
-    try:
-        if ":" in text:
-            a, b, n = text.split(":")
-            start, stop, count = float(a), float(b), int(n)
-            if count < 1:
-                raise bad
-            if count > MAX_AXIS_POINTS:
-                raise argparse.ArgumentTypeError(
-                    f"{count:,} points is more than a sweep axis takes ({MAX_AXIS_POINTS:,})"
-                )
-            values = (
-                [start + (stop - start) * i / (count - 1) for i in range(count)] if count > 1 else [start]
-            )
-        else:
-            values = [float(x) for x in text.split(",")]
-    except ValueError:
-        raise bad from None
-    if not all(math.isfinite(v) for v in values):
-        raise argparse.ArgumentTypeError(f"values must be finite, got {text!r}")
-    return values
 
 
 def _add_axis(
@@ -233,16 +172,6 @@ def _add_microphone(p: argparse.ArgumentParser) -> None:
     )
 
 
-def _count(text: str) -> int:
-    try:
-        n = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected a whole number, got {text!r}") from None
-    if n < 1:
-        raise argparse.ArgumentTypeError(f"must be 1 or more, got {text}")
-    return n
-
-
 def _add_modal(p: argparse.ArgumentParser) -> None:
     p.add_argument(
         "--mass", type=positive, help="modal mass at the contact [kg] (with --stiffness, --damping: no FE)"
@@ -280,7 +209,7 @@ def build_parser(prog: str = "wheel-squeal") -> argparse.ArgumentParser:
     _add_microphone(p)
     p.add_argument(
         "--multimode",
-        type=_count,
+        type=count,
         nargs="?",
         const=MAX_MULTIMODE,
         metavar="K",
@@ -373,7 +302,7 @@ def build_parser(prog: str = "wheel-squeal") -> argparse.ArgumentParser:
     )
     p.add_argument("spec", type=Path, help="study specification TOML (see studies/)")
     _add_out(p)
-    p.add_argument("--workers", type=_count, help="local worker processes (default: the machine's cores)")
+    p.add_argument("--workers", type=count, help="local worker processes (default: the machine's cores)")
     p.add_argument(
         "--scheduler",
         help="dask.distributed scheduler address, e.g. tcp://host:8786 (default $DASK_SCHEDULER_ADDRESS)",

@@ -6,7 +6,7 @@ import time
 
 import numpy as np
 
-from .. import api, writers
+from .. import api, compare_files, stability_files, writers
 from ..errors import RequestError
 from ..outputs import result_folder, write_csv, write_json
 from ..plotting import PlotWorkers
@@ -22,6 +22,7 @@ from ..stability import (
     stability_table,
     wheel_speed_rad_s,
 )
+from .arguments import grid_axis
 from .common import (
     analysis_of,
     budget_of,
@@ -34,7 +35,6 @@ from .common import (
     squeal_mode,
     write_files,
 )
-from .parser import grid_axis
 from .sound import listener_of, write_sound_files
 
 __all__ = ["cmd_compare", "cmd_run", "cmd_simulate", "cmd_stability", "cmd_sweep"]
@@ -56,7 +56,7 @@ def cmd_run(args, plots: PlotWorkers) -> int:
         if a.verdict.outcome is not None and a.verdict.outcome.sound is not None:
             write_sound_files(tmp, a.verdict.outcome.sound, plots)
         if a.multimode is not None:
-            plots.submit(writers.write_multimode_plot, tmp / "multimode.png", a.multimode)
+            plots.submit(stability_files.write_multimode_plot, tmp / "multimode.png", a.multimode)
         ms = a.modeset
         shown = [o.mode.index] if o is not None else []
         indices = {"selected": shown, "none": [], "all": list(range(len(ms.modes)))}[args.render]
@@ -76,7 +76,7 @@ def cmd_run(args, plots: PlotWorkers) -> int:
     if a.verdict.outcome is not None and a.verdict.outcome.sound is not None:
         print(sound_text(a.verdict.outcome.sound.summary()))
     if a.multimode is not None:
-        print(writers.multimode_text(a.multimode))
+        print(stability_files.multimode_text(a.multimode))
     print("\n".join(a.verdict.lines()))
     seconds = time.perf_counter() - t0
     print(f"files: {out}/ (summary.json, timeseries.csv, *.png, modes.vtu, pressure.vtu)  [{seconds:.1f} s]")
@@ -179,9 +179,9 @@ def cmd_compare(args) -> int:
                 analyses.append(analysis_of(args, d, progress, cache))
             except RequestError as exc:
                 raise RequestError(f"design {d.name}: {exc}") from None
-        rows = [writers.compare_row(a) for a in analyses]
+        rows = [compare_files.compare_row(a) for a in analyses]
         write_csv(tmp / "compare.csv", rows)
-        writers.write_compare_plot(tmp / "compare.png", rows, analyses)
+        compare_files.write_compare_plot(tmp / "compare.png", rows, analyses)
         write_json(
             tmp / "summary.json",
             {
@@ -191,7 +191,7 @@ def cmd_compare(args) -> int:
                 "operating_point": writers.operating_point_summary(analyses[0].operating_point, designs[0]),
             },
         )
-    print(writers.compare_table(rows))
+    print(compare_files.compare_table(rows))
     for a in analyses:
         print(f"{a.design.name}: " + "\n  ".join(a.verdict.lines()))
     print(f"-> {out}")
@@ -271,12 +271,12 @@ def cmd_stability(args) -> int:
                         for key, rot in (("rotation_off", False), ("rotation_on", True))
                     },
                 }
-            writers.write_envelope_csv(tmp / "stability.csv", env)
-            writers.write_envelope_plot(tmp / "stability.png", env)
+            stability_files.write_envelope_csv(tmp / "stability.csv", env)
+            stability_files.write_envelope_plot(tmp / "stability.png", env)
         write_json(tmp / "summary.json", summary)
-    print(writers.stability_text(rows, result.winner))
+    print(stability_files.stability_text(rows, result.winner))
     if axes is not None:
-        print(writers.mitigation_text(summary["mitigation"]))
+        print(stability_files.mitigation_text(summary["mitigation"]))
     print("\n".join(a.verdict.lines()))
     print(f"-> {out}")
     return 0
