@@ -138,7 +138,7 @@ def test_run_reports_sound_and_sweep_draws_fig5_in_db(tmp_path):
     )
     amp = json.loads((tmp_path / "run" / "summary.json").read_text())["limit_cycle"]["velocity_amplitude_m_s"]
     assert s["spl_db"] == pytest.approx(s["per_unit_velocity"]["spl_db"] + 20 * math.log10(amp), abs=1e-6)
-    assert "SOUND: sound power level" in r.stdout and "VERDICT: squeals" in r.stdout
+    assert "sound: sound power level" in r.stdout and "VERDICT: squeals" in r.stdout
     assert (tmp_path / "run" / "sound_field.png").stat().st_size > 20_000
     assert (tmp_path / "run" / "pressure.vtu").exists()
     r = run_cli(

@@ -92,14 +92,14 @@ def sound_text(summary: dict) -> str:
     where = f"at the microphone (r {r:g} m, z {z:g} m, theta {theta:g})"
     v = summary["velocity_amplitude_m_s"]
     if summary["sound_power_level_db"] is None:
-        return f"SOUND: none (contact velocity amplitude {v:g} m/s)"
+        return f"sound: none (contact velocity amplitude {v:g} m/s)"
     spl = (
         f"SPL {summary['spl_db']:.1f} dB re 20 uPa {where}"
         if summary["spl_db"] is not None
         else f"no pressure {where}: a pressure node of this mode (on the axis, or theta on a nodal diameter)"
     )
     return (
-        f"SOUND: sound power level {summary['sound_power_level_db']:.1f} dB re 1 pW, {spl}, "
+        f"sound: sound power level {summary['sound_power_level_db']:.1f} dB re 1 pW, {spl}, "
         f"radiation efficiency {summary['radiation_efficiency']:.3g}, {summary['frequency_hz']:.1f} Hz, "
         f"contact velocity {v:.4g} m/s (wheel alone, free field)"
     )

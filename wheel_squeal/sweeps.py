@@ -81,7 +81,7 @@ def sweep_verdicts(
     (``dof``: then it is the only candidate). ``sound`` adds the levels heard by
     ``listener`` (the mode's radiation is computed once, at 1 m/s)."""
     from reduced import OperatingPoint
-    from reduced.stability import friction_damping_ns_m, growth_rates
+    from reduced.stability import eigen_solve_seconds, friction_damping_ns_m, growth_rates
     from reduced.sweep import MAX_SWEEP_STEPS, numba_threads, sweep_points, sweep_steps
 
     from .api import modal_dof
@@ -97,8 +97,8 @@ def sweep_verdicts(
     if not (math.isfinite(duration) and duration > 0):
         raise RequestError(f"duration must be positive, got {duration:g}")
     speeds = np.array([rpm_to_speed(r, design.rolling_radius) for r in rpms])
-    ops = [OperatingPoint(float(v0), float(vc)) for vc in vcs for v0 in speeds]
     shape = (len(vcs), len(rpms))
+    n_points = shape[0] * shape[1]
     if dof is not None:
         modes, dofs, named_i, named = [None], [dof], 0, "the given mode"
     else:
@@ -115,17 +115,28 @@ def sweep_verdicts(
             modal_dof(named_mode, design)  # a node at the contact: its one-line refusal
         named_i = next((k for k, m in enumerate(modes) if named_mode and m.index == named_mode.index), None)
         named = named_mode.label() if named_mode is not None else ""
-    damping = [d.damping_ns_m for d in dofs]
-    sigma = np.array([growth_rates(dofs, damping, friction_damping_ns_m(contact, op)) for op in ops])
-    steps = max(sweep_steps(dofs, contact, op, duration) for op in ops[:: max(1, len(ops) // 50)])
+    # the cost first, from the axes alone: the slowest points are the lowest speeds
+    corners = [
+        OperatingPoint(float(v0), float(vc)) for vc in (vcs.min(), vcs.max()) for v0 in (speeds.min(),)
+    ]
+    steps = max(sweep_steps(dofs, contact, op, duration) for op in corners)
     if steps > MAX_SWEEP_STEPS:
         raise RequestError(
             f"a sweep case needs {steps:,} RK4 steps (limit {MAX_SWEEP_STEPS:,}): a very stiff or light "
             "mode or a very low rolling speed; shorten the duration"
         )
-    runs = len(ops) * (2 if named_i is not None and dof is None else 1)
-    seconds = budget.check_sweep(runs, steps, 1, numba_threads(), "use fewer points or a shorter duration")
+    runs = n_points * (2 if named_i is not None and dof is None else 1)
+    remedy = "use fewer points or a shorter duration"
+    seconds = budget.check_sweep(runs, steps, 1, numba_threads(), remedy)
+    seconds += budget.check_work(
+        f"the stability of {len(dofs)} modes at {n_points:,} points",
+        n_points * eigen_solve_seconds(dofs),
+        remedy,
+    )
     report = progress.counter("sweep", "cases") if seconds > 2.0 else None
+    ops = [OperatingPoint(float(v0), float(vc)) for vc in vcs for v0 in speeds]
+    damping = [d.damping_ns_m for d in dofs]
+    sigma = np.array([growth_rates(dofs, damping, friction_damping_ns_m(contact, op)) for op in ops])
 
     label = np.full(len(ops), "", dtype=object)
     out = {k: np.full(len(ops), np.nan) for k in ("amp", "freq", "tsat", "growth")}
