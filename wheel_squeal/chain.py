@@ -122,6 +122,7 @@ def analyse(
     progress: Progress | None = None,
     memo: dict | None = None,
     margin: bool = True,
+    simulate_stable: bool = True,
 ) -> Analysis:
     """The chain at one operating point: modes, stability of every mode, the verdict
     (:mod:`wheel_squeal.verdict`), the limit cycle of the verdict's mode and its sound.
@@ -149,6 +150,8 @@ def analyse(
         radiation of each mode is computed once.
     margin : with no squeal, find how far the least stable mode is from growing (one
         root find, some 20 eigen-solves); False leaves it out (studies).
+    simulate_stable : simulate a named mode even where it is linearly stable (from rest
+        it decays: the run shows how); False takes the linear answer (studies).
 
     Returns
     -------
@@ -193,7 +196,7 @@ def analyse(
 
     def run(m: Mode) -> ModeOutcome:
         o = linear(m)
-        if not simulate_modes:
+        if not simulate_modes or (not o.grows and not simulate_stable):
             return o
         with progress.stage(f"squeal model of {m.label()}"):
             sim = simulate(modal_dof(m, design), contact, op, duration, omega, budget)

@@ -110,7 +110,7 @@ def _run(design: WheelDesign, job: CaseJob) -> dict:
             a = analyse(
                 design, rpm=job.rpm[j], crab_velocity=job.crab_velocities_m_s[i], fidelity=job.fidelity,
                 fmax_hz=job.fmax_hz, modes=modes, simulate_modes=simulate, sound="sound" in job.compute,
-                cache=cache, budget=budget, memo=memo, margin=False,
+                cache=cache, budget=budget, memo=memo, margin=False, simulate_stable=False,
             )  # fmt: skip
             v = a.verdict.to_dict()
             for k in ("tone_hz", "growth_rate_1_s", "amplitude_m_s", "spl_db", "sound_power_level_db"):
