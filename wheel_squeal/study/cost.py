@@ -23,9 +23,9 @@ SIMULATION_SECONDS_PER_POINT = 0.012
 #: wherever it grows, and a named mode that grows slowly runs long (to 4.8 s) before its
 #: outcome is known: measured 72 ms per point on rim_web_grid (Table 1 names (3,0)).
 NAMED_SIMULATION_SECONDS_PER_POINT = 0.05
-#: Modes whose sound a case radiates (the winners over its operating grid): one or two
-#: on the shipped specs.
-RADIATED_MODES = 2
+#: Modes whose sound a case radiates (those that squeal over its operating grid, each
+#: once): one, sometimes two, on the shipped specs.
+RADIATED_MODES = 1
 #: The frequency of a radiated mode, as a fraction of the band's top: the modes that
 #: grow fastest are the low ones ((1,0) at 261 Hz and (2,0) at 471 Hz below 3 kHz on
 #: the shipped specs).
