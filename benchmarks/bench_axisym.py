@@ -18,8 +18,8 @@ from pathlib import Path
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from fem.axisym import solve_axisymmetric  # noqa: E402
-from geometry.design import load_design  # noqa: E402
 from geometry.gmsh_mesh import mesh_profile  # noqa: E402
+from wheel_squeal import load_design  # noqa: E402
 
 
 def key(m):
@@ -35,7 +35,7 @@ def main(argv=None) -> int:
         "--design", type=Path, default=Path(__file__).resolve().parents[1] / "designs" / "table1.toml"
     )
     args = ap.parse_args(argv)
-    d = load_design(args.design)
+    d = load_design(args.design).wheel
 
     t = time.perf_counter()
     ref = solve_axisymmetric(

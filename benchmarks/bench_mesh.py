@@ -16,13 +16,13 @@ from pathlib import Path
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from geometry import (  # noqa: E402
-    load_design,
     mesh_profile,
     mesh_size,
     mesh_wheel,
     profile_area,
     revolved_volume,
 )
+from wheel_squeal import load_design  # noqa: E402
 
 
 def run(design, dim: int, order: int, elements_through_web: int | None, repeat: int) -> dict:
@@ -54,7 +54,7 @@ def main(argv=None) -> int:
     ap.add_argument("--repeat", type=int, default=3)
     ap.add_argument("--json", action="store_true", help="print JSON instead of a table")
     args = ap.parse_args(argv)
-    design = load_design(args.design)
+    design = load_design(args.design).wheel
     rows = []
     for dim, fine in ((2, 8), (3, 2)):
         for order in (1, 2):

@@ -63,7 +63,7 @@ from fem.cyclic import default_sectors, solve_cyclic  # noqa: E402
 from fem.eigen import available_factorizations  # noqa: E402
 from fem.solid import PAIR_RTOL, assemble, solve_solid  # noqa: E402
 from geometry import mesh_profile, mesh_wheel, revolve_profile  # noqa: E402
-from geometry.design import load_design  # noqa: E402
+from wheel_squeal import load_design  # noqa: E402
 
 try:
     from fem.axisym import solve_axisymmetric  # noqa: E402
@@ -351,7 +351,7 @@ def main(argv=None) -> int:
     )
     args = ap.parse_args(argv)
     reps = 1 if args.quick else args.reps
-    d = load_design(args.design)
+    d = load_design(args.design).wheel
     print(
         f"design: {args.design or 'WheelDesign() (Table 1 values, rim depth 30 mm)'}; "
         f"factorisations available: {', '.join(available_factorizations())}"

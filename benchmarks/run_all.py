@@ -184,7 +184,7 @@ def bench_mesh(design, table: Table, quick: bool) -> None:
 
     bal = ws.FIDELITIES["balanced"]
     s, m, _ = timed(
-        lambda: mesh_profile(design, elements_through_web=bal.elements_through_web, order=bal.mesh_order),
+        lambda: mesh_profile(design.wheel, elements_through_web=bal.elements_through_web, order=bal.mesh_order),
         3 if quick else 5,
     )
     table.add(
@@ -196,7 +196,7 @@ def bench_mesh(design, table: Table, quick: bool) -> None:
     )
     n = 3 if quick else 5
     s, m, _ = timed(
-        lambda: revolve_profile(mesh_profile(design, elements_through_web=1, order=2), CYCLIC_SECTORS), n
+        lambda: revolve_profile(mesh_profile(design.wheel, elements_through_web=1, order=2), CYCLIC_SECTORS), n
     )
     table.add(
         "mesh",
@@ -206,7 +206,7 @@ def bench_mesh(design, table: Table, quick: bool) -> None:
         note=f"profile + revolve_profile: {m.n_nodes} nodes, {m.n_elements} tetrahedra",
     )
     n = 1 if quick else 3
-    s, m, _ = timed(lambda: mesh_wheel(design, elements_through_web=1, order=2), n)
+    s, m, _ = timed(lambda: mesh_wheel(design.wheel, elements_through_web=1, order=2), n)
     table.add(
         "mesh",
         "3-D gmsh wheel (1/web, curved tetra10)",
@@ -239,17 +239,17 @@ def bench_modes(design, table: Table, quick: bool) -> tuple:
     from geometry import mesh_profile, mesh_wheel, revolve_profile
 
     t = time.perf_counter()
-    mesh = revolve_profile(mesh_profile(design, elements_through_web=1, order=2), CYCLIC_SECTORS)
+    mesh = revolve_profile(mesh_profile(design.wheel, elements_through_web=1, order=2), CYCLIC_SECTORS)
     t_mesh = time.perf_counter() - t
     N = mesh.n_sectors
     # the eigenvalues in the padded band (untimed): a pair (0 < n < N/2) counts twice;
     # eigsh is given exactly that many, so it runs once
-    ref = solve_cyclic(design, mesh, fmax_hz=5000.0 * (1 + PAIR_RTOL))
+    ref = solve_cyclic(design.wheel, mesh, fmax_hz=5000.0 * (1 + PAIR_RTOL))
     lam = eigenvalue_list(ref, N)
     nev = len(lam)
 
     def baseline():
-        return eigsh_baseline(design, mesh, nev)[:3]
+        return eigsh_baseline(design.wheel, mesh, nev)[:3]
 
     n_fast = 3 if quick else 5
     n_base = 1 if quick else 2
@@ -257,7 +257,7 @@ def bench_modes(design, table: Table, quick: bool) -> tuple:
     for i in range(n_fast):  # interleaved: the same machine load for both
         if i < n_base:
             base.append(baseline())
-        ms = solve_cyclic(design, mesh, fmax_hz=5000.0)
+        ms = solve_cyclic(design.wheel, mesh, fmax_hz=5000.0)
         cyc.append((ms.timings_s["eigen"], ms.timings_s["total"]))
     med = statistics.median
     b_eig, b_tot = med(b[1] for b in base), med(b[0] + b[1] for b in base)
@@ -288,9 +288,9 @@ def bench_modes(design, table: Table, quick: bool) -> tuple:
         f"axisym balanced (mesh + modes) {_fmt_s(s_bal)} is {(t_mesh + c_tot) / s_bal:.1f}x faster",
     )
 
-    gm = mesh_wheel(design, elements_through_web=1, order=2)
+    gm = mesh_wheel(design.wheel, elements_through_web=1, order=2)
     n_tet = 1 if quick else 2
-    s_full, full, _ = timed(lambda: solve_solid(design, gm, order=2, fmax_hz=5000.0), n_tet)
+    s_full, full, _ = timed(lambda: solve_solid(design.wheel, gm, order=2, fmax_hz=5000.0), n_tet)
     table.add(
         "modes",
         "3-D P2 gmsh tet (1/web) solve_solid",
@@ -401,7 +401,7 @@ def bench_sweep(design, dof, contact, table: Table, quick: bool) -> None:
 
     vcs = np.linspace(0.0, 0.5, 50)
     rpms = np.array([400.0, 600.0, 800.0])
-    speeds = rpms * 2 * math.pi / 60 * design.rolling_radius
+    speeds = rpms * 2 * math.pi / 60 * design.wheel.rolling_radius
     t = time.perf_counter()
     ws.sweep(dof, contact, [0.39], [speeds[-1]], 0.01)
     t_first = time.perf_counter() - t

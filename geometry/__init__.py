@@ -1,11 +1,11 @@
-"""Wheel designs and their geometry: parameters or an outline, half-profile, meshes.
+"""Wheels and their geometry: parameters or an outline, half-profile, meshes.
 
 Knows nothing of finite elements: meshes leave this package as numpy arrays
 (:mod:`geometry.mesh`), made by gmsh (:mod:`geometry.gmsh_mesh`) or by revolving the
 profile mesh in identical sectors (:mod:`geometry.revolve`).
 """
 
-from .design import SECTIONS, STRUCTURAL_FIELDS, DesignError, WheelDesign, load_design, tread_radius
+from .design import SECTIONS, STRUCTURAL_FIELDS, DesignError, WheelDesign, tread_radius
 from .gmsh_mesh import mesh_profile, mesh_wheel
 from .mesh import (
     DEFAULT_ELEMENTS_THROUGH_WEB,
@@ -36,7 +36,6 @@ __all__ = [
     "WheelDesign",
     "estimate_element_count",
     "half_profile",
-    "load_design",
     "mesh_profile",
     "mesh_size",
     "mesh_wheel",

@@ -1,8 +1,11 @@
-"""Wheel designs: SI parameters with Table 1 defaults, validation, TOML I/O and hashing.
+"""Wheels: the cross-section and the material, SI parameters with Table 1 defaults,
+validation, their TOML sections and hashing.
 
-A design is a flat, frozen dataclass. In TOML the fields are grouped in sections
-(``[wheel]``, ``[material]``, ``[roller]``, ``[contact]``, ``[damping]``) so that a file
-reads like a design card; every key is checked, so a typo cannot pass silently.
+A wheel is a flat, frozen dataclass. In a design file its fields are the sections
+``[wheel]`` (or ``[profile]``) and ``[material]``; every key is checked, so a typo cannot
+pass silently. The other sections of a design file (the roller, the contact, the
+damping, the observed squeal) belong to the squeal model and are read by the
+application (``wheel_squeal.design``): this package knows the wheel, not the squeal.
 
 The wheel's cross-section is given one of two ways: by the parameters of ``[wheel]``
 (a web between a hub or the bore and a rim with a crowned tread; the web may taper,
@@ -17,14 +20,12 @@ import hashlib
 import json
 import math
 import re
-import warnings
 from dataclasses import dataclass, fields
 from pathlib import Path
 from typing import Any
 
 from .outline import Outline, OutlineError, outline_from_mapping
 from .parametric import parametric_outline
-from .textfile import read_toml
 
 
 class DesignError(ValueError):
@@ -49,13 +50,10 @@ SECTIONS: dict[str, tuple[str, ...]] = {
         "fillet_hub",
     ),
     "material": ("youngs_modulus", "poissons_ratio", "density"),
-    "roller": ("roller_rolling_radius", "roller_crown_radius"),
-    "contact": ("normal_load", "c22", "friction_coefficient"),
-    "damping": ("modal_damping_ratio",),
 }
 
-#: Fields that determine the mesh and the eigenmodes (geometry and material). The
-#: contact, roller and damping fields only change the reduced model.
+#: Fields that determine the mesh and the eigenmodes: every field but the name and the
+#: description.
 STRUCTURAL_FIELDS: tuple[str, ...] = SECTIONS["wheel"] + SECTIONS["material"] + ("profile",)
 
 #: [wheel] keys of the extended parametric shape, and the value that means "absent"
@@ -76,15 +74,10 @@ _PARAMETRIC_ONLY = tuple(k for k in SECTIONS["wheel"] if k not in _DERIVED)
 #: An outline's rim width is measured at this fraction of the rolling radius.
 RIM_WIDTH_AT = 0.95
 
-# In the TOML [roller] section the keys drop the "roller_" prefix.
-_TOML_KEY = {"roller_rolling_radius": "rolling_radius", "roller_crown_radius": "crown_radius"}
-
-
 @dataclass(frozen=True)
 class WheelDesign:
-    """A test-rig lower wheel (the squealing one), its material, the roller it runs on
-    and the contact data of the reduced model. All values in SI units; the defaults are
-    the Table 1 wheel of ``designs/table1.toml``.
+    """A test-rig lower wheel (the squealing one): its cross-section and material. All
+    values in SI units; the defaults are the Table 1 wheel of ``designs/table1.toml``.
 
     ``name`` is a label (a safe file-name stem: letters, digits, ``_ . + -``, at most 64
     characters, not starting with a dot), used to name result folders; it never
@@ -134,20 +127,6 @@ class WheelDesign:
     youngs_modulus: float = 175e9  #: E [Pa]
     poissons_ratio: float = 0.28  #: nu [-]
     density: float = 7800.0  #: rho [kg/m^3]
-    # roller (upper wheel)
-    roller_rolling_radius: float = 0.085  #: R2 [m]
-    roller_crown_radius: float = 0.040  #: R2t [m]
-    # contact and reduced model
-    normal_load: float = 1000.0  #: W [N]
-    c22: float = 3.14  #: Kalker creep coefficient C22 [-]
-    friction_coefficient: float = 0.3  #: mu_s = mu_0 [-]
-    modal_damping_ratio: float = 9.4e-4  #: zeta_d of every mode without its own [-]
-    # the squeal, as observed ([squeal] in TOML)
-    #: the mode observed to squeal ("n=3,c=0", an index or "f=HZ"), the default of a
-    #: run; "" lets the largest linear growth rate at the operating point decide
-    squeal_mode: str = ""
-    #: measured modal damping ratios by mode, (("n=N,c=C", ratio), ...), sorted
-    mode_damping: tuple[tuple[str, float], ...] = ()
 
     def __post_init__(self) -> None:
         if self.profile is not None:
@@ -220,12 +199,11 @@ class WheelDesign:
         return dataclasses.replace(self, **changes)
 
     def scaled(self, factor: float) -> WheelDesign:
-        """The same wheel with every length (wheel and roller) multiplied by ``factor``."""
-        roller = {k: getattr(self, k) * factor for k in SECTIONS["roller"]}
+        """The same wheel with every length multiplied by ``factor``."""
         if self.profile is not None:
-            return self.replace(profile=self.profile.scaled(factor), **roller)
+            return self.replace(profile=self.profile.scaled(factor))
         wheel = {k: getattr(self, k) for k in SECTIONS["wheel"]}
-        return self.replace(**{k: v if v is None else v * factor for k, v in wheel.items()}, **roller)
+        return self.replace(**{k: v if v is None else v * factor for k, v in wheel.items()})
 
     def to_dict(self) -> dict[str, Any]:
         """The design's values (an outline's as its [profile] mapping; absent optional
@@ -240,17 +218,13 @@ class WheelDesign:
                 out[f.name] = v
         return out
 
-    def damping_ratio(self, nodal_diameters: int, nodal_circles: int) -> float:
-        """The modal damping ratio of the (n, c) mode: its measured one if the design gives
-        it ([squeal.damping]), else ``modal_damping_ratio``."""
-        return dict(self.mode_damping).get(f"n={nodal_diameters},c={nodal_circles}", self.modal_damping_ratio)
-
     def content_hash(self, which: str = "all") -> str:
         """Stable SHA-256 (hex, 16 chars) of the design's values.
 
-        ``which="all"``: every physical field; ``which="structure"``: only the geometry
-        and material (what mesh and modes depend on). ``name`` and ``description`` are
-        never hashed, so renaming a file does not invalidate a cache.
+        ``which="all"`` and ``which="structure"`` (what mesh and modes depend on) are the
+        same fields now that a wheel holds only its geometry and material; both names
+        are kept so that cache keys stay. ``name`` and ``description`` are never hashed,
+        so renaming a file does not invalidate a cache.
         """
         if which == "structure":
             keys = STRUCTURAL_FIELDS
@@ -265,25 +239,6 @@ class WheelDesign:
 
     # -- TOML -------------------------------------------------------------------------
     @classmethod
-    def from_toml(cls, path: str | Path) -> WheelDesign:
-        """Load a design; missing keys take the Table 1 defaults, unknown keys are errors."""
-        path = Path(path)
-        _, data = read_toml(path, "design file", DesignError)
-        if "name" not in data and not _NAME.fullmatch(path.stem):
-            raise DesignError(
-                f"{path}: the file name {path.stem!r} is not a usable design name ({_NAME_RULE}); "
-                'set name = "..." in the file'
-            )
-        design = cls.from_mapping(data, default_name=path.stem, source=str(path), base=path.parent)
-        if not set(data) & (set(SECTIONS) | {"profile", "squeal"}):
-            warnings.warn(
-                f"design file {path} gives no [wheel], [material], [roller], [contact] "
-                "or [damping] values: it is the default Table 1 wheel",
-                stacklevel=2,
-            )
-        return design
-
-    @classmethod
     def from_mapping(
         cls,
         data: dict[str, Any],
@@ -291,8 +246,9 @@ class WheelDesign:
         source: str = "design",
         base: Path | None = None,
     ) -> WheelDesign:
-        """Build from a nested mapping shaped like the TOML file (``base``: the folder
-        a [profile] file name is relative to)."""
+        """Build from a nested mapping shaped like the TOML file's wheel sections
+        (``name``, ``description``, ``[wheel]`` or ``[profile]``, ``[material]``; ``base``:
+        the folder a [profile] file name is relative to)."""
         values: dict[str, Any] = {}
         if "profile" in data and "wheel" in data:
             raise DesignError(
@@ -309,12 +265,10 @@ class WheelDesign:
                 if not isinstance(value, str):
                     raise DesignError(f"{source}: '{key}' must be a string")
                 values[key] = value
-            elif key == "squeal":
-                values.update(_squeal_from_mapping(value, source))
             elif key in SECTIONS:
                 if not isinstance(value, dict):
                     raise DesignError(f"{source}: [{key}] must be a table")
-                allowed = {_TOML_KEY.get(f, f): f for f in SECTIONS[key]}
+                allowed = {f: f for f in SECTIONS[key]}
                 for sub, v in value.items():
                     if sub not in allowed:
                         raise DesignError(
@@ -326,11 +280,11 @@ class WheelDesign:
                 raise DesignError(
                     f"{source}: unknown key or section '{key}'; allowed: name, description, "
                     + ", ".join(f"[{s}]" for s in SECTIONS)
-                    + ", [profile], [squeal]"
+                    + ", [profile]"
                 )
         values.setdefault("name", default_name)
         for key, v in values.items():
-            if key in ("name", "description", "squeal_mode", "mode_damping", "profile"):
+            if key in ("name", "description", "profile"):
                 continue
             # bool is an int subclass: reject it explicitly.
             if isinstance(v, bool) or not isinstance(v, (int, float)):
@@ -339,7 +293,8 @@ class WheelDesign:
         return cls(**values)
 
     def to_toml(self) -> str:
-        """The design as TOML text (round-trips exactly through :meth:`from_toml`)."""
+        """The wheel's part of a design file as TOML text (round-trips exactly through
+        :meth:`from_mapping` of the parsed text)."""
         lines = [f"name = {json.dumps(self.name)}"]
         if self.description:
             lines.append(f"description = {json.dumps(self.description)}")
@@ -348,33 +303,20 @@ class WheelDesign:
             lines.append("\n[profile]")
             lines.append(
                 "points = [\n"
-                + "".join(f"  [{_toml_float(r)}, {_toml_float(z)}],\n" for r, z in p["points"])
+                + "".join(f"  [{toml_float(r)}, {toml_float(z)}],\n" for r, z in p["points"])
                 + "]"
             )
-            lines.append("bulges = [" + ", ".join(_toml_float(b) for b in p["bulges"]) + "]")
+            lines.append("bulges = [" + ", ".join(toml_float(b) for b in p["bulges"]) + "]")
             lines.append("clamp = [" + ", ".join(str(i) for i in p["clamp"]) + "]")
-            lines.append(f"contact = [{_toml_float(p['contact'][0])}, {_toml_float(p['contact'][1])}]")
+            lines.append(f"contact = [{toml_float(p['contact'][0])}, {toml_float(p['contact'][1])}]")
         for section, keys in SECTIONS.items():
             if section == "wheel" and self.profile is not None:
                 continue
             lines.append(f"\n[{section}]")
             for k in keys:
                 if not _absent(self, k):
-                    lines.append(f"{_TOML_KEY.get(k, k)} = {_toml_float(getattr(self, k))}")
-        if self.squeal_mode or self.mode_damping:
-            lines.append("\n[squeal]")
-            if self.squeal_mode:
-                lines.append(f"mode = {json.dumps(self.squeal_mode)}")
-            if self.mode_damping:
-                lines.append("\n[squeal.damping]")
-                lines += [f"{json.dumps(k)} = {_toml_float(v)}" for k, v in self.mode_damping]
+                    lines.append(f"{k} = {toml_float(getattr(self, k))}")
         return "\n".join(lines) + "\n"
-
-    def save_toml(self, path: str | Path) -> Path:
-        """Write the design as TOML (:meth:`to_toml`)."""
-        path = Path(path)
-        path.write_text(self.to_toml())
-        return path
 
 
 def _absent(d: WheelDesign, key: str) -> bool:
@@ -400,7 +342,8 @@ def _hashable(v: Any) -> Any:
     return repr(float(v))
 
 
-def _toml_float(x: float) -> str:
+def toml_float(x: float) -> str:
+    """A float as TOML writes it (round-trips exactly; a whole number keeps its .0)."""
     text = repr(float(x))
     return text if ("." in text or "e" in text or "inf" in text or "nan" in text) else text + ".0"
 
@@ -411,73 +354,8 @@ def tread_radius(design: WheelDesign, z: float) -> float:
     return design.rolling_radius - R + math.sqrt(R * R - z * z)
 
 
-def load_design(path: str | Path | None = None) -> WheelDesign:
-    """Load a design from TOML, or the default (Table 1) design when ``path`` is None."""
-    return WheelDesign() if path is None else WheelDesign.from_toml(path)
-
-
-#: A mode named by a design: "n=3,c=0", "n=3", an index or "f=1100" (fem.modes.ModeSelection).
-_MODE = re.compile(r"n=\d+(,c=\d+)?|\d+|f=[0-9.]+([eE][+-]?\d+)?")
-_MODE_KEY = re.compile(r"n=(\d+),c=(\d+)")
-
-
-def _canonical_mode_key(label: str, source: str) -> str:
-    """``n=N,c=C`` of a [squeal.damping] key, written the one way the modes' labels are
-    (``"n = 01, c = 0"`` is ``"n=1,c=0"``)."""
-    m = _MODE_KEY.fullmatch(label.replace(" ", ""))
-    if m is None:
-        raise DesignError(
-            f'{source}: [squeal.damping] key {label!r}: use "n=N,c=C" (nodal diameters, circles)'
-        )
-    return f"n={int(m.group(1))},c={int(m.group(2))}"
-
-
-def _squeal_from_mapping(value: Any, source: str) -> dict[str, Any]:
-    """squeal_mode and mode_damping from the [squeal] table."""
-    if not isinstance(value, dict):
-        raise DesignError(f"{source}: [squeal] must be a table")
-    out: dict[str, Any] = {}
-    for sub, v in value.items():
-        if sub == "mode":
-            if not isinstance(v, str):
-                raise DesignError(f'{source}: [squeal] mode must be a string like "n=3,c=0"')
-            out["squeal_mode"] = v.replace(" ", "")
-        elif sub == "damping":
-            if not isinstance(v, dict):
-                raise DesignError(f'{source}: [squeal.damping] must be a table of "n=N,c=C" = ratio')
-            items: dict[str, tuple[str, float]] = {}
-            for label, ratio in v.items():
-                if isinstance(ratio, bool) or not isinstance(ratio, int | float):
-                    raise DesignError(f"{source}: [squeal.damping] {label!r} must be a number")
-                key = _canonical_mode_key(label, source)
-                if key in items:
-                    first = items[key][0]
-                    raise DesignError(
-                        f"{source}: [squeal.damping] {first!r} and {label!r} name the same mode ({key})"
-                    )
-                items[key] = (label, float(ratio))
-            out["mode_damping"] = tuple(sorted((k, r) for k, (_, r) in items.items()))
-        else:
-            raise DesignError(f"{source}: unknown key '{sub}' in [squeal]; allowed: damping, mode")
-    return out
-
-
-def _check_mode_damping(v: Any) -> None:
-    if not isinstance(v, tuple):
-        raise DesignError('mode_damping must be a tuple of ("n=N,c=C", ratio) pairs')
-    for item in v:
-        if not (isinstance(item, tuple) and len(item) == 2 and isinstance(item[0], str)):
-            raise DesignError('mode_damping must be a tuple of ("n=N,c=C", ratio) pairs')
-        label, ratio = item
-        if _canonical_mode_key(label, "design") != label:
-            raise DesignError(f'[squeal.damping] key {label!r}: use "n=N,c=C" (nodal diameters, circles)')
-        if not (math.isfinite(ratio) and 0.0 <= ratio < 1.0):
-            raise DesignError(f"[squeal.damping] {label} = {ratio}: a modal damping ratio in [0, 1)")
-
-
-#: A design name: a safe file-name stem (it names the result folder).
-_NAME = re.compile(r"[A-Za-z0-9][A-Za-z0-9_.+-]{0,63}")
-_NAME_RULE = "letters, digits, '_', '.', '+', '-'; a letter or digit first; at most 64"
+NAME_PATTERN = re.compile(r"[A-Za-z0-9][A-Za-z0-9_.+-]{0,63}")
+NAME_RULE = "letters, digits, '_', '.', '+', '-'; a letter or digit first; at most 64"
 
 #: Plausible ranges of a wheel's material and size, in SI units: outside them a value is
 #: almost certainly typed in another unit (GPa, mm, g/cm^3), and would mesh or solve for
@@ -490,7 +368,7 @@ _UNIT_RANGES: dict[str, tuple[float, float, tuple[tuple[float, str], ...]]] = {
 #: Largest size of a wheel or roller [m] before it reads as millimetres (the crown radii
 #: are curvatures, not sizes: a nearly flat tread has a very large one).
 MAX_LENGTH_M = 10.0
-_SIZES = tuple(k for k in SECTIONS["wheel"] if k != "crown_radius") + ("roller_rolling_radius",)
+_SIZES = tuple(k for k in SECTIONS["wheel"] if k != "crown_radius")
 
 
 def _unit_hint(
@@ -512,15 +390,8 @@ def validate(d: WheelDesign) -> None:
         if f.name in ("name", "description"):
             if not isinstance(v, str):
                 raise DesignError(f"{f.name} must be a string")
-            if f.name == "name" and not _NAME.fullmatch(v):
-                raise DesignError(f"design name {v!r} is not a safe file-name stem ({_NAME_RULE})")
-            continue
-        if f.name == "squeal_mode":
-            if not isinstance(v, str) or not (v == "" or _MODE.fullmatch(v.replace(" ", ""))):
-                raise DesignError(f"[squeal] mode {v!r}: use n=N[,c=C], an index or f=HZ")
-            continue
-        if f.name == "mode_damping":
-            _check_mode_damping(v)
+            if f.name == "name" and not NAME_PATTERN.fullmatch(v):
+                raise DesignError(f"design name {v!r} is not a safe file-name stem ({NAME_RULE})")
             continue
         if f.name == "profile" or (f.name in OPTIONAL_FIELDS and v is None):
             continue
@@ -614,11 +485,14 @@ def _validate_parametric(d: WheelDesign) -> None:
 
 __all__ = [
     "DesignError",
+    "MAX_LENGTH_M",
+    "NAME_PATTERN",
+    "NAME_RULE",
     "WheelDesign",
     "SECTIONS",
     "OPTIONAL_FIELDS",
     "STRUCTURAL_FIELDS",
-    "load_design",
+    "toml_float",
     "tread_radius",
     "validate",
 ]

@@ -11,7 +11,7 @@ import math
 from functools import lru_cache
 from typing import Any
 
-from .outline import Outline, fillet
+from .outline import Outline, OutlineError, fillet
 
 __all__ = ["parametric_outline"]
 
@@ -44,12 +44,12 @@ def parametric_outline(d: Any) -> Outline:
         hz = d.hub_width / 2
         upper = [(rb, o0 + hz), (d.hub_radius, o0 + hz), (d.hub_radius, web(r0, 1))] + upper
         lower = lower + [(d.hub_radius, web(r0, -1)), (d.hub_radius, o0 - hz), (rb, o0 - hz)]
-        fillets = {(ri, web(ri, 1)): d.fillet_rim, (ri, web(ri, -1)): d.fillet_rim}
-        fillets |= {(d.hub_radius, web(r0, 1)): d.fillet_hub, (d.hub_radius, web(r0, -1)): d.fillet_hub}
+        fillets = {(ri, web(ri, 1)): "fillet_rim", (ri, web(ri, -1)): "fillet_rim"}
+        fillets |= {(d.hub_radius, web(r0, 1)): "fillet_hub", (d.hub_radius, web(r0, -1)): "fillet_hub"}
     else:
         upper = [(rb, web(rb, 1))] + upper
         lower = lower + [(rb, web(rb, -1))]
-        fillets = {(ri, web(ri, 1)): d.fillet_rim, (ri, web(ri, -1)): d.fillet_rim}
+        fillets = {(ri, web(ri, 1)): "fillet_rim", (ri, web(ri, -1)): "fillet_rim"}
     pts = [lower[-1]] + upper + lower[:-1]
     bulges = [0.0] * len(pts)
     bulges[pts.index((re, hw))] = math.tan(-2 * math.asin(hw / d.crown_radius) / 4)
@@ -59,9 +59,14 @@ def parametric_outline(d: Any) -> Outline:
     ]
     pts, bulges = [pts[i] for i in keep], [bulges[i] for i in keep]
     # Round the web's corners, last first so that the earlier indices stay valid.
-    for v in sorted((i for i, p in enumerate(pts) if fillets.get(p, 0.0) > 0), reverse=True):
+    rounded = (i for i, p in enumerate(pts) if p in fillets and getattr(d, fillets[p]) > 0)
+    for v in sorted(rounded, reverse=True):
         if _is_corner(pts, v):
-            pts, bulges = fillet(pts, bulges, v, fillets[pts[v]])
+            name = fillets[pts[v]]
+            try:
+                pts, bulges = fillet(pts, bulges, v, getattr(d, name))
+            except OutlineError as exc:
+                raise OutlineError(f"{name}: {exc}") from None
     return Outline(tuple(pts), tuple(bulges), (0,), (d.rolling_radius, 0.0), min_segment_rel=0.0)
 
 

@@ -39,6 +39,13 @@ def run_cli(
     )
 
 
+def load_wheel(path):
+    """The wheel (``geometry.WheelDesign``) of a design file."""
+    import wheel_squeal as ws
+
+    return ws.load_design(path).wheel
+
+
 def one_line_error(r: subprocess.CompletedProcess) -> str:
     """The single stderr line of a refused request (asserts there is exactly one and no
     traceback); warnings (``warning: ...``) may precede it."""

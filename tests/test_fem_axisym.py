@@ -180,7 +180,7 @@ def test_plate_design_file_with_gmsh_mesh_agrees(plate_modes):
     the structured-mesh plate frequencies within the mesh error (0.3 %)."""
     from pathlib import Path
 
-    from geometry.design import load_design
+    from conftest import load_wheel as load_design
 
     path = Path(__file__).resolve().parents[1] / "designs" / "annular_plate.toml"
     if not path.exists():

@@ -19,12 +19,13 @@ import warnings
 import numpy as np
 import pytest
 from conftest import DESIGNS
+from conftest import load_wheel as load_design
 
 from fem.axisym import solve_axisymmetric
 from fem.cyclic import default_sectors, solve_cyclic
 from fem.modes import ResolutionWarning
 from fem.solid import solve_solid
-from geometry.design import WheelDesign, load_design
+from geometry.design import WheelDesign
 from geometry.gmsh_mesh import mesh_profile
 from geometry.profile import revolved_volume
 from geometry.revolve import revolve_profile

@@ -19,6 +19,7 @@ import warnings
 
 import numpy as np
 import pytest
+from conftest import load_wheel as load_design
 
 from fem.axisym import assemble_harmonic, solve_axisymmetric
 from fem.eigen import solve_eigen
@@ -36,7 +37,7 @@ from fem.modes import (
     select_mode,
 )
 from fem.rules import RIGID_TOL
-from geometry.design import DesignError, WheelDesign, load_design
+from geometry.design import DesignError, WheelDesign
 from geometry.gmsh_mesh import mesh_profile
 
 #: the Table 1 wheel with the 0.030 m starting rim depth: the values below were measured on it

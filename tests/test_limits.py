@@ -331,7 +331,7 @@ def test_a_shallow_hoop_is_a_wheel_not_a_traceback(tmp_path):
     )
     import wheel_squeal as ws
 
-    d = ws.load_design(design)
+    d = ws.load_design(design).wheel
     assert d.rim_width == pytest.approx(0.026) and d.web_thickness == pytest.approx(0.007)
 
 
@@ -523,8 +523,8 @@ def test_measured_damping_keys_are_read_the_way_modes_are_named(tmp_path):
     import wheel_squeal as ws
 
     d = ws.load_design(_write(tmp_path / "a.toml", b'[squeal.damping]\n"n = 01, c = 0" = 6e-3\n'))
-    assert d.mode_damping == (("n=1,c=0", 6e-3),)
-    assert d.damping_ratio(1, 0) == 6e-3  # applied to the (1,0) mode
+    assert d.damping.by_mode == (("n=1,c=0", 6e-3),)
+    assert d.damping.ratio(1, 0) == 6e-3  # applied to the (1,0) mode
 
 
 @pytest.mark.parametrize(

@@ -96,7 +96,7 @@ def test_failed_run_keeps_previous_results(tmp_path):
 # ---------------------------------------------------------------------------------------
 def test_changing_only_the_operating_point_reuses_mesh_and_modes(tmp_path, monkeypatch):
     cache = ws.StageCache(tmp_path / "cache")
-    design = WheelDesign()
+    design = ws.Design()
     ms1 = ws.compute_modes(design, "fast", cache=cache)
     assert cache.misses == ["modes", "mesh2d"] and cache.hits == []
 

@@ -32,6 +32,7 @@ from geometry.design import SECTIONS
 from wheel_squeal.budget import Budget
 from wheel_squeal.cache import MARKER as CACHE_MARKER
 from wheel_squeal.cache import StageCache
+from wheel_squeal.design import FIELDS
 from wheel_squeal.errors import BudgetError, RequestError
 from wheel_squeal.outputs import MARKER, ResultFolder, result_folder
 
@@ -547,11 +548,11 @@ def test_empty_design_file_says_it_is_the_default(tmp_path):
 # --------------------------------------------------------------------------------------
 # any design near Table 1: a result or one line, never a traceback, under a memory cap
 # --------------------------------------------------------------------------------------
+_DEFAULT = ws.Design()
 _NUMERIC = {
-    k: getattr(WheelDesign(), k)
-    for keys in SECTIONS.values()
-    for k in keys
-    if getattr(WheelDesign(), k) not in (0.0, None)  # the optional shape keys are absent
+    k: _DEFAULT.get(k)
+    for k in FIELDS
+    if _DEFAULT.get(k) not in (0.0, None)  # the optional shape keys are absent
 }
 _MEMORY_CAP = 4 << 30
 
@@ -561,15 +562,13 @@ def _cap_memory() -> None:
 
 
 def _toml(values: dict) -> str:
-    d = WheelDesign().to_dict()
-    d.update(values)
-    lines = ['name = "probe"']
-    for section, keys in SECTIONS.items():
-        lines.append(f"[{section}]")
-        lines += [
-            f"{k.removeprefix('roller_') if section == 'roller' else k} = {d[k]!r}" for k in keys if k in d
-        ]
-    return "\n".join(lines) + "\n"
+    """A design file of every numeric field, ``values`` replacing the defaults."""
+    sections: dict[str, list[str]] = {}
+    for k, v in {**_NUMERIC, **values}.items():
+        part, attr = FIELDS[k]
+        section = next(s for s, keys in SECTIONS.items() if k in keys) if part == "wheel" else part
+        sections.setdefault(section, []).append(f"{attr} = {v!r}")
+    return 'name = "probe"\n' + "".join(f"[{s}]\n" + "\n".join(lines) + "\n" for s, lines in sections.items())
 
 
 @settings(

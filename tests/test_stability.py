@@ -337,9 +337,9 @@ def test_mitigation_damping_and_friction_slope_stop_squeal_everywhere(table1_fe,
     for factor, grows in ((0.97, False), (1.03, True)):
         worst = -math.inf
         for rpm in rpms:
-            v0 = ws.presets.rpm_to_speed(rpm, design.rolling_radius)
+            v0 = ws.presets.rpm_to_speed(rpm, design.wheel.rolling_radius)
             g = contact.normal_load_n / v0 * factor * mit.result.friction_slope
-            omega = v0 / design.rolling_radius if rotation else 0.0
+            omega = v0 / design.wheel.rolling_radius if rotation else 0.0
             worst = max(worst, growth_rates(dofs, [d.damping_ns_m for d in dofs], g, omega).max())
         assert (worst > 0) == grows
 

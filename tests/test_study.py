@@ -62,8 +62,8 @@ def test_wear_and_samples_specs(tmp_path):
     for case in wear.cases():
         (w,) = case.values
         changes = dict(case.changes)
-        assert changes["rolling_radius"] == pytest.approx(base.rolling_radius - w)
-        assert changes["rim_depth"] == pytest.approx(base.rim_depth - w)
+        assert changes["rolling_radius"] == pytest.approx(base.wheel.rolling_radius - w)
+        assert changes["rim_depth"] == pytest.approx(base.wheel.rim_depth - w)
     tol = load_spec(ROOT / "studies" / "tolerance.toml")
     a, b = tol.cases(), load_spec(ROOT / "studies" / "tolerance.toml").cases()
     assert a == b and len(a) == tol.samples  # a seed: the same draws every time

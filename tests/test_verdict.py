@@ -113,7 +113,7 @@ def test_every_command_gives_the_same_verdict(cases, name):
     }
     spec = base / "one.toml"
     field = "web_thickness"
-    value = ws.load_design(design).web_thickness
+    value = ws.load_design(design).wheel.web_thickness
     spec.write_text(
         f'base = "{design}"\nfidelity = "fast"\n[grid]\n{field} = [{value!r}]\n'
         "[operating]\ncrab_velocity = [0.39]\nrpm = [800]\n"

@@ -35,6 +35,7 @@ from .api import (
 from .budget import Budget
 from .cache import CacheMiss, StageCache
 from .chain import Analysis, analyse
+from .design import Design
 from .errors import BudgetError, RequestError
 from .presets import DEFAULT_DESIGN, DEFAULT_FIDELITY, FIDELITIES, Fidelity, fidelity_for
 from .progress import Progress
@@ -46,6 +47,7 @@ from .verdict import ModeOutcome, Verdict
 __all__ = [
     "Analysis",
     "Budget",
+    "Design",
     "Listener",
     "ModeOutcome",
     "Sound",

@@ -2,8 +2,9 @@
 
 design -> mesh -> modes -> squeal mode -> modal parameters (m, k, c) -> contact law and
 operating point -> simulation or sweep. Every function takes and returns plain objects
-of the packages below: ``geometry.WheelDesign`` and meshes, ``fem.ModeSet`` and
-``Mode``, ``reduced.ModalDOF``, ``ContactLaw``, ``OperatingPoint``, ``SweepResult``.
+of the packages below and :class:`~wheel_squeal.design.Design`: its ``wheel`` a
+``geometry.WheelDesign``, meshes, ``fem.ModeSet`` and ``Mode``, ``reduced.ModalDOF``,
+``ContactLaw``, ``OperatingPoint``, ``SweepResult``.
 Bad input raises :class:`~wheel_squeal.errors.RequestError` in the API's own words;
 expensive stages go through a :class:`~wheel_squeal.cache.StageCache` when one is given
 and are estimated against a :class:`~wheel_squeal.budget.Budget` before they start.
@@ -18,10 +19,8 @@ from typing import Any
 
 import numpy as np
 
-from geometry import WheelDesign
-from geometry import load_design as _read_design
-
 from .budget import Budget
+from .design import Design
 from .errors import RequestError
 from .modes import (
     build_mesh,
@@ -61,7 +60,7 @@ __all__ = [
 ]
 
 
-def load_design(path: str | Path | None = None) -> WheelDesign:
+def load_design(path: str | Path | None = None) -> Design:
     """A wheel design from TOML: a file, or the name of a design shipped with the tool
     (``"thin_web"``, from any folder; :func:`shipped_designs`); None gives the default,
     ``table1``. A bad design raises :class:`RequestError` naming the problem."""
@@ -78,7 +77,7 @@ def load_design(path: str | Path | None = None) -> WheelDesign:
             names = ", ".join(shipped_designs())
             raise RequestError(f"design {str(path)!r} is neither a file nor a shipped design ({names})")
     try:
-        return _read_design(p)
+        return Design.from_toml(p)
     except DesignError as exc:
         raise RequestError(str(exc)) from None
 
@@ -90,7 +89,7 @@ def shipped_designs() -> dict[str, str]:
     out = {}
     for f in sorted(designs_folder().glob("*.toml")):
         try:
-            out[f.stem] = _read_design(f).description
+            out[f.stem] = Design.from_toml(f).description
         except DesignError:  # a broken shipped design is a bug the tests catch
             out[f.stem] = ""
     return out
@@ -99,7 +98,7 @@ def shipped_designs() -> dict[str, str]:
 # --------------------------------------------------------------------------------------
 # the reduced model: modal parameters, contact, operating point, simulation
 # --------------------------------------------------------------------------------------
-def modal_dof(mode, design: WheelDesign):
+def modal_dof(mode, design: Design):
     """The FE mode as the reduced model's (m, k, c) at the contact point, with its
     damping ratio (the design's ``[squeal.damping]`` for it, else ``modal_damping_ratio``)
     and its nodal diameters (a pair, on a turning wheel)."""
@@ -110,7 +109,7 @@ def modal_dof(mode, design: WheelDesign):
             f"mode {mode.index} ({mode.label()}) has a node at the contact point: "
             "it cannot be excited there; pick another mode"
         )
-    zeta = design.damping_ratio(mode.nodal_diameters, mode.nodal_circles)
+    zeta = design.damping.ratio(mode.nodal_diameters, mode.nodal_circles)
     return ModalDOF.from_damping_ratio(mode.modal_mass, mode.modal_stiffness, zeta, mode.nodal_diameters)
 
 
@@ -131,7 +130,7 @@ def explicit_dof(mass_kg: float, stiffness_n_m: float, damping_ns_m: float, noda
     return ModalDOF(mass_kg, stiffness_n_m, damping_ns_m, int(nodal_diameters))
 
 
-def contact_law(design: WheelDesign, c22: float | str | None = None):
+def contact_law(design: Design, c22: float | str | None = None):
     """Creep-law parameters of the design's wheel on its roller (Hertz + Eq. 3, 6).
 
     ``c22``: None for the design's value (Table 1: 3.14), a number, or ``"kalker"``.
@@ -145,21 +144,21 @@ def contact_law(design: WheelDesign, c22: float | str | None = None):
     elif c22 is not None and not (math.isfinite(c22) and c22 > 0):
         raise RequestError(f"c22 must be a positive number or 'kalker', got {c22}")
     hertz = hertz_contact(
-        design.rolling_radius,
-        design.crown_radius,
-        design.roller_rolling_radius,
-        design.roller_crown_radius,
-        design.youngs_modulus,
-        design.poissons_ratio,
-        design.normal_load,
+        design.wheel.rolling_radius,
+        design.wheel.crown_radius,
+        design.roller.rolling_radius,
+        design.roller.crown_radius,
+        design.wheel.youngs_modulus,
+        design.wheel.poissons_ratio,
+        design.contact.normal_load,
     )
-    return ContactLaw.from_hertz(
-        hertz, friction_coefficient=design.friction_coefficient, c22=design.c22 if c22 is None else c22
-    )
+    c = design.contact
+    c22 = c.c22 if c22 is None else c22
+    return ContactLaw.from_hertz(hertz, friction_coefficient=c.friction_coefficient, c22=c22)
 
 
 def operating_point(
-    design: WheelDesign,
+    design: Design,
     *,
     rpm: float | None = None,
     speed: float | None = None,
@@ -184,7 +183,7 @@ def operating_point(
     v0 = (
         speed
         if speed is not None
-        else rpm_to_speed(DEFAULT_RPM if rpm is None else rpm, design.rolling_radius)
+        else rpm_to_speed(DEFAULT_RPM if rpm is None else rpm, design.wheel.rolling_radius)
     )
     if angle_of_attack is not None:
         return OperatingPoint.from_angle_of_attack(v0, angle_of_attack)

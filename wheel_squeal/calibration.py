@@ -10,10 +10,10 @@ from pathlib import Path
 
 import numpy as np
 
-from geometry import DesignError, WheelDesign
-from geometry.design import SECTIONS
+from geometry import DesignError
 
 from .api import compute_modes, load_design, pick_mode
+from .design import FIELDS, Design
 from .errors import RequestError
 from .presets import fidelity_for
 from .progress import Progress
@@ -30,7 +30,7 @@ class Calibration:
     frequency [Hz] and contact modal mass [kg] there, the residuals and the number of
     evaluations."""
 
-    design: WheelDesign
+    design: Design
     free: dict[str, float]
     frequency_hz: float
     modal_mass_kg: float
@@ -39,7 +39,7 @@ class Calibration:
 
 
 def calibrate(
-    design: WheelDesign,
+    design: Design,
     free: Sequence[str],
     target_frequency_hz: float | None,
     target_modal_mass_kg: float | None,
@@ -71,9 +71,9 @@ def calibrate(
     check_request(free, target_frequency_hz, target_modal_mass_kg)
     progress = progress or Progress(quiet=True)
     fid = fidelity_for(fidelity)
-    mode = mode or design.squeal_mode or "default"
-    x0 = np.array([getattr(design, k) for k in free], dtype=float)
-    scale = np.where(x0 != 0, np.abs(x0), design.web_thickness)
+    mode = mode or design.squeal.mode or "default"
+    x0 = np.array([design.get(k) for k in free], dtype=float)
+    scale = np.where(x0 != 0, np.abs(x0), design.wheel.web_thickness)
     evaluations = 0
 
     def evaluate(x: np.ndarray):
@@ -127,7 +127,7 @@ def check_request(
 ) -> None:
     """Refuse (:class:`RequestError`) free parameters that are not design parameters and
     missing or non-positive targets: before anything is written."""
-    allowed = [k for keys in SECTIONS.values() for k in keys]
+    allowed = list(FIELDS)
     for name in free:
         if name not in allowed:
             raise RequestError(

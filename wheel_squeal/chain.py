@@ -15,9 +15,8 @@ import time
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
 
-from geometry import WheelDesign
-
 from .api import contact_law, modal_dof, operating_point, simulate
+from .design import Design
 from .errors import RequestError
 from .modes import compute_modes, pick_mode
 from .presets import DEFAULT_FIDELITY, DEFAULT_FMAX_HZ, Fidelity, fidelity_for
@@ -50,7 +49,7 @@ class Analysis:
     for; timings_s: seconds per stage.
     """
 
-    design: WheelDesign
+    design: Design
     fidelity: Fidelity
     modeset: ModeSet
     operating_point: OperatingPoint
@@ -98,7 +97,7 @@ class Analysis:
 
 
 def analyse(
-    design: WheelDesign,
+    design: Design,
     *,
     rpm: float | None = None,
     speed: float | None = None,
@@ -181,8 +180,8 @@ def analyse(
     if mode != "auto":
         named, _ = pick_mode(ms, mode)
         source = f"--mode {mode} asks for"
-    elif design.squeal_mode:
-        named, _ = pick_mode(ms, design.squeal_mode)
+    elif design.squeal.mode:
+        named, _ = pick_mode(ms, design.squeal.mode)
         source = f"the design {design.name} names"
     if named is not None and named.index not in by_index:
         modal_dof(named, design)  # its one-line refusal: a node at the contact

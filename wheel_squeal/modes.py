@@ -14,6 +14,7 @@ from geometry import WheelDesign
 
 from .budget import Budget
 from .cache import CacheMiss, StageCache, code_version, library_versions
+from .design import Design, as_design
 from .errors import RequestError
 from .presets import DEFAULT_FIDELITY, DEFAULT_FMAX_HZ, FIDELITIES, Fidelity, fidelity_for
 from .progress import Progress
@@ -32,11 +33,11 @@ __all__ = [
 
 # --------------------------------------------------------------------------------------
 def _mesh_key(
-    design: WheelDesign, dim: int, order: int, size: float | None, elements_through_web: int | None
+    design: Design, dim: int, order: int, size: float | None, elements_through_web: int | None
 ) -> dict:
     return {
         "stage": f"mesh{dim}d",
-        "design": design.content_hash("structure"),
+        "design": design.wheel.content_hash("structure"),
         "order": order,
         "size": size,
         "elements_through_web": elements_through_web,
@@ -46,7 +47,7 @@ def _mesh_key(
 
 
 def build_mesh(
-    design: WheelDesign,
+    design: Design | WheelDesign,
     dim: int = 2,
     order: int = 2,
     size: float | None = None,
@@ -57,6 +58,8 @@ def build_mesh(
     ``size`` [m] or ``elements_through_web`` (default ``geometry.mesh.mesh_size``)."""
     from geometry import gmsh_mesh
     from geometry.mesh import ProfileMesh, SolidMesh
+
+    design = as_design(design)
 
     if size is not None and not (math.isfinite(size) and size > 0):
         raise RequestError(f"size must be a positive length in m, got {size}")
@@ -70,17 +73,18 @@ def build_mesh(
         except CacheMiss:
             pass
     mesher = gmsh_mesh.mesh_profile if dim == 2 else gmsh_mesh.mesh_wheel
-    mesh = mesher(design, size=size, elements_through_web=elements_through_web, order=order)
+    mesh = mesher(design.wheel, size=size, elements_through_web=elements_through_web, order=order)
     if cache is not None:
         cache.store(f"mesh{dim}d", key, mesh.to_arrays())
     return mesh
 
 
-def modes_cache_key(design: WheelDesign, fid: Fidelity, fmax_hz: float) -> dict:
+def modes_cache_key(design: Design | WheelDesign, fid: Fidelity, fmax_hz: float) -> dict:
     """The cache key of a modal solve: what its result depends on, and nothing else."""
+    design = as_design(design)
     return {
         "stage": "modes",
-        "design": design.content_hash("structure"),
+        "design": design.wheel.content_hash("structure"),
         "method": fid.method,
         "elements_through_web": fid.elements_through_web,
         "fmax_hz": float(fmax_hz),
@@ -94,22 +98,24 @@ def modes_cache_key(design: WheelDesign, fid: Fidelity, fmax_hz: float) -> dict:
 DENSE_OUTLINE_SEGMENTS = 100
 
 
-def check_modes_budget(design: WheelDesign, fid: Fidelity, fmax_hz: float, budget: Budget):
+def check_modes_budget(design: Design | WheelDesign, fid: Fidelity, fmax_hz: float, budget: Budget):
     """Estimate the modal solve (``fem.cost``) and refuse it beyond ``budget``."""
     from fem.cost import estimate_cost
     from geometry.mesh import mesh_size, short_segment_lengths
 
-    h = mesh_size(design, elements_through_web=fid.elements_through_web)
-    cost = estimate_cost(design, fid.solver, h, fmax_hz)
+    design = as_design(design)
+
+    h = mesh_size(design.wheel, elements_through_web=fid.elements_through_web)
+    cost = estimate_cost(design.wheel, fid.solver, h, fmax_hz)
     cheaper = [n for n, f in FIDELITIES.items() if f.elements_through_web < fid.elements_through_web]
     remedy = (
         (f"use the {cheaper[0]} preset" if cheaper else "use a coarser preset")
         + (", the axisymmetric solver" if fid.solver != "axisym" else "")
         + " or a lower fmax"
     )
-    dense = len(short_segment_lengths(design, h))
-    if design.profile is not None:
-        thickness, (r, z) = design.profile.thinnest_wall()
+    dense = len(short_segment_lengths(design.wheel, h))
+    if design.wheel.profile is not None:
+        thickness, (r, z) = design.wheel.profile.thinnest_wall()
         remedy += (
             f" (the mesh is sized by the outline's thinnest wall, {thickness * 1e3:.3g} mm at "
             f"r {r:.4g} m, z {z:.4g} m)"
@@ -132,7 +138,7 @@ def check_modes_budget(design: WheelDesign, fid: Fidelity, fmax_hz: float, budge
 
 
 def compute_modes(
-    design: WheelDesign,
+    design: Design | WheelDesign,
     fidelity: str | Fidelity = DEFAULT_FIDELITY,
     solver: str | None = None,
     fmax_hz: float = DEFAULT_FMAX_HZ,
@@ -152,6 +158,7 @@ def compute_modes(
     from fem.modes import ModeSet
     from fem.solvers import SOLVERS, solve_modes
 
+    design = as_design(design)
     fid = fidelity if isinstance(fidelity, Fidelity) else fidelity_for(fidelity, solver)
     if not (math.isfinite(fmax_hz) and fmax_hz > 0):
         raise RequestError(f"fmax must be a positive frequency in Hz, got {fmax_hz}")
@@ -172,7 +179,7 @@ def compute_modes(
             design, dim=dim, order=fid.mesh_order, elements_through_web=fid.elements_through_web, cache=cache
         )
     with progress.stage(f"modes ({fid.method}, f <= {fmax_hz:g} Hz)"):
-        ms = solve_modes(design, mesh, fid.solver, order=fid.order, fmax_hz=fmax_hz)
+        ms = solve_modes(design.wheel, mesh, fid.solver, order=fid.order, fmax_hz=fmax_hz)
     if cache is not None and ms.modes:
         # an empty band is not cached, so its warning is shown again on the next request
         cache.store("modes", key, ms.to_arrays())
@@ -180,11 +187,11 @@ def compute_modes(
     return ms
 
 
-def check_named_modes(design: WheelDesign, modeset, fmax_hz: float) -> None:
+def check_named_modes(design: Design, modeset, fmax_hz: float) -> None:
     """Refuse (:class:`RequestError`) a design whose ``[squeal.damping]`` names a mode
     that is not among ``modeset``'s: its damping would be silently unused."""
     labels = {f"n={m.nodal_diameters},c={m.nodal_circles}" for m in modeset.modes}
-    missing = [k for k, _ in design.mode_damping if k not in labels]
+    missing = [k for k, _ in design.damping.by_mode if k not in labels]
     if missing:
         raise RequestError(
             f"{design.name}: [squeal.damping] names {', '.join(missing)}, not among the {len(modeset.modes)} "
@@ -205,7 +212,7 @@ def pick_mode(modeset, mode: str = "default"):
 
 
 def mode_views(
-    design: WheelDesign,
+    design: Design,
     fid: Fidelity,
     fmax_hz: float,
     modeset,

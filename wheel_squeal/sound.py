@@ -15,9 +15,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from geometry import WheelDesign
-
 from .cache import CacheMiss, StageCache, code_version
+from .design import Design
 from .errors import RequestError
 from .presets import DEFAULT_FIDELITY, DEFAULT_FMAX_HZ, fidelity_for
 
@@ -45,9 +44,9 @@ __all__ = [
 MICROPHONE_DISTANCE_M = 0.05
 
 
-def default_microphone(design: WheelDesign) -> tuple[float, float, float]:
+def default_microphone(design: Design) -> tuple[float, float, float]:
     """(r, z, theta) [m, m, rad]: 0.05 m off the rim face at the rolling radius."""
-    return (design.rolling_radius, design.rim_width / 2 + MICROPHONE_DISTANCE_M, 0.0)
+    return (design.wheel.rolling_radius, design.wheel.rim_width / 2 + MICROPHONE_DISTANCE_M, 0.0)
 
 
 def parse_microphone(text: str) -> tuple[float, float, float]:
@@ -65,7 +64,7 @@ def parse_microphone(text: str) -> tuple[float, float, float]:
 MAX_MICROPHONE_DISTANCE_M = 1000.0
 
 
-def microphone_for(design: WheelDesign, text: str | None) -> tuple[float, float, float]:
+def microphone_for(design: Design, text: str | None) -> tuple[float, float, float]:
     """The microphone (r, z, theta) [m, m, rad] of ``--microphone`` text (None: the
     default, :func:`default_microphone`), checked against the wheel: a position inside
     its cross-section or absurdly far is refused (:class:`RequestError`)."""
@@ -78,7 +77,7 @@ def microphone_for(design: WheelDesign, text: str | None) -> tuple[float, float,
             f"microphone at r {r:g} m, z {z:g} m is more than {MAX_MICROPHONE_DISTANCE_M:g} m from the "
             "wheel (positions are in metres)"
         )
-    if bool(half_profile(design).contains(np.array([[r, z]]))[0]):
+    if bool(half_profile(design.wheel).contains(np.array([[r, z]]))[0]):
         raise RequestError(
             f"microphone at r {r:g} m, z {z:g} m is inside the wheel's cross-section: place it in the air"
         )
@@ -170,7 +169,7 @@ def radiation_key(modes_key: dict, mode, frequency_hz: float, air) -> dict:
 
 
 def mode_radiation(
-    design: WheelDesign,
+    design: Design,
     modeset,
     mode,
     frequency_hz: float,
@@ -318,7 +317,7 @@ def sound_of(
 
 
 def mode_sound(
-    design: WheelDesign,
+    design: Design,
     modeset,
     mode,
     frequency_hz: float,

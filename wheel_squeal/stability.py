@@ -16,8 +16,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from geometry import WheelDesign
-
+from .design import Design
 from .errors import RequestError
 from .presets import MAX_MULTIMODE, rpm_to_speed
 
@@ -39,9 +38,9 @@ __all__ = [
 ]
 
 
-def wheel_speed_rad_s(design: WheelDesign, op, rotation: bool) -> float:
+def wheel_speed_rad_s(design: Design, op, rotation: bool) -> float:
     """Omega = V0 / R1 [rad/s] when the wheel's rotation is modelled, else 0."""
-    return op.wheel_speed_rad_s(design.rolling_radius) if rotation else 0.0
+    return op.wheel_speed_rad_s(design.wheel.rolling_radius) if rotation else 0.0
 
 
 def excitable(modeset) -> list:
@@ -49,7 +48,7 @@ def excitable(modeset) -> list:
     return [m for m in modeset.modes if math.isfinite(m.modal_mass)]
 
 
-def mode_dofs(modes: Sequence, design: WheelDesign) -> list:
+def mode_dofs(modes: Sequence, design: Design) -> list:
     """Each FE mode as a ``reduced.ModalDOF`` with its damping ratio and nodal diameters."""
     from reduced import ModalDOF
 
@@ -57,7 +56,7 @@ def mode_dofs(modes: Sequence, design: WheelDesign) -> list:
         ModalDOF.from_damping_ratio(
             m.modal_mass,
             m.modal_stiffness,
-            design.damping_ratio(m.nodal_diameters, m.nodal_circles),
+            design.damping.ratio(m.nodal_diameters, m.nodal_circles),
             m.nodal_diameters,
         )
         for m in modes
@@ -71,10 +70,10 @@ class ModeStabilityRow:
     mode: object
     stability: object
 
-    def to_dict(self, design: WheelDesign) -> dict:
+    def to_dict(self, design: Design) -> dict:
         m, s = self.mode, self.stability
         return {
-            **m.to_dict(design.damping_ratio(m.nodal_diameters, m.nodal_circles)),
+            **m.to_dict(design.damping.ratio(m.nodal_diameters, m.nodal_circles)),
             "growth_rate_1_s": s.growth_rate_1_s,
             "damped_frequency_hz": s.damped_frequency_hz,
             "critical_damping_ratio": s.critical_damping_ratio,
@@ -83,7 +82,7 @@ class ModeStabilityRow:
         }
 
 
-def stability_table(design: WheelDesign, modeset, contact, op, rotation: bool = False, bounds=None):
+def stability_table(design: Design, modeset, contact, op, rotation: bool = False, bounds=None):
     """(rows, result): a :class:`ModeStabilityRow` per excitable mode, fastest first
     is ``result.winner``; ``result`` the ``reduced.StabilityResult``. ``bounds``: the
     rows whose critical damping and friction slope are found ("all", indices, or None:
@@ -98,16 +97,14 @@ def stability_table(design: WheelDesign, modeset, contact, op, rotation: bool = 
     return [ModeStabilityRow(m, s) for m, s in zip(modes, result.modes)], result
 
 
-def stability_seconds(design: WheelDesign, modeset, rotation: bool = False, bounds: int = 0) -> float:
+def stability_seconds(design: Design, modeset, rotation: bool = False, bounds: int = 0) -> float:
     """The estimated time of :func:`stability_table` with ``bounds`` modes' bounds [s]."""
     from reduced.stability import stability_seconds as seconds
 
     return seconds(mode_dofs(excitable(modeset), design), rotation, bounds)
 
 
-def margin_of(
-    design: WheelDesign, rows: Sequence[ModeStabilityRow], contact, op, rotation: bool = False
-) -> dict:
+def margin_of(design: Design, rows: Sequence[ModeStabilityRow], contact, op, rotation: bool = False) -> dict:
     """How far from squeal a point where no mode grows is: the least stable mode, its
     growth rate [1/s], and the damping ratio below which (or the friction slope
     dmu/dzeta below which) it would grow, with the values now; ``words`` says it."""
@@ -119,7 +116,7 @@ def margin_of(
     dofs = mode_dofs([r.mode for r in rows], design)
     result = linear_stability(dofs, contact, op, omega, bounds=[i])
     s = result.modes[i]
-    zeta_now = design.damping_ratio(m.nodal_diameters, m.nodal_circles)
+    zeta_now = design.damping.ratio(m.nodal_diameters, m.nodal_circles)
     slope_now = result.friction_damping_ns_m * op.rolling_speed_m_s / contact.normal_load_n
     damping = (
         f"a damping ratio below {s.critical_damping_ratio:.3g} (it has {zeta_now:.3g})"
@@ -144,7 +141,7 @@ def margin_of(
     }
 
 
-def choose_mode(design: WheelDesign, modeset, mode: str, contact, op, rotation: bool = False):
+def choose_mode(design: Design, modeset, mode: str, contact, op, rotation: bool = False):
     """The mode a run simulates, why, and the stability table.
 
     ``mode``: "auto" takes the mode the design names (``[squeal] mode``), else the one
@@ -156,9 +153,9 @@ def choose_mode(design: WheelDesign, modeset, mode: str, contact, op, rotation: 
     rows, result = stability_table(design, modeset, contact, op, rotation)
     if mode != "auto":
         chosen, why = pick_mode(modeset, mode)
-    elif design.squeal_mode:
-        chosen, why = pick_mode(modeset, design.squeal_mode)
-        why = f"the mode {design.name} names as its squeal mode ({design.squeal_mode}): {why}"
+    elif design.squeal.mode:
+        chosen, why = pick_mode(modeset, design.squeal.mode)
+        why = f"the mode {design.name} names as its squeal mode ({design.squeal.mode}): {why}"
     else:
         row = rows[result.winner]
         chosen = row.mode
@@ -169,8 +166,8 @@ def choose_mode(design: WheelDesign, modeset, mode: str, contact, op, rotation: 
     return chosen, why, rows
 
 
-def _speeds(design: WheelDesign, rpms) -> np.ndarray:
-    return np.array([rpm_to_speed(float(r), design.rolling_radius) for r in rpms])
+def _speeds(design: Design, rpms) -> np.ndarray:
+    return np.array([rpm_to_speed(float(r), design.wheel.rolling_radius) for r in rpms])
 
 
 @dataclass(frozen=True)
@@ -191,15 +188,13 @@ class Envelope:
     modes: list
 
 
-def envelope(
-    design: WheelDesign, modeset, contact, crab_velocities, rpms, rotation: bool = False
-) -> Envelope:
+def envelope(design: Design, modeset, contact, crab_velocities, rpms, rotation: bool = False) -> Envelope:
     """Growth rate and winning mode over crabbing velocities [m/s] x wheel speeds [rpm]
     (``reduced.stability_map``)."""
     from reduced import stability_map
 
     modes = excitable(modeset)
-    radius = design.rolling_radius if rotation else None
+    radius = design.wheel.rolling_radius if rotation else None
     m = stability_map(mode_dofs(modes, design), contact, crab_velocities, _speeds(design, rpms), radius)
     rpms = np.asarray(rpms, float)
     return Envelope(m.crab_velocities_m_s, rpms, m.growth_rate_1_s, m.winner, m.damped_frequency_hz, modes)
@@ -214,18 +209,18 @@ class Mitigation:
     result: object
     rpm: np.ndarray
 
-    def to_dict(self, design: WheelDesign) -> dict:
+    def to_dict(self, design: Design) -> dict:
         """JSON-ready: per mode its present and required damping ratio (and where it
         binds), the friction slope required, and whether the bounds settled."""
         r = self.result
-        to_rpm = rpm_to_speed(1.0, design.rolling_radius)
+        to_rpm = rpm_to_speed(1.0, design.wheel.rolling_radius)
         return {
             "damping": [
                 {
                     "mode": m.index,
                     "label": m.label(),
                     "frequency_hz": m.frequency_hz,
-                    "damping_ratio": design.damping_ratio(m.nodal_diameters, m.nodal_circles),
+                    "damping_ratio": design.damping.ratio(m.nodal_diameters, m.nodal_circles),
                     "required_damping_ratio": float(z),
                     "at_crab_velocity_m_s": float(p[0]),
                     "at_rpm": float(p[1]) / to_rpm,
@@ -239,20 +234,18 @@ class Mitigation:
         }
 
 
-def mitigation(
-    design: WheelDesign, modeset, contact, crab_velocities, rpms, rotation: bool = False
-) -> Mitigation:
+def mitigation(design: Design, modeset, contact, crab_velocities, rpms, rotation: bool = False) -> Mitigation:
     """The damping per mode and the friction slope that stop squeal over the envelope
     (``reduced.mitigation``)."""
     from reduced import mitigation as find
 
     modes = excitable(modeset)
-    radius = design.rolling_radius if rotation else None
+    radius = design.wheel.rolling_radius if rotation else None
     result = find(mode_dofs(modes, design), contact, crab_velocities, _speeds(design, rpms), radius)
     return Mitigation(modes, result, np.asarray(rpms, float))
 
 
-def envelope_seconds(design: WheelDesign, modeset, n_crab_velocities: int, n_speeds: int) -> float:
+def envelope_seconds(design: Design, modeset, n_crab_velocities: int, n_speeds: int) -> float:
     """The estimated time of the map and both mitigations (rotation off and on) [s]."""
     from reduced.stability import eigen_solve_seconds, mitigation_seconds
 
@@ -304,7 +297,7 @@ class MultiMode:
 
 
 def multimode(
-    design: WheelDesign,
+    design: Design,
     rows: Sequence[ModeStabilityRow],
     contact,
     op,

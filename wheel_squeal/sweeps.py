@@ -12,9 +12,8 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from geometry import WheelDesign
-
 from .budget import Budget
+from .design import Design
 from .errors import RequestError
 from .presets import rpm_to_speed
 from .progress import Progress
@@ -59,7 +58,7 @@ class VerdictGrid:
 
 
 def sweep_verdicts(
-    design: WheelDesign,
+    design: Design,
     crab_velocities,
     rpms,
     duration: float,
@@ -96,7 +95,7 @@ def sweep_verdicts(
         raise RequestError("crabbing velocities must be finite and wheel speeds positive")
     if not (math.isfinite(duration) and duration > 0):
         raise RequestError(f"duration must be positive, got {duration:g}")
-    speeds = np.array([rpm_to_speed(r, design.rolling_radius) for r in rpms])
+    speeds = np.array([rpm_to_speed(r, design.wheel.rolling_radius) for r in rpms])
     shape = (len(vcs), len(rpms))
     n_points = shape[0] * shape[1]
     if dof is not None:
@@ -109,8 +108,8 @@ def sweep_verdicts(
         named_mode = None
         if mode != "auto":
             named_mode, _ = pick_mode(modeset, mode)
-        elif design.squeal_mode:
-            named_mode, _ = pick_mode(modeset, design.squeal_mode)
+        elif design.squeal.mode:
+            named_mode, _ = pick_mode(modeset, design.squeal.mode)
         if named_mode is not None:
             modal_dof(named_mode, design)  # a node at the contact: its one-line refusal
         named_i = next((k for k, m in enumerate(modes) if named_mode and m.index == named_mode.index), None)

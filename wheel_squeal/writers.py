@@ -10,8 +10,7 @@ from __future__ import annotations
 import math
 from pathlib import Path
 
-from geometry import WheelDesign
-
+from .design import Design
 from .plotting import PlotWorkers
 from .presets import Fidelity, rpm_to_speed
 
@@ -41,12 +40,12 @@ def dof_summary(dof) -> dict:
     }
 
 
-def modes_summary(design: WheelDesign, modeset, selected, fid: Fidelity, why: str | None = None) -> dict:
+def modes_summary(design: Design, modeset, selected, fid: Fidelity, why: str | None = None) -> dict:
     """``summary.json``'s modal part: every mode with its labels and contact m, k, c, the
     selected mode (and why; None when no mode was selected), the solver, DOFs and timings."""
 
     def zeta(m) -> float:
-        return design.damping_ratio(m.nodal_diameters, m.nodal_circles)
+        return design.damping.ratio(m.nodal_diameters, m.nodal_circles)
 
     sel = selected.to_dict(zeta(selected)) if selected is not None else None
     if why is not None and sel is not None:
@@ -62,25 +61,25 @@ def modes_summary(design: WheelDesign, modeset, selected, fid: Fidelity, why: st
     }
 
 
-def operating_point_summary(op, design: WheelDesign) -> dict:
+def operating_point_summary(op, design: Design) -> dict:
     """The operating point (SI units, and the wheel speed in rev/min)."""
     return {
         "rolling_speed_m_s": op.rolling_speed_m_s,
-        "rpm": op.rolling_speed_m_s / rpm_to_speed(1.0, design.rolling_radius),
+        "rpm": op.rolling_speed_m_s / rpm_to_speed(1.0, design.wheel.rolling_radius),
         "crabbing_velocity_m_s": op.crabbing_velocity_m_s,
         "creepage": op.creepage,
-        "wheel_speed_rad_s": op.wheel_speed_rad_s(design.rolling_radius),
+        "wheel_speed_rad_s": op.wheel_speed_rad_s(design.wheel.rolling_radius),
     }
 
 
-def modes_table(modes, design: WheelDesign, selected=None) -> str:
+def modes_table(modes, design: Design, selected=None) -> str:
     """The modes as a text table (damping c from each mode's ratio), the selected one marked."""
     lines = [
         f"{'#':>3} {'f [Hz]':>9} {'n':>2} {'c':>2} {'family':<15} {'m [kg]':>10} "
         f"{'k [N/m]':>10} {'c [Ns/m]':>9}"
     ]
     for m in modes:
-        d = m.to_dict(design.damping_ratio(m.nodal_diameters, m.nodal_circles))
+        d = m.to_dict(design.damping.ratio(m.nodal_diameters, m.nodal_circles))
         mass = f"{d['modal_mass_kg']:10.3f}" if d["modal_mass_kg"] is not None else f"{'node':>10}"
         k = f"{d['modal_stiffness_n_m']:10.3e}" if d["modal_stiffness_n_m"] is not None else f"{'-':>10}"
         c = f"{d['modal_damping_ns_m']:9.2f}" if d["modal_damping_ns_m"] is not None else f"{'-':>9}"
@@ -95,7 +94,7 @@ def modes_table(modes, design: WheelDesign, selected=None) -> str:
 def analysis_header(a) -> str:
     """One line: the design, the preset, how many modes grow at the operating point."""
     op = a.operating_point
-    rpm = op.rolling_speed_m_s / rpm_to_speed(1.0, a.design.rolling_radius)
+    rpm = op.rolling_speed_m_s / rpm_to_speed(1.0, a.design.wheel.rolling_radius)
     grow = sum(r.stability.unstable for r in a.rows)
     preset = f"{a.fidelity.name} preset{', rotating' if a.rotation else ''}"
     return (

@@ -5,11 +5,10 @@ from __future__ import annotations
 from dataclasses import dataclass
 from pathlib import Path
 
-from geometry import WheelDesign
-
 from .. import api, writers
 from ..budget import Budget
 from ..cache import StageCache
+from ..design import Design
 from ..errors import RequestError
 from ..presets import DEFAULT_SPEEDS_RPM, fidelity_for, rpm_to_speed
 from ..progress import Progress
@@ -30,7 +29,7 @@ __all__ = [
 ]
 
 
-def design_of(args) -> WheelDesign:
+def design_of(args) -> Design:
     return api.load_design(args.design)
 
 
@@ -47,7 +46,7 @@ def write_files(directory: Path, files: dict[str, bytes]) -> None:
         (directory / name).write_bytes(data)
 
 
-def modes_of(args, design: WheelDesign, progress: Progress, cache: StageCache | None = None):
+def modes_of(args, design: Design, progress: Progress, cache: StageCache | None = None):
     """(fidelity, mode set): the design's FE modes with the command's ``--fidelity``,
     ``--solver``, ``--fmax``, cache and budget flags."""
     fid = fidelity_for(args.fidelity, args.solver)
@@ -58,7 +57,7 @@ def modes_of(args, design: WheelDesign, progress: Progress, cache: StageCache | 
     )
 
 
-def operating_point_of(args, design: WheelDesign):
+def operating_point_of(args, design: Design):
     return api.operating_point(
         design,
         rpm=args.rpm,
@@ -80,7 +79,7 @@ class Squeal:
     stability: list | None = None
 
 
-def squeal_mode(args, design: WheelDesign, progress: Progress, cache: StageCache, contact, op) -> Squeal:
+def squeal_mode(args, design: Design, progress: Progress, cache: StageCache, contact, op) -> Squeal:
     """From ``--mass/--stiffness/--damping`` when given (no FE at all), else the design's
     FE modes and ``--mode`` (auto: the design's named mode, else the fastest-growing)."""
     explicit = (args.mass, args.stiffness, args.damping) if hasattr(args, "mass") else (None,) * 3
@@ -106,7 +105,7 @@ def out_of(args, name: str) -> Path:
     return args.out if args.out is not None else Path("results") / args.command / name
 
 
-def analysis_of(args, design: WheelDesign, progress: Progress, cache: StageCache, listener=None, modes=None):
+def analysis_of(args, design: Design, progress: Progress, cache: StageCache, listener=None, modes=None):
     """:func:`wheel_squeal.chain.analyse` with the command's flags."""
     from ..chain import analyse
 
@@ -132,7 +131,7 @@ def analysis_of(args, design: WheelDesign, progress: Progress, cache: StageCache
     )
 
 
-def speeds_or_rpm(args, design: WheelDesign) -> list[float]:
+def speeds_or_rpm(args, design: Design) -> list[float]:
     """A sweep's wheel speeds [rev/min]: ``--rpm``, or ``--speed`` (m/s at the contact)
     converted with the design's rolling radius."""
     if args.speed is not None:
@@ -140,5 +139,5 @@ def speeds_or_rpm(args, design: WheelDesign) -> list[float]:
             raise RequestError("give --rpm or --speed, not both")
         if min(args.speed) <= 0:
             raise RequestError("--speed: rolling speeds must be positive")
-        return [v / rpm_to_speed(1.0, design.rolling_radius) for v in args.speed]
+        return [v / rpm_to_speed(1.0, design.wheel.rolling_radius) for v in args.speed]
     return list(args.rpm) if args.rpm is not None else list(DEFAULT_SPEEDS_RPM)

@@ -30,8 +30,8 @@ def cmd_mesh(args) -> int:
     progress = Progress(args.quiet)
     out = out_of(args, design.name)
     with result_folder(out, "mesh") as tmp:
-        h = mesh_size(design, args.size, args.elements_through_web, args.dim)
-        n = estimate_element_count(design, h, args.dim)
+        h = mesh_size(design.wheel, args.size, args.elements_through_web, args.dim)
+        n = estimate_element_count(design.wheel, h, args.dim)
         nodes_per_element = {(2, 1): 0.6, (2, 2): 2.2, (3, 1): 0.2, (3, 2): 1.9}[(args.dim, args.order)]
         budget_of(args).check_solve(
             f"meshing {design.name} ({args.dim}-D, size {h * 1e3:.3g} mm)",
@@ -53,7 +53,7 @@ def cmd_mesh(args) -> int:
         if args.dim == 2:
             extra = {
                 "mesh_area_m2": mesh.area(),
-                "exact_area_m2": profile_area(design),
+                "exact_area_m2": profile_area(design.wheel),
                 "mesh_volume_m3": mesh.revolved_volume(),
             }
         else:
@@ -65,7 +65,7 @@ def cmd_mesh(args) -> int:
             "nodes": int(mesh.n_nodes),
             "elements": int(mesh.n_elements),
             **extra,
-            "exact_volume_m3": revolved_volume(design),
+            "exact_volume_m3": revolved_volume(design.wheel),
             "seconds": seconds,
         }
         mesh.write(tmp / "mesh.msh")

@@ -5,9 +5,8 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from geometry import WheelDesign
-
 from .. import api
+from ..design import Design
 from ..outputs import result_folder, write_json
 from ..plotting import PlotWorkers
 from ..progress import Progress
@@ -19,7 +18,7 @@ from .common import budget_of, cache_of, design_of, modes_of, out_of
 __all__ = ["cmd_sound", "listener_of", "write_sound_files"]
 
 
-def listener_of(args, design: WheelDesign) -> Listener:
+def listener_of(args, design: Design) -> Listener:
     """The command's ``--microphone``, ``--air-density`` and ``--sound-speed``, checked
     before any work (:func:`wheel_squeal.sound.microphone_for`, ``air_for``)."""
     return Listener(microphone_for(design, args.microphone), air_for(args.air_density, args.sound_speed))
@@ -61,7 +60,7 @@ def cmd_sound(args) -> int:
                 budget=budget_of(args),
             )
         write_sound_files(tmp, sound)
-        zeta = design.damping_ratio(mode.nodal_diameters, mode.nodal_circles)
+        zeta = design.damping.ratio(mode.nodal_diameters, mode.nodal_circles)
         write_json(
             tmp / "summary.json",
             {

@@ -43,7 +43,7 @@ def cmd_calibrate(args) -> int:
         ),
     )
     for k, v in cal.free.items():
-        print(f"{k} = {v:.6g} (was {getattr(design, k):.6g})")
+        print(f"{k} = {v:.6g} (was {design.get(k):.6g})")
     print(
         f"selected mode: f = {cal.frequency_hz:.1f} Hz, m = {cal.modal_mass_kg:.3f} kg; residual "
         + ", ".join(f"{k} {v:+.2%}" for k, v in cal.residual.items() if k != "weighted_rms")

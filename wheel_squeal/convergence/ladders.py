@@ -101,8 +101,8 @@ class FERung:
 
         solver, order, mesh_order = parse_method(self.method)
         mesher = mesh_wheel if SOLVERS[solver].mesh_dim == 3 else mesh_profile
-        mesh = mesher(design, elements_through_web=self.etw, order=mesh_order)
-        return solve_modes(design, mesh, solver, order=order, fmax_hz=DEFAULT_FMAX_HZ)
+        mesh = mesher(design.wheel, elements_through_web=self.etw, order=mesh_order)
+        return solve_modes(design.wheel, mesh, solver, order=order, fmax_hz=DEFAULT_FMAX_HZ)
 
 
 def _fe_job(design, rung: FERung, mode: str) -> Callable[[], dict]:

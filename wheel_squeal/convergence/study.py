@@ -28,6 +28,7 @@ from collections.abc import Callable
 from pathlib import Path
 
 from .. import api
+from ..design import as_design
 from ..outputs import write_json
 from ..presets import DEFAULT_CRAB_VELOCITY_M_S, DEFAULT_FMAX_HZ, DEFAULT_RPM
 from .choice import (
@@ -77,7 +78,7 @@ def _warm_up(design) -> None:
 
     small_problem_factorization()
     available_factorizations()
-    solve_axisymmetric(design, elements_through_web=1, fmax_hz=1500.0)
+    solve_axisymmetric(design.wheel, elements_through_web=1, fmax_hz=1500.0)
     law = api.contact_law(design)
     op = api.operating_point(design)
     reduced.load_compiled_kernels()  # every timed simulation then runs compiled
@@ -94,7 +95,7 @@ def run_convergence(
 ) -> list[dict]:
     """Run the convergence study on ``design`` and write its files into ``out_dir``.
 
-    ``design``: a ``WheelDesign`` (or a TOML path / None for Table 1). ``quick``: only
+    ``design``: a ``Design`` (or a TOML path / None for Table 1). ``quick``: only
     the cheapest rungs (reference: curved axisym P2, 6 per web). ``progress``: called
     with one line of text per step. ``isolate``: measure each run in a forked child
     (peak memory); False runs in-process (memory NaN). Returns the rows of
@@ -102,6 +103,7 @@ def run_convergence(
     """
     if design is None or isinstance(design, (str, Path)):
         design = api.load_design(design)
+    design = as_design(design)
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
     say = progress or (lambda _s: None)

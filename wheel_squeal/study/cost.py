@@ -61,15 +61,15 @@ def estimate_study(spec: StudySpec) -> StudyCost:
     from ..presets import fidelity_for
 
     fid = fidelity_for(spec.fidelity)
-    h = mesh_size(spec.base, elements_through_web=fid.elements_through_web)
-    solve = estimate_cost(spec.base, fid.solver, h, spec.fmax_hz)
+    h = mesh_size(spec.base.wheel, elements_through_web=fid.elements_through_web)
+    solve = estimate_cost(spec.base.wheel, fid.solver, h, spec.fmax_hz)
     points = spec.n_points
     seconds = solve.seconds
     if "stability" in spec.compute:
         modes = [ModalDOF(1.0, 1.0, 0.0)] * max(solve.modes, 1)
         seconds += points * eigen_solve_seconds(modes)
     if "limit_cycle" in spec.compute:
-        named = bool(spec.base.squeal_mode)
+        named = bool(spec.base.squeal.mode)
         seconds += points * (NAMED_SIMULATION_SECONDS_PER_POINT if named else SIMULATION_SECONDS_PER_POINT)
     if "sound" in spec.compute:
         seconds += min(RADIATED_MODES, points) * _radiation_seconds(spec, h)
@@ -84,7 +84,7 @@ def _radiation_seconds(spec: StudySpec, h: float) -> float:
     from acoustics import Surface, radiation_cost
     from geometry.profile import half_profile
 
-    poly, _ = half_profile(spec.base).polygon()
+    poly, _ = half_profile(spec.base.wheel).polygon()
     closed = np.vstack([poly, poly[:1]])
     arc = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(closed, axis=0).T))])
     at = np.linspace(0.0, arc[-1], max(8, int(arc[-1] / h)), endpoint=False)

@@ -108,7 +108,7 @@ def study_dataset(spec: StudySpec, results: list[dict]):
         "base_design": spec.base.name,
         "fidelity": spec.fidelity,
         "fmax_hz": spec.fmax_hz,
-        "named_mode": spec.base.squeal_mode,
+        "named_mode": spec.base.squeal.mode,
         "spec": spec.source,
         "code_version": code_version(*CODE_PACKAGES),
         "created": _dt.datetime.now(_dt.UTC).isoformat(timespec="seconds"),

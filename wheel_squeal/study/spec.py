@@ -35,15 +35,16 @@ import itertools
 import json
 import math
 import re
-from dataclasses import dataclass, fields
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
-from geometry import SECTIONS, DesignError, WheelDesign
+from geometry import SECTIONS, DesignError
 from geometry.textfile import read_toml
 
+from ..design import FIELDS, Design
 from ..errors import RequestError
 from ..presets import DEFAULT_DESIGN, FIDELITIES
 from .task import RESULT_FIELDS
@@ -53,7 +54,7 @@ __all__ = ["COMPUTE", "Case", "Dimension", "StudySpec", "load_spec"]
 #: What a study may compute per design (modes are always computed).
 COMPUTE = ("stability", "limit_cycle", "sound")
 _TOP = {"name", "description", "base", "fidelity", "fmax", "compute", "grid", "samples", "operating"}
-_DESIGN_FIELDS = {f.name for f in fields(WheelDesign) if f.type in (float, "float", "float | None")}
+_DESIGN_FIELDS = set(FIELDS)
 #: Most points of one axis, designs of one study, and operating points per design:
 #: refused before anything is made (a typo like num = 1e9 must not allocate first).
 MAX_AXIS_POINTS = 100_000
@@ -93,7 +94,7 @@ class Case:
 class StudySpec:
     name: str
     description: str
-    base: WheelDesign
+    base: Design
     fidelity: str
     fmax_hz: float
     compute: tuple[str, ...]
@@ -151,7 +152,7 @@ class StudySpec:
         fields_ = set(sets) | set(offsets)
         return tuple(
             sorted(
-                (f, (sets[f] if f in sets else float(getattr(self.base, f))) + offsets.get(f, 0.0))
+                (f, (sets[f] if f in sets else float(self.base.get(f))) + offsets.get(f, 0.0))
                 for f in fields_
             )
         )
@@ -294,7 +295,7 @@ def load_spec(path: str | Path) -> StudySpec:
     if not base_path.is_absolute() and "base" in data:
         base_path = path.parent / base_path
     try:
-        base = WheelDesign.from_toml(base_path)
+        base = Design.from_toml(base_path)
     except DesignError as exc:
         raise RequestError(f"{src}: base design: {exc}") from None
     fidelity = data.get("fidelity", "fast")
@@ -317,7 +318,7 @@ def load_spec(path: str | Path) -> StudySpec:
         n, seed, dims = 0, 0, _grid(data["grid"], src)
     else:
         n, seed, dims = _samples(data["samples"], src)
-    if base.is_outline:  # an outline's [wheel] values follow from its points
+    if base.wheel.is_outline:  # an outline's [wheel] values follow from its points
         varied = {d.name for d in dims if not d.add} | {f for d in dims for f, _ in d.add}
         fixed = sorted(varied & set(SECTIONS["wheel"]))
         if fixed:
@@ -325,7 +326,7 @@ def load_spec(path: str | Path) -> StudySpec:
                 f"{src}: the base design {base.name!r} is an outline: {', '.join(fixed)} cannot be varied "
                 "(vary material, contact or damping, or give a parametric base)"
             )
-    absent = sorted({f for d in dims for f, _ in d.add if getattr(base, f) is None})
+    absent = sorted({f for d in dims for f, _ in d.add if base.get(f) is None})
     if absent:
         raise RequestError(
             f"{src}: add offsets {', '.join(absent)}, which the base design {base.name!r} does not set "

@@ -13,8 +13,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from geometry import DesignError, MeshError, WheelDesign
+from geometry import DesignError, MeshError
 
+from ..design import Design
 from ..errors import BudgetError, RequestError
 
 __all__ = ["CODE_PACKAGES", "FLAG_FIELDS", "LABEL_FIELDS", "CaseJob", "RESULT_FIELDS", "run_case"]
@@ -45,7 +46,7 @@ class CaseJob:
     worker's default one, :func:`wheel_squeal.cache.default_cache_root`) and the limit
     of its modal solve (None: the worker's environment's)."""
 
-    base: WheelDesign
+    base: Design
     changes: tuple[tuple[str, float], ...]
     fidelity: str
     fmax_hz: float
@@ -72,7 +73,7 @@ def run_case(job: CaseJob) -> dict:
 
     try:
         design = job.base.replace(**dict(job.changes))
-    except DesignError as exc:
+    except (DesignError, RequestError) as exc:
         return _failure("invalid", exc)
     try:
         # one thread per task: a study's parallelism is across its tasks
@@ -84,7 +85,7 @@ def run_case(job: CaseJob) -> dict:
         return _failure("failed", f"{type(exc).__name__}: {exc}")
 
 
-def _run(design: WheelDesign, job: CaseJob) -> dict:
+def _run(design: Design, job: CaseJob) -> dict:
     from geometry import wheel_mass
     from reduced import load_compiled_kernels
 
@@ -100,7 +101,7 @@ def _run(design: WheelDesign, job: CaseJob) -> dict:
     budget = Budget.from_environment(job.max_dofs)
     modes = api.compute_modes(design, job.fidelity, fmax_hz=job.fmax_hz, cache=cache, budget=budget)
     shape = (len(job.crab_velocities_m_s), len(job.rpm))
-    out: dict = {"status": "ok", "reason": "", "mass_kg": wheel_mass(design), "modes": len(modes.modes)}
+    out: dict = {"status": "ok", "reason": "", "mass_kg": wheel_mass(design.wheel), "modes": len(modes.modes)}
     numbers = {k: np.full(shape, np.nan) for k in RESULT_FIELDS}
     flags = {k: np.zeros(shape, dtype=bool) for k in FLAG_FIELDS}
     labels = {k: np.full(shape, "", dtype=object) for k in LABEL_FIELDS}
