@@ -183,8 +183,9 @@ def bench_mesh(design, table: Table, quick: bool) -> None:
     from geometry import mesh_profile, mesh_wheel, revolve_profile
 
     bal = ws.FIDELITIES["balanced"]
+    wheel = design.wheel
     s, m, _ = timed(
-        lambda: mesh_profile(design.wheel, elements_through_web=bal.elements_through_web, order=bal.mesh_order),
+        lambda: mesh_profile(wheel, elements_through_web=bal.elements_through_web, order=bal.mesh_order),
         3 if quick else 5,
     )
     table.add(
@@ -196,7 +197,7 @@ def bench_mesh(design, table: Table, quick: bool) -> None:
     )
     n = 3 if quick else 5
     s, m, _ = timed(
-        lambda: revolve_profile(mesh_profile(design.wheel, elements_through_web=1, order=2), CYCLIC_SECTORS), n
+        lambda: revolve_profile(mesh_profile(wheel, elements_through_web=1, order=2), CYCLIC_SECTORS), n
     )
     table.add(
         "mesh",
