@@ -74,6 +74,7 @@ _PARAMETRIC_ONLY = tuple(k for k in SECTIONS["wheel"] if k not in _DERIVED)
 #: An outline's rim width is measured at this fraction of the rolling radius.
 RIM_WIDTH_AT = 0.95
 
+
 @dataclass(frozen=True)
 class WheelDesign:
     """A test-rig lower wheel (the squealing one): its cross-section and material. All
