@@ -253,18 +253,20 @@ class Sound:
 
     @property
     def microphone_pressure_pa(self) -> float:
-        """Peak pressure amplitude at the microphone [Pa] (a travelling wave passes every
-        angle with the antinode's amplitude)."""
-        n, theta = self.field.harmonic, self.microphone[2]
-        angular = 1.0 if self.travelling else abs(math.cos(n * theta))
-        return abs(self.radiation.microphone_pressure_pa) * angular * self.velocity_amplitude_m_s
+        """Peak pressure amplitude at the microphone [Pa] (``acoustics.waves``)."""
+        from acoustics.waves import pressure_amplitude
+
+        p = pressure_amplitude(self.radiation.microphone_pressure_pa, self.field.harmonic, self.microphone[2],
+                               self.travelling)  # fmt: skip
+        return p * self.velocity_amplitude_m_s
 
     @property
     def sound_power_w(self) -> float:
-        """Time-averaged radiated power [W]; a travelling wave (a rotating pair) is the
-        cos and sin members together, twice the standing wave's."""
-        twice = self.travelling and self.field.harmonic >= 1
-        return self.field.sound_power_w * self.velocity_amplitude_m_s**2 * (2.0 if twice else 1.0)
+        """Time-averaged radiated power [W] (a travelling wave: both members)."""
+        from acoustics.waves import radiated_power
+
+        w = radiated_power(self.field.sound_power_w, self.field.harmonic, self.travelling)
+        return w * self.velocity_amplitude_m_s**2
 
     def summary(self) -> dict:
         """JSON-ready levels (None where the amplitude is zero: no sound, no level)."""

@@ -49,18 +49,10 @@ def excitable(modeset) -> list:
 
 
 def mode_dofs(modes: Sequence, design: Design) -> list:
-    """Each FE mode as a ``reduced.ModalDOF`` with its damping ratio and nodal diameters."""
-    from reduced import ModalDOF
+    """Each FE mode as a ``reduced.ModalDOF`` (:func:`wheel_squeal.api.modal_dof`)."""
+    from .api import modal_dof
 
-    return [
-        ModalDOF.from_damping_ratio(
-            m.modal_mass,
-            m.modal_stiffness,
-            design.damping.ratio(m.nodal_diameters, m.nodal_circles),
-            m.nodal_diameters,
-        )
-        for m in modes
-    ]
+    return [modal_dof(m, design) for m in modes]
 
 
 @dataclass(frozen=True)
