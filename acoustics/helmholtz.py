@@ -389,8 +389,8 @@ def radiate(
         return (grads + (a * n * n / (r * r) - k * k * a * b * b) * u * v) * r
 
     A = operator.assemble(basis)
-    body = _facets(skm, lambda r, z: (r > tol) & (np.hypot(r, z) < radius - tol))
-    fb = fe.FacetBasis(skm, fe.ElementTriP2(), facets=body, intorder=6)
+    body_facets = _facets(skm, lambda r, z: (r > tol) & (np.hypot(r, z) < radius - tol))
+    fb = fe.FacetBasis(skm, fe.ElementTriP2(), facets=body_facets, intorder=6)
     x = np.asarray(fb.global_coordinates())
     vn = surface.normal_velocity_at(np.stack([x[0].ravel(), x[1].ravel()], axis=1)).reshape(x[0].shape)
     omega = 2 * math.pi * frequency_hz

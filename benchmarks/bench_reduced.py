@@ -24,6 +24,41 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 import numpy as np  # noqa: E402
 
 
+def rk4_numpy_batch(m, c, k, laws, h, n_steps):
+    """The non-compiled baseline: pure-numpy RK4, vectorised over cases (rows of
+    ``laws``, as ``reduced.model.law_vector`` packs them), one mode per case, from rest.
+    Written here, independently of the package's kernels. Returns the contact velocity
+    history (n_steps+1, n_cases)."""
+    W, mus, K, s1, s2, V0, Vc = (laws[:, i] for i in range(7))
+
+    def force(v):
+        zeta = (Vc + v) / V0
+        a = np.abs(zeta)
+        zp = a * K
+        poly = np.where(zp < 3.0, zp * (1.0 - zp / 3.0 + zp * zp / 27.0), 1.0)
+        s = a * V0
+        inv = np.divide(1.0, s, out=np.full_like(s, np.inf), where=s > 0)
+        f = 1.0 - 0.5 * np.exp(-s1 * inv) - 0.5 * np.exp(-s2 * inv)
+        return -np.sign(zeta) * mus * poly * f * W
+
+    def rhs(y, u):
+        return u, (force(u) - c * u - k * y) / m
+
+    y = np.zeros(laws.shape[0])
+    u = np.zeros(laws.shape[0])
+    out = np.empty((n_steps + 1, laws.shape[0]))
+    out[0] = u
+    for j in range(1, n_steps + 1):
+        a1, b1 = rhs(y, u)
+        a2, b2 = rhs(y + 0.5 * h * a1, u + 0.5 * h * b1)
+        a3, b3 = rhs(y + 0.5 * h * a2, u + 0.5 * h * b2)
+        a4, b4 = rhs(y + h * a3, u + h * b3)
+        y = y + h / 6.0 * (a1 + 2 * a2 + 2 * a3 + a4)
+        u = u + h / 6.0 * (b1 + 2 * b2 + 2 * b3 + b4)
+        out[j] = u
+    return out
+
+
 def median_time(fn, repeat: int) -> tuple[float, object]:
     times, out = [], None
     for _ in range(repeat):
@@ -36,7 +71,6 @@ def median_time(fn, repeat: int) -> tuple[float, object]:
 def main() -> None:
     t0 = time.perf_counter()
     import reduced as r
-    from reduced import _kernels
     from reduced.model import choose_time_step, law_vector
 
     t_import = time.perf_counter() - t0
@@ -77,7 +111,7 @@ def main() -> None:
     h = choose_time_step(mode, law, op)
     n = int(math.ceil(0.6 / h))
     one = law_vector(law, op)[None, :]
-    t_np1, v_np = median_time(lambda: _kernels.rk4_numpy_batch(3.1, 42.0, 1.6e8, one, 0.6 / n, n), 1)
+    t_np1, v_np = median_time(lambda: rk4_numpy_batch(3.1, 42.0, 1.6e8, one, 0.6 / n, n), 1)
     tail = v_np[int(0.9 * n) :, 0]
     print(
         f"  numpy RK4 (no numba), same case: {t_np1:.2f} s ({t_np1 / t_prod:.0f}x slower than numba), "
@@ -90,7 +124,7 @@ def main() -> None:
         f"{int(res.squeal.sum())} of 150 cases squeal"
     )
     laws = np.array([law_vector(law, r.OperatingPoint(v0, vc)) for vc in vcs for v0 in speeds])
-    t_np, _ = median_time(lambda: _kernels.rk4_numpy_batch(3.1, 42.0, 1.6e8, laws, 0.6 / n, n), 1)
+    t_np, _ = median_time(lambda: rk4_numpy_batch(3.1, 42.0, 1.6e8, laws, 0.6 / n, n), 1)
     print(f"  numpy RK4 vectorised over the 150 cases (no cycle reduction): {t_np:.2f} s")
 
     long = r.sweep(mode, law, vcs, speeds, 1.6)

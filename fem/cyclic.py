@@ -101,10 +101,10 @@ class SectorModel:
         K, M = assemble_elasticity(skm, basis, elem, lam, mu, design.density)
         # scikit-fem DOF -> (slab node, component), by location
         comp = np.empty(basis.N, dtype=np.int64)
-        for c in range(3):
-            comp[basis.nodal_dofs[c]] = c
+        for k in range(3):
+            comp[basis.nodal_dofs[k]] = k
             if basis.edge_dofs.size:
-                comp[basis.edge_dofs[c]] = c
+                comp[basis.edge_dofs[k]] = k
         dist, node = cKDTree(pts).query(basis.doflocs.T)
         if dist.max() > 1e-9 * design.rolling_radius or np.unique(3 * node + comp).size != basis.N:
             raise RuntimeError("sector DOFs do not match the mesh nodes")

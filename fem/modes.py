@@ -14,6 +14,7 @@ import json
 import math
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass, field
+from typing import NamedTuple
 
 import numpy as np
 
@@ -193,7 +194,14 @@ class ModeSelection:
         return cls(nodal_diameters=n, nodal_circles=c)
 
 
-def select_mode(modes: Sequence[Mode], selection: ModeSelection | None = None) -> tuple[Mode, str]:
+class SelectedMode(NamedTuple):
+    """A mode and the sentence that says why it was selected."""
+
+    mode: Mode
+    reason: str
+
+
+def select_mode(modes: Sequence[Mode], selection: ModeSelection | None = None) -> SelectedMode:
     """Pick the squeal mode; returns the mode and a sentence saying why it was picked.
 
     Raises ``LookupError`` with a one-line message when nothing matches.
@@ -208,11 +216,12 @@ def select_mode(modes: Sequence[Mode], selection: ModeSelection | None = None) -
         if not 0 <= sel.index < len(modes):
             raise LookupError(f"mode index {sel.index} out of range 0..{len(modes) - 1}")
         m = modes[sel.index]
-        return m, f"mode {sel.index} requested by index"
+        return SelectedMode(m, f"mode {sel.index} requested by index")
     if sel.near_hz is not None:
         axial = [m for m in modes if m.family == "axial"] or list(modes)
-        m = min(axial, key=lambda m: abs(m.frequency_hz - sel.near_hz))
-        return m, f"axial mode nearest to {sel.near_hz:g} Hz"
+        near = sel.near_hz
+        m = min(axial, key=lambda m: abs(m.frequency_hz - near))
+        return SelectedMode(m, f"axial mode nearest to {near:g} Hz")
     cands = [
         m
         for m in modes
@@ -233,7 +242,7 @@ def select_mode(modes: Sequence[Mode], selection: ModeSelection | None = None) -
     why = (
         f"lowest {m.family} mode with {m.nodal_diameters} nodal diameters and {m.nodal_circles} nodal circles"
     )
-    return m, why
+    return SelectedMode(m, why)
 
 
 @dataclass
@@ -306,5 +315,6 @@ __all__ = [
     "ModeSet",
     "contact_modal_mass",
     "modal_damping",
+    "SelectedMode",
     "select_mode",
 ]

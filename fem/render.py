@@ -45,16 +45,20 @@ import math
 import os
 import tempfile
 from collections.abc import Iterable, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from io import BytesIO
 from pathlib import Path
+from typing import Any
 
 import numpy as np
+
+from geometry.files import write_atomic
 
 from .modes import FAMILIES, ModeSet
 
 __all__ = [
     "ModeImage",
+    "RenderStyle",
     "contact_point_index",
     "mode_array_name",
     "mode_file_stem",
@@ -242,15 +246,10 @@ def write_modes_vtu(modeset: ModeSet, path: str | os.PathLike) -> Path:
     for name in list(grid.point_data.keys()):
         if name.endswith("_mag"):
             del grid.point_data[name]
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.stem}.", suffix=".vtu", dir=path.parent)
-    os.close(fd)
-    try:
+    with tempfile.TemporaryDirectory() as scratch:  # VTK writes to a path
+        tmp = Path(scratch) / path.name
         grid.save(tmp, binary=True)
-        _publish(tmp, path)
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
-    return path
+        return write_atomic(path, tmp.read_bytes())
 
 
 # ---------------------------------------------------------------------- images
@@ -275,25 +274,9 @@ def _png_bytes(img: np.ndarray) -> bytes:
     return buf.getvalue()
 
 
-def _publish(tmp: str, path: Path) -> None:
-    """Give the temp file the usual permissions (mkstemp makes it 0600), rename it."""
-    umask = os.umask(0)
-    os.umask(umask)
-    os.chmod(tmp, 0o666 & ~umask)
-    os.replace(tmp, path)
-
-
 def _write_bytes_atomic(path: Path, data: bytes) -> Path:
     path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.stem}.", suffix=path.suffix, dir=path.parent)
-    try:
-        with os.fdopen(fd, "wb") as f:
-            f.write(data)
-        _publish(tmp, path)
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
-    return path
+    return write_atomic(path, data)
 
 
 def _write_gif_atomic(path: Path, frames: Sequence[np.ndarray], fps: float) -> Path:
@@ -327,12 +310,17 @@ def _cylindrical_component(points: np.ndarray, u: np.ndarray, family: str) -> np
     return u[:, 2]
 
 
+#: the points whose radius is in the outer 15 % of the wheel's radial extent are the rim
+#: (where the nodal diameters are fitted and drawn)
+RIM_FRACTION = 0.85
+
+
 def _nodal_angles(points: np.ndarray, comp: np.ndarray, n: int) -> np.ndarray:
     """Angles where the fitted rim harmonic a cos(n t) + b sin(n t) vanishes (2n)."""
     if n < 1:
         return np.empty(0)
     r = np.hypot(points[:, 0], points[:, 1])
-    rim = r >= r.min() + 0.85 * (r.max() - r.min())
+    rim = r >= r.min() + RIM_FRACTION * (r.max() - r.min())
     th = np.arctan2(points[rim, 1], points[rim, 0])
     A = np.column_stack([np.cos(n * th), np.sin(n * th)])
     (a, b), *_ = np.linalg.lstsq(A, comp[rim], rcond=None)
@@ -342,9 +330,34 @@ def _nodal_angles(points: np.ndarray, comp: np.ndarray, n: int) -> np.ndarray:
     return theta0 + (np.arange(2 * n) + 0.5) * math.pi / n
 
 
+@dataclass(frozen=True)
+class RenderStyle:
+    """How a mode is drawn.
+
+    scale: factor applied to the mass-normalised displacement; by default (None) chosen
+        so that the peak displacement is ``amplitude`` of the wheel's outer radius.
+    member: ``"contact"`` (the pair combination maximal at the contact point) or the
+        index of a raw member.
+    window_size: (width, height) [pixels].
+    camera: ``"iso"`` (oblique, shows axial deflection and the pattern), ``"front"``
+        (along the axis), ``"side"`` (edge-on), or a pyvista camera position.
+    cmap: a matplotlib colormap name for the displacement component.
+    """
+
+    scale: float | None = None
+    amplitude: float = 0.08
+    member: int | str = "contact"
+    window_size: tuple[int, int] = (1024, 768)
+    show_outline: bool = True
+    show_contact: bool = True
+    show_nodal_lines: bool = True
+    camera: Any = "iso"
+    cmap: str = "turbo"
+
+
 @dataclass
 class _Scene:
-    plotter: object
+    plotter: Any
     base: np.ndarray  # surface points, undeformed
     disp: np.ndarray  # surface displacement (unscaled)
     scale: float
@@ -391,30 +404,18 @@ def _camera(name, radius: float, width: float):
     raise ValueError(f"unknown camera {name!r}: use one of {CAMERAS} or a camera position")
 
 
-def _build_scene(
-    modeset: ModeSet,
-    i: int,
-    *,
-    scale: float | None,
-    amplitude: float,
-    member: int | str,
-    window_size: tuple[int, int],
-    show_outline: bool,
-    show_contact: bool,
-    show_nodal_lines: bool,
-    camera,
-    cmap: str,
-) -> _Scene:
+def _build_scene(modeset: ModeSet, i: int, style: RenderStyle) -> _Scene:
     import pyvista as pv
 
     mode = modeset.modes[i]
     pts = np.asarray(modeset.points, dtype=float)
-    u_all = mode_shape(modeset, i, member)
+    u_all = mode_shape(modeset, i, style.member)
     r_all = np.hypot(pts[:, 0], pts[:, 1])
     radius = float(r_all.max())
     umax = float(np.linalg.norm(u_all, axis=1).max())
+    scale = style.scale
     if scale is None:
-        scale = amplitude * radius / umax if umax > 0 else 0.0
+        scale = style.amplitude * radius / umax if umax > 0 else 0.0
 
     grid = pv.UnstructuredGrid(_vtk_cells(modeset), pts)
     grid.point_data["u"] = u_all
@@ -423,9 +424,9 @@ def _build_scene(
     surf = grid.extract_surface(pass_pointid=False, pass_cellid=False, algorithm="dataset_surface")
     surf.point_data["|u|"] = np.linalg.norm(surf.point_data["u"], axis=1)
 
-    pl = pv.Plotter(off_screen=True, window_size=list(window_size))
+    pl = pv.Plotter(off_screen=True, window_size=list(style.window_size))
     try:
-        fs = min(window_size[0] / 1024, window_size[1] / 768)  # font scale
+        fs = min(style.window_size[0] / 1024, style.window_size[1] / 768)  # font scale
         pl.set_background("white")
         moving, labels = [], []
         u = np.asarray(surf.point_data["u"])
@@ -437,7 +438,7 @@ def _build_scene(
         pl.add_mesh(
             deformed,
             scalars="|u|",
-            cmap=cmap,
+            cmap=style.cmap,
             clim=(0.0, umax if umax > 0 else 1.0),
             smooth_shading=True,
             show_scalar_bar=True,
@@ -464,7 +465,7 @@ def _build_scene(
             color="black",
         )
 
-        if show_outline:
+        if style.show_outline:
             edges = surf.extract_feature_edges(
                 feature_angle=30.0,
                 boundary_edges=True,
@@ -474,7 +475,7 @@ def _build_scene(
             if edges.n_points:
                 pl.add_mesh(edges, color="#333333", line_width=1.2, opacity=0.8)
 
-        if show_nodal_lines:
+        if style.show_nodal_lines:
             r_in = float(r_all.min())
             cut = surf.clip_scalar(scalars="r", value=r_in + 0.12 * (radius - r_in), invert=False)
             if cut.n_points and np.ptp(cut.point_data["comp"]) > 0:
@@ -499,7 +500,7 @@ def _build_scene(
                 ticks = pv.line_segments_from_points(np.array(segs).reshape(-1, 3))
                 pl.add_mesh(ticks, color="#1f3fbf", line_width=5.0)
 
-        if show_contact:
+        if style.show_contact:
             k = contact_point_index(modeset)
             p0 = pts[k]
             sphere = pv.Sphere(radius=0.03 * radius, center=p0)
@@ -529,7 +530,7 @@ def _build_scene(
         pl.add_text(
             mode_title(modeset, i), position="upper_edge", font_size=max(7, round(14 * fs)), color="black"
         )
-        member_txt = "contact-aligned combination" if member == "contact" else f"member {member}"
+        member_txt = "contact-aligned combination" if style.member == "contact" else f"member {style.member}"
         pl.add_text(
             f"deformation x{scale:.3g} (peak = {100 * scale * umax / radius:.0f} % of R); "
             f"{member_txt}; white: nodal lines, blue ticks: nodal diameters",
@@ -537,10 +538,10 @@ def _build_scene(
             font_size=max(5, round(8 * fs)),
             color="#444444",
         )
-        pl.camera_position = _camera(camera, radius, float(np.ptp(pts[:, 2])))
+        pl.camera_position = _camera(style.camera, radius, float(np.ptp(pts[:, 2])))
         pl.reset_camera()
-        zoom = {"iso": 1.45, "front": 1.05, "side": 1.35}.get(camera, 1.0) if isinstance(camera, str) else 1.0
-        pl.camera.zoom(zoom)
+        named = isinstance(style.camera, str)
+        pl.camera.zoom({"iso": 1.45, "front": 1.05, "side": 1.35}.get(style.camera, 1.0) if named else 1.0)
         return _Scene(pl, base, u, scale, moving, labels, fs)
     except BaseException:
         pl.close()
@@ -551,42 +552,18 @@ def render_mode(
     modeset: ModeSet,
     i: int,
     path: str | os.PathLike | None = None,
-    *,
-    scale: float | None = None,
-    amplitude: float = 0.08,
-    member: int | str = "contact",
-    window_size: tuple[int, int] = (1024, 768),
-    show_outline: bool = True,
-    show_contact: bool = True,
-    show_nodal_lines: bool = True,
-    camera="iso",
-    cmap: str = "turbo",
+    style: RenderStyle | None = None,
+    **changes,
 ) -> ModeImage:
     """Render mode ``i`` off-screen; returns the RGB image, writes a PNG if ``path``.
 
-    scale: factor applied to the mass-normalised displacement; by default chosen so
-        that the peak displacement is ``amplitude`` (8 %) of the wheel's outer radius.
-    member: ``"contact"`` (the pair combination maximal at the contact point) or the
-        index of a raw member.
-    camera: ``"iso"`` (oblique, shows axial deflection and the pattern), ``"front"``
-        (along the axis), ``"side"`` (edge-on), or a pyvista camera position.
+    style: the picture (:class:`RenderStyle`); ``changes`` replace its fields, as in
+    ``render_mode(ms, 3, camera="front")``.
 
     The returned :class:`ModeImage` is an ``(H, W, 3)`` uint8 array that a Jupyter
     notebook displays as a picture.
     """
-    sc = _build_scene(
-        modeset,
-        i,
-        scale=scale,
-        amplitude=amplitude,
-        member=member,
-        window_size=window_size,
-        show_outline=show_outline,
-        show_contact=show_contact,
-        show_nodal_lines=show_nodal_lines,
-        camera=camera,
-        cmap=cmap,
-    )
+    sc = _build_scene(modeset, i, replace(style or RenderStyle(), **changes))
     try:
         img = np.asarray(sc.plotter.screenshot(return_img=True))[..., :3].copy()
     finally:
@@ -606,51 +583,35 @@ def render_modes(
     frames: int = 20,
     fps: float = 12.0,
     gif_window_size: tuple[int, int] = (640, 480),
-    **kwargs,
+    style: RenderStyle | None = None,
+    **changes,
 ) -> list[Path]:
     """One PNG per mode (``mode_03_n3_c0_axial.png``) and optionally an animated GIF
     (``.gif``, ``frames`` frames of one oscillation period, ``gif_window_size``
-    pixels, ``fps`` frames per second). ``kwargs`` go to
+    pixels, ``fps`` frames per second), drawn in ``style`` with ``changes`` as in
     :func:`render_mode`. Returns the written paths (PNG, then GIF, per mode).
     """
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
     idx = range(len(modeset.modes)) if indices is None else list(indices)
-    opts = dict(
-        scale=None,
-        amplitude=0.08,
-        member="contact",
-        window_size=(1024, 768),
-        show_outline=True,
-        show_contact=True,
-        show_nodal_lines=True,
-        camera="iso",
-        cmap="turbo",
-    )
-    unknown = set(kwargs) - set(opts)
-    if unknown:
-        raise TypeError(f"unknown option(s) {sorted(unknown)}")
-    opts.update(kwargs)
+    opts = replace(style or RenderStyle(), **changes)
     written: list[Path] = []
     for i in idx:
         stem = mode_file_stem(modeset, i)
-        sc = _build_scene(modeset, i, **opts)
+        sc = _build_scene(modeset, i, opts)
         try:
             img = np.asarray(sc.plotter.screenshot(return_img=True))[..., :3].copy()
         finally:
             sc.plotter.close()
         written.append(_write_bytes_atomic(out_dir / f"{stem}.png", _png_bytes(img)))
         if gif:
-            written.append(
-                _animate(
-                    modeset, i, out_dir / f"{stem}.gif", frames, fps, {**opts, "window_size": gif_window_size}
-                )
-            )
+            gif_style = replace(opts, window_size=gif_window_size)
+            written.append(_animate(modeset, i, out_dir / f"{stem}.gif", frames, fps, gif_style))
     return written
 
 
-def _animate(modeset: ModeSet, i: int, path: Path, frames: int, fps: float, opts: dict) -> Path:
-    sc = _build_scene(modeset, i, **opts)
+def _animate(modeset: ModeSet, i: int, path: Path, frames: int, fps: float, style: RenderStyle) -> Path:
+    sc = _build_scene(modeset, i, style)
     try:
         imgs = []
         n = max(2, int(frames))

@@ -552,10 +552,10 @@ def _build_modes(design, A: SolidModel, X: np.ndarray, lam: np.ndarray, fmax_hz,
                 RuntimeWarning,
                 stacklevel=3,
             )
-        contact = [float((crow @ x)[0]) for x in members]
+        raw = [float((crow @ x)[0]) for x in members]
         if parity is not None and _in_plane_parity(parity, members) > 0.5:
-            contact = [0.0] * len(members)  # in-plane mode of a symmetric wheel: a node
-        contact = tuple(clean_contact(c, float(np.abs(x).max())) for c, x in zip(contact, members))
+            raw = [0.0] * len(members)  # in-plane mode of a symmetric wheel: a node
+        contact = tuple(clean_contact(c, float(np.abs(x).max())) for c, x in zip(raw, members))
         modes.append(Mode(len(modes), fr, n, circles, fam, contact))
         shapes.append(np.stack([x[vdofs].T for x in members]))
     return modes, shapes, kept

@@ -19,6 +19,7 @@ import signal
 import threading
 from collections.abc import Iterator
 from contextlib import contextmanager
+from typing import Any
 
 import numpy as np
 
@@ -71,7 +72,7 @@ def _check_count(design: WheelDesign, h: float, dim: int) -> None:
 
 
 @contextmanager
-def gmsh_session(verbose: bool) -> Iterator[object]:
+def gmsh_session(verbose: bool) -> Iterator[Any]:
     """An initialised gmsh with one fresh model; finalised (or, if someone else had
     initialised gmsh, the model removed and the options restored) on exit."""
     import gmsh

@@ -34,6 +34,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field, fields
 from pathlib import Path
+from typing import TYPE_CHECKING, Any, cast
 
 import numpy as np
 
@@ -75,8 +76,16 @@ def readonly(a: np.ndarray) -> np.ndarray:
     return a
 
 
-@dataclass(frozen=True, eq=False)
 class _MeshBase:
+    if TYPE_CHECKING:  # the subclasses' fields (not fields of this base)
+        points: np.ndarray
+        dim: int
+
+        @property
+        def cells(self) -> np.ndarray: ...
+
+        def to_meshio(self, include_boundaries: bool = True) -> Any: ...
+
     def _meshio(self, cell_type: str, facet_type: str, include_boundaries: bool):
         import meshio
 
@@ -134,13 +143,13 @@ class _MeshBase:
 
     def to_arrays(self) -> dict[str, np.ndarray]:
         """The mesh as plain arrays (for ``.npz`` files); :meth:`from_arrays` reverses it."""
-        return {f.name: np.asarray(getattr(self, f.name)) for f in fields(self) if f.init}
+        return {f.name: np.asarray(getattr(self, f.name)) for f in fields(cast(Any, self)) if f.init}
 
     @classmethod
     def from_arrays(cls, arrays: dict[str, np.ndarray]):
         """The mesh :meth:`to_arrays` wrote."""
         kwargs = {}
-        for f in fields(cls):
+        for f in fields(cast(Any, cls)):
             if f.init:
                 v = arrays[f.name]
                 kwargs[f.name] = v.item() if v.ndim == 0 else v

@@ -27,7 +27,7 @@ from typing import Any
 import numpy as np
 
 from ._polyline import crossing_pairs, ray_hits, segment_distances
-from .textfile import read_text
+from .files import read_text
 
 __all__ = [
     "ARC_CHORDS",

@@ -7,11 +7,13 @@ the outline's exact ones, so the meshes can be checked against them.
 
 from __future__ import annotations
 
+import numpy as np
+
 from .design import WheelDesign
 from .outline import Outline
 from .parametric import parametric_outline
 
-__all__ = ["half_profile", "profile_area", "revolved_volume", "wheel_mass"]
+__all__ = ["boundary_samples", "half_profile", "profile_area", "revolved_volume", "wheel_mass"]
 
 
 def half_profile(d: WheelDesign) -> Outline:
@@ -34,3 +36,13 @@ def revolved_volume(d: WheelDesign) -> float:
 def wheel_mass(d: WheelDesign) -> float:
     """Mass of the wheel [kg]."""
     return d.density * revolved_volume(d)
+
+
+def boundary_samples(d: WheelDesign, spacing_m: float) -> np.ndarray:
+    """Points (n, 2) in (r, z) along the half-profile's boundary, ``spacing_m`` apart
+    by arc length (at least 8), as a mesh of that size has its boundary vertices."""
+    poly, _ = half_profile(d).polygon()
+    closed = np.vstack([poly, poly[:1]])
+    arc = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(closed, axis=0).T))])
+    at = np.linspace(0.0, arc[-1], max(8, int(arc[-1] / spacing_m)), endpoint=False)
+    return np.stack([np.interp(at, arc, closed[:, 0]), np.interp(at, arc, closed[:, 1])], axis=1)

@@ -27,8 +27,6 @@ from .model import (
 from .predictor import LimitCyclePrediction, mean_power_per_cycle, predict_limit_cycle
 from .report import (
     summary_dicts,
-    write_sweep_csv,
-    write_sweep_plot,
     write_time_history_plots,
     write_timeseries_csv,
 )
@@ -45,7 +43,7 @@ from .stability import (
     mitigation,
     stability_map,
 )
-from .sweep import SweepResult, sweep
+from .sweep import SquealPoints, SweepResult, squeal_points, sweep
 
 __all__ = [
     "HertzContact",
@@ -73,6 +71,8 @@ __all__ = [
     "predict_limit_cycle",
     "SweepResult",
     "sweep",
+    "SquealPoints",
+    "squeal_points",
     "longest_record_s",
     "simulate_to_limit_cycle",
     "ModalContent",
@@ -90,6 +90,4 @@ __all__ = [
     "summary_dicts",
     "write_timeseries_csv",
     "write_time_history_plots",
-    "write_sweep_csv",
-    "write_sweep_plot",
 ]

@@ -342,37 +342,3 @@ def sweep_kernel(
             out_power[ic],
             out_absqv[ic],
         )
-
-
-def rk4_numpy_batch(m, c, k, laws, h, n_steps):
-    """Pure-numpy RK4, vectorised over cases (rows of ``laws``), single mode per
-    case, from rest. Kept only as the non-compiled baseline measured in
-    benchmarks/bench_reduced.py. Returns the contact velocity history (n_steps+1, n_cases)."""
-    W, mus, K, s1, s2, V0, Vc = (laws[:, i] for i in range(7))
-
-    def force(v):
-        zeta = (Vc + v) / V0
-        a = np.abs(zeta)
-        zp = a * K
-        poly = np.where(zp < 3.0, zp * (1.0 - zp / 3.0 + zp * zp / 27.0), 1.0)
-        s = a * V0
-        inv = np.divide(1.0, s, out=np.full_like(s, np.inf), where=s > 0)
-        f = 1.0 - 0.5 * np.exp(-s1 * inv) - 0.5 * np.exp(-s2 * inv)
-        return -np.sign(zeta) * mus * poly * f * W
-
-    def rhs(y, u):
-        return u, (force(u) - c * u - k * y) / m
-
-    y = np.zeros(laws.shape[0])
-    u = np.zeros(laws.shape[0])
-    out = np.empty((n_steps + 1, laws.shape[0]))
-    out[0] = u
-    for j in range(1, n_steps + 1):
-        a1, b1 = rhs(y, u)
-        a2, b2 = rhs(y + 0.5 * h * a1, u + 0.5 * h * b1)
-        a3, b3 = rhs(y + 0.5 * h * a2, u + 0.5 * h * b2)
-        a4, b4 = rhs(y + h * a3, u + h * b3)
-        y = y + h / 6.0 * (a1 + 2 * a2 + 2 * a3 + a4)
-        u = u + h / 6.0 * (b1 + 2 * b2 + 2 * b3 + b4)
-        out[j] = u
-    return out

@@ -151,6 +151,15 @@ def _falling_friction_slope(s: np.ndarray, law: ContactLaw) -> np.ndarray:
     return np.where(live, d, 0.0)
 
 
+def _creep_polynomial(zp: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The cubic of Eq. 3 in the normalised creepage z' >= 0 and its derivative:
+    P = z'(1 - z'/3 + z'^2/27), P' = (1 - z'/3)^2 below z' = 3; P = 1, P' = 0 beyond."""
+    inside = zp < 3.0
+    poly = np.where(inside, zp * (1.0 - zp / 3.0 + zp * zp / 27.0), 1.0)
+    dpoly = np.where(inside, 1.0 - 2.0 * zp / 3.0 + zp * zp / 9.0, 0.0)
+    return poly, dpoly
+
+
 def adhesion_ratio(creepage, law: ContactLaw, rolling_speed_m_s: float):
     """Lateral adhesion ratio mu(zeta) of Eq. 3 (dimensionless, odd in zeta).
 
@@ -164,8 +173,7 @@ def adhesion_ratio(creepage, law: ContactLaw, rolling_speed_m_s: float):
     """
     zeta = np.asarray(creepage, dtype=float)
     a = np.abs(zeta)
-    zp = a * law.normalised_creepage_per_creepage
-    poly = np.where(zp < 3.0, zp * (1.0 - zp / 3.0 + zp * zp / 27.0), 1.0)
+    poly, _ = _creep_polynomial(a * law.normalised_creepage_per_creepage)
     f = falling_friction_factor(a * rolling_speed_m_s, law)
     return np.sign(zeta) * law.friction_coefficient * poly * f
 
@@ -180,10 +188,7 @@ def adhesion_ratio_slope(creepage, law: ContactLaw, rolling_speed_m_s: float):
     zeta = np.asarray(creepage, dtype=float)
     a = np.abs(zeta)
     K = law.normalised_creepage_per_creepage
-    zp = a * K
-    inside = zp < 3.0
-    poly = np.where(inside, zp * (1.0 - zp / 3.0 + zp * zp / 27.0), 1.0)
-    dpoly = np.where(inside, 1.0 - 2.0 * zp / 3.0 + zp * zp / 9.0, 0.0)
+    poly, dpoly = _creep_polynomial(a * K)
     s = a * rolling_speed_m_s
     f = falling_friction_factor(s, law)
     df = _falling_friction_slope(s, law)

@@ -22,6 +22,7 @@ from .creep import ContactLaw, adhesion_ratio
 __all__ = [
     "ModalDOF",
     "OperatingPoint",
+    "rpm_to_speed",
     "TimeHistory",
     "IntegrationError",
     "simulate",
@@ -112,6 +113,12 @@ class ModalDOF:
         return self.damping_ns_m / (2.0 * math.sqrt(self.stiffness_n_m * self.mass_kg))
 
 
+def rpm_to_speed(rpm: float, rolling_radius_m: float) -> float:
+    """Rolling speed at the contact [m/s] of a wheel of ``rolling_radius_m`` [m] at
+    ``rpm`` [rev/min]: V0 = rpm 2 pi / 60 R."""
+    return rpm * 2.0 * math.pi / 60.0 * rolling_radius_m
+
+
 @dataclass(frozen=True)
 class OperatingPoint:
     """Rolling speed V0 and crabbing (lateral sliding) velocity Vc.
@@ -140,7 +147,7 @@ class OperatingPoint:
         if not math.isfinite(float(rpm)) or rpm <= 0.0:
             raise ValueError(f"rpm must be > 0 and finite, got {rpm!r}")
         _finite_positive("OperatingPoint", "wheel_radius_m", wheel_radius_m)
-        return cls(rpm * 2.0 * math.pi / 60.0 * wheel_radius_m, crabbing_velocity_m_s)
+        return cls(rpm_to_speed(rpm, wheel_radius_m), crabbing_velocity_m_s)
 
     @classmethod
     def from_angle_of_attack(cls, rolling_speed_m_s: float, angle_of_attack_rad: float) -> OperatingPoint:
@@ -168,6 +175,9 @@ class IntegrationError(RuntimeError):
 #: largest number of stored samples simulate() accepts (the TimeHistory holds about
 #: 2 N + 6 float64 arrays of that length, plus temporaries: ~1.5 GB for one mode)
 MAX_STORED_SAMPLES = 10_000_000
+#: RK4 steps per period of the highest mode (with rotation: of its faster wave); the
+#: convergence study measures the amplitude error of this rung (about 1e-4)
+STEPS_PER_PERIOD = 48
 
 
 def _check_storage(
@@ -336,7 +346,11 @@ def highest_frequency_hz(modes, wheel_speed_rad_s: float = 0.0) -> float:
 
 
 def choose_time_step(
-    modes, contact: ContactLaw, op: OperatingPoint, steps_per_period: int = 48, wheel_speed_rad_s: float = 0.0
+    modes,
+    contact: ContactLaw,
+    op: OperatingPoint,
+    steps_per_period: int = STEPS_PER_PERIOD,
+    wheel_speed_rad_s: float = 0.0,
 ) -> float:
     """RK4 step, s: the smaller of (i) the period of the highest frequency the contact
     sees divided by ``steps_per_period`` (accuracy; RK4's amplitude error per cycle ~
@@ -418,7 +432,7 @@ def simulate(
     duration: float,
     initial_state=None,
     *,
-    steps_per_period: int = 48,
+    steps_per_period: int = STEPS_PER_PERIOD,
     step_s: float | None = None,
     store_every: int = 1,
     samples_per_period: int | None = None,

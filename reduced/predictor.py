@@ -117,7 +117,8 @@ def predict_limit_cycle(
     def g_scalar(v: float) -> float:
         return float(mean_power_per_cycle(v, mode, contact, op, n_phase)) / v
 
-    stable, unstable = [], []
+    stable: list[float] = []
+    unstable: list[float] = []
     for i in np.nonzero(np.sign(g[:-1]) * np.sign(g[1:]) < 0)[0]:
         root = find_root(g_scalar, grid[i], grid[i + 1], xtol=1e-12, rtol=1e-10)
         # Pbar = V g(V); at a root dPbar/dV = V g'(V): the sign of g's change

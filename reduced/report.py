@@ -9,7 +9,6 @@ picture from a few thousand points instead of hundreds of thousands.
 
 from __future__ import annotations
 
-import math
 from pathlib import Path
 
 import numpy as np
@@ -17,36 +16,32 @@ import numpy as np
 from .creep import ContactLaw, adhesion_ratio
 from .limit_cycle import LimitCycle
 from .model import OperatingPoint, TimeHistory
-from .sweep import SweepResult
 
 __all__ = [
     "summary_dicts",
     "write_timeseries_csv",
     "write_time_history_plots",
-    "write_sweep_csv",
-    "write_sweep_plot",
+    "PLOT_DPI",
     "VELOCITY_REFERENCE_M_S",
 ]
+
+#: resolution of every figure the tool writes [dots per inch]
+PLOT_DPI = 110
 
 #: reference velocity for velocity levels, m/s (dB re 5e-8 m/s)
 VELOCITY_REFERENCE_M_S = 5e-8
 
 
-def _num(x) -> float | None:
-    """float, or None for NaN/inf (JSON has no NaN)."""
-    x = float(x)
-    return x if math.isfinite(x) else None
-
-
 def summary_dicts(lc: LimitCycle, op: OperatingPoint, contact: ContactLaw) -> dict:
-    """JSON-ready dicts {'limit_cycle', 'operating_point', 'contact'} (SI units; NaN -> None)."""
+    """Dicts {'limit_cycle', 'operating_point', 'contact'} (SI units; NaN where a quantity
+    is undefined, such as the frequency of no squeal: a JSON writer makes it null)."""
     return {
         "limit_cycle": {
             "squeal": bool(lc.squeal),
-            "velocity_amplitude_m_s": _num(lc.velocity_amplitude_m_s),
-            "frequency_hz": _num(lc.frequency_hz),
-            "time_to_saturation_s": _num(lc.time_to_saturation_s),
-            "growth_rate_1_s": _num(lc.growth_rate_1_s),
+            "velocity_amplitude_m_s": float(lc.velocity_amplitude_m_s),
+            "frequency_hz": float(lc.frequency_hz),
+            "time_to_saturation_s": float(lc.time_to_saturation_s),
+            "growth_rate_1_s": float(lc.growth_rate_1_s),
         },
         "operating_point": {
             "rolling_speed_m_s": float(op.rolling_speed_m_s),
@@ -212,82 +207,5 @@ def _power(history: TimeHistory, directory: Path, t0: float) -> Path:
 
 
 def _save(fig, path: Path) -> Path:
-    fig.savefig(path, dpi=110)
+    fig.savefig(path, dpi=PLOT_DPI)
     return path
-
-
-def _rpm(speeds_m_s: np.ndarray, wheel_radius_m: float | None) -> np.ndarray:
-    if wheel_radius_m is None:
-        return np.full(speeds_m_s.shape, np.nan)
-    return speeds_m_s / wheel_radius_m * 60.0 / (2.0 * math.pi)
-
-
-def write_sweep_csv(
-    result: SweepResult, directory: Path, wheel_radius_m: float | None = None, name: str = "sweep.csv"
-) -> Path:
-    """sweep.csv: crab_velocity_m_s, rpm, rolling_speed_m_s, squeal, velocity_amplitude_m_s,
-    frequency_hz, growth_rate_1_s, time_to_saturation_s (one row per case; NaN -> empty;
-    rpm needs the wheel rolling radius in m, else empty)."""
-    path = Path(directory) / name
-    rpm = _rpm(result.rolling_speeds_m_s, wheel_radius_m)
-    lines = [
-        "crab_velocity_m_s,rpm,rolling_speed_m_s,squeal,velocity_amplitude_m_s,"
-        "frequency_hz,growth_rate_1_s,time_to_saturation_s"
-    ]
-
-    def fmt(x) -> str:
-        return "" if not math.isfinite(float(x)) else f"{float(x):.9g}"
-
-    for i, vc in enumerate(result.crabbing_velocities_m_s):
-        for j, v0 in enumerate(result.rolling_speeds_m_s):
-            lines.append(
-                ",".join(
-                    [
-                        fmt(vc),
-                        fmt(rpm[j]),
-                        fmt(v0),
-                        str(bool(result.squeal[i, j])).lower(),
-                        fmt(result.velocity_amplitude_m_s[i, j]),
-                        fmt(result.frequency_hz[i, j]),
-                        fmt(result.growth_rate_1_s[i, j]),
-                        fmt(result.time_to_saturation_s[i, j]),
-                    ]
-                )
-            )
-    path.write_text("\n".join(lines) + "\n")
-    return path
-
-
-def write_sweep_plot(
-    result: SweepResult, directory: Path, wheel_radius_m: float | None = None, name: str = "sweep.png"
-) -> Path:
-    """Model counterpart of the paper's Fig. 5: limit-cycle velocity amplitude vs
-    crabbing velocity, one curve per rolling speed (top), and the velocity level
-    20 log10(V / 5e-8 m/s) in dB (bottom). Open markers: still growing at the end of
-    the run (amplitude reached so far, not a limit cycle); no squeal is drawn as 0."""
-    rpm = _rpm(result.rolling_speeds_m_s, wheel_radius_m)
-    fig, (a1, a2) = _figure(7, 7, 2, 1, sharex=True)
-    vc = result.crabbing_velocities_m_s
-    for j, v0 in enumerate(result.rolling_speeds_m_s):
-        amp = np.where(result.squeal[:, j], result.velocity_amplitude_m_s[:, j], 0.0)
-        unsat = result.squeal[:, j] & ~result.saturated[:, j]
-        label = f"{v0:.1f} m/s" + (f" ({rpm[j]:.0f} RPM)" if math.isfinite(rpm[j]) else "")
-        (line,) = a1.plot(vc, np.where(unsat, np.nan, amp), "-o", ms=3, label=label)
-        a1.plot(vc[unsat], amp[unsat], "o", mfc="white", mec=line.get_color(), ms=6)
-        with np.errstate(divide="ignore"):
-            level = 20.0 * np.log10(np.where(amp > 0, amp, np.nan) / VELOCITY_REFERENCE_M_S)
-        a2.plot(vc, np.where(unsat, np.nan, level), "-o", ms=3, color=line.get_color())
-        a2.plot(vc[unsat], level[unsat], "o", mfc="white", mec=line.get_color(), ms=6)
-    if np.any(result.squeal & ~result.saturated):
-        a1.plot(
-            [], [], "o", mfc="white", mec="0.4", ms=6, label="still growing at the end (not a limit cycle)"
-        )
-    a1.plot(vc, np.abs(vc), "k--", lw=0.8, label="|Vc|")
-    a1.set_ylabel("limit-cycle velocity amplitude (m/s)")
-    a1.set_title(f"Squeal amplitude vs crabbing velocity ({result.duration_s:g} s runs from rest)")
-    a1.legend()
-    a2.set_ylabel("velocity level (dB re 5e-8 m/s)")
-    a2.set_xlabel("crabbing velocity Vc (m/s)")
-    for a in (a1, a2):
-        a.grid(alpha=0.3)
-    return _save(fig, Path(directory) / name)

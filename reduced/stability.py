@@ -546,5 +546,5 @@ def mitigation(
         )
         for v0 in speeds.tolist()
     }
-    v_bind = max(slopes, key=slopes.get)
+    v_bind = max(slopes, key=lambda v: slopes[v])
     return Mitigation(zeta, where, float(slopes[v_bind]), float(v_bind), settled, "" if settled else reason)

@@ -19,7 +19,15 @@ import numpy as np
 from . import _engine
 from .creep import ContactLaw
 from .limit_cycle import Cycles, analytic_growth_rate, limit_cycle, metrics_from_cycles
-from .model import OperatingPoint, as_modes, choose_time_step, law_vector, mode_arrays, simulate
+from .model import (
+    STEPS_PER_PERIOD,
+    OperatingPoint,
+    as_modes,
+    choose_time_step,
+    law_vector,
+    mode_arrays,
+    simulate,
+)
 
 
 def numba_threads() -> int:
@@ -62,7 +70,7 @@ class SweepResult:
 
 
 def sweep_steps(
-    modes, contact: ContactLaw, op: OperatingPoint, duration: float, steps_per_period: int = 48
+    modes, contact: ContactLaw, op: OperatingPoint, duration: float, steps_per_period: int = STEPS_PER_PERIOD
 ) -> int:
     """RK4 steps one sweep case at ``op`` takes over ``duration`` s."""
     return int(math.ceil(duration / choose_time_step(modes, contact, op, steps_per_period) - 1e-9))
@@ -75,7 +83,7 @@ def sweep(
     rolling_speeds,
     duration: float,
     *,
-    steps_per_period: int = 48,
+    steps_per_period: int = STEPS_PER_PERIOD,
     energy_tolerance: float = 1e-2,
     progress: Callable[[int, int], None] | None = None,
 ) -> SweepResult:
@@ -118,7 +126,7 @@ def sweep_points(
     ops: Sequence[OperatingPoint],
     duration: float,
     *,
-    steps_per_period: int = 48,
+    steps_per_period: int = STEPS_PER_PERIOD,
     energy_tolerance: float = 1e-2,
     progress: Callable[[int, int], None] | None = None,
 ) -> dict[str, np.ndarray]:
@@ -191,3 +199,72 @@ def sweep_points(
         if progress is not None:
             progress(hi, n_cases)
     return out
+
+
+@dataclass(frozen=True)
+class SquealPoints:
+    """Which mode squeals at each of several operating points (:func:`squeal_points`).
+
+    mode (n,) : index into the modes of the one that squeals, -1 where none does;
+    amplitude_m_s, frequency_hz, time_to_saturation_s (n,) : its limit cycle (NaN where
+    none); squeals, saturated (n,) bool; growth_rate_1_s (n,) : the linear growth rate
+    of that mode, or of the fastest-growing one where none squeals; growth_rates (n,
+    n_modes) : every mode's.
+    """
+
+    mode: np.ndarray
+    amplitude_m_s: np.ndarray
+    frequency_hz: np.ndarray
+    time_to_saturation_s: np.ndarray
+    squeals: np.ndarray
+    saturated: np.ndarray
+    growth_rate_1_s: np.ndarray
+    growth_rates: np.ndarray
+
+
+def squeal_points(
+    modes,
+    contact: ContactLaw,
+    ops: Sequence[OperatingPoint],
+    duration: float,
+    *,
+    first: int | None = None,
+    fastest: bool = True,
+    progress: Callable[[int, int], None] | None = None,
+) -> SquealPoints:
+    """Each mode of ``modes`` run alone from rest for ``duration`` [s] where it is the
+    candidate: mode ``first`` at every point, then (``fastest``) where it does not
+    squeal, the fastest-growing mode where one grows. The growth rates come from one
+    eigen-solve per point (:func:`reduced.stability.growth_rates`)."""
+    from .stability import friction_damping_ns_m, growth_rates
+
+    modes = as_modes(modes)
+    n = len(ops)
+    damping = [d.damping_ns_m for d in modes]
+    sigma = np.array([growth_rates(modes, damping, friction_damping_ns_m(contact, op)) for op in ops])
+    sigma = sigma.reshape(n, len(modes))
+    out = {k: np.full(n, np.nan) for k in ("amp", "freq", "tsat")}
+    squeals, saturated = np.zeros(n, bool), np.zeros(n, bool)
+    chosen = np.full(n, -1)
+
+    def run(i_mode: int, where: np.ndarray) -> np.ndarray:
+        res = sweep_points(modes[i_mode], contact, [ops[k] for k in where], duration, progress=progress)
+        keep = res["squeal"]
+        for name in ("amp", "freq", "tsat"):
+            out[name][where[keep]] = res[name][keep]
+        squeals[where[keep]] = True
+        saturated[where[keep]] = res["saturated"][keep]
+        chosen[where[keep]] = i_mode
+        return where[keep]
+
+    remaining = np.arange(n)
+    if first is not None:
+        remaining = np.setdiff1d(remaining, run(first, remaining))
+    if fastest and n:
+        best = np.argmax(sigma, axis=1)
+        grows = remaining[(sigma[remaining, best[remaining]] > 0) & (best[remaining] != first)]
+        for i_mode in np.unique(best[grows]):
+            run(int(i_mode), grows[best[grows] == i_mode])
+    rows = np.arange(n)
+    growth = np.where(chosen >= 0, sigma[rows, np.maximum(chosen, 0)], sigma.max(axis=1) if n else 0.0)
+    return SquealPoints(chosen, out["amp"], out["freq"], out["tsat"], squeals, saturated, growth, sigma)

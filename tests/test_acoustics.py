@@ -126,6 +126,7 @@ def test_wheel_radiation_scales_with_the_contact_velocity(wheel_field):
     assert node < 1e-9 * sound_of(rad, 1.0, mic).microphone_pressure_pa
 
 
+@pytest.mark.slow
 def test_run_reports_sound_and_sweep_draws_fig5_in_db(tmp_path):
     cache = str(tmp_path / "c")
     r = run_cli(
@@ -154,6 +155,7 @@ def test_run_reports_sound_and_sweep_draws_fig5_in_db(tmp_path):
     assert len(rows) == 1 + 3 * 2 and (tmp_path / "sweep" / "sweep.png").exists()  # SPL in its lower panel
 
 
+@pytest.mark.slow
 def test_sound_command(tmp_path):
     out = tmp_path / "s"
     r = run_cli(

@@ -153,3 +153,72 @@ def test_help_imports_no_heavy_library():
     top = {m.split(".")[0] for m in _imported_by("--help")}
     assert top & (FE_LIBRARIES | {"scipy", "matplotlib", "numba"}) == set()
     assert "wheel_squeal" in top
+
+
+#: The numerical functions of the physics packages that solve something (an eigen-problem,
+#: an ODE, a radiation problem, a root): the application layer calls each on a whole list
+#: of modes or grid of points, never once per mode or point inside its own loop.
+SOLVERS = {
+    "linear_stability", "growth_rates", "critical_damping_ratio", "critical_friction_slope",
+    "stability_map", "mitigation", "simulate", "simulate_to_limit_cycle", "sweep", "sweep_points",
+    "squeal_points", "limit_cycle", "predict_limit_cycle", "modal_content", "solve_modes",
+    "solve_axisymmetric", "radiate", "kirchhoff_pressure",
+}  # fmt: skip
+#: numpy's numerical analysis (linear algebra, transforms, fits, quadrature, interpolation)
+NUMPY_ANALYSIS = {"linalg", "fft", "interp", "polyfit", "gradient", "trapezoid", "trapz", "convolve", "roots"}
+#: The one exception, and why: calibration drives SciPy's least squares whose objective
+#: is the whole FE chain (mesh, modes, labels), which only the application layer has.
+NUMERICS_ALLOWED = {("wheel_squeal/calibration.py", "scipy.optimize")}
+
+
+def _numerics(rel: str, source: str) -> list[str]:
+    """What breaks the rule below in one module's source."""
+    found = []
+    for node in ast.walk(ast.parse(source)):
+        if isinstance(node, ast.Import | ast.ImportFrom):
+            mods = [a.name for a in node.names] if isinstance(node, ast.Import) else [node.module or ""]
+            for m in mods:
+                if m.split(".")[0] in ("scipy", "numba") and (rel, m) not in NUMERICS_ALLOWED:
+                    found.append(f"{rel}:{node.lineno} imports {m}")
+        elif (
+            isinstance(node, ast.Attribute)
+            and node.attr in NUMPY_ANALYSIS
+            and isinstance(node.value, ast.Name)
+            and node.value.id in ("np", "numpy")
+        ):
+            found.append(f"{rel}:{node.lineno} uses np.{node.attr}")
+        elif isinstance(
+            node, ast.For | ast.While | ast.ListComp | ast.SetComp | ast.DictComp | ast.GeneratorExp
+        ):
+            for call in ast.walk(node):
+                if isinstance(call, ast.Call):
+                    fn = call.func
+                    name = fn.attr if isinstance(fn, ast.Attribute) else getattr(fn, "id", None)
+                    if name in SOLVERS:
+                        found.append(f"{rel}:{call.lineno} calls {name} in a loop")
+    return sorted(set(found))
+
+
+def test_the_application_layer_has_no_numerics_of_its_own():
+    """wheel_squeal orchestrates: it imports no SciPy or numba, uses none of numpy's
+    numerical analysis, and calls no solver of geometry/fem/reduced/acoustics inside a
+    loop or comprehension (the loop over modes or grid points belongs to the solver)."""
+    found = []
+    for f in sorted((ROOT / "wheel_squeal").rglob("*.py")):
+        found += _numerics(str(f.relative_to(ROOT)), f.read_text())
+    assert not found, "\n".join(found)
+
+
+def test_the_numerics_rule_finds_what_it_forbids():
+    """Not vacuous: a per-mode loop around a solver, a comprehension over grid points,
+    np.linalg and a SciPy import are each found."""
+    src = (
+        "import scipy.linalg\n"
+        "for m in modes:\n    rates.append(reduced.growth_rates([m], d, g))\n"
+        "out = [simulate(dof, c, op) for op in ops]\n"
+        "w = np.linalg.eigvals(a)\n"
+    )
+    found = _numerics("wheel_squeal/x.py", src)
+    assert [f.split(" ", 1)[1] for f in found] == [
+        "imports scipy.linalg", "calls growth_rates in a loop", "calls simulate in a loop", "uses np.linalg",
+    ]  # fmt: skip

@@ -183,8 +183,6 @@ def test_plate_design_file_with_gmsh_mesh_agrees(plate_modes):
     from conftest import load_wheel as load_design
 
     path = Path(__file__).resolve().parents[1] / "designs" / "annular_plate.toml"
-    if not path.exists():
-        pytest.skip("designs/annular_plate.toml not present")
     ms = solve_axisymmetric(load_design(path), fmax_hz=2500.0, n_theta=8)
     assert [m.label() for m in ms.modes] == [m.label() for m in plate_modes.modes]
     for x, y in zip(ms.modes, plate_modes.modes):

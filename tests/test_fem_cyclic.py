@@ -119,6 +119,7 @@ def same_mesh_pair(profile1):
     return m, solve_cyclic(TABLE1, m, fmax_hz=3000.0), full
 
 
+@pytest.mark.slow
 def test_cyclic_equals_full_3d_solve(same_mesh_pair):
     """Block-circulant reduction is exact: same eigenvalues (1e-8 relative: the Lanczos
     tolerance is 1e-10), same labels, same pair-combined contact modal masses (1e-6)."""

@@ -92,6 +92,7 @@ def table1_fast():
 # =====================================================================================
 # geometry
 # =====================================================================================
+@pytest.mark.slow
 def test_thin_web_2mm(table1_fast):
     """A 2 mm web (Table 1: 15 mm) is a floppy membrane between bore and rim: the rim
     rocks on it as a nearly rigid ring, so the (1,0) and (0,0) modes drop to tens of

@@ -50,6 +50,7 @@ def p2(mesh_ci):
     return model, ms, vecs
 
 
+@pytest.mark.slow
 def test_modeset_contract(p2, mesh_ci):
     model, ms, _ = p2
     assert ms.solver == "3d-p2"
@@ -104,6 +105,7 @@ def test_pair_rotation_invariance(p2):
     assert min(singles) >= m0 * (1 - 1e-12)
 
 
+@pytest.mark.slow
 def test_p1_locks_p2_converges_from_above(p2, mesh_ci):
     """P1 tets lock in bending (MODEL.md 6: +20 % on the (3,0) mode at 25k DOF):
     on the same mesh P1 is far stiffer than P2. P2 on a coarser mesh is above P2 on
@@ -122,6 +124,7 @@ def test_p1_locks_p2_converges_from_above(p2, mesh_ci):
     assert f2 > 1114.3 * (1 - 1e-3)
 
 
+@pytest.mark.slow
 def test_free_free_rigid_modes():
     """Free-free: the six rigid-body modes (3 translations, 3 rotations) are found at
     near-zero frequency, recognised (shape in the rigid span) and dropped; the first
@@ -154,6 +157,7 @@ def small_km():
     return K, M, solve_eigen(K, M, k=12, factorization="splu")
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("name", ["auto"] + [n for n in available_factorizations() if n != "splu"])
 def test_factorisations_agree(name, small_km):
     """Every factorisation gives the same shift-invert eigenvalues as SuperLU: the
@@ -188,6 +192,7 @@ def test_in_plane_modes_have_a_contact_node(p2):
             assert 1.0 < m.modal_mass < 100.0, (m.label(), m.modal_mass)
 
 
+@pytest.mark.slow
 def test_empty_band_warns():
     """Nothing below 10 Hz: an empty ModeSet and an EmptyBandWarning naming the lowest
     natural frequency (the clamped Table 1 wheel's (1,0) axial pair, ~265 Hz)."""
@@ -201,6 +206,7 @@ def test_empty_band_warns():
     assert 240.0 < f_low < 300.0
 
 
+@pytest.mark.slow
 def test_auto_without_optional_backends(monkeypatch, small_km):
     """A fresh install without the ``fast3d`` extra (no pypardiso) nor scikit-sparse:
     ``auto`` falls back to SciPy's SuperLU and gives the same eigenvalues."""
@@ -249,6 +255,7 @@ def test_against_axisymmetric(p2):
     assert s30.modal_mass == pytest.approx(a30.modal_mass, rel=1e-2)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("order", [1, 2])
 def test_fast_assembly_equals_skfem(order):
     """The vectorised assembly (fem.elasticity.assemble_elasticity) gives scikit-fem's

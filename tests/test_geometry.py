@@ -254,6 +254,7 @@ def test_mesh_size():
 # --------------------------------------------------------------------------------------
 # mesh volumes at the default size
 # --------------------------------------------------------------------------------------
+@pytest.mark.slow
 @pytest.mark.parametrize("name", sorted(DESIGNS))
 def test_3d_volume_at_default_size(name):
     d = DESIGNS[name]
@@ -283,6 +284,7 @@ def test_first_order_meshes_are_close_too(dim):
     assert measured == pytest.approx(exact, rel=5e-3)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("name", sorted(DEGENERATE))
 def test_degenerate_designs_mesh(name):
     d = DEGENERATE[name]
@@ -556,6 +558,7 @@ def test_meshing_off_the_main_thread():
     assert result["m"].n_elements > 0
 
 
+@pytest.mark.slow
 def test_geometry_knows_nothing_of_fe():
     code = "import sys, geometry; print('skfem' in sys.modules)"
     out = subprocess.run(

@@ -73,6 +73,7 @@ def test_pressure_beyond_the_air_mesh_is_the_exact_sphere(l_, m, ka):
     assert abs(outside[0] / inside[0] - 1) < 0.01  # FE and integral meet (1 %: the FE error)
 
 
+@pytest.mark.slow
 def test_a_pass_by_microphone_costs_no_more_than_the_default(tmp_path):
     """7.5 m (the pass-by distance) and 100 m take the default air mesh: under 60 s and
     3 GB of address space (they took 114 s and 7.1 GB, and crashed at 10 m); far away the
@@ -131,6 +132,7 @@ def test_run_refuses_a_microphone_inside_the_wheel_before_any_work(tmp_path):
     assert not (tmp_path / "c").exists()  # refused before the modes
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize(
     ("args", "expect"),
     [(["--microphone", "0,0.1,0"], "no pressure"), (["--velocity-amplitude", "0"], "none")],
@@ -201,6 +203,7 @@ def _split_web_face(pieces: int) -> tuple[list, int]:
     return [T1_LOOP[0], *face, *T1_LOOP[2:], T1_LOOP[0]], TREAD + pieces - 1
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("pieces", [2000, 100_000])
 def test_a_cad_export_with_a_split_face_is_the_same_wheel(tmp_path, pieces):
     """One face in 2,000 or 100,000 collinear pieces (a CAD export) is the Table 1
@@ -222,6 +225,7 @@ def test_a_cad_export_with_a_split_face_is_the_same_wheel(tmp_path, pieces):
     assert ours["nodes"] == theirs["nodes"] and ours["elements"] == theirs["elements"]
 
 
+@pytest.mark.slow
 def test_a_dense_curved_outline_loads_in_n_log_n_and_its_mesh_is_refused(tmp_path):
     """12,000 short segments that do not line up (a web of gentle waves): checked in
     seconds and little memory (all pairs would be 72 million), and the mesh that would
@@ -303,6 +307,7 @@ def _csv_design(folder: Path, csv: bytes) -> Path:
     return _write(folder / "csv.toml", b'name = "c"\n[profile]\nfile = "p.csv"\ncontact = [0.213, 0.0]\n')
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize(
     ("profile", "word"),
     [
@@ -406,6 +411,7 @@ def test_a_dead_worker_is_charged_only_with_its_own_case():
     assert [(d.case, d.count) for d in deaths] == [(1, 1), (1, 2), (1, 3)]
 
 
+@pytest.mark.slow
 def test_transient_failures_are_not_kept_and_a_rerun_computes_exactly_them(tmp_path):
     """Under a temporary limit the four 13 mm webs of the smoke study are refused (3,511
     estimated DOFs against 3,200; the base wheel's 3,049 pass): reported, not stored;
@@ -434,6 +440,7 @@ def _alive(pid: int) -> bool:
     return state != "Z"
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("sig", ["SIGTERM", "SIGKILL"])
 def test_no_worker_outlives_a_killed_study(tmp_path, sig):
     import signal
@@ -484,6 +491,7 @@ def test_bad_scheduler_addresses_are_one_line_at_once(tmp_path, address, word):
     assert not (tmp_path / "o").exists()
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("server", ["http", "silent"])
 def test_a_server_that_is_not_a_scheduler_is_one_line_within_seconds(tmp_path, server):
     """A web server on the port, or a listener that never answers: the handshake times
@@ -527,6 +535,7 @@ def test_measured_damping_keys_are_read_the_way_modes_are_named(tmp_path):
     assert d.damping.ratio(1, 0) == 6e-3  # applied to the (1,0) mode
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize(
     ("text", "word"),
     [
@@ -571,6 +580,7 @@ def test_smaller_refusals_are_one_line_and_write_nothing(tmp_path, args, word):
     assert not out.exists()
 
 
+@pytest.mark.slow
 def test_cache_clear_leaves_a_users_empty_folder(tmp_path):
     folder = tmp_path / "mine"
     folder.mkdir()
@@ -598,6 +608,7 @@ def test_cache_clear_on_a_read_only_cache_is_one_line(tmp_path, monkeypatch):
         cache.clear()
 
 
+@pytest.mark.slow
 def test_a_terminated_run_cleans_up_as_an_interrupted_one(tmp_path):
     """SIGTERM (timeout, batch schedulers) mid-computation: exit 143, the staging folder
     removed, nothing at --out (gmsh's own SIGTERM handler, which exits at once, is
@@ -646,6 +657,7 @@ def test_the_cache_keeps_under_its_limit_evicting_the_least_recently_used(tmp_pa
     assert cache.evict() >= 0 and cache.info()[1] <= 2_000_000
 
 
+@pytest.mark.slow
 def test_cache_info_shows_its_size_and_limit(tmp_path):
     r = run_cli("cache", "limit", "500M", "--cache-dir", tmp_path / "c")
     assert r.returncode == 0 and "of 500 MB" in r.stdout
@@ -714,6 +726,7 @@ def random_loops(draw):
     return pts[keep]
 
 
+@pytest.mark.slow
 @settings(max_examples=40, deadline=None, derandomize=True, suppress_health_check=[HealthCheck.too_slow])
 @given(points=random_loops())
 def test_random_outlines_are_a_wheel_or_one_line_that_says_why(points):

@@ -47,6 +47,7 @@ def _bad_requests(tmp: Path) -> list[tuple[list[str], str]]:
     ]
 
 
+@pytest.mark.slow
 def test_bad_requests_exit_2_with_one_line_and_no_output(tmp_path):
     for args, needle in _bad_requests(tmp_path):
         out = tmp_path / "out"
@@ -64,6 +65,7 @@ def test_bad_requests_exit_2_with_one_line_and_no_output(tmp_path):
         assert not list(tmp_path.glob(".out.tmp-*")), msg
 
 
+@pytest.mark.slow
 def test_every_command_has_help():
     for command in [
         "run",
@@ -81,6 +83,7 @@ def test_every_command_has_help():
         assert r.returncode == 0 and "usage" in r.stdout, command
 
 
+@pytest.mark.slow
 def test_failed_run_keeps_previous_results(tmp_path):
     """A failure after the output folder exists must not damage the earlier results."""
     out = tmp_path / "res"
@@ -171,6 +174,7 @@ def test_foreign_cache_entry_is_detected(tmp_path, capsys):
     assert [m.frequency_hz for m in ms.modes] == [m.frequency_hz for m in ref.modes]
 
 
+@pytest.mark.slow
 def test_cache_clear_only_removes_cache_entries(tmp_path):
     root = tmp_path / "cache"
     cache = ws.StageCache(root)
@@ -242,6 +246,7 @@ def test_simulate_with_explicit_modal_parameters_builds_no_mesh(tmp_path, monkey
     assert not (tmp_path / "c").exists(), "no cache entry for a run without FE"
 
 
+@pytest.mark.slow
 def test_run_default_writes_the_full_report(tmp_path):
     out = tmp_path / "run"
     r = cli("run", "--out", str(out), "--quiet", "--cache-dir", str(tmp_path / "cache"))
@@ -295,6 +300,7 @@ def test_run_default_writes_the_full_report(tmp_path):
         assert (out2 / f.name).read_bytes() == f.read_bytes()
 
 
+@pytest.mark.slow
 def test_compare_shows_geometry_moves_the_squeal_prediction(tmp_path):
     out = tmp_path / "cmp"
     r = cli(
@@ -320,6 +326,7 @@ def test_compare_shows_geometry_moves_the_squeal_prediction(tmp_path):
     assert (out / "compare.csv").read_text().count("\n") == 3
 
 
+@pytest.mark.slow
 def test_mesh_command_summary(tmp_path):
     out = tmp_path / "mesh"
     r = cli("mesh", "--dim", "2", "--out", str(out), "--quiet")
@@ -330,6 +337,7 @@ def test_mesh_command_summary(tmp_path):
     assert (out / "mesh.msh").exists() and (out / "mesh.vtu").exists()
 
 
+@pytest.mark.slow
 def test_modes_command_summary(tmp_path):
     out = tmp_path / "modes"
     r = cli(
@@ -384,6 +392,7 @@ def test_3d_solver_agrees_with_axisym_preset(tmp_path):
     assert ws.fidelity_for("fast", "3d-tet").mesh_order == 2
 
 
+@pytest.mark.slow
 def test_sweep_command(tmp_path):
     out = tmp_path / "sweep"
     r = cli(
@@ -411,6 +420,7 @@ def test_sweep_command(tmp_path):
     assert (out / "sweep.png").exists()
 
 
+@pytest.mark.slow
 def test_render_command(tmp_path):
     out = tmp_path / "render"
     r = cli(
@@ -434,6 +444,7 @@ def test_render_command(tmp_path):
     assert r.stdout.strip().endswith(f"2 files -> {out}")
 
 
+@pytest.mark.slow
 def test_calibrate_command_fits_the_frequency(tmp_path):
     """Fit the rim depth to a measured (3,0) frequency alone: the written design gives
     that frequency within the 1 % uncertainty of the fit, and a rerun may replace it."""
@@ -461,6 +472,7 @@ def test_calibrate_command_fits_the_frequency(tmp_path):
     assert cli(*args).returncode == 0  # its own earlier result may be replaced
 
 
+@pytest.mark.slow
 def test_converge_command_writes_the_study(tmp_path):
     out = tmp_path / "conv"
     r = cli("converge", "--quick", "--out", out, "--quiet")

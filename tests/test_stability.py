@@ -347,6 +347,7 @@ def test_mitigation_damping_and_friction_slope_stop_squeal_everywhere(table1_fe,
 # --------------------------------------------------------------------------------------
 # item 6: the command
 # --------------------------------------------------------------------------------------
+@pytest.mark.slow
 def test_stability_command(tmp_path):
     out = tmp_path / "st"
     r_ = run_cli(
@@ -374,6 +375,7 @@ def test_stability_command(tmp_path):
     assert "<- fastest" in r_.stdout and "zeta needed" in r_.stdout
 
 
+@pytest.mark.slow
 def test_run_with_rotation_and_multimode_reports_both(tmp_path):
     out = tmp_path / "run"
     r_ = run_cli(

@@ -10,12 +10,14 @@ import sys
 import time
 from pathlib import Path
 
+import distributed  # noqa: F401  (the test extra installs it: a missing one must fail, not skip)
 import numpy as np
 import pytest
+import xarray as xr
 from conftest import ROOT, one_line_error, run_cli
 
-xr = pytest.importorskip("xarray")
-pytest.importorskip("distributed")
+#: every test here starts a worker pool, a cluster or the command line
+pytestmark = pytest.mark.slow
 
 from wheel_squeal.errors import RequestError  # noqa: E402
 from wheel_squeal.study import load_spec  # noqa: E402

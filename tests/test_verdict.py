@@ -46,6 +46,7 @@ def cases(tmp_path_factory):
     }, tmp
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("name", ["table1", "thin_web", "damped"])
 def test_every_command_gives_the_same_verdict(cases, name):
     """run, stability, compare, sweep (at that point), a one-design study and the API:
@@ -153,6 +154,7 @@ def test_no_squeal_says_how_far_it_is(cases):
     assert "least stable" in v.reason and "would grow" in v.reason
 
 
+@pytest.mark.slow
 def test_rotation_squeals_in_a_growing_mode_and_names_the_stable_override(tmp_path):
     """On a turning wheel the named (3,0) mode is stable at the Fig. 6 point; the
     verdict is the model's pick, with its tone (the wave a fixed microphone hears) and
@@ -178,6 +180,7 @@ def test_rotation_squeals_in_a_growing_mode_and_names_the_stable_override(tmp_pa
     assert "VERDICT: squeals in" in r.stdout and "no sound" not in r.stdout
 
 
+@pytest.mark.slow
 def test_unsaturated_sweep_points_are_marked_and_drawn_hollow_unjoined(tmp_path):
     """Near the stability boundary 0.2 s runs do not saturate: each such point says
     saturated=False in sweep.csv and sweep_spl.csv, and the drawing joins only limit
@@ -223,6 +226,7 @@ def test_unsaturated_sweep_points_are_marked_and_drawn_hollow_unjoined(tmp_path)
         assert np.all(np.isfinite(line[grid.saturated[:, j] & grid.squeals[:, j]]))
 
 
+@pytest.mark.slow
 def test_sound_states_its_velocity_and_compare_its_levels(tmp_path):
     r = run_cli("sound", *FAST, "--out", tmp_path / "s", "--quiet", "--cache-dir", tmp_path / "c")
     assert r.returncode == 0 and "contact velocity 1 m/s" in r.stdout
@@ -253,6 +257,7 @@ def test_sound_states_its_velocity_and_compare_its_levels(tmp_path):
     assert "why:" in r.stdout
 
 
+@pytest.mark.slow
 def test_a_shipped_design_by_name_from_any_folder(tmp_path):
     r = run_cli(
         "modes",
@@ -273,6 +278,7 @@ def test_a_shipped_design_by_name_from_any_folder(tmp_path):
     assert r.returncode == 2 and "shipped design" in r.stderr
 
 
+@pytest.mark.slow
 def test_one_grammar(tmp_path):
     """--out optional everywhere (results/COMMAND/NAME), --speed wherever --rpm is, an
     unknown option points to the subcommand's help, the API's own error for bad designs."""

@@ -35,6 +35,7 @@ from .presets import (
     DEFAULT_CRAB_VELOCITY_M_S,
     DEFAULT_DESIGN,
     DEFAULT_RPM,
+    DEFAULT_SWEEP_DURATION_S,
     designs_folder,
     rpm_to_speed,
 )
@@ -243,11 +244,12 @@ def simulate(
                 f"duration {duration:g} s is too long to record: at most {longest:.3g} s "
                 "fit (48 samples per period of the highest mode, 10 million samples)"
             )
-    steps = sweep_steps(dof, contact, op, duration or FIRST_DURATION_S)
+    first = duration or FIRST_DURATION_S
+    steps = sweep_steps(dof, contact, op, first)
     if steps < MIN_RECORD_STEPS:
         raise RequestError(
-            f"duration {duration:g} s is {steps} RK4 step(s) of {duration / steps:.3g} s: a record needs "
-            f"at least {MIN_RECORD_STEPS} ({MIN_RECORD_STEPS * duration / steps:.3g} s)"
+            f"duration {first:g} s is {steps} RK4 step(s) of {first / steps:.3g} s: a record needs "
+            f"at least {MIN_RECORD_STEPS} ({MIN_RECORD_STEPS * first / steps:.3g} s)"
         )
     (budget or Budget.from_environment()).check_sweep(
         1,
@@ -273,7 +275,7 @@ def sweep(
     contact,
     crab_velocities,
     rolling_speeds,
-    duration: float = 1.5,
+    duration: float = DEFAULT_SWEEP_DURATION_S,
     budget: Budget | None = None,
     progress: Progress | None = None,
 ):

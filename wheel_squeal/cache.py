@@ -36,13 +36,15 @@ import json
 import os
 import re
 import sys
-import tempfile
 import time
 import zipfile
 from collections.abc import Callable
 from pathlib import Path
+from typing import Any
 
 import numpy as np
+
+from geometry.files import write_atomic
 
 from .errors import RequestError
 
@@ -257,18 +259,12 @@ class StageCache:
         p = self.path(stage, key)
         meta = json.dumps({"tool": ENTRY_TOOL, "key": key, "checksum": _checksum(arrays)})
         buf = io.BytesIO()
-        np.savez(buf, __meta__=np.array(meta), **arrays)
-        tmp = None
+        payload: dict[str, Any] = {"__meta__": np.array(meta), **arrays}
+        np.savez(buf, **payload)
         try:
             p.parent.mkdir(exist_ok=True)
-            fd, tmp = tempfile.mkstemp(prefix=f"{p.name}.", suffix=".tmp", dir=p.parent)
-            with os.fdopen(fd, "wb") as f:
-                f.write(buf.getvalue())
-            os.replace(tmp, p)
+            write_atomic(p, buf.getvalue())
         except OSError as exc:
-            if tmp is not None:
-                with contextlib.suppress(OSError):
-                    os.unlink(tmp)
             self._cannot_store(exc)
             return
         self.evict()
@@ -317,10 +313,7 @@ class StageCache:
             data = {}
         data = {**(data if isinstance(data, dict) else {}), "tool": ENTRY_TOOL, "max_bytes": int(max_bytes)}
         try:
-            fd, tmp = tempfile.mkstemp(prefix=f"{MARKER}.", suffix=".tmp", dir=self.root)
-            with os.fdopen(fd, "w") as f:
-                f.write(json.dumps(data) + "\n")
-            os.replace(tmp, marker)
+            write_atomic(marker, json.dumps(data) + "\n")
         except OSError as exc:
             raise RequestError(f"cache folder {self.root} cannot be written ({exc.strerror})") from None
         self.evict()

@@ -87,7 +87,7 @@ class Analysis:
             "rotation": self.rotation,
             "operating_point": writers.operating_point_summary(self.operating_point, self.design),
         }
-        if o is not None:
+        if o is not None and o.simulation is not None:
             out |= {k: v for k, v in o.simulation.summary().items() if k != "operating_point"}
             out["modal_parameters"] = writers.dof_summary(modal_dof(o.mode, self.design))
             out["sound"] = o.sound.summary() if o.sound is not None else None

@@ -8,7 +8,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .writers import PLOT_DPI
+from reduced.report import PLOT_DPI
 
 __all__ = ["compare_row", "compare_table", "modal_dof_summary", "write_compare_plot"]
 

@@ -27,7 +27,8 @@ from typing import Any
 
 from geometry import SECTIONS, DesignError, WheelDesign
 from geometry.design import MAX_LENGTH_M, NAME_PATTERN, NAME_RULE, toml_float
-from geometry.textfile import read_toml
+from geometry.files import read_toml
+from reduced.creep import TABLE1_C22
 
 from .errors import RequestError
 
@@ -84,7 +85,7 @@ class Contact:
     coefficient C22 [-] (the paper's 3.14); friction_coefficient: mu_s = mu_0 [-]."""
 
     normal_load: float = 1000.0
-    c22: float = 3.14
+    c22: float = TABLE1_C22
     friction_coefficient: float = 0.3
 
     def __post_init__(self) -> None:

@@ -7,6 +7,7 @@ import math
 import tempfile
 from collections.abc import Sequence
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -18,6 +19,9 @@ from .design import Design, as_design
 from .errors import RequestError
 from .presets import DEFAULT_FIDELITY, DEFAULT_FMAX_HZ, FIDELITIES, Fidelity, fidelity_for
 from .progress import Progress
+
+if TYPE_CHECKING:
+    from fem.modes import ModeSet, SelectedMode
 
 __all__ = [
     "DENSE_OUTLINE_SEGMENTS",
@@ -145,7 +149,7 @@ def compute_modes(
     cache: StageCache | None = None,
     progress: Progress | None = None,
     budget: Budget | None = None,
-):
+) -> ModeSet:
     """Eigenmodes of the bore-clamped wheel up to ``fmax_hz`` [Hz] as a ``fem.ModeSet``.
 
     ``fidelity`` is a preset name (fast | balanced | accurate) or a :class:`Fidelity`;
@@ -187,7 +191,7 @@ def compute_modes(
     return ms
 
 
-def check_named_modes(design: Design, modeset, fmax_hz: float) -> None:
+def check_named_modes(design: Design, modeset: ModeSet, fmax_hz: float) -> None:
     """Refuse (:class:`RequestError`) a design whose ``[squeal.damping]`` names a mode
     that is not among ``modeset``'s: its damping would be silently unused."""
     labels = {f"n={m.nodal_diameters},c={m.nodal_circles}" for m in modeset.modes}
@@ -199,7 +203,7 @@ def check_named_modes(design: Design, modeset, fmax_hz: float) -> None:
         )
 
 
-def pick_mode(modeset, mode: str = "default"):
+def pick_mode(modeset: ModeSet, mode: str = "default") -> SelectedMode:
     """A mode by its description, and why it was picked: ``mode`` is default (the (3, 0)
     axial mode) | INDEX | n=3[,c=0] | f=HZ. (The fastest-growing mode, ``auto``, needs
     an operating point: :func:`wheel_squeal.stability.choose_mode`.)"""
@@ -215,7 +219,7 @@ def mode_views(
     design: Design,
     fid: Fidelity,
     fmax_hz: float,
-    modeset,
+    modeset: ModeSet,
     indices: Sequence[int],
     cache: StageCache | None,
 ) -> dict[str, bytes]:
@@ -235,8 +239,8 @@ def mode_views(
             pass
     from fem.render import mode_file_stem, render_mode, write_modes_vtu
 
-    with tempfile.TemporaryDirectory() as scratch:
-        scratch = Path(scratch)
+    with tempfile.TemporaryDirectory() as tmp:
+        scratch = Path(tmp)
         write_modes_vtu(modeset, scratch / "modes.vtu")
         for i in indices:
             render_mode(modeset, i, scratch / f"{mode_file_stem(modeset, i)}.png")

@@ -38,11 +38,12 @@ import os
 import secrets
 import shutil
 import socket
-import tempfile
 import time
 from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
+
+from geometry.files import umask, write_atomic
 
 from .errors import RequestError
 
@@ -121,12 +122,6 @@ def _pid_alive(pid: int) -> bool:
     return True
 
 
-def _umask() -> int:
-    mask = os.umask(0)
-    os.umask(mask)
-    return mask
-
-
 # --------------------------------------------------------------------------------------
 # the result folder
 # --------------------------------------------------------------------------------------
@@ -173,7 +168,7 @@ class ResultFolder:
         try:
             parent.mkdir(parents=True, exist_ok=True)
             self._recover(parent, name)
-            mode = 0o777 & ~_umask()
+            mode = 0o777 & ~umask()
             while True:
                 staging = parent / f".{name}.tmp-{_HOST}-{os.getpid()}-{secrets.token_hex(4)}"
                 try:
@@ -287,48 +282,55 @@ def result_folder(out: str | os.PathLike, command: str) -> Iterator[Path]:
 # --------------------------------------------------------------------------------------
 # files
 # --------------------------------------------------------------------------------------
-def _jsonable(x: Any) -> Any:
-    if isinstance(x, dict):
-        return {str(k): _jsonable(v) for k, v in x.items()}
-    if isinstance(x, (list, tuple)):
-        return [_jsonable(v) for v in x]
+def finite_or_none(x: Any) -> Any:
+    """A number as a plain Python value, None for NaN and infinities (no value: JSON's
+    null, an empty CSV cell); anything else unchanged. The one rule for missing values in
+    every file the tool writes."""
+    if x is None:
+        return None
     if hasattr(x, "item") and callable(x.item) and getattr(x, "ndim", 1) == 0:
         x = x.item()  # numpy scalars
     if isinstance(x, float) and not math.isfinite(x):
         return None
+    return x
+
+
+def json_ready(x: Any) -> Any:
+    """``x`` with every container made of JSON types (:func:`finite_or_none`; paths as
+    text)."""
+    if isinstance(x, dict):
+        return {str(k): json_ready(v) for k, v in x.items()}
+    if isinstance(x, (list, tuple)):
+        return [json_ready(v) for v in x]
     if isinstance(x, os.PathLike):
         return os.fspath(x)
-    return x
+    return finite_or_none(x)
 
 
 def write_json(path: Path, data: dict) -> Path:
     """JSON with NaN and infinities as null (JSON has no NaN)."""
-    path.write_text(json.dumps(_jsonable(data), indent=2, allow_nan=False) + "\n")
+    path.write_text(json.dumps(json_ready(data), indent=2, allow_nan=False) + "\n")
     return path
 
 
-def write_csv(path: Path, rows: list[dict]) -> Path:
-    """One row per dict (the keys of the first are the header); None is an empty cell."""
+def csv_cell(x: Any) -> Any:
+    """A CSV cell: empty for no value (:func:`finite_or_none`), floats in full."""
+    x = finite_or_none(x)
+    return "" if x is None else repr(x) if isinstance(x, float) else x
+
+
+def write_csv(path: Path, rows: list[dict], columns: list[str] | None = None) -> Path:
+    """One row per dict; ``columns`` (default: the keys of the first) is the header and
+    a missing key an empty cell."""
     with open(path, "w", newline="") as f:
         writer = csv.writer(f, lineterminator="\n")
-        keys = list(rows[0]) if rows else []
+        keys = columns if columns is not None else list(rows[0]) if rows else []
         writer.writerow(keys)
         for r in rows:
-            writer.writerow(["" if r[k] is None else r[k] for k in keys])
+            writer.writerow([csv_cell(r.get(k)) for k in keys])
     return path
 
 
 def write_text_atomic(path: Path, text: str) -> Path:
-    """Write one file: a temporary file beside it, then a rename (never half-written)."""
-    path = Path(path)
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
-    try:
-        with os.fdopen(fd, "w") as f:
-            f.write(text)
-        os.chmod(tmp, 0o666 & ~_umask())
-        os.replace(tmp, path)
-    except BaseException:
-        with contextlib.suppress(OSError):
-            os.unlink(tmp)
-        raise
-    return path
+    """Write one file atomically (``geometry.files.write_atomic``)."""
+    return write_atomic(path, text)

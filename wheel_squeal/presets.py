@@ -12,13 +12,13 @@
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, replace
 from importlib.resources import files
 from pathlib import Path
 
 from fem.modes import DEFAULT_FMAX_HZ
 from fem.solvers import SOLVERS, method_label
+from reduced.model import rpm_to_speed
 
 from .errors import RequestError
 
@@ -62,12 +62,6 @@ def designs_folder() -> Path:
 
 
 DEFAULT_DESIGN = designs_folder() / "table1.toml"
-
-
-def rpm_to_speed(rpm: float, rolling_radius_m: float) -> float:
-    """Rolling speed at the contact [m/s] of a wheel of ``rolling_radius_m`` [m] at
-    ``rpm`` [rev/min]."""
-    return rpm * 2 * math.pi / 60 * rolling_radius_m
 
 
 @dataclass(frozen=True)

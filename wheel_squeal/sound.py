@@ -222,7 +222,7 @@ def mode_radiation(
         )
     field = radiate(surface, frequency_hz, air)
     rad = Radiation.of(field, microphone)
-    if key is not None:
+    if cache is not None and key is not None and at_key is not None:
         cache.store("sound", key, field.to_arrays())
         cache.store("sound-at", at_key, _at_arrays(rad))
     return rad

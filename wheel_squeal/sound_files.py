@@ -4,14 +4,13 @@ Fig. 5 counterpart, CSV and PNG)."""
 
 from __future__ import annotations
 
-from collections.abc import Sequence
 from pathlib import Path
 
 import numpy as np
 
-from .outputs import write_csv
+from reduced.report import PLOT_DPI
 
-__all__ = ["sound_text", "write_pressure_vtu", "write_sound_plot", "write_sweep_spl"]
+__all__ = ["sound_text", "write_pressure_vtu", "write_sound_plot"]
 
 
 def write_sound_plot(path: Path, sound) -> Path:
@@ -58,7 +57,7 @@ def write_sound_plot(path: Path, sound) -> Path:
         title=f"on the circle rho = {rc:.3f} m, theta = 0",
     )
     ax2.grid(alpha=0.3)
-    fig.savefig(path, dpi=110)
+    fig.savefig(path, dpi=PLOT_DPI)
     return Path(path)
 
 
@@ -103,45 +102,3 @@ def sound_text(summary: dict) -> str:
         f"radiation efficiency {summary['radiation_efficiency']:.3g}, {summary['frequency_hz']:.1f} Hz, "
         f"contact velocity {v:.4g} m/s (wheel alone, free field)"
     )
-
-
-def write_sweep_spl(
-    directory: Path, crab_velocities: Sequence[float], rpms: Sequence[float], result, sound
-) -> None:
-    """sweep_spl.csv and sweep_spl.png: SPL at the microphone and sound power level per
-    case (no squeal: empty), SPL against crabbing velocity, one curve per speed."""
-    from matplotlib.figure import Figure
-
-    from acoustics import sound_power_level_db, spl_db
-
-    p1 = sound.microphone_pressure_pa  # at 1 m/s
-    w1 = sound.sound_power_w
-    amp = np.where(result.squeal, result.velocity_amplitude_m_s, np.nan)
-    spl = spl_db(p1 * amp)
-    lw = sound_power_level_db(w1 * amp**2)
-    rows = [
-        {
-            "crab_velocity_m_s": float(vc),
-            "rpm": float(rpm),
-            "velocity_amplitude_m_s": None if np.isnan(amp[i, j]) else float(amp[i, j]),
-            "spl_db": None if np.isnan(spl[i, j]) else float(spl[i, j]),
-            "sound_power_level_db": None if np.isnan(lw[i, j]) else float(lw[i, j]),
-        }
-        for i, vc in enumerate(crab_velocities)
-        for j, rpm in enumerate(rpms)
-    ]
-    write_csv(Path(directory) / "sweep_spl.csv", rows)
-    fig = Figure(figsize=(7, 4.5))
-    ax = fig.subplots()
-    fig.subplots_adjust(left=0.11, right=0.97, bottom=0.12, top=0.9)
-    for j, rpm in enumerate(rpms):
-        ax.plot(crab_velocities, spl[:, j], "o-", ms=3, label=f"{rpm:g} RPM")
-    r, z, _ = sound.microphone
-    ax.set(
-        xlabel="crabbing velocity Vc (m/s)",
-        ylabel="SPL (dB re 20 uPa)",
-        title=f"Squeal SPL at the microphone (r {r:g} m, z {z:g} m): Fig. 5 counterpart",
-    )
-    ax.legend()
-    ax.grid(alpha=0.3)
-    fig.savefig(Path(directory) / "sweep_spl.png", dpi=110)

@@ -13,6 +13,7 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import TYPE_CHECKING, NamedTuple
 
 import numpy as np
 
@@ -20,7 +21,24 @@ from .design import Design
 from .errors import RequestError
 from .presets import MAX_MULTIMODE, rpm_to_speed
 
+if TYPE_CHECKING:
+    from fem.modes import Mode, ModeSet
+    from reduced import (
+        ContactLaw,
+        ModalContent,
+        ModalDOF,
+        ModeStability,
+        OperatingPoint,
+        StabilityResult,
+    )
+    from reduced import Mitigation as MitigationResult
+
+    from .api import Simulation
+    from .budget import Budget
+
 __all__ = [
+    "ModeChoice",
+    "StabilityTable",
     "Envelope",
     "envelope_seconds",
     "stability_seconds",
@@ -31,6 +49,7 @@ __all__ = [
     "envelope",
     "excitable",
     "mitigation",
+    "mitigation_summary",
     "mode_dofs",
     "multimode",
     "stability_table",
@@ -38,17 +57,17 @@ __all__ = [
 ]
 
 
-def wheel_speed_rad_s(design: Design, op, rotation: bool) -> float:
+def wheel_speed_rad_s(design: Design, op: OperatingPoint, rotation: bool) -> float:
     """Omega = V0 / R1 [rad/s] when the wheel's rotation is modelled, else 0."""
     return op.wheel_speed_rad_s(design.wheel.rolling_radius) if rotation else 0.0
 
 
-def excitable(modeset) -> list:
+def excitable(modeset: ModeSet) -> list[Mode]:
     """The modes the contact can excite (finite contact modal mass), in frequency order."""
     return [m for m in modeset.modes if math.isfinite(m.modal_mass)]
 
 
-def mode_dofs(modes: Sequence, design: Design) -> list:
+def mode_dofs(modes: Sequence[Mode], design: Design) -> list[ModalDOF]:
     """Each FE mode as a ``reduced.ModalDOF`` (:func:`wheel_squeal.api.modal_dof`)."""
     from .api import modal_dof
 
@@ -59,8 +78,8 @@ def mode_dofs(modes: Sequence, design: Design) -> list:
 class ModeStabilityRow:
     """One FE mode and its linear stability (``reduced.ModeStability``)."""
 
-    mode: object
-    stability: object
+    mode: Mode
+    stability: ModeStability
 
     def to_dict(self, design: Design) -> dict:
         m, s = self.mode, self.stability
@@ -74,11 +93,28 @@ class ModeStabilityRow:
         }
 
 
-def stability_table(design: Design, modeset, contact, op, rotation: bool = False, bounds=None):
-    """(rows, result): a :class:`ModeStabilityRow` per excitable mode, fastest first
-    is ``result.winner``; ``result`` the ``reduced.StabilityResult``. ``bounds``: the
-    rows whose critical damping and friction slope are found ("all", indices, or None:
-    growth rates only, one eigen-solve; see ``reduced.linear_stability``)."""
+class StabilityTable(NamedTuple):
+    """Every excitable mode's linear stability: ``rows`` (a :class:`ModeStabilityRow`
+    each, in frequency order) and ``result`` (the ``reduced.StabilityResult``, whose
+    ``winner`` is the row that grows fastest)."""
+
+    rows: list[ModeStabilityRow]
+    result: StabilityResult
+
+
+def stability_table(
+    design: Design,
+    modeset: ModeSet,
+    contact: ContactLaw,
+    op: OperatingPoint,
+    rotation: bool = False,
+    bounds: str | Sequence[int] | None = None,
+) -> StabilityTable:
+    """The linear stability of every mode the contact can excite at ``op``.
+
+    ``bounds``: the rows whose critical damping and friction slope are found ("all",
+    indices, or None: growth rates only, one eigen-solve; see
+    ``reduced.linear_stability``)."""
     from reduced import linear_stability
 
     modes = excitable(modeset)
@@ -86,17 +122,23 @@ def stability_table(design: Design, modeset, contact, op, rotation: bool = False
         raise RequestError("no mode below fmax is seen at the contact: nothing can squeal there")
     omega = wheel_speed_rad_s(design, op, rotation)
     result = linear_stability(mode_dofs(modes, design), contact, op, omega, bounds=bounds)
-    return [ModeStabilityRow(m, s) for m, s in zip(modes, result.modes)], result
+    return StabilityTable([ModeStabilityRow(m, s) for m, s in zip(modes, result.modes)], result)
 
 
-def stability_seconds(design: Design, modeset, rotation: bool = False, bounds: int = 0) -> float:
+def stability_seconds(design: Design, modeset: ModeSet, rotation: bool = False, bounds: int = 0) -> float:
     """The estimated time of :func:`stability_table` with ``bounds`` modes' bounds [s]."""
     from reduced.stability import stability_seconds as seconds
 
     return seconds(mode_dofs(excitable(modeset), design), rotation, bounds)
 
 
-def margin_of(design: Design, rows: Sequence[ModeStabilityRow], contact, op, rotation: bool = False) -> dict:
+def margin_of(
+    design: Design,
+    rows: Sequence[ModeStabilityRow],
+    contact: ContactLaw,
+    op: OperatingPoint,
+    rotation: bool = False,
+) -> dict:
     """How far from squeal a point where no mode grows is: the least stable mode, its
     growth rate [1/s], and the damping ratio below which (or the friction slope
     dmu/dzeta below which) it would grow, with the values now; ``words`` says it."""
@@ -133,7 +175,22 @@ def margin_of(design: Design, rows: Sequence[ModeStabilityRow], contact, op, rot
     }
 
 
-def choose_mode(design: Design, modeset, mode: str, contact, op, rotation: bool = False):
+class ModeChoice(NamedTuple):
+    """The mode a run simulates, the sentence that says why, and the stability rows."""
+
+    mode: Mode
+    reason: str
+    rows: list[ModeStabilityRow]
+
+
+def choose_mode(
+    design: Design,
+    modeset: ModeSet,
+    mode: str,
+    contact: ContactLaw,
+    op: OperatingPoint,
+    rotation: bool = False,
+) -> ModeChoice:
     """The mode a run simulates, why, and the stability table.
 
     ``mode``: "auto" takes the mode the design names (``[squeal] mode``), else the one
@@ -155,10 +212,10 @@ def choose_mode(design: Design, modeset, mode: str, contact, op, rotation: bool 
             f"largest linear growth rate at this operating point, {row.stability.growth_rate_1_s:.3g} 1/s"
             + (" (wheel rotation on)" if rotation else "")
         )
-    return chosen, why, rows
+    return ModeChoice(chosen, why, rows)
 
 
-def _speeds(design: Design, rpms) -> np.ndarray:
+def _speeds(design: Design, rpms: Sequence[float] | np.ndarray) -> np.ndarray:
     return np.array([rpm_to_speed(float(r), design.wheel.rolling_radius) for r in rpms])
 
 
@@ -177,10 +234,17 @@ class Envelope:
     growth_rate_1_s: np.ndarray
     winner: np.ndarray
     damped_frequency_hz: np.ndarray
-    modes: list
+    modes: list[Mode]
 
 
-def envelope(design: Design, modeset, contact, crab_velocities, rpms, rotation: bool = False) -> Envelope:
+def envelope(
+    design: Design,
+    modeset: ModeSet,
+    contact: ContactLaw,
+    crab_velocities: Sequence[float] | np.ndarray,
+    rpms: Sequence[float] | np.ndarray,
+    rotation: bool = False,
+) -> Envelope:
     """Growth rate and winning mode over crabbing velocities [m/s] x wheel speeds [rpm]
     (``reduced.stability_map``)."""
     from reduced import stability_map
@@ -197,8 +261,8 @@ class Mitigation:
     """What would keep every mode stable over an envelope (``reduced.Mitigation`` with
     the FE modes and wheel speeds): see :meth:`to_dict`."""
 
-    modes: list
-    result: object
+    modes: list[Mode]
+    result: MitigationResult
     rpm: np.ndarray
 
     def to_dict(self, design: Design) -> dict:
@@ -226,7 +290,14 @@ class Mitigation:
         }
 
 
-def mitigation(design: Design, modeset, contact, crab_velocities, rpms, rotation: bool = False) -> Mitigation:
+def mitigation(
+    design: Design,
+    modeset: ModeSet,
+    contact: ContactLaw,
+    crab_velocities: Sequence[float] | np.ndarray,
+    rpms: Sequence[float] | np.ndarray,
+    rotation: bool = False,
+) -> Mitigation:
     """The damping per mode and the friction slope that stop squeal over the envelope
     (``reduced.mitigation``)."""
     from reduced import mitigation as find
@@ -237,7 +308,26 @@ def mitigation(design: Design, modeset, contact, crab_velocities, rpms, rotation
     return Mitigation(modes, result, np.asarray(rpms, float))
 
 
-def envelope_seconds(design: Design, modeset, n_crab_velocities: int, n_speeds: int) -> float:
+def mitigation_summary(
+    design: Design,
+    modeset: ModeSet,
+    contact: ContactLaw,
+    crab_velocities: Sequence[float] | np.ndarray,
+    rpms: Sequence[float] | np.ndarray,
+) -> dict:
+    """summary.json's ``mitigation``: what stops squeal over the envelope with the
+    wheel's rotation left out and taken in (:meth:`Mitigation.to_dict` each)."""
+    off = mitigation(design, modeset, contact, crab_velocities, rpms, rotation=False)
+    on = mitigation(design, modeset, contact, crab_velocities, rpms, rotation=True)
+    return {
+        "crab_velocity_m_s": [float(crab_velocities[0]), float(crab_velocities[-1])],
+        "rpm": list(rpms),
+        "rotation_off": off.to_dict(design),
+        "rotation_on": on.to_dict(design),
+    }
+
+
+def envelope_seconds(design: Design, modeset: ModeSet, n_crab_velocities: int, n_speeds: int) -> float:
     """The estimated time of the map and both mitigations (rotation off and on) [s]."""
     from reduced.stability import eigen_solve_seconds, mitigation_seconds
 
@@ -258,13 +348,13 @@ class MultiMode:
     carrier, the contact velocity's peak frequency); linear_winner : the FE mode with the
     largest linear growth rate."""
 
-    modes: list
-    simulation: object
-    content: object
-    linear_winner: object
+    modes: list[Mode]
+    simulation: Simulation
+    content: ModalContent
+    linear_winner: Mode
 
     @property
-    def carrier(self):
+    def carrier(self) -> Mode:
         """The FE mode that carries the limit cycle (most of the vibration energy)."""
         return self.modes[self.content.carrier]
 
@@ -291,12 +381,12 @@ class MultiMode:
 def multimode(
     design: Design,
     rows: Sequence[ModeStabilityRow],
-    contact,
-    op,
+    contact: ContactLaw,
+    op: OperatingPoint,
     rotation: bool = False,
     count: int = MAX_MULTIMODE,
     duration: float | None = None,
-    budget=None,
+    budget: Budget | None = None,
 ) -> MultiMode:
     """The ``count`` most unstable modes of ``rows`` (:func:`stability_table`) integrated
     together from rest; with none unstable, the least stable one alone."""

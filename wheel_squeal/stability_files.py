@@ -9,8 +9,9 @@ from pathlib import Path
 
 import numpy as np
 
+from reduced.report import PLOT_DPI
+
 from .outputs import write_csv
-from .writers import PLOT_DPI
 
 __all__ = [
     "mitigation_text",
@@ -98,7 +99,7 @@ def write_envelope_plot(path: Path, env) -> Path:
     )
     ax.legend(title="fastest mode", fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0))
     ax.grid(alpha=0.3)
-    fig.savefig(path, dpi=110)
+    fig.savefig(path, dpi=PLOT_DPI)
     return path
 
 

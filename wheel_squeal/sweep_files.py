@@ -9,9 +9,10 @@ from pathlib import Path
 
 import numpy as np
 
+from reduced.report import PLOT_DPI
+
 from .outputs import write_csv
 from .sweeps import VerdictGrid
-from .writers import PLOT_DPI
 
 __all__ = ["curve", "sweep_table", "write_sweep_csv", "write_sweep_plot", "write_sweep_spl"]
 

@@ -19,7 +19,7 @@ from .presets import rpm_to_speed
 from .progress import Progress
 
 if TYPE_CHECKING:
-    from fem.modes import ModeSet
+    from fem.modes import Mode, ModeSet
     from reduced import ContactLaw, ModalDOF
 
     from .sound import Listener
@@ -80,8 +80,8 @@ def sweep_verdicts(
     (``dof``: then it is the only candidate). ``sound`` adds the levels heard by
     ``listener`` (the mode's radiation is computed once, at 1 m/s)."""
     from reduced import OperatingPoint
-    from reduced.stability import eigen_solve_seconds, friction_damping_ns_m, growth_rates
-    from reduced.sweep import MAX_SWEEP_STEPS, numba_threads, sweep_points, sweep_steps
+    from reduced.stability import eigen_solve_seconds
+    from reduced.sweep import MAX_SWEEP_STEPS, numba_threads, squeal_points, sweep_steps
 
     from .api import modal_dof
     from .modes import pick_mode
@@ -98,14 +98,18 @@ def sweep_verdicts(
     speeds = np.array([rpm_to_speed(r, design.wheel.rolling_radius) for r in rpms])
     shape = (len(vcs), len(rpms))
     n_points = shape[0] * shape[1]
+    modes: list[Mode] = []
+    named_i: int | None
     if dof is not None:
-        modes, dofs, named_i, named = [None], [dof], 0, "the given mode"
+        dofs, named_i, named = [dof], 0, "the given mode"
     else:
+        if modeset is None:
+            raise TypeError("sweep_verdicts needs the FE modes (modeset) or one mode (dof)")
         modes = excitable(modeset)
         if not modes:
             raise RequestError("no mode below fmax is seen at the contact: nothing can squeal there")
         dofs = mode_dofs(modes, design)
-        named_mode = None
+        named_mode: Mode | None = None
         if mode != "auto":
             named_mode, _ = pick_mode(modeset, mode)
         elif design.squeal.mode:
@@ -134,42 +138,15 @@ def sweep_verdicts(
     )
     report = progress.counter("sweep", "cases") if seconds > 2.0 else None
     ops = [OperatingPoint(float(v0), float(vc)) for vc in vcs for v0 in speeds]
-    damping = [d.damping_ns_m for d in dofs]
-    sigma = np.array([growth_rates(dofs, damping, friction_damping_ns_m(contact, op)) for op in ops])
-
-    label = np.full(len(ops), "", dtype=object)
-    out = {k: np.full(len(ops), np.nan) for k in ("amp", "freq", "tsat", "growth")}
-    squeals, saturated = np.zeros(len(ops), bool), np.zeros(len(ops), bool)
-    chosen = np.full(len(ops), -1)
-
-    def run(i_mode: int, where: np.ndarray) -> np.ndarray:
-        """Run mode ``i_mode`` at the points ``where``; keep those where it squeals."""
-        res = sweep_points(dofs[i_mode], contact, [ops[k] for k in where], duration, progress=report)
-        keep = res["squeal"]
-        for name in ("amp", "freq", "tsat"):
-            out[name][where[keep]] = res[name][keep]
-        squeals[where[keep]] = True
-        saturated[where[keep]] = res["saturated"][keep]
-        chosen[where[keep]] = i_mode
-        return where[keep]
-
-    remaining = np.arange(len(ops))
-    if named_i is not None:
-        took = run(named_i, remaining)
-        remaining = np.setdiff1d(remaining, took)
+    pts = squeal_points(dofs, contact, ops, duration, first=named_i, fastest=dof is None, progress=report)
+    chosen = pts.mode
     if dof is None:
-        fastest = np.argmax(sigma, axis=1)
-        grows = remaining[(sigma[remaining, fastest[remaining]] > 0) & (fastest[remaining] != named_i)]
-        for i_mode in np.unique(fastest[grows]):
-            run(int(i_mode), grows[fastest[grows] == i_mode])
-    for k in range(len(ops)):
-        if chosen[k] >= 0:
-            label[k] = modes[chosen[k]].label() if dof is None else named
-            out["growth"][k] = sigma[k, chosen[k]]
-        else:
-            out["growth"][k] = sigma[k].max()
+        label = np.array([modes[k].label() if k >= 0 else "" for k in chosen], dtype=object)
+    else:
+        label = np.where(chosen >= 0, named, "").astype(object)
+    amplitude = pts.amplitude_m_s
     spl, power = np.full(len(ops), np.nan), np.full(len(ops), np.nan)
-    if sound and squeals.any():
+    if sound and pts.squeals.any():
         if dof is not None:
             raise RequestError("--sound needs the FE mode (its shape radiates): not with --mass")
         from acoustics import sound_power_level_db, spl_db
@@ -184,10 +161,11 @@ def sweep_verdicts(
                     fmax_hz=fmax_hz, cache=cache, budget=budget,
                 )  # fmt: skip
             at = chosen == i_mode
-            spl[at] = spl_db(unit.microphone_pressure_pa * out["amp"][at])
-            power[at] = sound_power_level_db(unit.sound_power_w * out["amp"][at] ** 2)
+            spl[at] = spl_db(unit.microphone_pressure_pa * amplitude[at])
+            power[at] = sound_power_level_db(unit.sound_power_w * amplitude[at] ** 2)
     return VerdictGrid(
-        vcs, rpms, speeds, label.reshape(shape), squeals.reshape(shape), saturated.reshape(shape),
-        out["amp"].reshape(shape), out["freq"].reshape(shape), out["growth"].reshape(shape),
-        out["tsat"].reshape(shape), spl.reshape(shape), power.reshape(shape), named, float(duration),
+        vcs, rpms, speeds, label.reshape(shape), pts.squeals.reshape(shape), pts.saturated.reshape(shape),
+        amplitude.reshape(shape), pts.frequency_hz.reshape(shape), pts.growth_rate_1_s.reshape(shape),
+        pts.time_to_saturation_s.reshape(shape), spl.reshape(shape), power.reshape(shape), named,
+        float(duration),
     )  # fmt: skip

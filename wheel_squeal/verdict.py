@@ -26,6 +26,8 @@ import math
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
+from .outputs import finite_or_none
+
 if TYPE_CHECKING:
     from fem.modes import Mode
 
@@ -52,13 +54,6 @@ def wave_frequency_hz(mode: Mode, wave: Wave, wheel_speed_rad_s: float) -> float
     f0 -/+ n Omega / 2 pi."""
     shift = mode.nodal_diameters * wheel_speed_rad_s / (2 * math.pi)
     return mode.frequency_hz + {"standing": 0.0, "backward": -shift, "forward": shift}[wave]
-
-
-def _num(x) -> float | None:
-    if x is None:
-        return None
-    x = float(x)
-    return x if math.isfinite(x) else None
 
 
 @dataclass(frozen=True)
@@ -107,14 +102,14 @@ class ModeOutcome:
         """Contact velocity amplitude [m/s] at the end of the run (None: not simulated)."""
         if self.simulation is None:
             return None
-        return _num(self.simulation.limit_cycle.velocity_amplitude_m_s)
+        return finite_or_none(self.simulation.limit_cycle.velocity_amplitude_m_s)
 
     @property
     def tone_hz(self) -> float:
         """The tone a fixed microphone hears [Hz]: the limit cycle's frequency where it
         squeals, else the linear frequency."""
         if self.simulation is not None and self.squeals:
-            f = _num(self.simulation.limit_cycle.frequency_hz)
+            f = finite_or_none(self.simulation.limit_cycle.frequency_hz)
             if f is not None:
                 return f
         return self.damped_frequency_hz
@@ -133,9 +128,9 @@ class ModeOutcome:
             "mode": self.label,
             "mode_index": self.mode.index,
             "squeals": self.squeals,
-            "tone_hz": _num(self.tone_hz),
+            "tone_hz": finite_or_none(self.tone_hz),
             "wave": self.wave,
-            "growth_rate_1_s": _num(self.growth_rate_1_s),
+            "growth_rate_1_s": finite_or_none(self.growth_rate_1_s),
             "amplitude_m_s": self.amplitude_m_s,
             "saturated": self.saturated,
             **self.levels(),
@@ -172,9 +167,9 @@ class Verdict:
             "squeals": self.squeals,
             "mode": o.label if o else None,
             "mode_index": o.mode.index if o else None,
-            "tone_hz": _num(o.tone_hz) if o else None,
+            "tone_hz": finite_or_none(o.tone_hz) if o else None,
             "wave": o.wave if o else None,
-            "growth_rate_1_s": _num(o.growth_rate_1_s) if o else None,
+            "growth_rate_1_s": finite_or_none(o.growth_rate_1_s) if o else None,
             "amplitude_m_s": o.amplitude_m_s if o else None,
             "saturated": o.saturated if o else False,
             **(o.levels() if o else {"spl_db": None, "sound_power_level_db": None}),

@@ -15,10 +15,8 @@ from .plotting import PlotWorkers
 from .presets import Fidelity, rpm_to_speed
 
 #: The resolution of every figure the commands draw [dots per inch].
-PLOT_DPI = 110
 
 __all__ = [
-    "PLOT_DPI",
     "analysis_header",
     "dof_summary",
     "modes_summary",

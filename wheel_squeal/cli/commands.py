@@ -4,6 +4,8 @@ prints a short report."""
 
 from __future__ import annotations
 
+from collections.abc import Callable
+
 from .fe import cmd_mesh, cmd_modes, cmd_render
 from .sound import cmd_sound
 from .squeal import cmd_compare, cmd_run, cmd_simulate, cmd_stability, cmd_sweep
@@ -12,7 +14,8 @@ from .tools import cmd_cache, cmd_calibrate, cmd_converge, cmd_designs
 
 __all__ = ["COMMANDS"]
 
-COMMANDS = {
+#: name -> command(args) or, for the commands that draw, command(args, plots): exit status
+COMMANDS: dict[str, Callable[..., int]] = {
     "run": cmd_run,
     "mesh": cmd_mesh,
     "modes": cmd_modes,

@@ -82,16 +82,16 @@ class Squeal:
 def squeal_mode(args, design: Design, progress: Progress, cache: StageCache, contact, op) -> Squeal:
     """From ``--mass/--stiffness/--damping`` when given (no FE at all), else the design's
     FE modes and ``--mode`` (auto: the design's named mode, else the fastest-growing)."""
-    explicit = (args.mass, args.stiffness, args.damping) if hasattr(args, "mass") else (None,) * 3
+    mass, stiffness, damping = (getattr(args, k, None) for k in ("mass", "stiffness", "damping"))
     rotation = getattr(args, "rotation", False)
-    if any(v is not None for v in explicit):
-        if any(v is None for v in explicit):
+    if mass is not None or stiffness is not None or damping is not None:
+        if mass is None or stiffness is None or damping is None:
             raise RequestError("--mass, --stiffness and --damping go together: give all three")
         n = getattr(args, "nodal_diameters", 0)
         if rotation and n < 1:
             raise RequestError("--rotation needs the mode's --nodal-diameters (1 or more) with --mass")
         progress.say("modal parameters given: no mesh, no FE")
-        return Squeal(api.explicit_dof(*explicit, nodal_diameters=n))
+        return Squeal(api.explicit_dof(mass, stiffness, damping, nodal_diameters=n))
     fid, ms = modes_of(args, design, progress, cache)
     mode, why, rows = choose_mode(design, ms, args.mode, contact, op, rotation)
     progress.say(f"squeal mode: {mode.index} ({why}), {mode.frequency_hz:.1f} Hz")

@@ -30,13 +30,16 @@ from ..presets import (
 )
 from .arguments import c22_value, count, finite, grid_axis, non_negative, positive
 
-__all__ = ["build_parser"]
+__all__ = ["CommandParser", "build_parser"]
 
 
-class _Parser(argparse.ArgumentParser):
-    """argparse with one-line errors (exit status 2, no usage dump)."""
+class CommandParser(argparse.ArgumentParser):
+    """argparse with one-line errors (exit status 2, no usage dump); ``subcommands``
+    maps each command to its own parser (for errors that name the command)."""
 
-    def error(self, message: str):  # type: ignore[override]
+    subcommands: dict[str, CommandParser]
+
+    def error(self, message: str):
         self.exit(2, f"error: {message} (see {self.prog} --help)\n")
 
 
@@ -185,15 +188,15 @@ def _add_modal(p: argparse.ArgumentParser) -> None:
 DRAWING_COMMANDS = frozenset({"run", "simulate"})
 
 
-def build_parser(prog: str = "wheel-squeal") -> argparse.ArgumentParser:
+def build_parser(prog: str = "wheel-squeal") -> CommandParser:
     """The parser of every command; ``args.command`` names the one chosen."""
-    parser = _Parser(
+    parser = CommandParser(
         prog=prog,
         description="Railway test-rig wheel: design -> mesh -> modes -> "
         "contact modal parameters -> curve-squeal limit cycle.",
     )
-    sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
-    parser.subcommands = sub.choices  # type: ignore[attr-defined]  # for errors that name the command
+    sub = parser.add_subparsers(dest="command", required=True, parser_class=CommandParser)
+    parser.subcommands = sub.choices
 
     p = sub.add_parser("run", help="design -> modes -> squeal limit cycle -> report (default: Table 1)")
     _add_common(p)

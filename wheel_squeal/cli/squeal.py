@@ -17,7 +17,7 @@ from ..stability import (
     envelope,
     envelope_seconds,
     excitable,
-    mitigation,
+    mitigation_summary,
     stability_seconds,
     stability_table,
     wheel_speed_rad_s,
@@ -263,14 +263,7 @@ def cmd_stability(args) -> int:
             with progress.stage(f"envelope {len(vcs)} x {len(rpms)} points"):
                 env = envelope(design, ms, contact, vcs, rpms, args.rotation)
             with progress.stage("mitigation (rotation off and on)"):
-                summary["mitigation"] = {
-                    "crab_velocity_m_s": [float(vcs[0]), float(vcs[-1])],
-                    "rpm": list(rpms),
-                    **{
-                        key: mitigation(design, ms, contact, vcs, rpms, rot).to_dict(design)
-                        for key, rot in (("rotation_off", False), ("rotation_on", True))
-                    },
-                }
+                summary["mitigation"] = mitigation_summary(design, ms, contact, vcs, rpms)
             stability_files.write_envelope_csv(tmp / "stability.csv", env)
             stability_files.write_envelope_plot(tmp / "stability.png", env)
         write_json(tmp / "summary.json", summary)

@@ -6,7 +6,7 @@
 from .choice import choose_presets, fill_errors, mark_pareto, pareto_front, presets_table, presets_verdict
 from .ladders import COLUMNS, FERung, fe_ladder, integrator_ladder
 from .measure import fork_available, measure, measure_repeated
-from .report import format_table, read_csv, write_csv, write_plots
+from .report import read_csv, write_csv, write_plots
 from .study import ConvergenceError, run_convergence
 
 __all__ = [
@@ -17,7 +17,6 @@ __all__ = [
     "fe_ladder",
     "fill_errors",
     "fork_available",
-    "format_table",
     "integrator_ladder",
     "mark_pareto",
     "measure",

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Iterable, Sequence
+from typing import Any
 
 from ..presets import FIDELITIES
 
@@ -171,7 +172,7 @@ def choose_presets(rows: list[dict]) -> dict:
             )
         else:  # pragma: no cover
             cur_text = "(none)"
-        entry = {
+        entry: dict[str, Any] = {
             "rule": text,
             "current": cur_text,
             "method": None,

@@ -45,18 +45,36 @@ CROSSCHECK_STEPS_PER_PERIOD = 256
 #: (parabolic refinement), whose error at the default 64 samples is ~2e-6, above the
 #: reference's integration error; 256 puts the read-out error below 1e-8
 IVP_SAMPLES_PER_PERIOD = 256
+
+
 #: ``quick=True``: the cheapest rungs only (seconds in total on 2 cores)
-QUICK = {
-    "axisym": (1, 2, 3),
-    "axisym_curved": (1, 2),
-    "reference_etw": 6,
-    "p1": (1,),
-    "p2": (1,),
-    "cyclic": (1, 2),
-    "rk4": (16, 32, 48, 96),
-    "rtols": (1e-5, 1e-7),
-    "reference_rtol": 1e-9,
-}
+@dataclass(frozen=True)
+class Ladders:
+    """The rungs of a convergence study: elements across the web per FE method, RK4
+    steps per period, solve_ivp tolerances and the two references."""
+
+    axisym: tuple[int, ...] = AXISYM_LADDER
+    axisym_curved: tuple[int, ...] = AXISYM_LADDER
+    reference_etw: int = REFERENCE_ETW
+    p1: tuple[int, ...] = SOLID_P1_LADDER
+    p2: tuple[int, ...] = SOLID_P2_LADDER
+    cyclic: tuple[int, ...] = CYCLIC_LADDER
+    rk4: tuple[int, ...] = RK4_LADDER
+    rtols: tuple[float, ...] = IVP_RTOLS
+    reference_rtol: float = REFERENCE_RTOL
+
+
+QUICK = Ladders(
+    axisym=(1, 2, 3),
+    axisym_curved=(1, 2),
+    reference_etw=6,
+    p1=(1,),
+    p2=(1,),
+    cyclic=(1, 2),
+    rk4=(16, 32, 48, 96),
+    rtols=(1e-5, 1e-7),
+    reference_rtol=1e-9,
+)
 COLUMNS = [
     "study",
     "method",
@@ -134,7 +152,7 @@ def _simulate_row(row: dict, mode, design, contact, op) -> None:
 
 
 def _blank_row(study: str, method: str, parameter_name: str, parameter) -> dict:
-    row = {k: None for k in COLUMNS}
+    row: dict[str, Any] = dict.fromkeys(COLUMNS)
     row.update(
         study=study,
         method=method,

@@ -4,31 +4,22 @@ plain-text table."""
 from __future__ import annotations
 
 import csv
-import math
 from pathlib import Path
+from typing import Any
 
-from .choice import ACCURATE_MAX_ERROR, FAST_MAX_ERROR, as_number, pareto_front, percent
+from reduced.report import PLOT_DPI
+
+from .. import outputs
+from .choice import ACCURATE_MAX_ERROR, FAST_MAX_ERROR, as_number, pareto_front
 from .ladders import COLUMNS, IVP_METHOD, REFERENCE_RTOL
 
-__all__ = ["format_table", "read_csv", "write_csv", "write_plots"]
-
-
-def _csv_value(v) -> str:
-    if v is None:
-        return ""
-    if isinstance(v, bool):
-        return "1" if v else "0"
-    if isinstance(v, float):
-        return "" if not math.isfinite(v) else repr(v)
-    return str(v)
+__all__ = ["read_csv", "write_csv", "write_plots"]
 
 
 def write_csv(rows: list[dict], path: Path) -> None:
-    with open(path, "w", newline="") as f:
-        w = csv.writer(f)
-        w.writerow(COLUMNS)
-        for r in rows:
-            w.writerow([_csv_value(r.get(k)) for k in COLUMNS])
+    """convergence.csv: the :data:`COLUMNS` of every rung (flags as 1/0)."""
+    flags = [{k: int(v) if isinstance(v, bool) else v for k, v in r.items()} for r in rows]
+    outputs.write_csv(path, flags, COLUMNS)
 
 
 def read_csv(path: Path) -> list[dict]:
@@ -36,7 +27,7 @@ def read_csv(path: Path) -> list[dict]:
     out = []
     with open(path, newline="") as f:
         for r in csv.DictReader(f):
-            row = {}
+            row: dict[str, Any] = {}
             for k, v in r.items():
                 if v == "":
                     row[k] = None
@@ -136,7 +127,7 @@ def write_plots(rows: list[dict], out_dir: Path) -> list[Path]:
         )
         fig.tight_layout()
         p = out_dir / "convergence_fe.png"
-        fig.savefig(p, dpi=110)
+        fig.savefig(p, dpi=PLOT_DPI)
         paths.append(p)
     it = [r for r in rows if r["study"] == "integrator"]
     if it:
@@ -152,35 +143,6 @@ def write_plots(rows: list[dict], out_dir: Path) -> list[Path]:
         )
         fig.tight_layout()
         p = out_dir / "convergence_integrator.png"
-        fig.savefig(p, dpi=110)
+        fig.savefig(p, dpi=PLOT_DPI)
         paths.append(p)
     return paths
-
-
-def format_table(rows: list[dict]) -> str:
-    """A plain-text table of the rows."""
-    head = (
-        f"{'study':<10} {'method':<20} {'param':>7} {'DOFs':>7} {'time s':>8} {'MB':>6} "
-        f"{'f Hz':>10} {'df/f':>10} {'m kg':>8} {'dm/m':>10} {'amp m/s':>9} {'damp':>10} "
-        f"{'tsat s':>7} {'dtsat':>9} front"
-    )
-    lines = [head]
-
-    def g(r: dict, k: str, fmt: str) -> str:
-        v = as_number(r.get(k))
-        return format(v, fmt) if math.isfinite(v) else "-"
-
-    for r in rows:
-        lines.append(
-            f"{r['study']:<10} {r['method'] + ('*' if r['reference'] else ''):<20} "
-            f"{as_number(r['parameter']):>7g} {g(r, 'dofs', '7.0f'):>7} {g(r, 'seconds', '8.3f'):>8} "
-            f"{g(r, 'peak_memory_mb', '6.0f'):>6} {g(r, 'frequency_hz', '10.3f'):>10} "
-            f"{percent(r.get('frequency_rel_error')) if r['study'] == 'fe' else '-':>10} "
-            f"{g(r, 'modal_mass_kg', '8.4f'):>8} "
-            f"{percent(r.get('modal_mass_rel_error')) if r['study'] == 'fe' else '-':>10} "
-            f"{g(r, 'amplitude_m_s', '9.6f'):>9} {percent(r.get('amplitude_rel_error')):>10} "
-            f"{g(r, 'time_to_saturation_s', '7.4f'):>7} {percent(r.get('time_to_saturation_rel_error')):>9} "
-            f"{r.get('pareto') or ''}" + (f"  [{r['note']}]" if r.get("note") else "")
-        )
-    lines.append("* reference rung; errors are value/reference - 1")
-    return "\n".join(lines)

@@ -26,6 +26,9 @@ import os
 import time
 from collections.abc import Callable
 from pathlib import Path
+from typing import TYPE_CHECKING
+
+from reduced.model import STEPS_PER_PERIOD as PRODUCTION_STEPS_PER_PERIOD
 
 from .. import api
 from ..design import as_design
@@ -43,22 +46,18 @@ from .choice import (
     presets_verdict,
 )
 from .ladders import (
-    AXISYM_LADDER,
     CROSSCHECK_STEPS_PER_PERIOD,
-    CYCLIC_LADDER,
     IVP_METHOD,
-    IVP_RTOLS,
     QUICK,
-    REFERENCE_ETW,
-    REFERENCE_RTOL,
-    RK4_LADDER,
-    SOLID_P1_LADDER,
-    SOLID_P2_LADDER,
     FERung,
+    Ladders,
     fe_ladder,
     integrator_ladder,
 )
 from .report import write_csv, write_plots
+
+if TYPE_CHECKING:
+    from reduced import ModalDOF
 
 __all__ = ["ConvergenceError", "run_convergence"]
 
@@ -108,103 +107,19 @@ def run_convergence(
     out_dir.mkdir(parents=True, exist_ok=True)
     say = progress or (lambda _s: None)
     t_start = time.perf_counter()
-    q = QUICK if quick else None
-    axisym = q["axisym"] if q else AXISYM_LADDER
-    curved = q["axisym_curved"] if q else AXISYM_LADDER
-    ref_etw = q["reference_etw"] if q else REFERENCE_ETW
-    p1 = q["p1"] if q else SOLID_P1_LADDER
-    p2 = q["p2"] if q else SOLID_P2_LADDER
-    cyclic = q["cyclic"] if q else CYCLIC_LADDER
+    lad = QUICK if quick else Ladders()
 
     say(f"design {design.name}: warming up (imports, numba) ...")
     _warm_up(design)
 
     # 1. FE rungs: reference first (nothing can be compared without it)
-    rungs = [FERung("axisym-P2-curved", ref_etw, reference=True)]
-    rungs += [FERung("axisym-P2", e) for e in axisym]
-    rungs += [FERung("axisym-P2-curved", e) for e in curved]
-    rungs += [FERung("3d-tet-P1", e) for e in p1]
-    rungs += [FERung("3d-tet-P2", e) for e in p2]
-    rungs += [FERung("3d-P2", e) for e in cyclic]
-    if not quick:
-        rungs.append(FERung("3d-tet-P2-straight", 1))
-    fe_rows, modes = fe_ladder(design, rungs, isolate=isolate, progress=say)
+    fe_rows, modes = fe_ladder(design, _fe_rungs(lad, quick), isolate=isolate, progress=say)
     ref = fe_rows[0]
     if ref["frequency_hz"] is None or ref["amplitude_m_s"] is None:
         raise ConvergenceError(f"reference rung failed: {ref['note']}")
     fill_errors(fe_rows, ref)
-
-    # the reference's own uncertainty and the 3-D cross-check
-    def _rel(a: dict, key: str) -> float | None:
-        v, r = as_number(a.get(VALUE_KEYS[key])), as_number(ref.get(VALUE_KEYS[key]))
-        return v / r - 1 if math.isfinite(v) and math.isfinite(r) else None
-
-    finer = [r for r in fe_rows if not r["reference"] and r["frequency_hz"] is not None]
-    next_curved = max(
-        (r for r in finer if r["method"] == "axisym-P2-curved"), key=lambda r: r["parameter"], default=None
-    )
-    straight_same = next((r for r in finer if r["method"] == "axisym-P2" and r["parameter"] == ref_etw), None)
-    p2_rows = [r for r in finer if r["method"] == "3d-tet-P2"]
-    finest_p2 = max(p2_rows, key=lambda r: r["parameter"], default=None)
-    finest_cyc = max((r for r in finer if r["method"] == "3d-P2"), key=lambda r: r["parameter"], default=None)
-    reference_info = {
-        "rung": f"axisym-P2-curved, {ref_etw} elements across the web",
-        "dofs": ref["dofs"],
-        "seconds": ref["seconds"],
-        "frequency_hz": ref["frequency_hz"],
-        "modal_mass_kg": ref["modal_mass_kg"],
-        "amplitude_m_s": ref["amplitude_m_s"],
-        "time_to_saturation_s": ref["time_to_saturation_s"],
-        "mode": ref["mode"],
-        "self_convergence": {
-            "vs": (f"axisym-P2-curved, {next_curved['parameter']} per web" if next_curved else None),
-            **(
-                {f"{k}_rel_change": _rel(next_curved, k) for k in ("frequency", "modal_mass")}
-                if next_curved
-                else {}
-            ),
-        },
-        "crosscheck_3d_p2": (
-            {
-                "rung": f"3d-tet-P2, {finest_p2['parameter']} per web",
-                "dofs": finest_p2["dofs"],
-                **{f"{k}_rel_difference": _rel(finest_p2, k) for k in ERROR_KEYS},
-            }
-            if finest_p2
-            else None
-        ),
-        "crosscheck_3d_cyclic": (
-            {
-                "rung": f"3d-P2, {finest_cyc['parameter']} per web",
-                "dofs": finest_cyc["dofs"],
-                **{f"{k}_rel_difference": _rel(finest_cyc, k) for k in ERROR_KEYS},
-            }
-            if finest_cyc
-            else None
-        ),
-    }
-    if straight_same is not None:
-        reference_info["straight_p2_same_mesh"] = {
-            f"{k}_rel_difference": _rel(straight_same, k) for k in ("frequency", "modal_mass")
-        }
-    say(
-        f"reference: {reference_info['rung']}: {ref['frequency_hz']:.4f} Hz, "
-        f"m = {ref['modal_mass_kg']:.6f} kg, amplitude {ref['amplitude_m_s']:.6f} m/s"
-    )
-    if next_curved:
-        sc = reference_info["self_convergence"]
-        say(
-            f"  reference self-convergence (vs {sc['vs']}): frequency {percent(sc['frequency_rel_change'])}, "
-            f"modal mass {percent(sc['modal_mass_rel_change'])}"
-        )
-    for cc in (reference_info["crosscheck_3d_p2"], reference_info["crosscheck_3d_cyclic"]):
-        if cc:
-            say(
-                f"  cross-check {cc['rung']} ({cc['dofs']} DOFs): frequency "
-                f"{percent(cc['frequency_rel_difference'])}, "
-                f"modal mass {percent(cc['modal_mass_rel_difference'])}, "
-                f"amplitude {percent(cc['amplitude_rel_difference'])}"
-            )
+    reference_info = _reference_info(fe_rows, lad.reference_etw)
+    _say_reference(reference_info, ref, say)
 
     # 2. integrator rungs on the reference's (m, k, c), same duration as its run
     ref_mode = modes[0]
@@ -217,9 +132,9 @@ def run_convergence(
         contact,
         op,
         duration,
-        rk4=q["rk4"] if q else RK4_LADDER,
-        rtols=q["rtols"] if q else IVP_RTOLS,
-        reference_rtol=q["reference_rtol"] if q else REFERENCE_RTOL,
+        rk4=lad.rk4,
+        rtols=lad.rtols,
+        reference_rtol=lad.reference_rtol,
         crosscheck_steps=None if quick else CROSSCHECK_STEPS_PER_PERIOD,
         isolate=isolate,
         progress=say,
@@ -233,29 +148,7 @@ def run_convergence(
     mark_pareto(rows)
     presets = choose_presets(rows)
     verdict = presets_verdict(presets)
-    cross = next(
-        (r for r in it_rows if r["method"] == "rk4" and r["parameter"] == CROSSCHECK_STEPS_PER_PERIOD), None
-    )
-    prod = next((r for r in it_rows if r["method"] == "rk4" and r["parameter"] == 48), None)
-    integrator_info = {
-        "reference": f"solve_ivp {IVP_METHOD} rtol {it_ref['parameter']:g}",
-        "duration_s": duration,
-        "mode": {
-            "mass_kg": dof.mass_kg,
-            "stiffness_n_m": dof.stiffness_n_m,
-            "damping_ns_m": dof.damping_ns_m,
-            "frequency_hz": dof.frequency_hz,
-        },
-        "crosscheck_rk4_256": (
-            {k: cross[f"{k}_rel_error"] for k in ("amplitude", "time_to_saturation")} if cross else None
-        ),
-        "production_rk4_48": (
-            {k: prod[f"{k}_rel_error"] for k in ("amplitude", "time_to_saturation")}
-            | {"seconds": prod["seconds"]}
-            if prod
-            else None
-        ),
-    }
+    integrator_info = _integrator_info(it_rows, it_ref, dof, duration)
     summary = {
         "design": design.name,
         "quick": quick,
@@ -280,7 +173,7 @@ def run_convergence(
     write_json(out_dir / "summary.json", summary)
     (out_dir / "presets.md").write_text(
         f"Presets measured on {design.name} (reference: {reference_info['rung']}; "
-        f"800 RPM, Vc 0.39 m/s; errors relative to the reference):\n\n"
+        f"{DEFAULT_RPM:g} RPM, Vc {DEFAULT_CRAB_VELOCITY_M_S:g} m/s; errors relative to the reference):\n\n"
         + presets_table(presets)
         + "\n\n"
         + "\n".join(f"- {v}" for v in verdict)
@@ -290,3 +183,106 @@ def run_convergence(
         say(v)
     say(f"done in {time.perf_counter() - t_start:.0f} s")
     return rows
+
+
+def _fe_rungs(lad: Ladders, quick: bool) -> list[FERung]:
+    rungs = [FERung("axisym-P2-curved", lad.reference_etw, reference=True)]
+    rungs += [FERung("axisym-P2", e) for e in lad.axisym]
+    rungs += [FERung("axisym-P2-curved", e) for e in lad.axisym_curved]
+    rungs += [FERung("3d-tet-P1", e) for e in lad.p1]
+    rungs += [FERung("3d-tet-P2", e) for e in lad.p2]
+    rungs += [FERung("3d-P2", e) for e in lad.cyclic]
+    if not quick:
+        rungs.append(FERung("3d-tet-P2-straight", 1))
+    return rungs
+
+
+def _reference_info(fe_rows: list[dict], ref_etw: int) -> dict:
+    """The FE reference, its own convergence and its 3-D cross-checks (summary.json)."""
+    ref = fe_rows[0]
+
+    def rel(a: dict, key: str) -> float | None:
+        v, r = as_number(a.get(VALUE_KEYS[key])), as_number(ref.get(VALUE_KEYS[key]))
+        return v / r - 1 if math.isfinite(v) and math.isfinite(r) else None
+
+    def finest(method: str) -> dict | None:
+        return max((r for r in finer if r["method"] == method), key=lambda r: r["parameter"], default=None)
+
+    def crosscheck(row: dict | None, method: str) -> dict | None:
+        if row is None:
+            return None
+        return {
+            "rung": f"{method}, {row['parameter']} per web",
+            "dofs": row["dofs"],
+            **{f"{k}_rel_difference": rel(row, k) for k in ERROR_KEYS},
+        }
+
+    finer = [r for r in fe_rows if not r["reference"] and r["frequency_hz"] is not None]
+    next_curved = finest("axisym-P2-curved")
+    straight_same = next((r for r in finer if r["method"] == "axisym-P2" and r["parameter"] == ref_etw), None)
+    info = {
+        "rung": f"axisym-P2-curved, {ref_etw} elements across the web",
+        **{k: ref[k] for k in ("dofs", "seconds", "frequency_hz", "modal_mass_kg", "amplitude_m_s")},
+        "time_to_saturation_s": ref["time_to_saturation_s"],
+        "mode": ref["mode"],
+        "self_convergence": {
+            "vs": (f"axisym-P2-curved, {next_curved['parameter']} per web" if next_curved else None),
+            **(
+                {f"{k}_rel_change": rel(next_curved, k) for k in ("frequency", "modal_mass")}
+                if next_curved
+                else {}
+            ),
+        },
+        "crosscheck_3d_p2": crosscheck(finest("3d-tet-P2"), "3d-tet-P2"),
+        "crosscheck_3d_cyclic": crosscheck(finest("3d-P2"), "3d-P2"),
+    }
+    if straight_same is not None:
+        info["straight_p2_same_mesh"] = {
+            f"{k}_rel_difference": rel(straight_same, k) for k in ("frequency", "modal_mass")
+        }
+    return info
+
+
+def _say_reference(info: dict, ref: dict, say: Callable[[str], None]) -> None:
+    say(
+        f"reference: {info['rung']}: {ref['frequency_hz']:.4f} Hz, "
+        f"m = {ref['modal_mass_kg']:.6f} kg, amplitude {ref['amplitude_m_s']:.6f} m/s"
+    )
+    sc = info["self_convergence"]
+    if sc["vs"]:
+        say(
+            f"  reference self-convergence (vs {sc['vs']}): frequency {percent(sc['frequency_rel_change'])}, "
+            f"modal mass {percent(sc['modal_mass_rel_change'])}"
+        )
+    for cc in (info["crosscheck_3d_p2"], info["crosscheck_3d_cyclic"]):
+        if cc:
+            say(
+                f"  cross-check {cc['rung']} ({cc['dofs']} DOFs): frequency "
+                f"{percent(cc['frequency_rel_difference'])}, "
+                f"modal mass {percent(cc['modal_mass_rel_difference'])}, "
+                f"amplitude {percent(cc['amplitude_rel_difference'])}"
+            )
+
+
+def _integrator_info(it_rows: list[dict], it_ref: dict, dof: ModalDOF, duration: float) -> dict:
+    """The integrator reference and the errors of the cross-check and production RK4."""
+    keys = ("amplitude", "time_to_saturation")
+
+    def rk4(steps: int) -> dict | None:
+        return next((r for r in it_rows if r["method"] == "rk4" and r["parameter"] == steps), None)
+
+    cross, prod = rk4(CROSSCHECK_STEPS_PER_PERIOD), rk4(PRODUCTION_STEPS_PER_PERIOD)
+    return {
+        "reference": f"solve_ivp {IVP_METHOD} rtol {it_ref['parameter']:g}",
+        "duration_s": duration,
+        "mode": {
+            "mass_kg": dof.mass_kg,
+            "stiffness_n_m": dof.stiffness_n_m,
+            "damping_ns_m": dof.damping_ns_m,
+            "frequency_hz": dof.frequency_hz,
+        },
+        "crosscheck_rk4_256": ({k: cross[f"{k}_rel_error"] for k in keys} if cross else None),
+        "production_rk4_48": (
+            {k: prod[f"{k}_rel_error"] for k in keys} | {"seconds": prod["seconds"]} if prod else None
+        ),
+    }

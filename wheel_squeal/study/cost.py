@@ -82,12 +82,8 @@ def _radiation_seconds(spec: StudySpec, h: float) -> float:
     import numpy as np
 
     from acoustics import Surface, radiation_cost
-    from geometry.profile import half_profile
+    from geometry.profile import boundary_samples
 
-    poly, _ = half_profile(spec.base.wheel).polygon()
-    closed = np.vstack([poly, poly[:1]])
-    arc = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(closed, axis=0).T))])
-    at = np.linspace(0.0, arc[-1], max(8, int(arc[-1] / h)), endpoint=False)
-    points = np.stack([np.interp(at, arc, closed[:, 0]), np.interp(at, arc, closed[:, 1])], axis=1)
+    points = boundary_samples(spec.base.wheel, h)
     surface = Surface(points, np.zeros_like(points, dtype=complex), 0)
     return radiation_cost(surface, RADIATED_FRACTION * spec.fmax_hz).seconds

@@ -18,8 +18,11 @@ from __future__ import annotations
 
 import datetime as _dt
 from pathlib import Path
+from typing import Any
 
 import numpy as np
+
+from reduced.report import PLOT_DPI
 
 from ..cache import code_version
 from .spec import StudySpec
@@ -46,8 +49,8 @@ def study_dataset(spec: StudySpec, results: list[dict]):
     cases = spec.cases()
     if spec.samples:
         design_dims = ["sample"]
-        shape = (spec.samples,)
-        coords = {"sample": np.arange(spec.samples)}
+        shape: tuple[int, ...] = (spec.samples,)
+        coords: dict[str, Any] = {"sample": np.arange(spec.samples)}
     else:
         design_dims = [d.name for d in spec.dimensions]
         shape = tuple(len(d.values) for d in spec.dimensions)
@@ -171,7 +174,7 @@ def _plots(ds, spec: StudySpec, folder: Path) -> list[str]:
         fig.suptitle(f"{spec.name}: squeal over the design grid")
         name = "study_amplitude.png"
     fig.tight_layout()
-    fig.savefig(folder / name, dpi=100)
+    fig.savefig(folder / name, dpi=PLOT_DPI)
     plt.close(fig)
     out.append(name)
     return out

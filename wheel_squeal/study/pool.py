@@ -17,9 +17,10 @@ import multiprocessing as mp
 import os
 import signal
 import sys
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from multiprocessing.connection import Connection, wait
+from typing import Any
 
 __all__ = ["Death", "run_on_pool"]
 
@@ -72,9 +73,9 @@ class Death:
 
 def run_on_pool(
     n: int,
-    jobs: dict[int, object],
+    jobs: Mapping[int, Any],
     task: Callable,
-    done: Callable[[int, object], None],
+    done: Callable[[int, Any], None],
     died: Callable[[Death], bool],
 ) -> None:
     """Run ``task(job)`` for every job on ``n`` worker processes; ``done(i, result)`` as
@@ -115,7 +116,7 @@ def run_on_pool(
                             raise error
                         done(i, result)
                         continue
-                if not s.process.is_alive():
+                if not s.process.is_alive() and s.case is not None:
                     i = s.case
                     deaths[i] += 1
                     s.process.join()

@@ -105,7 +105,7 @@ def case_results(
     # not: their modes are not kept. Local workers share this machine's cache; a
     # cluster's workers use their own default one (a path here may not exist there).
     keep_fe = cache is not None and cache.enabled and not spec.samples
-    worker_cache = ("" if scheduler else str(cache.root)) if keep_fe else None
+    worker_cache = ("" if scheduler else str(cache.root)) if cache is not None and keep_fe else None
     jobs = {
         i: CaseJob(
             spec.base,

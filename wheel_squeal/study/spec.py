@@ -42,11 +42,11 @@ from typing import Any
 import numpy as np
 
 from geometry import SECTIONS, DesignError
-from geometry.textfile import read_toml
+from geometry.files import read_toml
 
 from ..design import FIELDS, Design
 from ..errors import RequestError
-from ..presets import DEFAULT_DESIGN, FIDELITIES
+from ..presets import DEFAULT_CRAB_VELOCITY_M_S, DEFAULT_DESIGN, DEFAULT_RPM, FIDELITIES
 from .task import RESULT_FIELDS
 
 __all__ = ["COMPUTE", "Case", "Dimension", "StudySpec", "load_spec"]
@@ -127,6 +127,7 @@ class StudySpec:
             rng = np.random.default_rng(self.seed)
             draws = []
             for d in self.dimensions:  # one stream, dimension after dimension: reproducible
+                assert d.distribution is not None  # a sampled study's dimensions have one
                 kind, a, b = d.distribution
                 draws.append(
                     rng.normal(a, b, self.samples) if kind == "normal" else rng.uniform(a, b, self.samples)
@@ -227,7 +228,7 @@ def _grid(table: Any, src: str) -> tuple[Dimension, ...]:
     dims = []
     for name, v in table.items():
         _check_name(name, "[grid]", src)
-        add = ()
+        add: tuple[tuple[str, float], ...] = ()
         if isinstance(v, dict) and "add" in v:
             add = _add(v["add"], name, src)
             v = {k: x for k, x in v.items() if k != "add"}
@@ -335,8 +336,8 @@ def load_spec(path: str | Path) -> StudySpec:
     op = data.get("operating", {})
     if not isinstance(op, dict) or set(op) - {"crab_velocity", "rpm"}:
         raise RequestError(f"{src}: [operating] takes crab_velocity and rpm")
-    vcs = _axis(op.get("crab_velocity", [0.39]), "[operating] crab_velocity", src)
-    rpms = _axis(op.get("rpm", [800.0]), "[operating] rpm", src)
+    vcs = _axis(op.get("crab_velocity", [DEFAULT_CRAB_VELOCITY_M_S]), "[operating] crab_velocity", src)
+    rpms = _axis(op.get("rpm", [DEFAULT_RPM]), "[operating] rpm", src)
     if min(rpms) <= 0:
         raise RequestError(f"{src}: [operating] rpm must be positive")
     n_cases = n if n else math.prod(len(d.values) for d in dims)

@@ -74,7 +74,7 @@ def run_case(job: CaseJob) -> dict:
     try:
         design = job.base.replace(**dict(job.changes))
     except (DesignError, RequestError) as exc:
-        return _failure("invalid", exc)
+        return _failure("invalid", str(exc))
     try:
         # one thread per task: a study's parallelism is across its tasks
         with blas_threads(1):

@@ -1,6 +1,8 @@
-"""Reading a user's text file (a design, an outline CSV, a study spec): regular files
-only, of a bounded size, in UTF-8, each failure one line naming the file.
+"""Files: reading a user's text file (a design, an outline CSV, a study spec) and
+writing any file atomically.
 
+A text file is read from regular files only, of a bounded size, in UTF-8, each
+failure one line naming the file.
 A FIFO or a device would block or never end (``/dev/zero``), a huge file would fill the
 memory, and an editor or spreadsheet may save text in another encoding; none of these is
 a traceback or a hang.
@@ -8,12 +10,14 @@ a traceback or a hang.
 
 from __future__ import annotations
 
+import contextlib
 import os
 import stat
+import tempfile
 import tomllib
 from pathlib import Path
 
-__all__ = ["MAX_TEXT_BYTES", "read_text", "read_toml"]
+__all__ = ["MAX_TEXT_BYTES", "read_text", "read_toml", "umask", "write_atomic"]
 
 #: The largest input file read [bytes]: a 100,000-point outline CSV is about 4 MB.
 MAX_TEXT_BYTES = 64 * 2**20
@@ -61,3 +65,28 @@ def read_toml(path: str | Path, what: str, error: type[Exception] = ValueError) 
         return text, tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         raise error(f"{path}: not valid TOML ({exc})") from None
+
+
+def umask() -> int:
+    """The process's file-creation mask (read without changing it for long)."""
+    mask = os.umask(0)
+    os.umask(mask)
+    return mask
+
+
+def write_atomic(path: str | Path, data: bytes | str) -> Path:
+    """Write ``data`` to ``path`` through a temporary file beside it and a rename: a
+    reader (or a run killed meanwhile) sees the old file or the new one, never half of
+    one. The file gets the usual permissions (``mkstemp`` would leave it 0600)."""
+    path = Path(path)
+    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
+    try:
+        with os.fdopen(fd, "wb") as f:
+            f.write(data.encode() if isinstance(data, str) else data)
+        os.chmod(tmp, 0o666 & ~umask())
+        os.replace(tmp, path)
+    except BaseException:
+        with contextlib.suppress(OSError):
+            os.unlink(tmp)
+        raise
+    return path
