@@ -319,12 +319,12 @@ def test_read_only_cache_still_gives_results(tmp_path, monkeypatch, capsys):
     design = WheelDesign()
     warm = StageCache(root)
     ws.compute_modes(design, "fast", cache=warm)  # fills mesh and modes
-    import wheel_squeal.cache as cache_module
+    import geometry.files
 
     def read_only(*a, **k):
         raise OSError(errno.EROFS, "Read-only file system")
 
-    monkeypatch.setattr(cache_module.tempfile, "mkstemp", read_only)
+    monkeypatch.setattr(geometry.files.tempfile, "mkstemp", read_only)
     cache = StageCache(root)
     ms = ws.compute_modes(design, "fast", cache=cache)  # a hit
     assert cache.hits == ["modes"]
