@@ -292,11 +292,9 @@ def _lowest_frequency(
 # ------------------------------------------------------------------------------------
 def solve_axisymmetric(
     design: WheelDesign,
-    mesh: Any = None,
+    mesh: Any,
     *,
     order: int = 2,
-    size: float | None = None,
-    elements_through_web: int | None = None,
     fmax_hz: float | None = DEFAULT_FMAX_HZ,
     k: int | None = None,
     n_max: int | None = None,
@@ -311,11 +309,9 @@ def solve_axisymmetric(
     Parameters
     ----------
     design: the wheel (geometry and material, SI).
-    mesh: a ``geometry.mesh.ProfileMesh`` or a scikit-fem ``MeshTri1``/``MeshTri2`` of
-        the (r, z) half-profile; ``None`` meshes the design with
-        ``geometry.gmsh_mesh.mesh_profile(design, size, elements_through_web, order)``
-        (straight order-1 mesh + P2 unless ``curved``; neither size given: the
-        profile default of ``geometry.mesh.DEFAULT_ELEMENTS_THROUGH_WEB``).
+    mesh: a ``geometry.mesh.ProfileMesh`` (``geometry.gmsh_mesh.mesh_profile``: order 1
+        for straight P2, order 2 for ``curved``) or a scikit-fem ``MeshTri1``/``MeshTri2``
+        of the (r, z) half-profile.
     order: 1 or 2, the Lagrange element order (P2 is the baseline; P1 locks).
     fmax_hz: keep the modes with f <= fmax_hz (``None``: no band, give ``k``).
     k: the k lowest modes (a degenerate pair counts once); with ``fmax_hz`` too, at
@@ -343,8 +339,6 @@ def solve_axisymmetric(
             design,
             mesh,
             order=order,
-            size=size,
-            elements_through_web=elements_through_web,
             fmax_hz=fmax_hz,
             k=k,
             n_max=n_max,
@@ -361,8 +355,6 @@ def _solve_axisymmetric(
     mesh,
     *,
     order,
-    size,
-    elements_through_web,
     fmax_hz,
     k,
     n_max,
@@ -379,15 +371,6 @@ def _solve_axisymmetric(
         raise ValueError("give fmax_hz or k")
     if k is not None and k < 1:
         raise ValueError(f"k must be positive, got {k}")
-    if mesh is None:
-        from geometry.gmsh_mesh import mesh_profile  # noqa: PLC0415 (gmsh only when meshing here)
-
-        mesh = mesh_profile(
-            design,
-            size=size,
-            elements_through_web=elements_through_web,
-            order=2 if (curved and order == 2) else 1,
-        )
     h = mesh_element_size(mesh)
     skm = to_skfem_mesh(mesh, curved=curved)
     t_mesh = time.perf_counter()

@@ -178,11 +178,8 @@ def _complex_modes(K2, M2, vals, vecs, nf: int, rtol: float = 1e-6):
 
 def solve_cyclic(
     design,
-    mesh=None,
+    mesh,
     *,
-    n_sectors: int | None = None,
-    size: float | None = None,
-    elements_through_web: int | None = None,
     fmax_hz: float | None = DEFAULT_FMAX_HZ,
     k: int | None = None,
     boundary: str = "clamped",
@@ -193,11 +190,8 @@ def solve_cyclic(
     Parameters
     ----------
     design: a :class:`~geometry.design.WheelDesign`.
-    mesh: a cyclic ``SolidMesh`` (:func:`geometry.revolve.revolve_profile`); ``None``
-        meshes the profile (``geometry.gmsh_mesh.mesh_profile(design, size,
-        elements_through_web, order=2)``, default one element across the web as the
-        gmsh 3-D mesh) and revolves it in ``n_sectors`` (default
-        :func:`default_sectors`).
+    mesh: a cyclic ``SolidMesh``: a second-order profile mesh revolved in sectors
+        (:func:`geometry.revolve.revolve_profile`, :func:`default_sectors` of them).
     fmax_hz / k: all modes up to ``fmax_hz``, or the ``k`` lowest (a pair counts once).
     boundary: ``"clamped"`` (bore fixed) or ``"free"`` (rigid-body modes dropped: two
         at p = 0, two pairs at p = 1).
@@ -214,17 +208,6 @@ def solve_cyclic(
     if k is not None and k < 1:
         raise ValueError(f"k must be positive, got {k}")
     t0 = time.perf_counter()
-    if mesh is None:
-        from geometry.gmsh_mesh import mesh_profile
-        from geometry.mesh import DEFAULT_ELEMENTS_THROUGH_WEB
-        from geometry.revolve import revolve_profile  # noqa: PLC0415
-
-        if size is None and elements_through_web is None:
-            elements_through_web = DEFAULT_ELEMENTS_THROUGH_WEB[3]  # as the gmsh 3-D mesh
-        prof = mesh_profile(design, size=size, elements_through_web=elements_through_web, order=2)
-        mesh = revolve_profile(prof, n_sectors or default_sectors(design, prof.size))
-    elif n_sectors is not None and n_sectors != getattr(mesh, "n_sectors", 0):
-        raise ValueError(f"n_sectors={n_sectors} but the mesh has {getattr(mesh, 'n_sectors', 0)}")
     t_mesh = time.perf_counter()
     with blas_threads(1):  # small problems (see fem.axisym.solve_axisymmetric)
         return _solve(design, mesh, fmax_hz, k, boundary, factorization, t0, t_mesh)

@@ -316,11 +316,9 @@ def _rigid_modes(xyz_by_comp: list[np.ndarray], comp: list[np.ndarray], n: int) 
 
 def solve_solid(
     design,
-    mesh=None,
+    mesh,
     *,
     order: int = 2,
-    size: float | None = None,
-    elements_through_web: int | None = None,
     fmax_hz: float | None = DEFAULT_FMAX_HZ,
     k: int | None = None,
     boundary: str = "clamped",
@@ -331,9 +329,8 @@ def solve_solid(
     Parameters
     ----------
     design: a :class:`~geometry.design.WheelDesign`.
-    mesh: a ``SolidMesh`` (``points``, ``tetra`` in meshio order, ``order``); ``None``
-        meshes the design with ``geometry.gmsh_mesh.mesh_wheel(design, size,
-        elements_through_web, order=...)`` (see ``MESH_ORDER`` for the mesh order used).
+    mesh: a ``SolidMesh`` (``points``, ``tetra`` in meshio order, ``order``), from
+        ``geometry.gmsh_mesh.mesh_wheel`` (``MESH_ORDER`` gives the mesh order to use).
     order: element order, 1 (P1, locks in bending: diagnostic only) or 2 (P2).
     fmax_hz / k: all modes up to ``fmax_hz``, or the ``k`` lowest modes (a degenerate
         pair counts as one mode), or both (the ``k`` lowest within the band).
@@ -348,12 +345,6 @@ def solve_solid(
         raise ValueError("give k or fmax_hz")
     t0 = time.perf_counter()
     timings: dict[str, float] = {}
-    if mesh is None:
-        from geometry.gmsh_mesh import mesh_wheel
-
-        mesh = mesh_wheel(
-            design, size=size, elements_through_web=elements_through_web, order=MESH_ORDER.get(order, 1)
-        )
     timings["mesh"] = time.perf_counter() - t0
 
     t1 = time.perf_counter()

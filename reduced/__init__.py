@@ -58,6 +58,7 @@ __all__ = [
     "TimeHistory",
     "IntegrationError",
     "choose_time_step",
+    "Integration",
     "simulate",
     "simulate_reference",
     "load_compiled_kernels",

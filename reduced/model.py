@@ -12,7 +12,7 @@ P = Q v - sum_i c_i y_i'^2.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
@@ -25,6 +25,7 @@ __all__ = [
     "rpm_to_speed",
     "TimeHistory",
     "IntegrationError",
+    "Integration",
     "simulate",
     "simulate_reference",
     "Coordinates",
@@ -425,6 +426,34 @@ def _check_duration(duration: float) -> float:
     return duration
 
 
+@dataclass(frozen=True)
+class Integration:
+    """How :func:`simulate` integrates and what it keeps.
+
+    steps_per_period : RK4 steps per period of the highest mode (measured: the
+        limit-cycle amplitude within 1e-4 of solve_ivp DOP853 at rtol 1e-8 for the
+        Fig. 6 case, within 3e-4 of a 128-step run over the whole Vc x speed grid).
+    step_s : force a step [s] instead of :func:`choose_time_step`.
+    store_every : keep every n-th step in the output (1 = all).
+    samples_per_period : instead of ``store_every``, keep at least this many samples per
+        period of the highest mode (every step when the step is longer; the choice is
+        made again after a refinement, so halving the step does not double the record).
+    refine, max_refinements : on detected instability, halve the step up to
+        ``max_refinements`` times; with ``refine=False`` raise at once.
+    energy_tolerance : accepted |Delta E - int P dt| relative to the largest modal
+        energy reached; a larger mismatch (or a non-finite state) means the step is
+        too large for the dynamics.
+    """
+
+    steps_per_period: int = STEPS_PER_PERIOD
+    step_s: float | None = None
+    store_every: int = 1
+    samples_per_period: int | None = None
+    refine: bool = True
+    max_refinements: int = 4
+    energy_tolerance: float = 1e-2
+
+
 def simulate(
     modes,
     contact: ContactLaw,
@@ -432,14 +461,9 @@ def simulate(
     duration: float,
     initial_state=None,
     *,
-    steps_per_period: int = STEPS_PER_PERIOD,
-    step_s: float | None = None,
-    store_every: int = 1,
-    samples_per_period: int | None = None,
-    refine: bool = True,
-    max_refinements: int = 4,
-    energy_tolerance: float = 1e-2,
     wheel_speed_rad_s: float = 0.0,
+    integration: Integration | None = None,
+    **changes,
 ) -> TimeHistory:
     """Integrate the modal squeal model with fixed-step RK4 (production path; see
     :mod:`reduced._engine` for when it runs compiled).
@@ -451,28 +475,21 @@ def simulate(
     operating_point : rolling speed and crabbing velocity.
     duration : simulated time, s.
     initial_state : None (rest: y = 0, y' = 0) or (y0, v0) per mode in m and m/s.
-    steps_per_period : steps per period of the highest mode (default 48; measured:
-        limit-cycle amplitude within 1e-4 of solve_ivp DOP853 at rtol 1e-8 for the
-        Fig. 6 case, within 3e-4 of a 128-step run over the whole Vc x speed grid).
-    step_s : force a step (s) instead of :func:`choose_time_step`.
-    store_every : keep every n-th step in the output (1 = all).
-    samples_per_period : instead of ``store_every``, keep at least this many samples per
-        period of the highest mode (every step when the step is longer; the choice is
-        made again after a refinement, so halving the step does not double the record).
-    refine, max_refinements : on detected instability, halve the step up to
-        ``max_refinements`` times; with ``refine=False`` raise at once.
-    energy_tolerance : accepted |Delta E - int P dt| relative to the largest modal
-        energy reached; a larger mismatch (or a non-finite state) means the step is
-        too large for the dynamics.
     wheel_speed_rad_s : Omega, rad/s: with a turning wheel each pair (nodal_diameters
         >= 1) is two coordinates seen at the contact through cos(n Omega t) and
-        -sin(n Omega t) (MODEL.md section 8); 0, the paper's model, leaves them out.
+        -sin(n Omega t); 0, the paper's model, leaves them out.
+    integration : the step and the record (:class:`Integration`); ``changes`` replace
+        its fields, as in ``simulate(..., store_every=4)``.
     ``initial_state`` is per coordinate (:func:`coordinates`).
 
     Raises IntegrationError if the integration cannot be made stable and consistent,
     ValueError (before integrating) if the output would exceed MAX_STORED_SAMPLES
     samples (very stiff or light modes over long durations: raise ``store_every``).
     """
+    opts = replace(integration or Integration(), **changes)
+    steps_per_period, step_s, store_every = opts.steps_per_period, opts.step_s, opts.store_every
+    samples_per_period, refine, max_refinements = opts.samples_per_period, opts.refine, opts.max_refinements
+    energy_tolerance = opts.energy_tolerance
     modes = as_modes(modes)
     duration = _check_duration(duration)
     if store_every < 1:

@@ -361,13 +361,13 @@ def _wheel_speeds(speeds_m_s: np.ndarray, rolling_radius_m: float | None) -> np.
 class StabilityMap:
     """The linear stability over crabbing velocities x rolling speeds.
 
-    crab_velocities_m_s (n_vc,), rolling_speeds_m_s (n_speeds,); growth_rate_1_s
+    crabbing_velocities_m_s (n_vc,), rolling_speeds_m_s (n_speeds,); growth_rate_1_s
     (n_vc, n_speeds): the largest growth rate, 1/s; winner (n_vc, n_speeds): the index
     of the fastest-growing mode; damped_frequency_hz (n_vc, n_speeds): its frequency in
     the frame of the contact, Hz.
     """
 
-    crab_velocities_m_s: np.ndarray
+    crabbing_velocities_m_s: np.ndarray
     rolling_speeds_m_s: np.ndarray
     growth_rate_1_s: np.ndarray
     winner: np.ndarray
@@ -375,13 +375,17 @@ class StabilityMap:
 
 
 def stability_map(
-    modes, contact: ContactLaw, crab_velocities_m_s, rolling_speeds_m_s, rolling_radius_m: float | None = None
+    modes,
+    contact: ContactLaw,
+    crabbing_velocities_m_s,
+    rolling_speeds_m_s,
+    rolling_radius_m: float | None = None,
 ) -> StabilityMap:
     """Growth rate, winning mode and its frequency over crabbing velocities [m/s] x
     rolling speeds [m/s], one eigen-solve per point; ``rolling_radius_m``: the radius
     of a turning wheel (Omega = V0 / R), None for the paper's model (no rotation)."""
     modes = as_modes(modes)
-    vcs = np.asarray(crab_velocities_m_s, float)
+    vcs = np.asarray(crabbing_velocities_m_s, float)
     speeds = np.asarray(rolling_speeds_m_s, float)
     omegas = _wheel_speeds(speeds, rolling_radius_m)
     damping = np.array([md.damping_ns_m for md in modes])
@@ -487,7 +491,7 @@ def mitigation_seconds(modes, n_crab_velocities: int, n_speeds: int, rotation: b
 def mitigation(
     modes,
     contact: ContactLaw,
-    crab_velocities_m_s,
+    crabbing_velocities_m_s,
     rolling_speeds_m_s,
     rolling_radius_m: float | None = None,
     max_rounds: int | None = None,
@@ -502,7 +506,7 @@ def mitigation(
     grows, for at most ``max_rounds`` rounds (:func:`mitigation_rounds`); the friction
     slope bound is found at each speed at the largest crabbing velocity."""
     modes = as_modes(modes)
-    vcs = np.asarray(crab_velocities_m_s, float)
+    vcs = np.asarray(crabbing_velocities_m_s, float)
     speeds = np.asarray(rolling_speeds_m_s, float)
     omegas = dict(zip(speeds.tolist(), _wheel_speeds(speeds, rolling_radius_m).tolist()))
     points = [(float(vc), float(v0)) for vc in vcs for v0 in speeds]

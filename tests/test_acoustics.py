@@ -149,7 +149,7 @@ def test_run_reports_sound_and_sweep_draws_fig5_in_db(tmp_path):
     assert r.returncode == 0, r.stderr
     rows = (tmp_path / "sweep" / "sweep_spl.csv").read_text().splitlines()
     assert rows[0] == (
-        "crab_velocity_m_s,rpm,rolling_speed_m_s,verdict_mode,squeals,saturated,amplitude_m_s,spl_db,"
+        "crabbing_velocity_m_s,rpm,rolling_speed_m_s,verdict_mode,squeals,saturated,amplitude_m_s,spl_db,"
         "sound_power_level_db"
     )
     assert len(rows) == 1 + 3 * 2 and (tmp_path / "sweep" / "sweep.png").exists()  # SPL in its lower panel

@@ -124,7 +124,9 @@ def plate_modes():
 
 @pytest.fixture(scope="module")
 def table1_modes():
-    return solve_axisymmetric(TABLE1, fmax_hz=5000.0)  # default mesh: 2 elements / web
+    return solve_axisymmetric(
+        TABLE1, mesh_profile(TABLE1, order=1), fmax_hz=5000.0
+    )  # default mesh: 2 elements / web
 
 
 # ---------------------------------------------------------------------------------
@@ -183,7 +185,9 @@ def test_plate_design_file_with_gmsh_mesh_agrees(plate_modes):
     from conftest import load_wheel as load_design
 
     path = Path(__file__).resolve().parents[1] / "designs" / "annular_plate.toml"
-    ms = solve_axisymmetric(load_design(path), fmax_hz=2500.0, n_theta=8)
+    ms = solve_axisymmetric(
+        load_design(path), mesh_profile(load_design(path), order=1), fmax_hz=2500.0, n_theta=8
+    )
     assert [m.label() for m in ms.modes] == [m.label() for m in plate_modes.modes]
     for x, y in zip(ms.modes, plate_modes.modes):
         assert x.frequency_hz == pytest.approx(y.frequency_hz, rel=3e-3)
@@ -324,7 +328,11 @@ def test_table1_n3_axial_converged_between_moderate_meshes():
     d = TABLE1
     f = [
         find(
-            solve_axisymmetric(d, elements_through_web=e, fmax_hz=1500.0, n_theta=8).modes, 3, "axial"
+            solve_axisymmetric(
+                d, mesh_profile(d, elements_through_web=e, order=1), fmax_hz=1500.0, n_theta=8
+            ).modes,
+            3,
+            "axial",
         ).frequency_hz
         for e in (2, 3)
     ]
@@ -346,7 +354,7 @@ def test_curved_and_straight_p2_agree():
 # ---------------------------------------------------------------------------------
 def test_free_free_drops_rigid_modes():
     d = TABLE1
-    ms = solve_axisymmetric(d, boundary="free", fmax_hz=2000.0, n_theta=8)
+    ms = solve_axisymmetric(d, mesh_profile(d, order=1), boundary="free", fmax_hz=2000.0, n_theta=8)
     f = [m.frequency_hz for m in ms.modes]
     assert min(f) > 100.0
     first = ms.modes[0]
@@ -361,7 +369,7 @@ def test_free_free_drops_rigid_modes():
         r = solve_eigen(K, M, k=4, sigma=sigma)
         assert np.count_nonzero(r.frequencies_hz < 1e-3 * f_ref) == expected, (n, r.frequencies_hz)
     # the free wheel is more flexible than the clamped one
-    clamped = solve_axisymmetric(d, fmax_hz=2000.0, n_theta=8)
+    clamped = solve_axisymmetric(d, mesh_profile(d, order=1), fmax_hz=2000.0, n_theta=8)
     assert find(ms.modes, 3, "axial").frequency_hz <= find(clamped.modes, 3, "axial").frequency_hz
 
 
@@ -379,7 +387,9 @@ def test_scaling_the_wheel_scales_frequencies_by_one_over_s():
     m = to_skfem_mesh(mesh_profile(d, elements_through_web=2, order=1))
     a = solve_axisymmetric(d, m, k=6, fmax_hz=None, n_theta=8)
     b = solve_axisymmetric(d.scaled(s), fe.MeshTri1(m.p * s, m.t), k=6, fmax_hz=None, n_theta=8)
-    c = solve_axisymmetric(d.scaled(s), elements_through_web=2, k=6, fmax_hz=None, n_theta=8)
+    c = solve_axisymmetric(
+        d.scaled(s), mesh_profile(d.scaled(s), elements_through_web=2, order=1), k=6, fmax_hz=None, n_theta=8
+    )
     assert [x.label() for x in a.modes] == [x.label() for x in b.modes] == [x.label() for x in c.modes]
     for x, y, z in zip(a.modes, b.modes, c.modes):
         assert y.frequency_hz * s == pytest.approx(x.frequency_hz, rel=1e-9)
@@ -410,7 +420,7 @@ def test_modeset_contract(table1_modes):
 
 
 def test_k_lowest_equals_band_prefix(table1_modes):
-    ms = solve_axisymmetric(TABLE1, k=5, fmax_hz=None, n_theta=8)
+    ms = solve_axisymmetric(TABLE1, mesh_profile(TABLE1, order=1), k=5, fmax_hz=None, n_theta=8)
     assert len(ms.modes) == 5
     for x, y in zip(ms.modes, table1_modes.modes[:5]):
         assert x.label() == y.label()

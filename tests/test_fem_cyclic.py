@@ -27,6 +27,7 @@ from fem.modes import ResolutionWarning
 from fem.solid import solve_solid
 from geometry.design import WheelDesign
 from geometry.gmsh_mesh import mesh_profile
+from geometry.mesh import DEFAULT_ELEMENTS_THROUGH_WEB
 from geometry.profile import revolved_volume
 from geometry.revolve import revolve_profile
 from geometry.simplex import inverted as _inverted
@@ -242,8 +243,10 @@ def test_too_few_sectors_warns(profile1):
         solve_cyclic(TABLE1, revolve_profile(profile1, 8), fmax_hz=5000.0)
 
 
-def test_default_mesh_is_used_when_none_given():
-    ms = solve_cyclic(WheelDesign(), fmax_hz=1500.0)
+def test_the_default_sector_count_gives_the_lowest_modes_in_order():
+    d = WheelDesign()
+    profile = mesh_profile(d, elements_through_web=DEFAULT_ELEMENTS_THROUGH_WEB[3], order=2)
+    ms = solve_cyclic(d, revolve_profile(profile, default_sectors(d, profile.size)), fmax_hz=1500.0)
     assert ms.solver == "3d-cyclic-p2"
     assert ms.points.shape[0] == ms.cells["tetra"].max() + 1
     assert [m.nodal_diameters for m in ms.modes][:3] == [1, 0, 2]

@@ -43,7 +43,9 @@ from geometry.gmsh_mesh import mesh_profile
 #: the Table 1 wheel with the 0.030 m starting rim depth: the values below were measured on it
 T1 = WheelDesign(rim_depth=0.030)
 SAG = T1.crown_radius - math.sqrt(T1.crown_radius**2 - (T1.rim_width / 2) ** 2)
-FAST = dict(elements_through_web=1, n_theta=8)  # the fast preset's mesh, small shapes
+FAST_MESH = dict(elements_through_web=1)  # the fast preset's mesh
+FAST_SHAPES = dict(n_theta=8)  # small shapes
+FAST = FAST_MESH | FAST_SHAPES
 
 
 def labels(ms):
@@ -56,8 +58,11 @@ def find(modes, n, family="axial", circles=0):
     return hits[0]
 
 
-def quiet_solve(design, mesh=None, **kw):
-    """Solve and fail on any FidelityWarning / EmptyBandWarning."""
+def quiet_solve(design, mesh=None, *, elements_through_web=None, size=None, **kw):
+    """Mesh (unless given a mesh) and solve; fail on any FidelityWarning / EmptyBandWarning."""
+    if mesh is None:
+        order = 2 if kw.get("curved") else 1
+        mesh = mesh_profile(design, size=size, elements_through_web=elements_through_web, order=order)
     with warnings.catch_warnings():
         warnings.simplefilter("error", FidelityWarning)
         warnings.simplefilter("error", EmptyBandWarning)
@@ -159,7 +164,7 @@ def test_bore_close_to_the_rim(gap):
     assert [(m.nodal_diameters, m.family) for m in ms.modes] == [(n, "axial") for n in range(4)]
     assert 8e3 < f[0] < 1.3e4 and f[-1] / f[0] < 1.1  # measured 9.9-11.0 kHz, spread 5 %
     with pytest.warns(EmptyBandWarning, match=r"at or below fmax_hz = 5000 Hz") as rec:
-        empty = solve_axisymmetric(d, fmax_hz=5000.0, **FAST)
+        empty = solve_axisymmetric(d, mesh_profile(d, **FAST_MESH, order=1), fmax_hz=5000.0, **FAST_SHAPES)
     assert empty.modes == [] and empty.shapes == []
     assert _lowest(rec) == pytest.approx(f[0], rel=1e-3)  # 4 significant figures
 
@@ -205,7 +210,9 @@ def test_nu_near_half_p2_is_sane_and_p1_warns():
 
     d = T1.replace(poissons_ratio=0.499)
     with pytest.warns(LockingWarning, match=r"nu = 0\.499 > 0\.45 .*volumetric locking"):
-        p1 = solve_axisymmetric(d, order=1, fmax_hz=None, k=6, elements_through_web=8, n_theta=8)
+        p1 = solve_axisymmetric(
+            d, mesh_profile(d, elements_through_web=8, order=1), order=1, fmax_hz=None, k=6, n_theta=8
+        )
     p2 = quiet_solve(d, fmax_hz=None, k=6, **FAST)
     f1, f2 = find(p1.modes, 3).frequency_hz, find(p2.modes, 3).frequency_hz
     assert f1 > 1.1 * f2  # locked (measured +18 %)
@@ -221,10 +228,10 @@ def test_locking_threshold_is_on_nu_and_order():
     with pytest.warns(LockingWarning, match="volumetric"):
         solve_axisymmetric(
             T1.replace(poissons_ratio=LOCKING_NU + 0.01),
+            mesh_profile(T1.replace(poissons_ratio=LOCKING_NU + 0.01), elements_through_web=8, order=1),
             order=1,
             fmax_hz=None,
             k=2,
-            elements_through_web=8,
             n_theta=8,
         )
     quiet_solve(T1.replace(poissons_ratio=0.4999), fmax_hz=None, k=2, **FAST)
@@ -240,7 +247,9 @@ def test_meshes_too_coarse_for_the_web():
     fr = {m.label(): m.frequency_hz for m in ref.modes}
     for mult, tol in ((2.0, 0.02), (20.0, 0.12)):
         with pytest.warns(ResolutionWarning) as rec:
-            ms = solve_axisymmetric(T1, size=mult * T1.web_thickness, fmax_hz=3000.0, n_theta=8)
+            ms = solve_axisymmetric(
+                T1, mesh_profile(T1, size=mult * T1.web_thickness, order=1), fmax_hz=3000.0, n_theta=8
+            )
         msgs = [str(w.message) for w in rec]
         assert any("exceeds the web thickness 15 mm" in m for m in msgs), msgs
         # at 20 x (300 mm elements) the 3 kHz wavelength is not resolved either
@@ -252,7 +261,9 @@ def test_meshes_too_coarse_for_the_web():
         for m in ms.modes:
             assert m.frequency_hz / fr[m.label()] - 1 == pytest.approx(0.0, abs=tol)
     with pytest.warns(LockingWarning, match="2 elements through the 15 mm web lock in bending"):
-        solve_axisymmetric(T1, order=1, elements_through_web=2, fmax_hz=None, k=4, n_theta=8)
+        solve_axisymmetric(
+            T1, mesh_profile(T1, elements_through_web=2, order=1), order=1, fmax_hz=None, k=4, n_theta=8
+        )
     # exactly one element through the web (ProfileMesh.size == web thickness): quiet
     quiet_solve(T1, mesh_profile(T1, elements_through_web=1, order=1), fmax_hz=5000.0, n_theta=8)
 
@@ -349,7 +360,9 @@ def test_band_with_no_modes(boundary):
         EmptyBandWarning,
         match=rf"no natural frequency at or below fmax_hz = 10 Hz \({boundary} wheel .*raise fmax_hz",
     ) as rec:
-        ms = solve_axisymmetric(T1, fmax_hz=10.0, boundary=boundary, **FAST)
+        ms = solve_axisymmetric(
+            T1, mesh_profile(T1, **FAST_MESH, order=1), fmax_hz=10.0, boundary=boundary, **FAST_SHAPES
+        )
     # the lowest mode: clamped (1,0) axial 263.7 Hz, free (2,0) axial (measured 431 Hz)
     ref = quiet_solve(T1, fmax_hz=None, k=1, boundary=boundary, **FAST).modes[0]
     assert _lowest(rec) == pytest.approx(ref.frequency_hz, rel=1e-3)
@@ -370,15 +383,23 @@ def test_fmax_beyond_the_mesh_resolution_warns():
     assert shortest_wavelength(T1, 5e4) == pytest.approx(0.0518, rel=0.01)
     assert shortest_wavelength(T1, 5e3) == pytest.approx(0.164, rel=0.01)
     with pytest.warns(ResolutionWarning, match=r"does not resolve 5e\+04 Hz.*fewer than 6"):
-        solve_axisymmetric(T1, fmax_hz=5e4, n_max=0, **FAST)
+        solve_axisymmetric(T1, mesh_profile(T1, **FAST_MESH, order=1), fmax_hz=5e4, n_max=0, **FAST_SHAPES)
     quiet_solve(T1, fmax_hz=5000.0, n_theta=8)  # default mesh (2 per web)
     quiet_solve(T1, fmax_hz=5000.0, **FAST)
     s = 0.02 / T1.rolling_radius
     with pytest.warns(ResolutionWarning):
-        solve_axisymmetric(T1.scaled(s), fmax_hz=5e4 / s, n_max=0, **FAST)
+        solve_axisymmetric(
+            T1.scaled(s),
+            mesh_profile(T1.scaled(s), **FAST_MESH, order=1),
+            fmax_hz=5e4 / s,
+            n_max=0,
+            **FAST_SHAPES,
+        )
     # k only: 20 lowest of n = 0 reach about 35 kHz on the fast mesh -> warns after
     with pytest.warns(ResolutionWarning, match="does not resolve"):
-        solve_axisymmetric(T1, fmax_hz=None, k=20, n_max=0, **FAST)
+        solve_axisymmetric(
+            T1, mesh_profile(T1, **FAST_MESH, order=1), fmax_hz=None, k=20, n_max=0, **FAST_SHAPES
+        )
     assert RESOLUTION_ELEMENTS[2] * T1.web_thickness / 2 < shortest_wavelength(T1, 5000.0)
 
 

@@ -51,9 +51,11 @@ def designs():
     )
 
 
-def solve(design, mesh=None, **kw):
-    """The k lowest modes on a coarse mesh; fidelity warnings (P1) are expected and
-    not the subject here."""
+def solve(design, mesh=None, *, elements_through_web=None, **kw):
+    """The k lowest modes on a coarse mesh (``mesh``, else the design's straight profile
+    mesh); fidelity warnings (P1) are expected and not the subject here."""
+    if mesh is None:
+        mesh = mesh_profile(design, elements_through_web=elements_through_web, order=1)
     kw.setdefault("fmax_hz", None)
     kw.setdefault("k", 5)
     with warnings.catch_warnings():

@@ -411,7 +411,7 @@ def test_sweep_command(tmp_path):
     assert r.returncode == 0, r.stderr
     lines = (out / "sweep.csv").read_text().splitlines()
     assert lines[0] == (
-        "crab_velocity_m_s,rpm,rolling_speed_m_s,verdict_mode,squeals,saturated,amplitude_m_s,"
+        "crabbing_velocity_m_s,rpm,rolling_speed_m_s,verdict_mode,squeals,saturated,amplitude_m_s,"
         "tone_hz,growth_rate_1_s,time_to_saturation_s"
     )
     assert len(lines) == 1 + 5 * 2

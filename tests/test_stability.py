@@ -369,7 +369,7 @@ def test_stability_command(tmp_path):
     assert all(m["unstable"] == (m["growth_rate_1_s"] > 0) for m in modes)
     assert s["operating_point"]["rpm"] == pytest.approx(800.0)
     csv = (out / "stability.csv").read_text().splitlines()
-    assert len(csv) == 1 + 7 * 3 and csv[0].startswith("crab_velocity_m_s,rpm,growth_rate_1_s")
+    assert len(csv) == 1 + 7 * 3 and csv[0].startswith("crabbing_velocity_m_s,rpm,growth_rate_1_s")
     assert (out / "stability.png").stat().st_size > 10_000
     assert {"rotation_off", "rotation_on"} <= set(s["mitigation"])
     assert "<- fastest" in r_.stdout and "zeta needed" in r_.stdout

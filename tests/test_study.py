@@ -55,7 +55,7 @@ def test_smoke_spec_cases():
     assert len(cases) == 8 and spec.kind == "grid"
     assert cases[0].changes == (("rim_depth", 0.03), ("web_thickness", 0.013))
     assert cases[-1].index == (3, 1)
-    assert len(spec.crab_velocities_m_s) * len(spec.rpm) == 6
+    assert len(spec.crabbing_velocities_m_s) * len(spec.rpm) == 6
 
 
 def test_wear_and_samples_specs(tmp_path):

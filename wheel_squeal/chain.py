@@ -12,8 +12,8 @@ from __future__ import annotations
 
 import math
 import time
-from dataclasses import dataclass, field
-from typing import TYPE_CHECKING
+from dataclasses import dataclass, field, fields, replace
+from typing import TYPE_CHECKING, Any
 
 from .api import contact_law, modal_dof, operating_point, simulate
 from .design import Design
@@ -33,7 +33,7 @@ if TYPE_CHECKING:
     from .cache import StageCache
     from .stability import MultiMode
 
-__all__ = ["Analysis", "analyse"]
+__all__ = ["Analysis", "ChainOptions", "analyse"]
 
 
 @dataclass
@@ -96,42 +96,10 @@ class Analysis:
         return out
 
 
-def analyse(
-    design: Design,
-    *,
-    rpm: float | None = None,
-    speed: float | None = None,
-    crab_velocity: float | None = None,
-    angle_of_attack: float | None = None,
-    op: OperatingPoint | None = None,
-    fidelity: str | Fidelity = DEFAULT_FIDELITY,
-    solver: str | None = None,
-    fmax_hz: float = DEFAULT_FMAX_HZ,
-    mode: str = "auto",
-    rotation: bool = False,
-    multimode_count: int | None = None,
-    duration: float | None = None,
-    simulate_modes: bool = True,
-    sound: bool = True,
-    listener: Listener | None = None,
-    c22: float | str | None = None,
-    modes: ModeSet | None = None,
-    cache: StageCache | None = None,
-    budget: Budget | None = None,
-    progress: Progress | None = None,
-    memo: dict | None = None,
-    margin: bool = True,
-    simulate_stable: bool = True,
-) -> Analysis:
-    """The chain at one operating point: modes, stability of every mode, the verdict
-    (:mod:`wheel_squeal.verdict`), the limit cycle of the verdict's mode and its sound.
+@dataclass(frozen=True)
+class ChainOptions:
+    """How :func:`analyse` computes (every field a keyword of :func:`analyse` too).
 
-    Parameters
-    ----------
-    design : the wheel.
-    rpm, speed, crab_velocity, angle_of_attack : the operating point (wheel speed in
-        rev/min or rolling speed in m/s; crabbing velocity in m/s or angle of attack in
-        rad; defaults 800 RPM and 0.39 m/s), or ``op`` (``reduced.OperatingPoint``).
     fidelity, solver, fmax_hz : the FE preset, another solver for it, the band [Hz].
     mode : "auto" (the design's named mode, else the model's pick) or a mode the user
         names (an index, ``n=3[,c=0]``, ``f=HZ``): an override, simulated as asked.
@@ -143,99 +111,187 @@ def analyse(
         verdict alone, or no levels).
     listener : microphone and air (default: 0.05 m off the rim face, air at 20 degC).
     c22 : the creep coefficient (None: the design's; a number; "kalker").
-    modes : the design's modes when already solved (with ``fidelity`` and ``fmax_hz``).
-    cache, budget, progress : the stage cache, the resource budget, progress on stderr.
-    memo : a dict kept between calls of one process (a study's operating points): the
-        radiation of each mode is computed once.
     margin : with no squeal, find how far the least stable mode is from growing (one
         root find, some 20 eigen-solves); False leaves it out (studies).
     simulate_stable : simulate a named mode even where it is linearly stable (from rest
         it decays: the run shows how); False takes the linear answer (studies).
+    """
+
+    fidelity: str | Fidelity = DEFAULT_FIDELITY
+    solver: str | None = None
+    fmax_hz: float = DEFAULT_FMAX_HZ
+    mode: str = "auto"
+    rotation: bool = False
+    multimode_count: int | None = None
+    duration: float | None = None
+    simulate_modes: bool = True
+    sound: bool = True
+    listener: Listener | None = None
+    c22: float | str | None = None
+    margin: bool = True
+    simulate_stable: bool = True
+
+
+#: the keywords of :func:`analyse` that make its operating point
+_OPERATING_POINT_KEYS = ("rpm", "speed", "crab_velocity", "angle_of_attack")
+
+
+def analyse(
+    design: Design,
+    *,
+    op: OperatingPoint | None = None,
+    options: ChainOptions | None = None,
+    modes: ModeSet | None = None,
+    cache: StageCache | None = None,
+    budget: Budget | None = None,
+    progress: Progress | None = None,
+    memo: dict | None = None,
+    **settings: Any,
+) -> Analysis:
+    """The chain at one operating point: modes, stability of every mode, the verdict
+    (:mod:`wheel_squeal.verdict`), the limit cycle of the verdict's mode and its sound.
+
+    Parameters
+    ----------
+    design : the wheel.
+    op : the operating point (``reduced.OperatingPoint``), or, among ``settings``,
+        ``rpm`` or ``speed`` (wheel speed in rev/min or rolling speed in m/s) and
+        ``crab_velocity`` or ``angle_of_attack`` (m/s or rad); defaults 800 RPM and
+        0.39 m/s.
+    options : how it computes (:class:`ChainOptions`); the other ``settings`` replace
+        its fields, as in ``analyse(d, rpm=600, fidelity="fast", sound=False)``.
+    modes : the design's modes when already solved (with the options' fidelity and band).
+    cache, budget, progress : the stage cache, the resource budget, progress on stderr.
+    memo : a dict kept between calls of one process (a study's operating points): the
+        radiation of each mode is computed once.
 
     Returns
     -------
     Analysis
     """
+    at = {k: settings.pop(k) for k in _OPERATING_POINT_KEYS if k in settings}
+    try:
+        opts = replace(options or ChainOptions(), **settings)
+    except TypeError:
+        unknown = sorted(set(settings) - {f.name for f in fields(ChainOptions)})
+        raise TypeError(f"analyse() got unknown settings {unknown}") from None
     progress = progress or Progress(quiet=True)
-    fid = fidelity if isinstance(fidelity, Fidelity) else fidelity_for(fidelity, solver)
-    op = op or operating_point(
-        design, rpm=rpm, speed=speed, crab_velocity=crab_velocity, angle_of_attack=angle_of_attack
-    )
-    contact = contact_law(design, c22)
+    fid = opts.fidelity if isinstance(opts.fidelity, Fidelity) else fidelity_for(opts.fidelity, opts.solver)
+    op = op or operating_point(design, **at)
     timings: dict[str, float] = {}
     t0 = time.perf_counter()
-    ms = (
-        modes
-        if modes is not None
-        else compute_modes(design, fid, fmax_hz=fmax_hz, cache=cache, progress=progress, budget=budget)
-    )
+    if modes is None:
+        modes = compute_modes(
+            design, fid, fmax_hz=opts.fmax_hz, cache=cache, progress=progress, budget=budget
+        )
     timings["modes"] = time.perf_counter() - t0
     t0 = time.perf_counter()
-    rows, result = stability_table(design, ms, contact, op, rotation)
+    contact = contact_law(design, opts.c22)
+    rows, result = stability_table(design, modes, contact, op, opts.rotation)
     timings["stability"] = time.perf_counter() - t0
-    omega = wheel_speed_rad_s(design, op, rotation)
-    by_index = {r.mode.index: r for r in rows}
+    chain = _Chain(design, opts, fid, modes, contact, op, rows, progress, cache, budget, memo)
+    multi, pick = chain.model_pick()
+    verdict = chain.verdict(pick)
+    timings["total"] = sum(timings.values())
+    return Analysis(
+        design, fid, modes, op, contact, opts.rotation, chain.omega, rows, result, verdict, multi, timings
+    )
 
-    named, source = None, ""
-    if mode != "auto":
-        named, _ = pick_mode(ms, mode)
-        source = f"--mode {mode} asks for"
-    elif design.squeal.mode:
-        named, _ = pick_mode(ms, design.squeal.mode)
-        source = f"the design {design.name} names"
-    if named is not None and named.index not in by_index:
-        modal_dof(named, design)  # its one-line refusal: a node at the contact
-        raise RequestError(f"mode {named.index} ({named.label()}) is not seen at the contact")
 
-    def linear(m: Mode) -> ModeOutcome:
-        s = by_index[m.index].stability
+@dataclass
+class _Chain:
+    """One analysis in progress: what the verdict's rules need (the steps of
+    :func:`analyse`)."""
+
+    design: Design
+    opts: ChainOptions
+    fid: Fidelity
+    modeset: ModeSet
+    contact: ContactLaw
+    op: OperatingPoint
+    rows: list[ModeStabilityRow]
+    progress: Progress
+    cache: StageCache | None
+    budget: Budget | None
+    memo: dict | None
+
+    def __post_init__(self) -> None:
+        self.omega = wheel_speed_rad_s(self.design, self.op, self.opts.rotation)
+        self.by_index = {r.mode.index: r for r in self.rows}
+        self.growing = [r for r in self.rows if r.stability.unstable]
+
+    def linear(self, m: Mode) -> ModeOutcome:
+        """A mode's linear answer."""
+        s = self.by_index[m.index].stability
         return ModeOutcome(
-            m, s.growth_rate_1_s, s.damped_frequency_hz, wave_of(m, s.damped_frequency_hz, omega)
+            m, s.growth_rate_1_s, s.damped_frequency_hz, wave_of(m, s.damped_frequency_hz, self.omega)
         )
 
-    def run(m: Mode) -> ModeOutcome:
-        o = linear(m)
-        if not simulate_modes or (not o.grows and not simulate_stable):
+    def run(self, m: Mode) -> ModeOutcome:
+        """A mode's time-domain answer from rest (its linear one where not simulated)."""
+        o = self.linear(m)
+        if not self.opts.simulate_modes or (not o.grows and not self.opts.simulate_stable):
             return o
-        with progress.stage(f"squeal model of {m.label()}"):
-            sim = simulate(modal_dof(m, design), contact, op, duration, omega, budget)
+        with self.progress.stage(f"squeal model of {m.label()}"):
+            sim = simulate(
+                modal_dof(m, self.design), self.contact, self.op, self.opts.duration, self.omega, self.budget
+            )
         f = float(sim.limit_cycle.frequency_hz)
-        wave = wave_of(m, f if math.isfinite(f) else o.damped_frequency_hz, omega)
+        wave = wave_of(m, f if math.isfinite(f) else o.damped_frequency_hz, self.omega)
         return ModeOutcome(m, o.growth_rate_1_s, o.damped_frequency_hz, wave, sim)
 
-    def heard(o: ModeOutcome) -> ModeOutcome:
-        if not (sound and o.simulation is not None and o.squeals):
+    def heard(self, o: ModeOutcome) -> ModeOutcome:
+        """The outcome with its sound (where it squeals and sound is asked for)."""
+        if not (self.opts.sound and o.simulation is not None and o.squeals):
             return o
-        with progress.stage(f"sound of {o.label}"):
+        with self.progress.stage(f"sound of {o.label}"):
             s = mode_sound(
-                design, ms, o.mode, wave_frequency_hz(o.mode, o.wave, omega), o.amplitude_m_s or 0.0,
-                listener=listener, travelling=o.wave != "standing", fidelity=fid.name, fmax_hz=fmax_hz,
-                cache=cache, budget=budget, memo=memo,
+                self.design, self.modeset, o.mode, wave_frequency_hz(o.mode, o.wave, self.omega),
+                o.amplitude_m_s or 0.0, listener=self.opts.listener, travelling=o.wave != "standing",
+                fidelity=self.fid.name, fmax_hz=self.opts.fmax_hz, cache=self.cache, budget=self.budget,
+                memo=self.memo,
             )  # fmt: skip
         return ModeOutcome(
             o.mode, o.growth_rate_1_s, o.damped_frequency_hz, o.wave, o.simulation, s, o.energy_share
         )
 
-    growing = [r for r in rows if r.stability.unstable]
-    fastest = max(rows, key=lambda r: r.stability.growth_rate_1_s)
-    multi = None
-    pick: ModeOutcome | None = None
-    if growing and multimode_count is not None:
-        with progress.stage("multi-mode squeal model"):
-            multi = multimode(design, rows, contact, op, rotation, multimode_count, duration, budget)
+    def named(self) -> tuple[Mode | None, str]:
+        """The mode the user or the design names, and who names it."""
+        mode, named, source = self.opts.mode, None, ""
+        if mode != "auto":
+            named, source = pick_mode(self.modeset, mode).mode, f"--mode {mode} asks for"
+        elif self.design.squeal.mode:
+            named = pick_mode(self.modeset, self.design.squeal.mode).mode
+            source = f"the design {self.design.name} names"
+        if named is not None and named.index not in self.by_index:
+            modal_dof(named, self.design)  # its one-line refusal: a node at the contact
+            raise RequestError(f"mode {named.index} ({named.label()}) is not seen at the contact")
+        return named, source
+
+    def model_pick(self) -> tuple[MultiMode | None, ModeOutcome | None]:
+        """The model's own pick: the carrier of the multi-mode limit cycle when asked
+        for, else the fastest-growing mode (None: no mode grows)."""
+        if not self.growing:
+            return None, None
+        if self.opts.multimode_count is None:
+            fastest = max(self.rows, key=lambda r: r.stability.growth_rate_1_s)
+            return None, self.linear(fastest.mode)
+        with self.progress.stage("multi-mode squeal model"):
+            multi = multimode(
+                self.design, self.rows, self.contact, self.op, self.opts.rotation,
+                self.opts.multimode_count, self.opts.duration, self.budget,
+            )  # fmt: skip
         carrier = multi.carrier
         share = float(multi.content.energy_share[multi.modes.index(carrier)])
-        f = multi.content.peak_frequency_hz
-        base = linear(carrier)
-        wave = wave_of(carrier, f, omega)
+        base = self.linear(carrier)
+        wave = wave_of(carrier, multi.content.peak_frequency_hz, self.omega)
         pick = ModeOutcome(
             carrier, base.growth_rate_1_s, base.damped_frequency_hz, wave, multi.simulation, None, share
         )
-    elif growing:
-        pick = linear(fastest.mode)
-    n_grow = f"{len(growing)} of {len(rows)} modes grow"
+        return multi, pick
 
-    def pick_words(p: ModeOutcome) -> str:
+    def pick_words(self, p: ModeOutcome) -> str:
+        n_grow = f"{len(self.growing)} of {len(self.rows)} modes grow"
         if p.energy_share is not None:
             return (
                 f"{p.label} carries the multi-mode limit cycle ({p.energy_share:.0%} of its energy; {n_grow})"
@@ -243,47 +299,40 @@ def analyse(
         rate = f"{p.growth_rate_1_s:.3g} 1/s at {p.damped_frequency_hz:.1f} Hz"
         return f"{p.label} grows fastest ({rate}; {n_grow})"
 
-    def quiet(reason: str, **extra) -> Verdict:
-        far = margin_of(design, rows, contact, op, rotation) if margin else None
+    def quiet(self, reason: str, **extra: Any) -> Verdict:
+        """No squeal, with how far the least stable mode is from growing."""
+        far = None
+        if self.opts.margin:
+            far = margin_of(self.design, self.rows, self.contact, self.op, self.opts.rotation)
+            reason = f"{reason}; {far['words']}"
         return Verdict(False, None, reason, margin=far, **extra)
 
-    if named is not None:
-        n_out = run(named)
-        if n_out.squeals:
-            beside = ""
-            if pick is not None and pick.mode.index != named.index:
-                rate = f"{pick.tone_hz:.1f} Hz ({pick.growth_rate_1_s:.3g} 1/s)"
-                beside = f"; the model alone picks {pick.label} at {rate}"
-            verdict = Verdict(
-                True, heard(n_out), f"{source} {named.label()}, simulated as asked{beside}", n_out, pick
-            )
-        elif pick is not None:
-            p_out = pick if pick.simulation is not None else run(pick.mode)
+    def verdict(self, pick: ModeOutcome | None) -> Verdict:
+        """The one answer: a named mode first (simulated as asked), else the model's pick."""
+        named, source = self.named()
+        if named is not None:
+            n_out = self.run(named)
+            if n_out.squeals:
+                beside = ""
+                if pick is not None and pick.mode.index != named.index:
+                    rate = f"{pick.tone_hz:.1f} Hz ({pick.growth_rate_1_s:.3g} 1/s)"
+                    beside = f"; the model alone picks {pick.label} at {rate}"
+                reason = f"{source} {named.label()}, simulated as asked{beside}"
+                return Verdict(True, self.heard(n_out), reason, n_out, pick)
+            if pick is None:
+                return self.quiet(f"{source} {named.label()}; no mode grows here", named=n_out)
+            p_out = pick if pick.simulation is not None else self.run(pick.mode)
             stable = f"{source} {named.label()}, which does not squeal here ({n_out.growth_rate_1_s:.3g} 1/s)"
             if p_out.squeals:
-                verdict = Verdict(True, heard(p_out), f"{stable}; {pick_words(p_out)}", n_out, p_out)
-            else:
-                verdict = quiet(
-                    f"{stable}; {pick_words(p_out)} but does not sustain from rest", named=n_out, pick=p_out
-                )
-        else:
-            verdict = quiet(f"{source} {named.label()}; no mode grows here", named=n_out)
-    elif pick is not None:
-        p_out = pick if pick.simulation is not None else run(pick.mode)
+                return Verdict(True, self.heard(p_out), f"{stable}; {self.pick_words(p_out)}", n_out, p_out)
+            return self.quiet(
+                f"{stable}; {self.pick_words(p_out)} but does not sustain from rest", named=n_out, pick=p_out
+            )
+        if pick is None:
+            return self.quiet("no mode grows here")
+        p_out = pick if pick.simulation is not None else self.run(pick.mode)
         if p_out.squeals:
-            verdict = Verdict(True, heard(p_out), pick_words(p_out), None, p_out)
-        else:
-            verdict = quiet(f"{pick_words(p_out)} but its oscillation does not sustain from rest", pick=p_out)
-    else:
-        verdict = quiet("no mode grows here")
-    if not verdict.squeals and verdict.margin is not None:
-        verdict = Verdict(
-            False,
-            None,
-            f"{verdict.reason}; {verdict.margin['words']}",
-            verdict.named,
-            verdict.pick,
-            verdict.margin,
+            return Verdict(True, self.heard(p_out), self.pick_words(p_out), None, p_out)
+        return self.quiet(
+            f"{self.pick_words(p_out)} but its oscillation does not sustain from rest", pick=p_out
         )
-    timings["total"] = sum(timings.values())
-    return Analysis(design, fid, ms, op, contact, rotation, omega, rows, result, verdict, multi, timings)

@@ -223,13 +223,13 @@ def _speeds(design: Design, rpms: Sequence[float] | np.ndarray) -> np.ndarray:
 class Envelope:
     """The linear stability over a grid of crabbing velocities x wheel speeds.
 
-    crab_velocities_m_s (n_vc,), rpm (n_speeds,); growth_rate_1_s (n_vc, n_speeds): the
+    crabbing_velocities_m_s (n_vc,), rpm (n_speeds,); growth_rate_1_s (n_vc, n_speeds): the
     largest growth rate; winner (n_vc, n_speeds): index into ``modes`` of the
     fastest-growing mode; damped_frequency_hz: its frequency at the contact; modes: the
     excitable FE modes.
     """
 
-    crab_velocities_m_s: np.ndarray
+    crabbing_velocities_m_s: np.ndarray
     rpm: np.ndarray
     growth_rate_1_s: np.ndarray
     winner: np.ndarray
@@ -253,7 +253,9 @@ def envelope(
     radius = design.wheel.rolling_radius if rotation else None
     m = stability_map(mode_dofs(modes, design), contact, crab_velocities, _speeds(design, rpms), radius)
     rpms = np.asarray(rpms, float)
-    return Envelope(m.crab_velocities_m_s, rpms, m.growth_rate_1_s, m.winner, m.damped_frequency_hz, modes)
+    return Envelope(
+        m.crabbing_velocities_m_s, rpms, m.growth_rate_1_s, m.winner, m.damped_frequency_hz, modes
+    )
 
 
 @dataclass(frozen=True)
@@ -278,7 +280,7 @@ class Mitigation:
                     "frequency_hz": m.frequency_hz,
                     "damping_ratio": design.damping.ratio(m.nodal_diameters, m.nodal_circles),
                     "required_damping_ratio": float(z),
-                    "at_crab_velocity_m_s": float(p[0]),
+                    "at_crabbing_velocity_m_s": float(p[0]),
                     "at_rpm": float(p[1]) / to_rpm,
                 }
                 for m, z, p in zip(self.modes, r.damping_ratio, r.damping_worst_point)
@@ -320,7 +322,7 @@ def mitigation_summary(
     off = mitigation(design, modeset, contact, crab_velocities, rpms, rotation=False)
     on = mitigation(design, modeset, contact, crab_velocities, rpms, rotation=True)
     return {
-        "crab_velocity_m_s": [float(crab_velocities[0]), float(crab_velocities[-1])],
+        "crabbing_velocity_m_s": [float(crab_velocities[0]), float(crab_velocities[-1])],
         "rpm": list(rpms),
         "rotation_off": off.to_dict(design),
         "rotation_on": on.to_dict(design),

@@ -48,12 +48,12 @@ def stability_text(rows: Sequence, winner: int) -> str:
 def write_envelope_csv(path: Path, env) -> Path:
     """stability.csv: one row per (crabbing velocity, speed) with the fastest mode."""
     rows = []
-    for i, vc in enumerate(env.crab_velocities_m_s):
+    for i, vc in enumerate(env.crabbing_velocities_m_s):
         for j, rpm in enumerate(env.rpm):
             m = env.modes[env.winner[i, j]]
             rows.append(
                 {
-                    "crab_velocity_m_s": float(vc),
+                    "crabbing_velocity_m_s": float(vc),
                     "rpm": float(rpm),
                     "growth_rate_1_s": float(env.growth_rate_1_s[i, j]),
                     "unstable": bool(env.growth_rate_1_s[i, j] > 0),
@@ -79,18 +79,20 @@ def write_envelope_plot(path: Path, env) -> Path:
     colours = {i: f"C{k % 10}" for k, i in enumerate(labels)}
     markers = "osD^v<>"
     for j, rpm in enumerate(env.rpm):
-        ax.plot(env.crab_velocities_m_s, env.growth_rate_1_s[:, j], "-", color="0.6", lw=0.8)
+        ax.plot(env.crabbing_velocities_m_s, env.growth_rate_1_s[:, j], "-", color="0.6", lw=0.8)
         for i, label in labels.items():
             sel = env.winner[:, j] == i
             ax.plot(
-                env.crab_velocities_m_s[sel],
+                env.crabbing_velocities_m_s[sel],
                 env.growth_rate_1_s[sel, j],
                 markers[j % 7],
                 ms=4,
                 color=colours[i],
                 label=label if j == 0 else None,
             )
-        ax.annotate(f"{rpm:.0f} RPM", (env.crab_velocities_m_s[-1], env.growth_rate_1_s[-1, j]), fontsize=8)
+        ax.annotate(
+            f"{rpm:.0f} RPM", (env.crabbing_velocities_m_s[-1], env.growth_rate_1_s[-1, j]), fontsize=8
+        )
     ax.axhline(0.0, color="k", lw=0.8)
     ax.set(
         xlabel="crabbing velocity Vc (m/s)",
@@ -156,7 +158,7 @@ def multimode_text(multi) -> str:
 
 def mitigation_text(mitigation: dict) -> str:
     """The damping per mode and the friction slope that stop squeal over the envelope."""
-    vc, rpm = mitigation["crab_velocity_m_s"], mitigation["rpm"]
+    vc, rpm = mitigation["crabbing_velocity_m_s"], mitigation["rpm"]
     lines = [
         f"to stop squeal for Vc {vc[0]:g}-{vc[1]:g} m/s at {', '.join(f'{r:g}' for r in rpm)} RPM:",
         f"{'#':>3} {'mode':<20} {'f [Hz]':>8} {'zeta now':>9} {'zeta needed':>12} {'(rotation on)':>13}",

@@ -24,7 +24,7 @@ def _cell(x: float) -> float | None:
 def _rows(grid: VerdictGrid, fields: dict[str, np.ndarray]) -> list[dict]:
     return [
         {
-            "crab_velocity_m_s": float(vc),
+            "crabbing_velocity_m_s": float(vc),
             "rpm": float(rpm),
             "rolling_speed_m_s": float(grid.rolling_speeds_m_s[j]),
             "verdict_mode": str(grid.mode[i, j]),
@@ -32,7 +32,7 @@ def _rows(grid: VerdictGrid, fields: dict[str, np.ndarray]) -> list[dict]:
             "saturated": bool(grid.saturated[i, j]),
             **{k: _cell(v[i, j]) for k, v in fields.items()},
         }
-        for i, vc in enumerate(grid.crab_velocities_m_s)
+        for i, vc in enumerate(grid.crabbing_velocities_m_s)
         for j, rpm in enumerate(grid.rpm)
     ]
 
@@ -66,7 +66,7 @@ def curve(grid: VerdictGrid, values: np.ndarray, j: int) -> tuple[np.ndarray, np
     cycles (NaN breaks it at every point that is not one, so that it joins only
     neighbouring limit cycles), and the hollow markers of the points still growing, as
     (x, line_y, hollow_mask)."""
-    x = grid.crab_velocities_m_s
+    x = grid.crabbing_velocities_m_s
     y = np.asarray(values[:, j], float)
     cycle = grid.squeals[:, j] & grid.saturated[:, j]
     hollow = grid.squeals[:, j] & ~grid.saturated[:, j]
@@ -100,7 +100,7 @@ def write_sweep_plot(path: Path, grid: VerdictGrid) -> Path:
         bottom.plot(x[hollow], level[hollow, j], "o", mfc="white", mec=line.get_color(), ms=6)
     if (grid.squeals & ~grid.saturated).any():
         top.plot([], [], "o", mfc="white", mec="0.4", ms=6, label="still growing: not a limit cycle")
-    top.plot(grid.crab_velocities_m_s, np.abs(grid.crab_velocities_m_s), "k--", lw=0.8, label="|Vc|")
+    top.plot(grid.crabbing_velocities_m_s, np.abs(grid.crabbing_velocities_m_s), "k--", lw=0.8, label="|Vc|")
     modes = ", ".join(sorted({m for m in grid.mode.ravel() if m})) or "none"
     top.set(ylabel="contact velocity amplitude (m/s)", title=f"Squeal over the sweep (modes: {modes})")
     top.legend(fontsize=8)
@@ -119,7 +119,7 @@ def sweep_table(grid: VerdictGrid) -> str:
     """The amplitude over the grid as text ('-' no squeal, '*' still growing), and the
     modes that squeal."""
     lines = [f"{'Vc [m/s]':>9} " + " ".join(f"{r:>9.0f}rpm" for r in grid.rpm)]
-    for i, vc in enumerate(grid.crab_velocities_m_s):
+    for i, vc in enumerate(grid.crabbing_velocities_m_s):
         cells = []
         for j in range(len(grid.rpm)):
             if not grid.squeals[i, j]:

@@ -41,7 +41,7 @@ class VerdictGrid:
     rolling_speeds_m_s : the speeds at the contact; duration_s : each run's length.
     """
 
-    crab_velocities_m_s: np.ndarray
+    crabbing_velocities_m_s: np.ndarray
     rpm: np.ndarray
     rolling_speeds_m_s: np.ndarray
     mode: np.ndarray

@@ -56,8 +56,8 @@ def study_dataset(spec: StudySpec, results: list[dict]):
         shape = tuple(len(d.values) for d in spec.dimensions)
         coords = {d.name: np.asarray(d.values) for d in spec.dimensions}
     op_dims = ["crab_velocity", "rpm"]
-    coords |= {"crab_velocity": np.asarray(spec.crab_velocities_m_s), "rpm": np.asarray(spec.rpm)}
-    n_op = (len(spec.crab_velocities_m_s), len(spec.rpm))
+    coords |= {"crab_velocity": np.asarray(spec.crabbing_velocities_m_s), "rpm": np.asarray(spec.rpm)}
+    n_op = (len(spec.crabbing_velocities_m_s), len(spec.rpm))
 
     status = np.empty(shape, dtype=object)
     reason = np.empty(shape, dtype=object)

@@ -113,7 +113,7 @@ def case_results(
             spec.fidelity,
             spec.fmax_hz,
             spec.compute,
-            spec.crab_velocities_m_s,
+            spec.crabbing_velocities_m_s,
             spec.rpm,
             worker_cache,
             budget.max_dofs,

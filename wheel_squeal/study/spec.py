@@ -101,7 +101,7 @@ class StudySpec:
     dimensions: tuple[Dimension, ...]
     samples: int  # 0 for a grid study
     seed: int
-    crab_velocities_m_s: tuple[float, ...]
+    crabbing_velocities_m_s: tuple[float, ...]
     rpm: tuple[float, ...]
     source: str = ""  # the spec's text, for provenance
 
@@ -117,7 +117,7 @@ class StudySpec:
     @property
     def n_points(self) -> int:
         """The number of operating points per design."""
-        return len(self.crab_velocities_m_s) * len(self.rpm)
+        return len(self.crabbing_velocities_m_s) * len(self.rpm)
 
     def cases(self) -> list[Case]:
         """Every design of the study, in a fixed order (grid: C order over the
@@ -165,7 +165,7 @@ class StudySpec:
             "fidelity": self.fidelity,
             "fmax": self.fmax_hz,
             "compute": self.compute,
-            "vc": self.crab_velocities_m_s,
+            "vc": self.crabbing_velocities_m_s,
             "rpm": self.rpm,
         }
         return hashlib.sha256(json.dumps(payload, sort_keys=True).encode()).hexdigest()[:16]
@@ -359,7 +359,7 @@ def load_spec(path: str | Path) -> StudySpec:
         dimensions=dims,
         samples=n,
         seed=seed,
-        crab_velocities_m_s=vcs,
+        crabbing_velocities_m_s=vcs,
         rpm=rpms,
         source=text,
     )

@@ -51,7 +51,7 @@ class CaseJob:
     fidelity: str
     fmax_hz: float
     compute: tuple[str, ...]
-    crab_velocities_m_s: tuple[float, ...]
+    crabbing_velocities_m_s: tuple[float, ...]
     rpm: tuple[float, ...]
     cache_dir: str | None = None
     max_dofs: float | None = None
@@ -100,7 +100,7 @@ def _run(design: Design, job: CaseJob) -> dict:
         load_compiled_kernels()  # a worker runs many simulations: compiled, from the first
     budget = Budget.from_environment(job.max_dofs)
     modes = api.compute_modes(design, job.fidelity, fmax_hz=job.fmax_hz, cache=cache, budget=budget)
-    shape = (len(job.crab_velocities_m_s), len(job.rpm))
+    shape = (len(job.crabbing_velocities_m_s), len(job.rpm))
     out: dict = {"status": "ok", "reason": "", "mass_kg": wheel_mass(design.wheel), "modes": len(modes.modes)}
     numbers = {k: np.full(shape, np.nan) for k in RESULT_FIELDS}
     flags = {k: np.zeros(shape, dtype=bool) for k in FLAG_FIELDS}
@@ -109,7 +109,7 @@ def _run(design: Design, job: CaseJob) -> dict:
     if "stability" in job.compute:
         for (i, j), _ in np.ndenumerate(numbers["tone_hz"]):
             a = analyse(
-                design, rpm=job.rpm[j], crab_velocity=job.crab_velocities_m_s[i], fidelity=job.fidelity,
+                design, rpm=job.rpm[j], crab_velocity=job.crabbing_velocities_m_s[i], fidelity=job.fidelity,
                 fmax_hz=job.fmax_hz, modes=modes, simulate_modes=simulate, sound="sound" in job.compute,
                 cache=cache, budget=budget, memo=memo, margin=False, simulate_stable=False,
             )  # fmt: skip
