@@ -1,4 +1,4 @@
-"""Sound radiated by a vibrating axisymmetric body (MODEL.md section 9).
+"""Sound radiated by a vibrating axisymmetric body (docs/theory.md, sound radiation).
 
 One circumferential harmonic at a time: the exterior Helmholtz problem on the meridian
 half-plane, quadratic triangles, a perfectly matched layer outside. The input is plain

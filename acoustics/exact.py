@@ -3,7 +3,7 @@
 A sphere of radius a whose radial surface velocity is ``V0 P_l^m(cos t) cos(m phi)``
 (time convention e^{j w t}) radiates ``p = A h_l(k rho) P_l^m(cos t) cos(m phi)`` with
 h_l = j_l - j y_l the outgoing spherical Hankel function and
-``A = -j rho0 c0 V0 / h_l'(k a)`` (MODEL.md section 9). P_l^m is SciPy's associated
+``A = -j rho0 c0 V0 / h_l'(k a)`` (docs/theory.md, sound radiation). P_l^m is SciPy's associated
 Legendre function (Condon-Shortley phase included, on both sides alike).
 """
 

@@ -1,5 +1,5 @@
 """Sound radiated by a vibrating axisymmetric body, one circumferential harmonic at a
-time: the exterior Helmholtz problem on the meridian half-plane (MODEL.md section 9).
+time: the exterior Helmholtz problem on the meridian half-plane (docs/theory.md, sound radiation).
 
 For a normal velocity ``vn(r, z) cos(n theta)`` (time convention e^{j w t}) the
 pressure is ``P(r, z) cos(n theta)`` with, on the air region A of the (r, z) half-plane,

@@ -24,7 +24,7 @@ problem splits: (U, V) (radial/axial, u_t = 0) and W alone (torsion, ``u_t = W``
 sin factor); both are integrated with ``2 pi``. With these factors the mass matrix
 is the 3-D kinetic-energy mass of the cos member, so a mass-normalised 2-D vector is
 a mass-normalised 3-D shape and ``V`` at the contact point is the ``phi_z`` of
-MODEL.md section 4.
+"Modal parameters at the contact" in docs/theory.md.
 
 Because every strain is affine in n (``eps = eps0 + n eps1``), the stiffness is
 ``K_n = c_n (K0 + n K1 + n^2 K2)`` with ``c_n = pi`` (n >= 1) or ``2 pi`` (n = 0);

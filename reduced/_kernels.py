@@ -12,7 +12,7 @@ p_i(t) = cos(w_i t + phase_i): contact velocity v = sum_i p_i u_i, lateral force
 Q = -mu((Vc + v)/V0) W, and m_i y_i'' + c_i y_i' + k_i y_i = p_i Q. Without rotation
 every w_i and phase_i is 0 and p_i = 1 exactly (the paper's N-mode model); on a wheel
 turning at Omega, a pair of n nodal diameters is two coordinates with w = n Omega and
-phases 0 and pi/2 (p = cos(n Omega t) and -sin(n Omega t), MODEL.md section 8).
+phases 0 and pi/2 (p = cos(n Omega t) and -sin(n Omega t), docs/theory.md, rotation).
 
 Creep-law parameters are passed as a float64 vector ``law``::
 

@@ -274,8 +274,8 @@ class Coordinates:
 
 
 def coordinates(modes, wheel_speed_rad_s: float = 0.0) -> Coordinates:
-    """The modal coordinates of ``modes``: one per mode, two (a and b, MODEL.md section
-    8) per pair with nodal diameters when the wheel turns at ``wheel_speed_rad_s``."""
+    """The modal coordinates of ``modes``: one per mode, two (a and b, docs/theory.md,
+    rotation) per pair with nodal diameters when the wheel turns at ``wheel_speed_rad_s``."""
     modes = as_modes(modes)
     rows = []
     for i, md in enumerate(modes):
@@ -430,19 +430,27 @@ def _check_duration(duration: float) -> float:
 class Integration:
     """How :func:`simulate` integrates and what it keeps.
 
-    steps_per_period : RK4 steps per period of the highest mode (measured: the
-        limit-cycle amplitude within 1e-4 of solve_ivp DOP853 at rtol 1e-8 for the
-        Fig. 6 case, within 3e-4 of a 128-step run over the whole Vc x speed grid).
-    step_s : force a step [s] instead of :func:`choose_time_step`.
-    store_every : keep every n-th step in the output (1 = all).
-    samples_per_period : instead of ``store_every``, keep at least this many samples per
-        period of the highest mode (every step when the step is longer; the choice is
-        made again after a refinement, so halving the step does not double the record).
-    refine, max_refinements : on detected instability, halve the step up to
-        ``max_refinements`` times; with ``refine=False`` raise at once.
-    energy_tolerance : accepted |Delta E - int P dt| relative to the largest modal
-        energy reached; a larger mismatch (or a non-finite state) means the step is
-        too large for the dynamics.
+    Attributes
+    ----------
+    steps_per_period
+        RK4 steps per period of the highest mode (measured: the limit-cycle amplitude
+        within 1e-4 of solve_ivp DOP853 at rtol 1e-8 for the Fig. 6 case, within 3e-4
+        of a 128-step run over the whole Vc x speed grid).
+    step_s
+        Force a step [s] instead of :func:`choose_time_step`.
+    store_every
+        Keep every n-th step in the output (1 = all).
+    samples_per_period
+        Instead of ``store_every``, keep at least this many samples per period of the
+        highest mode (every step when the step is longer; the choice is made again after
+        a refinement, so halving the step does not double the record).
+    refine, max_refinements
+        On detected instability, halve the step up to ``max_refinements`` times; with
+        ``refine=False`` raise at once.
+    energy_tolerance
+        Accepted ``|dE - integral of P dt|`` relative to the largest modal energy
+        reached; a larger mismatch (or a non-finite state) means the step is too large
+        for the dynamics.
     """
 
     steps_per_period: int = STEPS_PER_PERIOD
@@ -474,17 +482,25 @@ def simulate(
     contact : creep-law parameters.
     operating_point : rolling speed and crabbing velocity.
     duration : simulated time, s.
-    initial_state : None (rest: y = 0, y' = 0) or (y0, v0) per mode in m and m/s.
-    wheel_speed_rad_s : Omega, rad/s: with a turning wheel each pair (nodal_diameters
-        >= 1) is two coordinates seen at the contact through cos(n Omega t) and
-        -sin(n Omega t); 0, the paper's model, leaves them out.
+    initial_state : None (rest: y = 0, y' = 0) or (y0, v0) per coordinate
+        (:func:`coordinates`) in m and m/s.
+    wheel_speed_rad_s : Omega, rad/s: with a turning wheel each pair (n of 1 or more
+        nodal diameters) is two coordinates seen at the contact through cos(n Omega t)
+        and -sin(n Omega t); 0, the paper's model, leaves them out.
     integration : the step and the record (:class:`Integration`); ``changes`` replace
         its fields, as in ``simulate(..., store_every=4)``.
-    ``initial_state`` is per coordinate (:func:`coordinates`).
 
-    Raises IntegrationError if the integration cannot be made stable and consistent,
-    ValueError (before integrating) if the output would exceed MAX_STORED_SAMPLES
-    samples (very stiff or light modes over long durations: raise ``store_every``).
+    Returns
+    -------
+    TimeHistory
+
+    Raises
+    ------
+    IntegrationError
+        If the integration cannot be made stable and consistent.
+    ValueError
+        Before integrating, if the output would exceed ``MAX_STORED_SAMPLES`` samples
+        (very stiff or light modes over long durations: raise ``store_every``).
     """
     opts = replace(integration or Integration(), **changes)
     steps_per_period, step_s, store_every = opts.steps_per_period, opts.step_s, opts.store_every

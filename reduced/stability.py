@@ -8,10 +8,10 @@ and ``v`` the contact velocity. The N modes seen at the contact then obey
     M q'' + (D + g b a^T) q' + (S + g b e^T) q = 0,
 
 a rank-one coupling through the contact. Without rotation ``q`` are the modal
-coordinates, ``D = C``, ``S = K``, ``a = b = 1`` and ``e = 0`` (MODEL.md section 7). With
+coordinates, ``D = C``, ``S = K``, ``a = b = 1`` and ``e = 0`` (docs/theory.md, linear stability). With
 the wheel turning at Omega, a mode with n >= 1 nodal diameters is a pair whose
 coordinates in the frame of the (fixed) contact, ``x`` and ``w``, see Coriolis-like
-terms (MODEL.md section 8, written for p = (a + i b) e^{i n Omega t}):
+terms (docs/theory.md, rotation, written for p = (a + i b) e^{i n Omega t}):
 
     m x'' + c x' + 2 m n Omega w' + (k - m n^2 Omega^2) x + c n Omega w = Q
     m w'' + c w' - 2 m n Omega x' + (k - m n^2 Omega^2) w - c n Omega x = 0

@@ -414,7 +414,7 @@ def test_modeset_contract(table1_modes):
     assert len(ms.shapes) == len(ms.modes)
     for m, sh in zip(ms.modes, ms.shapes):
         assert sh.shape[0] == m.multiplicity
-    # the (3,0) axial mode near 1.1 kHz with a contact modal mass near 4 kg (MODEL.md)
+    # the (3,0) axial mode near 1.1 kHz with a contact modal mass near 4 kg (docs/validation.md)
     m3 = find(ms.modes, 3, "axial")
     assert 1000 < m3.frequency_hz < 1250 and 3.0 < m3.modal_mass < 5.0
 
@@ -436,7 +436,7 @@ def test_count_sign_changes_ignores_small_samples():
 def test_table1_mode_table_is_ordered_labelled_and_excitable_where_it_should_be(table1_modes):
     """The Table 1 modes up to 5 kHz (printed with -s): ascending, each label once,
     the (3,0) axial squeal mode near 1.1 kHz with a contact modal mass near 4 kg
-    (MODEL.md section 2), every axial mode seen at the contact and every in-plane mode of
+    (docs/validation.md), every axial mode seen at the contact and every in-plane mode of
     this mirror-symmetric wheel with a node there."""
     ms = table1_modes
     print(f"\nTable 1 wheel, axisym P2, {ms.dofs} DOFs summed over harmonics, {ms.timings_s['total']:.3f} s")

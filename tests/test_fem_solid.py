@@ -107,7 +107,7 @@ def test_pair_rotation_invariance(p2):
 
 @pytest.mark.slow
 def test_p1_locks_p2_converges_from_above(p2, mesh_ci):
-    """P1 tets lock in bending (MODEL.md 6: +20 % on the (3,0) mode at 25k DOF):
+    """P1 tets lock in bending (docs/theory.md, FE modes: +20 % on the (3,0) mode at 25k DOF):
     on the same mesh P1 is far stiffer than P2. P2 on a coarser mesh is above P2 on
     the finer one (conforming Ritz: frequencies converge from above)."""
     _, ms2, _ = p2

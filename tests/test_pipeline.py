@@ -226,7 +226,7 @@ def test_simulate_with_explicit_modal_parameters_builds_no_mesh(tmp_path, monkey
     }
     assert set(s["operating_point"]) == {"rolling_speed_m_s", "crabbing_velocity_m_s", "creepage"}
     assert set(s["contact"]) == {"semi_axis_a_m", "semi_axis_b_m", "c22", "friction_coefficient"}
-    # the paper's case: limit cycle marginally below Vc (MODEL.md section 5: ~0.367 m/s)
+    # the paper's case: limit cycle marginally below Vc (docs/validation.md: ~0.367 m/s)
     assert s["limit_cycle"]["squeal"] is True
     assert 0.35 <= s["limit_cycle"]["velocity_amplitude_m_s"] <= 0.39
     assert abs(s["limit_cycle"]["frequency_hz"] / 1143.0 - 1) < 0.01
@@ -265,7 +265,7 @@ def test_run_default_writes_the_full_report(tmp_path):
         assert key in s, key
     sel = s["selected_mode"]
     assert (sel["nodal_diameters"], sel["nodal_circles"], sel["family"]) == (3, 0, "axial")
-    # MODEL.md section 2: the (3,0) axial mode near 1.1 kHz with a contact modal mass near 4 kg
+    # docs/validation.md: the (3,0) axial mode near 1.1 kHz with a contact modal mass near 4 kg
     assert 1000 < sel["frequency_hz"] < 1250
     assert 2.5 < sel["modal_mass_kg"] < 5.0
     assert math.isclose(

@@ -78,7 +78,8 @@ def test_kalker_c22_table_points_and_table1(hertz):
     assert r.kalker_c22(1 / 0.5, 0.5) == pytest.approx(5.56)  # b/a = 0.5 (a along rolling longer)
     assert r.kalker_c22(0.5, 0.0) == pytest.approx(2.88)  # a/b = 0.5
     c = r.kalker_c22(hertz.a_over_b, 0.28)
-    # MODEL.md: "about 4.3 for a/b = 1.44 at nu = 0.28"; bilinear table interpolation gives 4.27
+    # Kalker's table: about 4.3 for a/b = 1.44 at nu = 0.28 (docs/validation.md); bilinear
+    # interpolation gives 4.27
     assert 4.2 < c < 4.35
     # reading the wrong side of the table (b/a instead of a/b) gives about 3.3: axes matter
     assert r.kalker_c22(1 / hertz.a_over_b, 0.28) < 3.4
@@ -89,7 +90,7 @@ def test_kalker_c22_table_points_and_table1(hertz):
 
 
 def test_saturation_creepage_table1(law):
-    # MODEL.md: z' = 3 at creepage 0.0083 for Table 1 at mu 0.3 (quoted to 2 s.f.)
+    # Table 1 (docs/validation.md): z' = 3 at creepage 0.0083 for Table 1 at mu 0.3 (quoted to 2 s.f.)
     assert law.saturation_creepage == pytest.approx(0.0083, abs=5e-5)
     assert law.normalised_creepage_per_creepage * law.saturation_creepage == pytest.approx(3.0)
 

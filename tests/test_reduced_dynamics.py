@@ -31,7 +31,7 @@ def test_operating_point_and_mode_constructors():
         0.022 * 17.84, rel=1e-12
     )
     md = r.ModalDOF.from_damping_ratio(3.1, 1.6e8, 9.4e-4)
-    assert md.damping_ns_m == pytest.approx(42.0, rel=0.01)  # MODEL.md: 9.4e-4 gives 42 N s/m
+    assert md.damping_ns_m == pytest.approx(42.0, rel=0.01)  # Table 1: 9.4e-4 gives 42 N s/m
     assert TABLE1_MODE.frequency_hz == pytest.approx(1143.0, rel=5e-4)
     for bad in (0.0, -1.0):
         with pytest.raises(ValueError, match="rolling_speed_m_s"):

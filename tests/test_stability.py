@@ -58,7 +58,7 @@ def _kicked_run(modes, law, op_fig6, duration: float, wheel_speed: float = 0.0):
         if coords.w[i] == 0.0:
             y0[i] = q0 / coords.k[i]
             continue
-        # the forced travelling response p = a + i b to Q0 e^{-i n Omega t} (MODEL.md 8)
+        # the forced travelling response p = a + i b to Q0 e^{-i n Omega t} (docs/theory.md, rotation)
         nw = coords.w[i]
         p = q0 / coords.m[i] / (w0**2 - nw**2 - 2j * zeta * w0 * nw)
         p_dot = -1j * nw * p
@@ -385,7 +385,7 @@ def test_run_with_rotation_and_multimode_reports_both(tmp_path):
     )
     assert r_.returncode == 0, r_.stderr
     s = json.loads((out / "summary.json").read_text())
-    assert s["rotation"] is True and len(s["multimode"]["modes"]) <= 3
+    assert s["rotation"] is True and len(s["multimode"]["mode_indices"]) <= 3
     assert s["winner"] == max(s["stability"], key=lambda m: m["growth_rate_1_s"])
     assert s["selected_mode"]["index"] == s["winner"]["index"]  # thin_web names no mode: auto
     assert "multi-mode" in r_.stdout

@@ -100,21 +100,33 @@ class Analysis:
 class ChainOptions:
     """How :func:`analyse` computes (every field a keyword of :func:`analyse` too).
 
-    fidelity, solver, fmax_hz : the FE preset, another solver for it, the band [Hz].
-    mode : "auto" (the design's named mode, else the model's pick) or a mode the user
+    Attributes
+    ----------
+    fidelity, solver, fmax_hz
+        The FE preset, another solver for it, the band [Hz].
+    mode
+        "auto" (the design's named mode, else the model's pick) or a mode the user
         names (an index, ``n=3[,c=0]``, ``f=HZ``): an override, simulated as asked.
-    rotation : model the wheel's rotation (travelling waves).
-    multimode_count : integrate this many most unstable modes together (None: each mode
-        alone); the mode that carries their limit cycle is the model's pick.
-    duration : simulated time [s] (None: until the outcome is known).
-    simulate_modes, sound : run the time domain and the radiation (False: the linear
-        verdict alone, or no levels).
-    listener : microphone and air (default: 0.05 m off the rim face, air at 20 degC).
-    c22 : the creep coefficient (None: the design's; a number; "kalker").
-    margin : with no squeal, find how far the least stable mode is from growing (one
-        root find, some 20 eigen-solves); False leaves it out (studies).
-    simulate_stable : simulate a named mode even where it is linearly stable (from rest
-        it decays: the run shows how); False takes the linear answer (studies).
+    rotation
+        Model the wheel's rotation (travelling waves).
+    multimode_count
+        Integrate this many most unstable modes together (None: each mode alone); the
+        mode that carries their limit cycle is the model's pick.
+    duration
+        Simulated time [s] (None: until the outcome is known).
+    simulate_modes, sound
+        Run the time domain and the radiation (False: the linear verdict alone, or no
+        levels).
+    listener
+        Microphone and air (default: 0.05 m off the rim face, air at 20 degC).
+    c22
+        The creep coefficient (None: the design's; a number; "kalker").
+    margin
+        With no squeal, find how far the least stable mode is from growing (one root
+        find, some 20 eigen-solves); False leaves it out (studies).
+    simulate_stable
+        Simulate a named mode even where it is linearly stable (from rest it decays:
+        the run shows how); False takes the linear answer (studies).
     """
 
     fidelity: str | Fidelity = DEFAULT_FIDELITY

@@ -368,7 +368,7 @@ class MultiMode:
     def summary(self) -> dict:
         c = self.content
         return {
-            "modes": [m.index for m in self.modes],
+            "mode_indices": [m.index for m in self.modes],
             "energy_share": {m.label(): float(s) for m, s in zip(self.modes, c.energy_share)},
             "carrier_mode": self.carrier.index,
             "carrier": self.carrier.label(),

@@ -25,21 +25,14 @@ import numpy as np
 from reduced.report import PLOT_DPI
 
 from ..cache import code_version
+from ..fields import unit_of
 from .spec import StudySpec
 from .task import CODE_PACKAGES, FLAG_FIELDS, LABEL_FIELDS, RESULT_FIELDS
 
 __all__ = ["study_dataset", "write_study_files"]
 
-_UNITS = {
-    "growth_rate_1_s": "1/s",
-    "tone_hz": "Hz",
-    "amplitude_m_s": "m/s",
-    "spl_db": "dB re 20 uPa",
-    "sound_power_level_db": "dB re 1 pW",
-    "model_pick_growth_rate_1_s": "1/s",
-    "override_growth_rate_1_s": "1/s",
-    "mass_kg": "kg",
-}
+#: the variables that carry a unit (from :mod:`wheel_squeal.fields`)
+_UNITS = {k: unit_of(k) for k in (*RESULT_FIELDS, "mass_kg")}
 
 
 def study_dataset(spec: StudySpec, results: list[dict]):
@@ -102,8 +95,8 @@ def study_dataset(spec: StudySpec, results: list[dict]):
     ds = xr.Dataset(data, coords=coords)
     for k, unit in _UNITS.items():
         ds[k].attrs["units"] = unit
-    ds["crab_velocity"].attrs["units"] = "m/s"
-    ds["rpm"].attrs["units"] = "rev/min"
+    for axis in ("crab_velocity", "rpm"):
+        ds[axis].attrs["units"] = unit_of(axis)
     ds.attrs = {
         "title": f"wheel-squeal study {spec.name}",
         "description": spec.description,

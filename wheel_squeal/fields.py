@@ -1,0 +1,286 @@
+"""Every field the tool writes, with its unit and meaning: the one home the reference
+documentation is generated from (``docs/reference/outputs.md``) and the study dataset
+takes its units from. A test runs the commands and fails on a written field that is not
+here, or on a field here that nothing writes.
+
+Fields are named by their key (the last part of a JSON path, or a CSV column); the same
+key means the same quantity in every file. ``GROUPS`` are the JSON objects that hold
+fields; ``FREE_GROUPS`` hold keys that name things (stages, designs) rather than fields.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+__all__ = ["FIELDS", "FILES", "FREE_GROUPS", "GROUPS", "Field", "OutputFile", "unit_of"]
+
+
+@dataclass(frozen=True)
+class Field:
+    """A written quantity: its ``unit`` ("" for dimensionless numbers, "-" for labels,
+    flags and text) and what it means."""
+
+    unit: str
+    description: str
+
+
+#: key -> Field, alphabetical
+FIELDS: dict[str, Field] = {
+    "P_W": Field("W", "power the contact force puts into the modes, Q v minus the modal damping losses"),
+    "Q_N": Field("N", "lateral contact (creep) force on the wheel"),
+    "amplitude_m_s": Field("m/s", "contact velocity amplitude of the limit cycle (or the last cycle)"),
+    "agrees_with_linear_winner": Field("-", "whether the multi-mode carrier is the fastest-growing mode"),
+    "at_crabbing_velocity_m_s": Field("m/s", "crabbing velocity where the required damping binds"),
+    "at_rpm": Field("rev/min", "wheel speed where the required damping binds"),
+    "carrier": Field("-", "the mode that carries the multi-mode limit cycle (most of its energy)"),
+    "carrier_mode": Field("-", "its index"),
+    "c22": Field("", "Kalker's lateral creep coefficient C22 used"),
+    "crab_velocity": Field("m/s", "crabbing velocity of the operating point (a study's axis)"),
+    "crabbing_velocity_m_s": Field("m/s", "crabbing velocity Vc of the operating point"),
+    "creepage": Field("", "quasi-static lateral creepage Vc / V0 (or the instantaneous one in a record)"),
+    "critical_damping_ratio": Field("", "damping ratio below which the mode grows here"),
+    "critical_friction_slope": Field("", "creep-curve slope dmu/dzeta below which the mode grows here"),
+    "damped_frequency_hz": Field("Hz", "frequency of the mode's linear eigenvalue with the contact"),
+    "damping_ns_m": Field("N s/m", "viscous damping c of the mode at the contact"),
+    "damping_ratio": Field("", "the mode's damping ratio now"),
+    "design": Field("-", "the design's name"),
+    "dim": Field("-", "mesh dimension: 2 (profile) or 3 (solid)"),
+    "dofs": Field("-", "degrees of freedom of the FE model (summed over harmonics)"),
+    "duration_s": Field("s", "simulated time per point"),
+    "elements": Field("-", "number of elements"),
+    "energy_share": Field("", "the mode's share of the multi-mode limit cycle's vibration energy"),
+    "exact_volume_m3": Field("m^3", "the design's exact volume (revolved outline)"),
+    "family": Field("-", "mode family: axial (out of plane), radial or circumferential"),
+    "fastest_mode": Field("-", "label of the fastest-growing mode"),
+    "fastest_mode_frequency_hz": Field("Hz", "its damped frequency"),
+    "fastest_mode_index": Field("-", "its index in the mode list"),
+    "fidelity": Field("-", "the speed/accuracy preset"),
+    "flux_power_w": Field("W", "radiated power through a circle in the air (check of surface_power_w)"),
+    "frequency_hz": Field("Hz", "natural (or limit-cycle, or radiated) frequency"),
+    "friction_coefficient": Field("", "friction coefficient mu_s = mu_0"),
+    "friction_damping_ns_m": Field(
+        "N s/m", "linearised friction damping g = W/V0 dmu/dzeta (negative: destabilising)"
+    ),
+    "friction_slope_at_rpm": Field("rev/min", "wheel speed where the required friction slope binds"),
+    "growth_rate_1_s": Field(
+        "1/s", "linear growth rate (negative: decays); the largest where no mode squeals"
+    ),
+    "hits": Field("-", "stages read from the cache"),
+    "index": Field("-", "the mode's index in frequency order"),
+    "label": Field("-", "mode label (n,c) family"),
+    "linear_winner_mode": Field("-", "index of the fastest-growing mode"),
+    "mass_kg": Field("kg", "modal mass at the contact (a study: the wheel's mass)"),
+    "mesh_volume_m3": Field("m^3", "volume of the mesh (revolved for a profile)"),
+    "microphone_m": Field("m", "microphone position (r, z) and angle theta [rad]"),
+    "misses": Field("-", "stages computed (not in the cache)"),
+    "modal_damping_ns_m": Field("N s/m", "viscous damping of the mode at the contact"),
+    "modal_mass_kg": Field("kg", "modal mass at the contact, lateral (null: a node at the contact)"),
+    "modal_stiffness_n_m": Field("N/m", "modal stiffness at the contact"),
+    "mode": Field("-", "mode label, or (mitigation) mode index"),
+    "mode_frequency_hz": Field("Hz", "natural frequency of the verdict's mode"),
+    "mode_indices": Field("-", "the modes integrated together"),
+    "mode_index": Field("-", "index of the verdict's mode"),
+    "model_pick": Field("-", "the mode the model alone picks (fastest-growing, or multi-mode carrier)"),
+    "model_pick_growth_rate_1_s": Field("1/s", "its growth rate"),
+    "modes": Field("-", "number of modes found below fmax"),
+    "named_mode": Field("-", "the mode the design names ([squeal] mode)"),
+    "nodal_circles": Field("-", "number of nodal circles"),
+    "nodal_diameters": Field("-", "number of nodal diameters"),
+    "nodes": Field("-", "number of mesh nodes"),
+    "order": Field("-", "element (mesh) order"),
+    "override_growth_rate_1_s": Field("1/s", "growth rate of the named mode"),
+    "override_mode": Field("-", "the named mode (an override of the model's pick)"),
+    "peak_frequency_hz": Field("Hz", "the contact velocity's spectral peak over the last window"),
+    "points": Field("-", "number of operating points"),
+    "radiation_efficiency": Field("", "radiated power over rho0 c0 S <vn^2>"),
+    "reason": Field("-", "why, in words"),
+    "required_damping_ratio": Field("", "damping ratio that keeps the mode stable over the envelope"),
+    "required_friction_slope": Field("", "creep-curve slope that keeps every mode stable over the envelope"),
+    "rim_depth": Field("m", "a study's design axis (any design field may be one)"),
+    "rolling_speed_m_s": Field("m/s", "rolling speed V0 at the contact"),
+    "rotation": Field("-", "whether the wheel's rotation is modelled"),
+    "rpm": Field("rev/min", "wheel speed"),
+    "saturated": Field("-", "whether the oscillation reached its limit cycle within the run"),
+    "seconds": Field("s", "wall time"),
+    "semi_axis_a_m": Field("m", "Hertz contact semi-axis in the rolling direction"),
+    "semi_axis_b_m": Field("m", "Hertz contact semi-axis across (lateral)"),
+    "settled": Field("-", "whether the mitigation bounds converged"),
+    "solver": Field("-", "modal solver"),
+    "sound_power_level_db": Field("dB re 1 pW", "sound power level"),
+    "spl_db": Field("dB re 20 uPa", "sound pressure level at the microphone"),
+    "squeal": Field("-", "whether the limit cycle is a self-sustained oscillation"),
+    "squealing_points": Field("-", "operating points that squeal"),
+    "squeals": Field("-", "the verdict: whether the wheel squeals"),
+    "status": Field("-", "a study case's outcome: ok, invalid or failed"),
+    "still_growing_points": Field("-", "squealing points whose run ended before saturation"),
+    "stiffness_n_m": Field("N/m", "modal stiffness k at the contact"),
+    "surface_power_w": Field("W", "radiated power from the surface integral"),
+    "t_s": Field("s", "time"),
+    "time_to_saturation_s": Field("s", "when the oscillation reached its limit cycle"),
+    "tone_hz": Field("Hz", "the tone a stationary microphone hears"),
+    "unstable": Field("-", "whether the mode grows here"),
+    "v_m_s": Field("m/s", "lateral velocity of the wheel at the contact"),
+    "velocity_amplitude_m_s": Field("m/s", "contact velocity amplitude"),
+    "verdict_mode": Field("-", "the verdict's mode (empty: no squeal)"),
+    "wave": Field("-", "standing, forward or backward (travelling wave with rotation)"),
+    "web_thickness": Field("m", "a study's design axis"),
+    "wheel_speed_rad_s": Field("rad/s", "wheel speed Omega = V0 / R1"),
+    "window_s": Field("s", "start and end of the window the energy shares are taken over"),
+    "why": Field("-", "why this mode"),
+    "y_m": Field("m", "lateral displacement of the wheel at the contact"),
+}
+
+#: JSON objects that hold fields
+GROUPS: dict[str, str] = {
+    "cache": "cache hits and misses of the run's stages",
+    "checks": "independent checks of the radiated power",
+    "contact": "the Hertz contact and creep law",
+    "damping": "per mode: the damping that stops squeal over the envelope",
+    "designs": "one row per design (as compare.csv)",
+    "limit_cycle": "the limit cycle of the simulated mode",
+    "mitigation": "what stops squeal over the envelope (rotation off and on)",
+    "modal_parameters": "m, k, c of the simulated mode at the contact",
+    "mode": "the mode",
+    "model_pick": "the model's own pick (as the verdict's fields)",
+    "modes": "every mode below fmax",
+    "multimode": "the multi-mode run (--multimode)",
+    "operating_point": "the operating point",
+    "override": "the named mode's own result (as the verdict's fields)",
+    "per_unit_velocity": "levels at 1 m/s contact velocity",
+    "rotation_off": "mitigation with the wheel's rotation left out",
+    "rotation_on": "mitigation with rotation",
+    "selected_mode": "the mode the command selected",
+    "sound": "the sound of the verdict's mode at its amplitude",
+    "stability": "every excitable mode's linear stability",
+    "verdict": "the one answer: whether, in which mode, at what tone, how loud, why",
+    "winner": "the fastest-growing mode",
+}
+
+#: JSON objects whose keys name things: stages (seconds each) or designs (a verdict each)
+FREE_GROUPS: dict[str, str] = {
+    "energy_share": "each mode's share of the multi-mode limit cycle's vibration energy, keyed by its label",
+    "timings_s": "seconds per stage, keyed by the stage's name",
+    "verdicts": "the verdict of each design, keyed by its name",
+}
+
+
+@dataclass(frozen=True)
+class OutputFile:
+    """A file the commands write, and its fields (CSV columns in order; for JSON the
+    top-level keys)."""
+
+    commands: tuple[str, ...]
+    description: str
+    fields: tuple[str, ...]
+
+
+FILES: dict[str, OutputFile] = {
+    "summary.json": OutputFile(
+        ("run", "stability", "mesh", "modes", "simulate", "sweep", "sound", "compare"),
+        "the command's result: the verdict first, then what it rests on (null: no value)",
+        (),
+    ),
+    "timeseries.csv": OutputFile(
+        ("run", "simulate"),
+        "the time history at the contact (a comment line, then the columns)",
+        ("t_s", "y_m", "v_m_s", "creepage", "Q_N", "P_W"),
+    ),
+    "sweep.csv": OutputFile(
+        ("sweep",),
+        "the verdict per operating point",
+        (
+            "crabbing_velocity_m_s",
+            "rpm",
+            "rolling_speed_m_s",
+            "verdict_mode",
+            "squeals",
+            "saturated",
+            "amplitude_m_s",
+            "tone_hz",
+            "growth_rate_1_s",
+            "time_to_saturation_s",
+        ),
+    ),  # fmt: skip
+    "sweep_spl.csv": OutputFile(
+        ("sweep --sound",),
+        "the levels per operating point",
+        (
+            "crabbing_velocity_m_s",
+            "rpm",
+            "rolling_speed_m_s",
+            "verdict_mode",
+            "squeals",
+            "saturated",
+            "amplitude_m_s",
+            "spl_db",
+            "sound_power_level_db",
+        ),
+    ),  # fmt: skip
+    "stability.csv": OutputFile(
+        ("stability --envelope",),
+        "the fastest-growing mode per operating point",
+        (
+            "crabbing_velocity_m_s",
+            "rpm",
+            "growth_rate_1_s",
+            "unstable",
+            "fastest_mode_index",
+            "fastest_mode",
+            "fastest_mode_frequency_hz",
+        ),
+    ),  # fmt: skip
+    "compare.csv": OutputFile(
+        ("compare",),
+        "one row per design",
+        (
+            "design",
+            "squeals",
+            "verdict_mode",
+            "tone_hz",
+            "growth_rate_1_s",
+            "amplitude_m_s",
+            "saturated",
+            "spl_db",
+            "sound_power_level_db",
+            "override_mode",
+            "override_growth_rate_1_s",
+            "model_pick",
+            "model_pick_growth_rate_1_s",
+            "mode_frequency_hz",
+            "modal_mass_kg",
+            "modal_stiffness_n_m",
+            "modal_damping_ns_m",
+            "reason",
+        ),
+    ),  # fmt: skip
+    "study.csv": OutputFile(
+        ("study",),
+        "one row per design and operating point (study.nc holds the same as an xarray Dataset: "
+        "the design axes and crab_velocity x rpm as dimensions, units as attributes; the design "
+        "axes come first, each named by its design field, then design_<field> with the values used)",
+        (
+            "crab_velocity",
+            "rpm",
+            "status",
+            "reason",
+            "mass_kg",
+            "modes",
+            "verdict_mode",
+            "model_pick",
+            "squeals",
+            "saturated",
+            "tone_hz",
+            "growth_rate_1_s",
+            "amplitude_m_s",
+            "spl_db",
+            "sound_power_level_db",
+            "model_pick_growth_rate_1_s",
+            "override_growth_rate_1_s",
+        ),
+    ),  # fmt: skip
+}
+
+
+def unit_of(key: str) -> str:
+    """The unit of field ``key`` ("" dimensionless, "-" none)."""
+    return FIELDS[key].unit
