@@ -18,11 +18,18 @@ from typing import TYPE_CHECKING, Any
 from .api import contact_law, modal_dof, operating_point, simulate
 from .design import Design
 from .errors import RequestError
-from .modes import compute_modes, pick_mode
+from .modes import compute_modes
 from .presets import DEFAULT_FIDELITY, DEFAULT_FMAX_HZ, Fidelity, fidelity_for
 from .progress import Progress
 from .sound import Listener, mode_sound
-from .stability import ModeStabilityRow, margin_of, multimode, stability_table, wheel_speed_rad_s
+from .stability import (
+    ModeStabilityRow,
+    margin_of,
+    multimode,
+    named_mode,
+    stability_table,
+    wheel_speed_rad_s,
+)
 from .verdict import ModeOutcome, Verdict, wave_frequency_hz, wave_of
 
 if TYPE_CHECKING:
@@ -269,14 +276,8 @@ class _Chain:
 
     def named(self) -> tuple[Mode | None, str]:
         """The mode the user or the design names, and who names it."""
-        mode, named, source = self.opts.mode, None, ""
-        if mode != "auto":
-            named, source = pick_mode(self.modeset, mode).mode, f"--mode {mode} asks for"
-        elif self.design.squeal.mode:
-            named = pick_mode(self.modeset, self.design.squeal.mode).mode
-            source = f"the design {self.design.name} names"
+        named, source, _ = named_mode(self.design, self.modeset, self.opts.mode)
         if named is not None and named.index not in self.by_index:
-            modal_dof(named, self.design)  # its one-line refusal: a node at the contact
             raise RequestError(f"mode {named.index} ({named.label()}) is not seen at the contact")
         return named, source
 

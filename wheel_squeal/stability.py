@@ -52,6 +52,8 @@ __all__ = [
     "mitigation_summary",
     "mode_dofs",
     "multimode",
+    "named_mode",
+    "NamedMode",
     "stability_table",
     "wheel_speed_rad_s",
 ]
@@ -175,6 +177,31 @@ def margin_of(
     }
 
 
+class NamedMode(NamedTuple):
+    """The mode the user (``--mode``) or the design (``[squeal] mode``) names: ``mode``
+    (None: neither names one), ``source`` (who names it, in words) and ``reason`` (how it
+    was found among the modes)."""
+
+    mode: Mode | None
+    source: str
+    reason: str
+
+
+def named_mode(design: Design, modeset: ModeSet, mode: str = "auto") -> NamedMode:
+    """The named mode: ``mode`` unless "auto", else the design's ``[squeal] mode``. A
+    named mode with a node at the contact is refused in one line."""
+    from .api import modal_dof, pick_mode
+
+    if mode != "auto":
+        found, source = pick_mode(modeset, mode), f"--mode {mode} asks for"
+    elif design.squeal.mode:
+        found, source = pick_mode(modeset, design.squeal.mode), f"the design {design.name} names"
+    else:
+        return NamedMode(None, "", "")
+    modal_dof(found.mode, design)  # a node at the contact: its one-line refusal
+    return NamedMode(found.mode, source, found.reason)
+
+
 class ModeChoice(NamedTuple):
     """The mode a run simulates, the sentence that says why, and the stability rows."""
 
@@ -197,14 +224,13 @@ def choose_mode(
     with the largest linear growth rate at ``op``; anything else selects as
     :func:`wheel_squeal.api.pick_mode` does.
     """
-    from .api import pick_mode
-
     rows, result = stability_table(design, modeset, contact, op, rotation)
-    if mode != "auto":
-        chosen, why = pick_mode(modeset, mode)
-    elif design.squeal.mode:
-        chosen, why = pick_mode(modeset, design.squeal.mode)
-        why = f"the mode {design.name} names as its squeal mode ({design.squeal.mode}): {why}"
+    named = named_mode(design, modeset, mode)
+    if named.mode is not None and mode != "auto":
+        chosen, why = named.mode, named.reason
+    elif named.mode is not None:
+        chosen = named.mode
+        why = f"the mode {design.name} names as its squeal mode ({design.squeal.mode}): {named.reason}"
     else:
         row = rows[result.winner]
         chosen = row.mode

@@ -80,12 +80,9 @@ def sweep_verdicts(
     (``dof``: then it is the only candidate). ``sound`` adds the levels heard by
     ``listener`` (the mode's radiation is computed once, at 1 m/s)."""
     from reduced import OperatingPoint
-    from reduced.stability import eigen_solve_seconds
-    from reduced.sweep import MAX_SWEEP_STEPS, numba_threads, squeal_points, sweep_steps
+    from reduced.sweep import squeal_points
 
-    from .api import modal_dof
-    from .modes import pick_mode
-    from .stability import excitable, mode_dofs
+    from .stability import excitable, mode_dofs, named_mode
 
     progress = progress or Progress(quiet=True)
     budget = budget or Budget.from_environment()
@@ -109,33 +106,11 @@ def sweep_verdicts(
         if not modes:
             raise RequestError("no mode below fmax is seen at the contact: nothing can squeal there")
         dofs = mode_dofs(modes, design)
-        named_mode: Mode | None = None
-        if mode != "auto":
-            named_mode, _ = pick_mode(modeset, mode)
-        elif design.squeal.mode:
-            named_mode, _ = pick_mode(modeset, design.squeal.mode)
-        if named_mode is not None:
-            modal_dof(named_mode, design)  # a node at the contact: its one-line refusal
-        named_i = next((k for k, m in enumerate(modes) if named_mode and m.index == named_mode.index), None)
-        named = named_mode.label() if named_mode is not None else ""
-    # the cost first, from the axes alone: the slowest points are the lowest speeds
-    corners = [
-        OperatingPoint(float(v0), float(vc)) for vc in (vcs.min(), vcs.max()) for v0 in (speeds.min(),)
-    ]
-    steps = max(sweep_steps(dofs, contact, op, duration) for op in corners)
-    if steps > MAX_SWEEP_STEPS:
-        raise RequestError(
-            f"a sweep case needs {steps:,} RK4 steps (limit {MAX_SWEEP_STEPS:,}): a very stiff or light "
-            "mode or a very low rolling speed; shorten the duration"
-        )
+        first = named_mode(design, modeset, mode).mode
+        named_i = next((k for k, m in enumerate(modes) if first and m.index == first.index), None)
+        named = first.label() if first is not None else ""
     runs = n_points * (2 if named_i is not None and dof is None else 1)
-    remedy = "use fewer points or a shorter duration"
-    seconds = budget.check_sweep(runs, steps, 1, numba_threads(), remedy)
-    seconds += budget.check_work(
-        f"the stability of {len(dofs)} modes at {n_points:,} points",
-        n_points * eigen_solve_seconds(dofs),
-        remedy,
-    )
+    seconds = _check_cost(dofs, contact, vcs, speeds, duration, runs, budget)
     report = progress.counter("sweep", "cases") if seconds > 2.0 else None
     ops = [OperatingPoint(float(v0), float(vc)) for vc in vcs for v0 in speeds]
     pts = squeal_points(dofs, contact, ops, duration, first=named_i, fastest=dof is None, progress=report)
@@ -147,10 +122,8 @@ def sweep_verdicts(
     amplitude = pts.amplitude_m_s
     spl, power = np.full(len(ops), np.nan), np.full(len(ops), np.nan)
     if sound and pts.squeals.any():
-        if dof is not None:
+        if dof is not None or modeset is None:
             raise RequestError("--sound needs the FE mode (its shape radiates): not with --mass")
-        from acoustics import sound_power_level_db, spl_db
-
         from .sound import mode_sound
 
         for i_mode in np.unique(chosen[chosen >= 0]):
@@ -161,11 +134,43 @@ def sweep_verdicts(
                     fmax_hz=fmax_hz, cache=cache, budget=budget,
                 )  # fmt: skip
             at = chosen == i_mode
-            spl[at] = spl_db(unit.microphone_pressure_pa * amplitude[at])
-            power[at] = sound_power_level_db(unit.sound_power_w * amplitude[at] ** 2)
+            spl[at], power[at] = unit.levels_at(amplitude[at])
     return VerdictGrid(
         vcs, rpms, speeds, label.reshape(shape), pts.squeals.reshape(shape), pts.saturated.reshape(shape),
         amplitude.reshape(shape), pts.frequency_hz.reshape(shape), pts.growth_rate_1_s.reshape(shape),
         pts.time_to_saturation_s.reshape(shape), spl.reshape(shape), power.reshape(shape), named,
         float(duration),
     )  # fmt: skip
+
+
+def _check_cost(
+    dofs: list[ModalDOF],
+    contact: ContactLaw,
+    crab_velocities_m_s: np.ndarray,
+    speeds_m_s: np.ndarray,
+    duration: float,
+    runs: int,
+    budget: Budget,
+) -> float:
+    """The estimated seconds of the sweep's runs and eigen-solves, refused beyond the
+    budget; from the axes alone (the slowest points are the lowest speeds)."""
+    from reduced import OperatingPoint
+    from reduced.stability import eigen_solve_seconds
+    from reduced.sweep import MAX_SWEEP_STEPS, numba_threads, sweep_steps
+
+    v0 = float(speeds_m_s.min())
+    corners = [OperatingPoint(v0, float(vc)) for vc in (crab_velocities_m_s.min(), crab_velocities_m_s.max())]
+    steps = max(sweep_steps(dofs, contact, op, duration) for op in corners)
+    if steps > MAX_SWEEP_STEPS:
+        raise RequestError(
+            f"a sweep case needs {steps:,} RK4 steps (limit {MAX_SWEEP_STEPS:,}): a very stiff or light "
+            "mode or a very low rolling speed; shorten the duration"
+        )
+    n_points = len(crab_velocities_m_s) * len(speeds_m_s)
+    remedy = "use fewer points or a shorter duration"
+    seconds = budget.check_sweep(runs, steps, 1, numba_threads(), remedy)
+    return seconds + budget.check_work(
+        f"the stability of {len(dofs)} modes at {n_points:,} points",
+        n_points * eigen_solve_seconds(dofs),
+        remedy,
+    )
