@@ -93,33 +93,9 @@ def case_results(
     )
     cases = spec.cases()
     keys = [_case_key(spec, c.changes) for c in cases]
-    results: list[dict | None] = [None] * len(cases)
-    if cache is not None:
-        for i, key in enumerate(keys):
-            try:
-                results[i] = json.loads(str(cache.load("study", key)["result"]))
-            except CacheMiss:
-                pass
+    results = _stored_results(keys, cache)
     todo = [i for i, r in enumerate(results) if r is None]
-    # A grid's designs may be asked for again (another operating grid), a sample's
-    # not: their modes are not kept. Local workers share this machine's cache; a
-    # cluster's workers use their own default one (a path here may not exist there).
-    keep_fe = cache is not None and cache.enabled and not spec.samples
-    worker_cache = ("" if scheduler else str(cache.root)) if cache is not None and keep_fe else None
-    jobs = {
-        i: CaseJob(
-            spec.base,
-            cases[i].changes,
-            spec.fidelity,
-            spec.fmax_hz,
-            spec.compute,
-            spec.crabbing_velocities_m_s,
-            spec.rpm,
-            worker_cache,
-            budget.max_dofs,
-        )  # fmt: skip
-        for i in todo
-    }
+    jobs = {i: _job(spec, cases[i].changes, _worker_cache(spec, cache, scheduler), budget) for i in todo}
     n_local = 1 if scheduler else local_workers(workers, progress)
     where = f"dask scheduler {scheduler}" if scheduler else f"{n_local} local process(es)"
 
@@ -162,6 +138,35 @@ def case_results(
     else:
         run_on_pool(n_local, jobs, run_case, done, died)
     return results  # type: ignore[return-value]
+
+
+def _stored_results(keys: list[dict], cache: StageCache | None) -> list[dict | None]:
+    """The results of an earlier run of the same cases (None where there is none)."""
+    results: list[dict | None] = [None] * len(keys)
+    if cache is not None:
+        for i, key in enumerate(keys):
+            try:
+                results[i] = json.loads(str(cache.load("study", key)["result"]))
+            except CacheMiss:
+                pass
+    return results
+
+
+def _worker_cache(spec: StudySpec, cache: StageCache | None, scheduler: str | None) -> str | None:
+    """The FE cache a worker uses: a grid's designs may be asked for again (another
+    operating grid), a sample's not, so their modes are not kept. Local workers share
+    this machine's cache; a cluster's workers use their own default one ("": a path
+    here may not exist there)."""
+    if cache is None or not cache.enabled or spec.samples:
+        return None
+    return "" if scheduler else str(cache.root)
+
+
+def _job(spec: StudySpec, changes: tuple, worker_cache: str | None, budget: Budget) -> CaseJob:
+    return CaseJob(
+        spec.base, changes, spec.fidelity, spec.fmax_hz, spec.compute, spec.crabbing_velocities_m_s,
+        spec.rpm, worker_cache, budget.max_dofs,
+    )  # fmt: skip
 
 
 def _transient(reason: str) -> dict:
