@@ -45,7 +45,7 @@ import math
 import os
 import tempfile
 from collections.abc import Iterable, Sequence
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
 from io import BytesIO
 from pathlib import Path
 from typing import Any
@@ -404,6 +404,23 @@ def _camera(name, radius: float, width: float):
     raise ValueError(f"unknown camera {name!r}: use one of {CAMERAS} or a camera position")
 
 
+@dataclass
+class _Parts:
+    """What the parts of a scene share: the plotter, the scaled deformation, the font
+    scale, and the meshes and labels that move with the mode."""
+
+    pl: Any
+    scale: float
+    fs: float
+    moving: list = field(default_factory=list)
+    labels: list = field(default_factory=list)
+
+    def add_moving(self, mesh: Any, base: np.ndarray, u: np.ndarray, **kw: Any) -> None:
+        mesh.points = base + self.scale * u
+        self.moving.append((mesh, base, u))
+        self.pl.add_mesh(mesh, **kw)
+
+
 def _build_scene(modeset: ModeSet, i: int, style: RenderStyle) -> _Scene:
     import pyvista as pv
 
@@ -426,126 +443,127 @@ def _build_scene(modeset: ModeSet, i: int, style: RenderStyle) -> _Scene:
 
     pl = pv.Plotter(off_screen=True, window_size=list(style.window_size))
     try:
-        fs = min(style.window_size[0] / 1024, style.window_size[1] / 768)  # font scale
+        parts = _Parts(pl, scale, min(style.window_size[0] / 1024, style.window_size[1] / 768))
         pl.set_background("white")
-        moving, labels = [], []
         u = np.asarray(surf.point_data["u"])
         base = np.array(surf.points)
-
-        deformed = surf.copy()
-        deformed.points = base + scale * u
-        moving.append((deformed, base, u))
-        pl.add_mesh(
-            deformed,
-            scalars="|u|",
-            cmap=style.cmap,
-            clim=(0.0, umax if umax > 0 else 1.0),
-            smooth_shading=True,
-            show_scalar_bar=True,
-            scalar_bar_args=dict(
-                title="",
-                color="black",
-                vertical=False,
-                position_x=0.3,
-                position_y=0.045,
-                height=0.11,
-                width=0.4,
-                fmt="%.2g",
-                title_font_size=max(6, round(13 * fs)),
-                label_font_size=max(6, round(11 * fs)),
-            ),
-        )
-
-        # the bar's own title collides with its labels when horizontal: a text above it
-        pl.add_text(
-            "displacement magnitude [m/sqrt(kg)]",
-            position=(0.3, 0.118),
-            viewport=True,
-            font_size=max(6, round(9 * fs)),
-            color="black",
-        )
-
+        _add_shape(parts, surf, base, u, umax, style.cmap)
         if style.show_outline:
             edges = surf.extract_feature_edges(
-                feature_angle=30.0,
-                boundary_edges=True,
-                non_manifold_edges=False,
-                manifold_edges=False,
+                feature_angle=30.0, boundary_edges=True, non_manifold_edges=False, manifold_edges=False
             )
             if edges.n_points:
                 pl.add_mesh(edges, color="#333333", line_width=1.2, opacity=0.8)
-
         if style.show_nodal_lines:
-            r_in = float(r_all.min())
-            cut = surf.clip_scalar(scalars="r", value=r_in + 0.12 * (radius - r_in), invert=False)
-            if cut.n_points and np.ptp(cut.point_data["comp"]) > 0:
-                lines = cut.contour([0.0], scalars="comp")
-                if lines.n_points:
-                    lu = np.asarray(lines.point_data["u"])
-                    lp = np.array(lines.points)
-                    lines.points = lp + scale * lu
-                    moving.append((lines, lp, lu))
-                    pl.add_mesh(lines, color="white", line_width=4.0, render_lines_as_tubes=True)
-            angles = _nodal_angles(pts, grid.point_data["comp"], mode.nodal_diameters)
-            if angles.size:
-                segs = []
-                for t in angles:
-                    c, s = math.cos(t), math.sin(t)
-                    segs.append(
-                        [
-                            (1.04 * radius * c, 1.04 * radius * s, 0.0),
-                            (1.22 * radius * c, 1.22 * radius * s, 0.0),
-                        ]
-                    )
-                ticks = pv.line_segments_from_points(np.array(segs).reshape(-1, 3))
-                pl.add_mesh(ticks, color="#1f3fbf", line_width=5.0)
-
+            _add_nodal_lines(parts, surf, pts, grid.point_data["comp"], mode.nodal_diameters)
         if style.show_contact:
-            k = contact_point_index(modeset)
-            p0 = pts[k]
-            sphere = pv.Sphere(radius=0.03 * radius, center=p0)
-            sp0 = np.array(sphere.points)
-            su = np.tile(u_all[k], (sphere.n_points, 1))
-            sphere.points = sp0 + scale * su
-            moving.append((sphere, sp0, su))
-            pl.add_mesh(sphere, color="red", smooth_shading=True)
-            # an arrow pointing radially at the contact point, as the roller presses on it
-            arrow = pv.Arrow(
-                start=p0 + [0.30 * radius, 0.0, 0.0],
-                direction=(-1.0, 0.0, 0.0),
-                scale=0.26 * radius,
-                tip_length=0.3,
-                tip_radius=0.12,
-                shaft_radius=0.04,
-            )
-            ap0 = np.array(arrow.points)
-            au = np.tile(u_all[k], (arrow.n_points, 1))
-            arrow.points = ap0 + scale * au
-            moving.append((arrow, ap0, au))
-            pl.add_mesh(arrow, color="red")
-            lab0 = p0 + [0.31 * radius, 0.0, 0.0]
-            labels.append((lab0, u_all[k], "contact"))
-            _add_label(pl, lab0 + scale * u_all[k], "contact", f"label{len(labels) - 1}", fs)
-
-        pl.add_text(
-            mode_title(modeset, i), position="upper_edge", font_size=max(7, round(14 * fs)), color="black"
-        )
-        member_txt = "contact-aligned combination" if style.member == "contact" else f"member {style.member}"
-        pl.add_text(
-            f"deformation x{scale:.3g} (peak = {100 * scale * umax / radius:.0f} % of R); "
-            f"{member_txt}; white: nodal lines, blue ticks: nodal diameters",
-            position="lower_left",
-            font_size=max(5, round(8 * fs)),
-            color="#444444",
-        )
+            _add_contact(parts, pts, u_all, contact_point_index(modeset), radius)
+        _add_captions(parts, mode_title(modeset, i), style, umax / radius)
         pl.camera_position = _camera(style.camera, radius, float(np.ptp(pts[:, 2])))
         pl.reset_camera()
         named = isinstance(style.camera, str)
         pl.camera.zoom({"iso": 1.45, "front": 1.05, "side": 1.35}.get(style.camera, 1.0) if named else 1.0)
-        return _Scene(pl, base, u, scale, moving, labels, fs)
+        return _Scene(pl, base, u, scale, parts.moving, parts.labels, parts.fs)
     except BaseException:
         pl.close()
         raise
+
+
+def _add_shape(parts: _Parts, surf: Any, base: np.ndarray, u: np.ndarray, umax: float, cmap: str) -> None:
+    """The deformed surface coloured by the displacement magnitude, with its colour bar."""
+    fs = parts.fs
+    parts.add_moving(
+        surf.copy(),
+        base,
+        u,
+        scalars="|u|",
+        cmap=cmap,
+        clim=(0.0, umax if umax > 0 else 1.0),
+        smooth_shading=True,
+        show_scalar_bar=True,
+        scalar_bar_args=dict(
+            title="",
+            color="black",
+            vertical=False,
+            position_x=0.3,
+            position_y=0.045,
+            height=0.11,
+            width=0.4,
+            fmt="%.2g",
+            title_font_size=max(6, round(13 * fs)),
+            label_font_size=max(6, round(11 * fs)),
+        ),
+    )
+    # the bar's own title collides with its labels when horizontal: a text above it
+    parts.pl.add_text(
+        "displacement magnitude [m/sqrt(kg)]",
+        position=(0.3, 0.118),
+        viewport=True,
+        font_size=max(6, round(9 * fs)),
+        color="black",
+    )
+
+
+def _add_nodal_lines(parts: _Parts, surf: Any, pts: np.ndarray, comp: np.ndarray, n: int) -> None:
+    """White nodal lines on the web and rim face, blue ticks at the nodal diameters."""
+    import pyvista as pv
+
+    r = np.hypot(pts[:, 0], pts[:, 1])
+    r_in, radius = float(r.min()), float(r.max())
+    cut = surf.clip_scalar(scalars="r", value=r_in + 0.12 * (radius - r_in), invert=False)
+    if cut.n_points and np.ptp(cut.point_data["comp"]) > 0:
+        lines = cut.contour([0.0], scalars="comp")
+        if lines.n_points:
+            lu, lp = np.asarray(lines.point_data["u"]), np.array(lines.points)
+            parts.add_moving(lines, lp, lu, color="white", line_width=4.0, render_lines_as_tubes=True)
+    angles = _nodal_angles(pts, comp, n)
+    if angles.size:
+        ends = [
+            [(f * radius * math.cos(t), f * radius * math.sin(t), 0.0) for f in (1.04, 1.22)] for t in angles
+        ]
+        ticks = pv.line_segments_from_points(np.array(ends).reshape(-1, 3))
+        parts.pl.add_mesh(ticks, color="#1f3fbf", line_width=5.0)
+
+
+def _add_contact(parts: _Parts, pts: np.ndarray, u_all: np.ndarray, k: int, radius: float) -> None:
+    """A red ball at the contact point and an arrow pressing on it radially, as the
+    roller does, with a label; all move with the mode."""
+    import pyvista as pv
+
+    p0 = pts[k]
+    sphere = pv.Sphere(radius=0.03 * radius, center=p0)
+    parts.add_moving(
+        sphere,
+        np.array(sphere.points),
+        np.tile(u_all[k], (sphere.n_points, 1)),
+        color="red",
+        smooth_shading=True,
+    )
+    arrow = pv.Arrow(
+        start=p0 + [0.30 * radius, 0.0, 0.0],
+        direction=(-1.0, 0.0, 0.0),
+        scale=0.26 * radius,
+        tip_length=0.3,
+        tip_radius=0.12,
+        shaft_radius=0.04,
+    )
+    parts.add_moving(arrow, np.array(arrow.points), np.tile(u_all[k], (arrow.n_points, 1)), color="red")
+    lab0 = p0 + [0.31 * radius, 0.0, 0.0]
+    parts.labels.append((lab0, u_all[k], "contact"))
+    _add_label(parts.pl, lab0 + parts.scale * u_all[k], "contact", f"label{len(parts.labels) - 1}", parts.fs)
+
+
+def _add_captions(parts: _Parts, title: str, style: RenderStyle, peak_per_radius: float) -> None:
+    fs, scale = parts.fs, parts.scale
+    parts.pl.add_text(title, position="upper_edge", font_size=max(7, round(14 * fs)), color="black")
+    member_txt = "contact-aligned combination" if style.member == "contact" else f"member {style.member}"
+    parts.pl.add_text(
+        f"deformation x{scale:.3g} (peak = {100 * scale * peak_per_radius:.0f} % of R); "
+        f"{member_txt}; white: nodal lines, blue ticks: nodal diameters",
+        position="lower_left",
+        font_size=max(5, round(8 * fs)),
+        color="#444444",
+    )
 
 
 def render_mode(

@@ -198,6 +198,27 @@ def build_parser(prog: str = "wheel-squeal") -> CommandParser:
     sub = parser.add_subparsers(dest="command", required=True, parser_class=CommandParser)
     parser.subcommands = sub.choices
 
+    for add in (
+        _add_run_command,
+        _add_mesh_command,
+        _add_modes_command,
+        _add_simulate_command,
+        _add_sweep_command,
+        _add_compare_command,
+        _add_stability_command,
+        _add_sound_command,
+        _add_study_command,
+        _add_render_command,
+        _add_calibrate_command,
+        _add_converge_command,
+        _add_designs_command,
+        _add_cache_command,
+    ):
+        add(sub)
+    return parser
+
+
+def _add_run_command(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("run", help="design -> modes -> squeal limit cycle -> report (default: Table 1)")
     _add_common(p)
     _add_fe(p)
@@ -220,6 +241,8 @@ def build_parser(prog: str = "wheel-squeal") -> CommandParser:
         f"(default K: every unstable mode, at most {MAX_MULTIMODE})",
     )
 
+
+def _add_mesh_command(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("mesh", help="mesh a design (2-D profile or 3-D revolved)")
     _add_common(p, cache=False)
     p.add_argument("--size", type=positive, help="characteristic element length [m]")
@@ -227,10 +250,14 @@ def build_parser(prog: str = "wheel-squeal") -> CommandParser:
     p.add_argument("--order", type=int, choices=[1, 2], default=2, help="geometry order")
     p.add_argument("--dim", type=int, choices=[2, 3], default=3, help="2-D profile or 3-D solid")
 
+
+def _add_modes_command(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("modes", help="eigenmodes, labels and contact modal parameters")
     _add_common(p)
     _add_fe(p)
 
+
+def _add_simulate_command(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("simulate", help="time-domain squeal model at one operating point")
     _add_common(p)
     _add_fe(p)
@@ -241,6 +268,8 @@ def build_parser(prog: str = "wheel-squeal") -> CommandParser:
         "--nodal-diameters", type=int, default=0, help="the --mass mode's nodal diameters (for --rotation)"
     )
 
+
+def _add_sweep_command(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("sweep", help="limit cycles over crabbing velocity x speed (Fig. 5)")
     _add_common(p)
     _add_fe(p)
@@ -258,6 +287,8 @@ def build_parser(prog: str = "wheel-squeal") -> CommandParser:
     p.add_argument("--sound", action="store_true", help="also the SPL at the microphone (Fig. 5 in dB)")
     _add_microphone(p)
 
+
+def _add_compare_command(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("compare", help="several designs at the same operating point")
     p.add_argument("designs", nargs="+", type=Path, help="design TOML files")
     _add_out(p)
@@ -268,6 +299,8 @@ def build_parser(prog: str = "wheel-squeal") -> CommandParser:
     _add_operating(p)
     _add_rotation(p)
 
+
+def _add_stability_command(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("stability", help="linear stability of every mode: which squeals, what stops it")
     _add_common(p)
     _add_fe(p)
@@ -288,6 +321,8 @@ def build_parser(prog: str = "wheel-squeal") -> CommandParser:
         "(some 15-30 eigen-solves per mode)",
     )
 
+
+def _add_sound_command(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("sound", help="sound of one mode at a given contact velocity (no time domain)")
     _add_common(p)
     _add_fe(p)
@@ -300,6 +335,8 @@ def build_parser(prog: str = "wheel-squeal") -> CommandParser:
     p.add_argument("--frequency", type=positive, help="frequency [Hz] (default: the mode's)")
     _add_microphone(p)
 
+
+def _add_study_command(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser(
         "study", help="many designs (grid or samples) over an operating grid, locally or on dask"
     )
@@ -314,12 +351,16 @@ def build_parser(prog: str = "wheel-squeal") -> CommandParser:
     _add_cache(p)
     _add_budget(p)
 
+
+def _add_render_command(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("render", help="mode-shape PNGs (and GIFs), off-screen")
     _add_common(p)
     _add_fe(p, mode=False)
     p.add_argument("--modes", help="comma list of mode indices (default: all)")
     p.add_argument("--gif", action="store_true", help="also an animated GIF per mode")
 
+
+def _add_calibrate_command(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("calibrate", help="fit design parameters to measured modal data")
     p.add_argument("--design", type=Path)
     p.add_argument(
@@ -350,6 +391,8 @@ def build_parser(prog: str = "wheel-squeal") -> CommandParser:
     p.add_argument("--out", type=Path, help="folder or .toml path for the calibrated design")
     p.add_argument("--quiet", action="store_true")
 
+
+def _add_converge_command(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("converge", help="speed/accuracy study: mesh ladders, solvers, integrator")
     p.add_argument(
         "--design", type=Path, help="wheel design TOML or shipped name (default: the Table 1 wheel)"
@@ -358,10 +401,13 @@ def build_parser(prog: str = "wheel-squeal") -> CommandParser:
     p.add_argument("--quick", action="store_true", help="only the cheapest rungs")
     p.add_argument("--quiet", action="store_true")
 
+
+def _add_designs_command(sub: argparse._SubParsersAction) -> None:
     sub.add_parser("designs", help="the designs shipped with the tool (give one by name: --design NAME)")
 
+
+def _add_cache_command(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("cache", help="inspect, limit or clear the stage cache")
     p.add_argument("action", choices=["clear", "info", "limit"])
     p.add_argument("size", nargs="?", help="with limit: the cache's size limit, like 500M or 5G (default 2G)")
     p.add_argument("--cache-dir", type=Path)
-    return parser
