@@ -350,43 +350,20 @@ def solve_axisymmetric(
         )
 
 
-def _solve_axisymmetric(
-    design,
-    mesh,
-    *,
-    order,
-    fmax_hz,
-    k,
-    n_max,
-    boundary,
-    n_theta,
-    curved,
-    intorder,
-    factorization,
-) -> ModeSet:
-    t_start = time.perf_counter()
-    if factorization is None:
-        factorization = small_problem_factorization()
-    if fmax_hz is None and k is None:
-        raise ValueError("give fmax_hz or k")
-    if k is not None and k < 1:
-        raise ValueError(f"k must be positive, got {k}")
-    h = mesh_element_size(mesh)
-    skm = to_skfem_mesh(mesh, curved=curved)
-    t_mesh = time.perf_counter()
-    fidelity_warnings(design, h, order, fmax_hz, before=True)
-
-    model = assemble_harmonic(design, skm, order=order, boundary=boundary, intorder=intorder)
+def _harmonics(
+    model: HarmonicModel,
+    fmax_hz: float | None,
+    k: int | None,
+    cap: int,
+    boundary: str,
+    sigma: float,
+    f_rigid: float,
+    factorization: str,
+) -> tuple[list[tuple[float, int, np.ndarray, bool]], int, int]:
+    """The modes of each harmonic n = 0, 1, ... in the band (or the k lowest), as
+    (frequency, n, full DOF vector, torsion), the DOFs solved, and the last n solved.
+    Each harmonic is asked for the previous one's count plus two modes."""
     basis = model.basis
-    labeller = ProfileLabeller(design, model)
-    pts_rz, tris = labeller.pts_rz, labeller.tris
-    nodal = labeller.nodal
-    t_asm = time.perf_counter()
-
-    sigma = 0.0 if boundary == "clamped" else free_shift(design)
-    f_rigid = rigid_frequency(design)
-    cap = N_MAX_DEFAULT if n_max is None else n_max
-
     raw: list[tuple[float, int, np.ndarray, bool]] = []  # (f, n, full vector, torsion)
     dofs_total = 0
     guess = 4  # modes asked of the next harmonic: last in-band count + 2 (grown if short)
@@ -426,6 +403,62 @@ def _solve_axisymmetric(
                 if min(found) > kth:
                     break
         n += 1
+    return raw, dofs_total, n
+
+
+def _expand(
+    raw: list[tuple[float, int, np.ndarray, bool]], labeller: ProfileLabeller, n_theta: int
+) -> tuple[list[Mode], list[np.ndarray], np.ndarray, np.ndarray]:
+    """Each harmonic mode labelled, and its shape on the revolved visualisation mesh of
+    ``n_theta`` divisions (cos member, and sin for n >= 1): (modes, shapes, points, wedges)."""
+    points, wedges, theta = revolved_mesh(labeller.pts_rz, labeller.tris, n_theta)
+    modes: list[Mode] = []
+    shapes: list[np.ndarray] = []
+    for i, (f, n, x, torsion) in enumerate(raw):
+        family, circles, v_c = labeller.label(x)
+        contact = (v_c,) if n == 0 else (v_c, 0.0)
+        modes.append(Mode(i, f, n, circles, family, contact))
+        UVW = x[labeller.nodal].T
+        members = ["cos"] if n == 0 else ["cos", "sin"]
+        shapes.append(np.stack([expand_harmonic(UVW, n, theta, m, torsion) for m in members]))
+    return modes, shapes, points, wedges
+
+
+def _solve_axisymmetric(
+    design,
+    mesh,
+    *,
+    order,
+    fmax_hz,
+    k,
+    n_max,
+    boundary,
+    n_theta,
+    curved,
+    intorder,
+    factorization,
+) -> ModeSet:
+    t_start = time.perf_counter()
+    if factorization is None:
+        factorization = small_problem_factorization()
+    if fmax_hz is None and k is None:
+        raise ValueError("give fmax_hz or k")
+    if k is not None and k < 1:
+        raise ValueError(f"k must be positive, got {k}")
+    h = mesh_element_size(mesh)
+    skm = to_skfem_mesh(mesh, curved=curved)
+    t_mesh = time.perf_counter()
+    fidelity_warnings(design, h, order, fmax_hz, before=True)
+
+    model = assemble_harmonic(design, skm, order=order, boundary=boundary, intorder=intorder)
+    labeller = ProfileLabeller(design, model)
+    t_asm = time.perf_counter()
+
+    sigma = 0.0 if boundary == "clamped" else free_shift(design)
+    f_rigid = rigid_frequency(design)
+    cap = N_MAX_DEFAULT if n_max is None else n_max
+
+    raw, dofs_total, n = _harmonics(model, fmax_hz, k, cap, boundary, sigma, f_rigid, factorization)
     t_eig = time.perf_counter()
 
     raw.sort(key=lambda r: r[0])
@@ -443,19 +476,8 @@ def _solve_axisymmetric(
             stacklevel=3,
         )
 
-    points, wedges, theta = revolved_mesh(pts_rz, tris, n_theta)
-
-    modes: list[Mode] = []
-    shapes: list[np.ndarray] = []
-    for i, (f, n, x, torsion) in enumerate(raw):
-        family, circles, v_c = labeller.label(x)
-        contact = (v_c,) if n == 0 else (v_c, 0.0)
-        modes.append(Mode(i, f, n, circles, family, contact))
-        UVW = x[nodal].T
-        members = ["cos"] if n == 0 else ["cos", "sin"]
-        shapes.append(np.stack([expand_harmonic(UVW, n, theta, m, torsion) for m in members]))
+    modes, shapes, points, wedges = _expand(raw, labeller, n_theta)
     t_end = time.perf_counter()
-
     return ModeSet(
         modes=modes,
         points=points,
