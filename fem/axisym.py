@@ -73,7 +73,7 @@ from .fidelity import fidelity_warnings, mesh_element_size
 from .labels import ProfileLabeller
 from .meshes import to_skfem_mesh
 from .modes import DEFAULT_FMAX_HZ, EmptyBandWarning, Mode, ModeSet
-from .rules import free_shift, lame, rigid_frequency
+from .rules import free_shift, harmonics_done, lame, rigid_frequency
 from .shapes import expand_harmonic, revolved_mesh
 
 __all__ = ["HarmonicModel", "assemble_harmonic", "solve_axisymmetric"]
@@ -393,15 +393,8 @@ def _harmonics(
                 raw.append((f, n, x, torsion))
                 found.append(f)
         guess = max(3, len(found) + 2)
-        # stopping rule (n >= 2): the harmonic has nothing in the band, or, for the
-        # k lowest, its lowest mode is above the k-th lowest found so far.
-        if n >= 2:
-            if not found:
-                break
-            if k is not None and len(raw) >= k:
-                kth = sorted(r[0] for r in raw)[k - 1]
-                if min(found) > kth:
-                    break
+        if harmonics_done(n, found, [r[0] for r in raw], k):
+            break
         n += 1
     return raw, dofs_total, n
 

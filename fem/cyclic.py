@@ -47,7 +47,7 @@ from .elasticity import assemble_elasticity
 from .labels import ProfileLabeller
 from .meshes import to_skfem_tet, to_skfem_tri
 from .modes import DEFAULT_FMAX_HZ, EmptyBandWarning, Mode, ModeSet, ResolutionWarning, clean_contact
-from .rules import free_shift, lame, rigid_frequency
+from .rules import free_shift, harmonics_done, lame, rigid_frequency
 
 #: Default circumferential element length, in units of the profile element size: the
 #: sector elements are smooth along theta (P2, 2 pi R1 / N long), so they can be longer
@@ -228,6 +228,52 @@ def _profile_labeller(design, mesh, layout, boundary):
     return ProfileLabeller(design, model), 3 * node + cart
 
 
+def _whole_wheel_mode(
+    i: int, f: float, p: int, x: np.ndarray, S: SectorModel, mesh, labeller, prof_dof: np.ndarray
+) -> tuple[Mode, np.ndarray]:
+    """Mode ``i`` (frequency ``f``, harmonic ``p``, the owned-local Bloch vector ``x``)
+    labelled on the profile, with its contact values and its shape on the whole wheel's
+    corner nodes (members, n_points, 3)."""
+    N = S.n_sectors
+    nv = mesh.n_vertices // N
+    theta = S.delta * np.arange(N)
+    cos_t, sin_t = np.cos(theta)[:, None], np.sin(theta)[:, None]
+    ic = 3 * mesh.contact_node + 2  # contact node = profile vertex on face 0 = local index
+    real = p == 0 or 2 * p == N
+    # the profile field, phased so that (u_r, u_z) are real: the cos member
+    xp = x[prof_dof]
+    if real:
+        x2 = xp.real
+    else:
+        ur_uz = np.isin(prof_dof % 3, (0, 2))
+        alpha = 0.5 * np.angle(np.sum(np.where(ur_uz, xp**2, -(xp**2))))
+        xr = xp * np.exp(-1j * alpha)
+        x2 = np.where(ur_uz, xr.real, -xr.imag)
+    family, circles, v_c = labeller.label(x2)
+    scale = math.sqrt((1.0 if real else 2.0) / N)
+    xc = x[ic]
+    peak = scale * float(np.abs(x).max())
+    contact: tuple[float, ...]
+    if v_c == 0.0:  # in-plane mode of a symmetric wheel, or a node: the labeller's rule
+        contact = (0.0,) if real else (0.0, 0.0)
+    elif real:
+        contact = (clean_contact(scale * xc.real, peak),)
+    else:
+        contact = (clean_contact(scale * xc.real, peak), clean_contact(scale * xc.imag, peak))
+    # whole-wheel shapes at the corner nodes: sector s is the Bloch wave rotated by s Delta
+    u = x[: 3 * nv].reshape(nv, 3)
+    wave = np.exp(1j * p * theta)[:, None, None] * u[None]  # (N, nv, 3)
+    members = [wave.real] if real else [wave.real, wave.imag]
+    out = []
+    for w in members:
+        g = np.empty_like(w)
+        g[..., 0] = cos_t * w[..., 0] - sin_t * w[..., 1]
+        g[..., 1] = sin_t * w[..., 0] + cos_t * w[..., 1]
+        g[..., 2] = w[..., 2]
+        out.append(scale * g.reshape(-1, 3))
+    return Mode(i, f, p, circles, family, contact), np.stack(out)
+
+
 def _solve(design, mesh, fmax_hz, k, boundary, factorization, t0, t_mesh) -> ModeSet:
     if factorization is None:
         factorization = small_problem_factorization()
@@ -273,11 +319,8 @@ def _solve(design, mesh, fmax_hz, k, boundary, factorization, t0, t_mesh) -> Mod
                 ResolutionWarning,
                 stacklevel=3,
             )
-        if p >= 2:
-            if not found:
-                break
-            if k is not None and len(raw) >= k and min(found) > sorted(r[0] for r in raw)[k - 1]:
-                break
+        if harmonics_done(p, found, [r[0] for r in raw], k):
+            break
     if boundary == "free" and n_rigid != 4:  # p = 0: z-translation, z-rotation; p = 1: two pairs
         raise RuntimeError(f"free-free solve: expected 4 rigid-body eigenpairs (p = 0, 1), found {n_rigid}")
     t_eig = time.perf_counter()
@@ -293,46 +336,12 @@ def _solve(design, mesh, fmax_hz, k, boundary, factorization, t0, t_mesh) -> Mod
             stacklevel=3,
         )
 
-    nv = mesh.n_vertices // N
-    theta = S.delta * np.arange(N)
-    cos_t, sin_t = np.cos(theta)[:, None], np.sin(theta)[:, None]
-    ic = 3 * mesh.contact_node + 2  # contact node = profile vertex on face 0 = local index
     modes: list[Mode] = []
     shapes: list[np.ndarray] = []
     for i, (f, p, x) in enumerate(raw):
-        real = p == 0 or 2 * p == N
-        # the profile field, phased so that (u_r, u_z) are real: the cos member
-        xp = x[prof_dof]
-        if real:
-            x2 = xp.real
-        else:
-            ur_uz = np.isin(prof_dof % 3, (0, 2))
-            alpha = 0.5 * np.angle(np.sum(np.where(ur_uz, xp**2, -(xp**2))))
-            xr = xp * np.exp(-1j * alpha)
-            x2 = np.where(ur_uz, xr.real, -xr.imag)
-        family, circles, v_c = labeller.label(x2)
-        scale = math.sqrt((1.0 if real else 2.0) / N)
-        xc = x[ic]
-        peak = scale * float(np.abs(x).max())
-        if v_c == 0.0:  # in-plane mode of a symmetric wheel, or a node: the labeller's rule
-            contact = (0.0,) if real else (0.0, 0.0)
-        elif real:
-            contact = (clean_contact(scale * xc.real, peak),)
-        else:
-            contact = (clean_contact(scale * xc.real, peak), clean_contact(scale * xc.imag, peak))
-        modes.append(Mode(i, f, p, circles, family, contact))
-        # whole-wheel shapes at the corner nodes: sector s is the Bloch wave rotated by s Delta
-        u = x[: 3 * nv].reshape(nv, 3)
-        wave = np.exp(1j * p * theta)[:, None, None] * u[None]  # (N, nv, 3)
-        members = [wave.real] if real else [wave.real, wave.imag]
-        out = []
-        for w in members:
-            g = np.empty_like(w)
-            g[..., 0] = cos_t * w[..., 0] - sin_t * w[..., 1]
-            g[..., 1] = sin_t * w[..., 0] + cos_t * w[..., 1]
-            g[..., 2] = w[..., 2]
-            out.append(scale * g.reshape(-1, 3))
-        shapes.append(np.stack(out))
+        mode, shape = _whole_wheel_mode(i, f, p, x, S, mesh, labeller, prof_dof)
+        modes.append(mode)
+        shapes.append(shape)
     t_end = time.perf_counter()
     return ModeSet(
         modes=modes,

@@ -22,6 +22,7 @@ import numpy as np
 from geometry.profile import half_profile
 
 __all__ = [
+    "harmonics_done",
     "CIRCLE_THRESHOLD",
     "FREE_SHIFT_REL",
     "RIGID_TOL",
@@ -99,3 +100,16 @@ def in_plane_fraction(u: np.ndarray, u_mirror: np.ndarray, weight: np.ndarray | 
     sq_out = np.sum(weight * (odd[..., 0, :] ** 2 + even[..., 1, :] ** 2 + odd[..., 2, :] ** 2))
     total = float(sq_in + sq_out)
     return float(sq_in) / total if total > 0 else 0.0
+
+
+def harmonics_done(n: int, found_hz: list[float], all_hz: list[float], k: int | None) -> bool:
+    """Whether the search over circumferential harmonics stops after harmonic ``n``
+    (whose in-band frequencies are ``found_hz``; ``all_hz`` holds every harmonic's so
+    far): from n = 2 on, when the harmonic has nothing in the band, or, for the ``k``
+    lowest, when its lowest mode is above the k-th lowest found. Frequencies rise with
+    n beyond the first few harmonics of a wheel."""
+    if n < 2:
+        return False
+    if not found_hz:
+        return True
+    return k is not None and len(all_hz) >= k and min(found_hz) > sorted(all_hz)[k - 1]
