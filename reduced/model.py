@@ -462,6 +462,42 @@ class Integration:
     energy_tolerance: float = 1e-2
 
 
+def _integrate(
+    coords: Coordinates,
+    law: np.ndarray,
+    y0: np.ndarray,
+    u0: np.ndarray,
+    h: float,
+    n_steps: int,
+    store_every: int,
+    n_out: int,
+) -> tuple[int, float, float, np.ndarray, np.ndarray]:
+    """One RK4 run of ``n_steps`` steps of ``h`` [s]: (status, energy mismatch [J], the
+    largest modal energy [J], stored y, stored y'). The paper's one-mode model takes the
+    scalar kernel."""
+    m, c, k, w, phase = coords.m, coords.c, coords.k, coords.w, coords.phase
+    n_coord = len(m)
+    out_y = np.empty((n_out, n_coord))
+    out_u = np.empty((n_out, n_coord))
+    if n_coord == 1 and w[0] == 0.0:
+        kernels = _engine.integration_kernels(n_steps)
+        status, mismatch, emax, _work, _done = kernels.integrate_store_1(
+            *(float(x[0]) for x in (y0, u0, m, c, k)),
+            tuple(law.tolist()),
+            h,
+            n_steps,
+            store_every,
+            out_y[:, 0],
+            out_u[:, 0],
+        )
+    else:
+        kernels = _engine.integration_kernels(n_steps, scalar=False)
+        status, mismatch, emax, _work, _done = kernels.integrate_store(
+            y0, u0, m, c, k, w, phase, law, h, n_steps, store_every, out_y, out_u
+        )
+    return status, mismatch, emax, out_y, out_u
+
+
 def simulate(
     modes,
     contact: ContactLaw,
@@ -513,8 +549,7 @@ def simulate(
     if samples_per_period is not None and samples_per_period < 2:
         raise ValueError(f"samples_per_period must be >= 2, got {samples_per_period}")
     coords = coordinates(modes, wheel_speed_rad_s)
-    m, c, k, w, phase = coords.m, coords.c, coords.k, coords.w, coords.phase
-    n_coord = len(m)
+    n_coord = len(coords.m)
     law = law_vector(contact, operating_point)
     y0, u0 = _initial_state(initial_state, n_coord)
     h = (
@@ -542,24 +577,9 @@ def simulate(
             f_max,
             ValueError if attempt == 0 else IntegrationError,
         )
-        out_y = np.empty((n_out, n_coord))
-        out_u = np.empty((n_out, n_coord))
-        if n_coord == 1 and w[0] == 0.0:  # the paper's 1-DOF model: the scalar kernel
-            kernels = _engine.integration_kernels(n_steps)
-            status, mismatch, emax, _work, _done = kernels.integrate_store_1(
-                *(float(x[0]) for x in (y0, u0, m, c, k)),
-                tuple(law.tolist()),
-                h_eff,
-                n_steps,
-                store_every,
-                out_y[:, 0],
-                out_u[:, 0],
-            )
-        else:
-            kernels = _engine.integration_kernels(n_steps, scalar=False)
-            status, mismatch, emax, _work, _done = kernels.integrate_store(
-                y0, u0, m, c, k, w, phase, law, h_eff, n_steps, store_every, out_y, out_u
-            )
+        status, mismatch, emax, out_y, out_u = _integrate(
+            coords, law, y0, u0, h_eff, n_steps, store_every, n_out
+        )
         ok = status == 0 and mismatch <= energy_tolerance * emax + 1e-300
         if ok:
             t = np.arange(n_out) * (h_eff * store_every)
