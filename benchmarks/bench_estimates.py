@@ -46,16 +46,9 @@ def row(kind: str, what: str, estimate: float, measured: float, unit: str = "s")
 
 def designs(fidelity: str, quick: bool) -> list[bool]:
     from acoustics import radiate, radiation_cost
+    from wheel_squeal.envelope import envelope, envelope_seconds, mitigation
     from wheel_squeal.sound import mode_surface
-    from wheel_squeal.stability import (
-        choose_mode,
-        envelope,
-        envelope_seconds,
-        excitable,
-        mitigation,
-        stability_seconds,
-        stability_table,
-    )
+    from wheel_squeal.stability import choose_mode, excitable, stability_seconds, stability_table
 
     start, stop, num = DEFAULT_ENVELOPE_CRAB_VELOCITIES
     vcs, rpms = np.linspace(start, stop, num), list(DEFAULT_SPEEDS_RPM)

@@ -520,7 +520,8 @@ def bench_stability(design, table: Table, quick: bool) -> None:
     modes from rest) that would otherwise tell which mode grows."""
     import dataclasses
 
-    from wheel_squeal.stability import envelope, excitable, mitigation, mode_dofs, stability_table
+    from wheel_squeal.envelope import envelope, mitigation
+    from wheel_squeal.stability import excitable, mode_dofs, stability_table
 
     ms = ws.compute_modes(design, "balanced", fmax_hz=8000.0)
     ms = dataclasses.replace(ms, modes=excitable(ms)[:14])

@@ -20,14 +20,8 @@ from conftest import DESIGNS, run_cli
 import reduced as r
 import wheel_squeal as ws
 from reduced.stability import friction_damping_ns_m, growth_rates
-from wheel_squeal.stability import (
-    choose_mode,
-    envelope,
-    mitigation,
-    mode_dofs,
-    multimode,
-    stability_table,
-)
+from wheel_squeal.envelope import envelope, mitigation
+from wheel_squeal.stability import choose_mode, mode_dofs, multimode, stability_table
 
 TABLE1 = r.ModalDOF(3.1, 1.6e8, 42.0, nodal_diameters=3)
 KICK_M_S = 1e-8

@@ -36,11 +36,12 @@ from .budget import Budget
 from .cache import CacheMiss, StageCache
 from .chain import Analysis, analyse
 from .design import Design
+from .envelope import envelope, mitigation
 from .errors import BudgetError, RequestError
 from .presets import DEFAULT_DESIGN, DEFAULT_FIDELITY, FIDELITIES, Fidelity, fidelity_for
 from .progress import Progress
 from .sound import Listener, Sound, mode_sound
-from .stability import choose_mode, envelope, mitigation, multimode, stability_table
+from .stability import choose_mode, multimode, stability_table
 from .sweeps import VerdictGrid, sweep_verdicts
 from .verdict import ModeOutcome, Verdict
 

@@ -1,5 +1,6 @@
 """Which mode squeals: the linear stability of every FE mode at the contact, the mode a
-run simulates, the operating envelope and what would stop the squeal.
+run simulates (the operating envelope and what stops the squeal over it:
+:mod:`wheel_squeal.envelope`).
 
 Every mode below ``fmax`` that the contact can excite (a finite contact modal mass)
 enters the coupled linear model of ``reduced.stability`` with its own damping (the
@@ -15,11 +16,9 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, NamedTuple
 
-import numpy as np
-
 from .design import Design
 from .errors import RequestError
-from .presets import MAX_MULTIMODE, rpm_to_speed
+from .presets import MAX_MULTIMODE
 
 if TYPE_CHECKING:
     from fem.modes import Mode, ModeSet
@@ -31,7 +30,6 @@ if TYPE_CHECKING:
         OperatingPoint,
         StabilityResult,
     )
-    from reduced import Mitigation as MitigationResult
 
     from .api import Simulation
     from .budget import Budget
@@ -39,17 +37,11 @@ if TYPE_CHECKING:
 __all__ = [
     "ModeChoice",
     "StabilityTable",
-    "Envelope",
-    "envelope_seconds",
     "stability_seconds",
-    "Mitigation",
     "MultiMode",
     "ModeStabilityRow",
     "choose_mode",
-    "envelope",
     "excitable",
-    "mitigation",
-    "mitigation_summary",
     "mode_dofs",
     "multimode",
     "named_mode",
@@ -239,132 +231,6 @@ def choose_mode(
             + (" (wheel rotation on)" if rotation else "")
         )
     return ModeChoice(chosen, why, rows)
-
-
-def _speeds(design: Design, rpms: Sequence[float] | np.ndarray) -> np.ndarray:
-    return np.array([rpm_to_speed(float(r), design.wheel.rolling_radius) for r in rpms])
-
-
-@dataclass(frozen=True)
-class Envelope:
-    """The linear stability over a grid of crabbing velocities x wheel speeds.
-
-    crabbing_velocities_m_s (n_vc,), rpm (n_speeds,); growth_rate_1_s (n_vc, n_speeds): the
-    largest growth rate; winner (n_vc, n_speeds): index into ``modes`` of the
-    fastest-growing mode; damped_frequency_hz: its frequency at the contact; modes: the
-    excitable FE modes.
-    """
-
-    crabbing_velocities_m_s: np.ndarray
-    rpm: np.ndarray
-    growth_rate_1_s: np.ndarray
-    winner: np.ndarray
-    damped_frequency_hz: np.ndarray
-    modes: list[Mode]
-
-
-def envelope(
-    design: Design,
-    modeset: ModeSet,
-    contact: ContactLaw,
-    crab_velocities: Sequence[float] | np.ndarray,
-    rpms: Sequence[float] | np.ndarray,
-    rotation: bool = False,
-) -> Envelope:
-    """Growth rate and winning mode over crabbing velocities [m/s] x wheel speeds [rpm]
-    (``reduced.stability_map``)."""
-    from reduced import stability_map
-
-    modes = excitable(modeset)
-    radius = design.wheel.rolling_radius if rotation else None
-    m = stability_map(mode_dofs(modes, design), contact, crab_velocities, _speeds(design, rpms), radius)
-    rpms = np.asarray(rpms, float)
-    return Envelope(
-        m.crabbing_velocities_m_s, rpms, m.growth_rate_1_s, m.winner, m.damped_frequency_hz, modes
-    )
-
-
-@dataclass(frozen=True)
-class Mitigation:
-    """What would keep every mode stable over an envelope (``reduced.Mitigation`` with
-    the FE modes and wheel speeds): see :meth:`to_dict`."""
-
-    modes: list[Mode]
-    result: MitigationResult
-    rpm: np.ndarray
-
-    def to_dict(self, design: Design) -> dict:
-        """JSON-ready: per mode its present and required damping ratio (and where it
-        binds), the friction slope required, and whether the bounds settled."""
-        r = self.result
-        to_rpm = rpm_to_speed(1.0, design.wheel.rolling_radius)
-        return {
-            "damping": [
-                {
-                    "mode": m.index,
-                    "label": m.label(),
-                    "frequency_hz": m.frequency_hz,
-                    "damping_ratio": design.damping.ratio(m.nodal_diameters, m.nodal_circles),
-                    "required_damping_ratio": float(z),
-                    "at_crabbing_velocity_m_s": float(p[0]),
-                    "at_rpm": float(p[1]) / to_rpm,
-                }
-                for m, z, p in zip(self.modes, r.damping_ratio, r.damping_worst_point)
-            ],
-            "required_friction_slope": r.friction_slope,
-            "friction_slope_at_rpm": r.friction_worst_speed_m_s / to_rpm,
-            "settled": r.settled,
-            "reason": r.reason,
-        }
-
-
-def mitigation(
-    design: Design,
-    modeset: ModeSet,
-    contact: ContactLaw,
-    crab_velocities: Sequence[float] | np.ndarray,
-    rpms: Sequence[float] | np.ndarray,
-    rotation: bool = False,
-) -> Mitigation:
-    """The damping per mode and the friction slope that stop squeal over the envelope
-    (``reduced.mitigation``)."""
-    from reduced import mitigation as find
-
-    modes = excitable(modeset)
-    radius = design.wheel.rolling_radius if rotation else None
-    result = find(mode_dofs(modes, design), contact, crab_velocities, _speeds(design, rpms), radius)
-    return Mitigation(modes, result, np.asarray(rpms, float))
-
-
-def mitigation_summary(
-    design: Design,
-    modeset: ModeSet,
-    contact: ContactLaw,
-    crab_velocities: Sequence[float] | np.ndarray,
-    rpms: Sequence[float] | np.ndarray,
-) -> dict:
-    """summary.json's ``mitigation``: what stops squeal over the envelope with the
-    wheel's rotation left out and taken in (:meth:`Mitigation.to_dict` each)."""
-    off = mitigation(design, modeset, contact, crab_velocities, rpms, rotation=False)
-    on = mitigation(design, modeset, contact, crab_velocities, rpms, rotation=True)
-    return {
-        "crabbing_velocity_m_s": [float(crab_velocities[0]), float(crab_velocities[-1])],
-        "rpm": list(rpms),
-        "rotation_off": off.to_dict(design),
-        "rotation_on": on.to_dict(design),
-    }
-
-
-def envelope_seconds(design: Design, modeset: ModeSet, n_crab_velocities: int, n_speeds: int) -> float:
-    """The estimated time of the map and both mitigations (rotation off and on) [s]."""
-    from reduced.stability import eigen_solve_seconds, mitigation_seconds
-
-    dofs = mode_dofs(excitable(modeset), design)
-    points = n_crab_velocities * n_speeds
-    return sum(
-        points * eigen_solve_seconds(dofs, rot) + mitigation_seconds(dofs, n_crab_velocities, n_speeds, rot)
-        for rot in (False, True)
-    )
 
 
 @dataclass(frozen=True)

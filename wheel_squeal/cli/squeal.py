@@ -7,21 +7,14 @@ import time
 import numpy as np
 
 from .. import api, compare_files, stability_files, writers
+from ..envelope import envelope, envelope_seconds, mitigation_summary
 from ..errors import RequestError
 from ..outputs import result_folder, write_csv, write_json
 from ..plotting import PlotWorkers
 from ..presets import DEFAULT_ENVELOPE_CRAB_VELOCITIES, DEFAULT_SPEEDS_RPM
 from ..progress import Progress
 from ..sound_files import sound_text
-from ..stability import (
-    envelope,
-    envelope_seconds,
-    excitable,
-    mitigation_summary,
-    stability_seconds,
-    stability_table,
-    wheel_speed_rad_s,
-)
+from ..stability import excitable, stability_seconds, stability_table, wheel_speed_rad_s
 from .arguments import grid_axis
 from .common import (
     analysis_of,
