@@ -12,7 +12,19 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-__all__ = ["FIELDS", "FILES", "FREE_GROUPS", "GROUPS", "Field", "OutputFile", "unit_of"]
+__all__ = [
+    "FIELDS",
+    "FILES",
+    "FLAG_FIELDS",
+    "FREE_GROUPS",
+    "GROUPS",
+    "LABEL_FIELDS",
+    "RESULT_FIELDS",
+    "Field",
+    "OutputFile",
+    "columns_of",
+    "unit_of",
+]
 
 
 @dataclass(frozen=True)
@@ -174,6 +186,17 @@ class OutputFile:
     fields: tuple[str, ...]
 
 
+#: a sweep point's verdict (the first columns of sweep.csv and sweep_spl.csv)
+_SWEEP_POINT = ("crabbing_velocity_m_s", "rpm", "rolling_speed_m_s", "verdict_mode", "squeals", "saturated",
+                "amplitude_m_s")  # fmt: skip
+
+#: A study case's results per operating point, each (n_crab_velocities, n_rpm): numbers
+#: (NaN where they do not apply), flags, and mode labels ("" where none).
+RESULT_FIELDS = ("tone_hz", "growth_rate_1_s", "amplitude_m_s", "spl_db", "sound_power_level_db",
+                 "model_pick_growth_rate_1_s", "override_growth_rate_1_s")  # fmt: skip
+FLAG_FIELDS = ("squeals", "saturated")
+LABEL_FIELDS = ("verdict_mode", "model_pick")
+
 FILES: dict[str, OutputFile] = {
     "summary.json": OutputFile(
         ("run", "stability", "mesh", "modes", "simulate", "sweep", "sound", "compare"),
@@ -188,34 +211,13 @@ FILES: dict[str, OutputFile] = {
     "sweep.csv": OutputFile(
         ("sweep",),
         "the verdict per operating point",
-        (
-            "crabbing_velocity_m_s",
-            "rpm",
-            "rolling_speed_m_s",
-            "verdict_mode",
-            "squeals",
-            "saturated",
-            "amplitude_m_s",
-            "tone_hz",
-            "growth_rate_1_s",
-            "time_to_saturation_s",
-        ),
-    ),  # fmt: skip
+        (*_SWEEP_POINT, "tone_hz", "growth_rate_1_s", "time_to_saturation_s"),
+    ),
     "sweep_spl.csv": OutputFile(
         ("sweep --sound",),
         "the levels per operating point",
-        (
-            "crabbing_velocity_m_s",
-            "rpm",
-            "rolling_speed_m_s",
-            "verdict_mode",
-            "squeals",
-            "saturated",
-            "amplitude_m_s",
-            "spl_db",
-            "sound_power_level_db",
-        ),
-    ),  # fmt: skip
+        (*_SWEEP_POINT, "spl_db", "sound_power_level_db"),
+    ),
     "stability.csv": OutputFile(
         ("stability --envelope",),
         "the fastest-growing mode per operating point",
@@ -265,22 +267,19 @@ FILES: dict[str, OutputFile] = {
             "reason",
             "mass_kg",
             "modes",
-            "verdict_mode",
-            "model_pick",
-            "squeals",
-            "saturated",
-            "tone_hz",
-            "growth_rate_1_s",
-            "amplitude_m_s",
-            "spl_db",
-            "sound_power_level_db",
-            "model_pick_growth_rate_1_s",
-            "override_growth_rate_1_s",
+            *LABEL_FIELDS,
+            *FLAG_FIELDS,
+            *RESULT_FIELDS,
         ),
-    ),  # fmt: skip
+    ),
 }
 
 
 def unit_of(key: str) -> str:
     """The unit of field ``key`` ("" dimensionless, "-" none)."""
     return FIELDS[key].unit
+
+
+def columns_of(file_name: str) -> tuple[str, ...]:
+    """The documented columns of a CSV file the tool writes, in order."""
+    return FILES[file_name].fields

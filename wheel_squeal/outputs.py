@@ -39,7 +39,7 @@ import secrets
 import shutil
 import socket
 import time
-from collections.abc import Iterator
+from collections.abc import Iterator, Sequence
 from pathlib import Path
 from typing import Any
 
@@ -319,15 +319,19 @@ def csv_cell(x: Any) -> Any:
     return "" if x is None else repr(x) if isinstance(x, float) else x
 
 
-def write_csv(path: Path, rows: list[dict], columns: list[str] | None = None) -> Path:
-    """One row per dict; ``columns`` (default: the keys of the first) is the header and
-    a missing key an empty cell."""
+def write_csv(path: Path, rows: list[dict], columns: Sequence[str] | None = None) -> Path:
+    """One row per dict under the header ``columns`` (default: the keys of the first
+    row). Every row must have exactly those keys: a file's columns are documented
+    (:mod:`wheel_squeal.fields`), and a row that differs is a bug, not an empty cell."""
+    keys = list(columns) if columns is not None else list(rows[0]) if rows else []
+    for r in rows:
+        if set(r) != set(keys):
+            raise ValueError(f"{path.name}: row fields {sorted(set(r) ^ set(keys))} differ from its columns")
     with open(path, "w", newline="") as f:
         writer = csv.writer(f, lineterminator="\n")
-        keys = columns if columns is not None else list(rows[0]) if rows else []
         writer.writerow(keys)
         for r in rows:
-            writer.writerow([csv_cell(r.get(k)) for k in keys])
+            writer.writerow([csv_cell(r[k]) for k in keys])
     return path
 
 

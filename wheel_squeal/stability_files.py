@@ -11,6 +11,7 @@ import numpy as np
 
 from reduced.report import PLOT_DPI
 
+from .fields import columns_of
 from .outputs import write_csv
 
 __all__ = [
@@ -62,7 +63,7 @@ def write_envelope_csv(path: Path, env) -> Path:
                     "fastest_mode_frequency_hz": m.frequency_hz,
                 }
             )
-    return write_csv(path, rows)
+    return write_csv(path, rows, columns_of("stability.csv"))
 
 
 def write_envelope_plot(path: Path, env) -> Path:

@@ -11,6 +11,7 @@ import numpy as np
 
 from reduced.report import PLOT_DPI
 
+from .fields import columns_of
 from .outputs import write_csv
 from .sweeps import VerdictGrid
 
@@ -47,7 +48,7 @@ def write_sweep_csv(path: Path, grid: VerdictGrid) -> Path:
         "growth_rate_1_s": grid.growth_rate_1_s,
         "time_to_saturation_s": grid.time_to_saturation_s,
     }
-    return write_csv(path, _rows(grid, fields))
+    return write_csv(path, _rows(grid, fields), columns_of("sweep.csv"))
 
 
 def write_sweep_spl(path: Path, grid: VerdictGrid) -> Path:
@@ -58,7 +59,7 @@ def write_sweep_spl(path: Path, grid: VerdictGrid) -> Path:
         "spl_db": grid.spl_db,
         "sound_power_level_db": grid.sound_power_level_db,
     }
-    return write_csv(path, _rows(grid, fields))
+    return write_csv(path, _rows(grid, fields), columns_of("sweep_spl.csv"))
 
 
 def curve(grid: VerdictGrid, values: np.ndarray, j: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:

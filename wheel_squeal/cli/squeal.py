@@ -9,6 +9,7 @@ import numpy as np
 from .. import api, compare_files, stability_files, writers
 from ..envelope import envelope, envelope_seconds, mitigation_summary
 from ..errors import RequestError
+from ..fields import columns_of
 from ..outputs import result_folder, write_csv, write_json
 from ..plotting import PlotWorkers
 from ..presets import DEFAULT_ENVELOPE_CRAB_VELOCITIES, DEFAULT_SPEEDS_RPM
@@ -173,7 +174,7 @@ def cmd_compare(args) -> int:
             except RequestError as exc:
                 raise RequestError(f"design {d.name}: {exc}") from None
         rows = [compare_files.compare_row(a) for a in analyses]
-        write_csv(tmp / "compare.csv", rows)
+        write_csv(tmp / "compare.csv", rows, columns_of("compare.csv"))
         compare_files.write_compare_plot(tmp / "compare.png", rows, analyses)
         write_json(
             tmp / "summary.json",

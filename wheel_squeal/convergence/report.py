@@ -18,7 +18,7 @@ __all__ = ["read_csv", "write_csv", "write_plots"]
 
 def write_csv(rows: list[dict], path: Path) -> None:
     """convergence.csv: the :data:`COLUMNS` of every rung (flags as 1/0)."""
-    flags = [{k: int(v) if isinstance(v, bool) else v for k, v in r.items()} for r in rows]
+    flags = [{k: int(v) if isinstance(v, bool) else v for k in COLUMNS for v in [r.get(k)]} for r in rows]
     outputs.write_csv(path, flags, COLUMNS)
 
 

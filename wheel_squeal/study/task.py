@@ -17,26 +17,13 @@ from geometry import DesignError, MeshError
 
 from ..design import Design
 from ..errors import BudgetError, RequestError
+from ..fields import FLAG_FIELDS, LABEL_FIELDS, RESULT_FIELDS
 
 __all__ = ["CODE_PACKAGES", "FLAG_FIELDS", "LABEL_FIELDS", "CaseJob", "RESULT_FIELDS", "run_case"]
 
 #: The packages whose code a case's result depends on (its cache key, the dataset's
 #: provenance).
 CODE_PACKAGES = ("geometry", "fem", "reduced", "acoustics", "wheel_squeal")
-
-#: The per-operating-point results of a case, each (n_crab_velocities, n_rpm): numbers
-#: (NaN where they do not apply), flags, and mode labels ("" where none).
-RESULT_FIELDS = (
-    "tone_hz",
-    "growth_rate_1_s",
-    "amplitude_m_s",
-    "spl_db",
-    "sound_power_level_db",
-    "model_pick_growth_rate_1_s",
-    "override_growth_rate_1_s",
-)
-FLAG_FIELDS = ("squeals", "saturated")
-LABEL_FIELDS = ("verdict_mode", "model_pick")
 
 
 @dataclass(frozen=True)
