@@ -18,14 +18,20 @@ from .stability import excitable, mode_dofs
 
 if TYPE_CHECKING:
     from fem.modes import Mode, ModeSet
-    from reduced import ContactLaw
+    from reduced import ContactLaw, ModalDOF
     from reduced import Mitigation as MitigationResult
 
 __all__ = ["Envelope", "Mitigation", "envelope", "envelope_seconds", "mitigation", "mitigation_summary"]
 
 
-def _speeds(design: Design, rpms: Sequence[float] | np.ndarray) -> np.ndarray:
-    return np.array([rpm_to_speed(float(r), design.wheel.rolling_radius) for r in rpms])
+def _map_inputs(
+    design: Design, modeset: ModeSet, rpms: Sequence[float] | np.ndarray, rotation: bool
+) -> tuple[list[Mode], list[ModalDOF], np.ndarray, float | None]:
+    """What ``reduced``'s maps take: the excitable modes, their modal parameters, the
+    rolling speeds [m/s] of ``rpms``, and the rolling radius when rotation is modelled."""
+    modes = excitable(modeset)
+    speeds = np.array([rpm_to_speed(float(r), design.wheel.rolling_radius) for r in rpms])
+    return modes, mode_dofs(modes, design), speeds, design.wheel.rolling_radius if rotation else None
 
 
 @dataclass(frozen=True)
@@ -58,9 +64,8 @@ def envelope(
     (``reduced.stability_map``)."""
     from reduced import stability_map
 
-    modes = excitable(modeset)
-    radius = design.wheel.rolling_radius if rotation else None
-    m = stability_map(mode_dofs(modes, design), contact, crab_velocities, _speeds(design, rpms), radius)
+    modes, dofs, speeds, radius = _map_inputs(design, modeset, rpms, rotation)
+    m = stability_map(dofs, contact, crab_velocities, speeds, radius)
     rpms = np.asarray(rpms, float)
     return Envelope(
         m.crabbing_velocities_m_s, rpms, m.growth_rate_1_s, m.winner, m.damped_frequency_hz, modes
@@ -113,9 +118,8 @@ def mitigation(
     (``reduced.mitigation``)."""
     from reduced import mitigation as find
 
-    modes = excitable(modeset)
-    radius = design.wheel.rolling_radius if rotation else None
-    result = find(mode_dofs(modes, design), contact, crab_velocities, _speeds(design, rpms), radius)
+    modes, dofs, speeds, radius = _map_inputs(design, modeset, rpms, rotation)
+    result = find(dofs, contact, crab_velocities, speeds, radius)
     return Mitigation(modes, result, np.asarray(rpms, float))
 
 
