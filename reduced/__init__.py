@@ -12,7 +12,8 @@ All quantities are SI (m, s, kg, N, Pa, W, Hz).
 
 from ._engine import load_compiled_kernels
 from .contact import HertzContact, hertz_contact, kalker_c22
-from .creep import ContactLaw, adhesion_ratio, adhesion_ratio_slope, falling_friction_factor
+from .coupling import ContactMode, CoupledStability, coupled_stability
+from .creep import FRICTION_LAWS, ContactLaw, adhesion_ratio, adhesion_ratio_slope, falling_friction_factor
 from .limit_cycle import Cycles, LimitCycle, analytic_growth_rate, cycles, limit_cycle
 from .modal_content import ModalContent, modal_content
 from .model import (
@@ -50,6 +51,10 @@ __all__ = [
     "hertz_contact",
     "kalker_c22",
     "ContactLaw",
+    "ContactMode",
+    "CoupledStability",
+    "coupled_stability",
+    "FRICTION_LAWS",
     "adhesion_ratio",
     "adhesion_ratio_slope",
     "falling_friction_factor",

@@ -66,6 +66,23 @@ class HertzContact:
         """G = E / 2(1 + nu), Pa."""
         return self.youngs_modulus_pa / (2.0 * (1.0 + self.poissons_ratio))
 
+    @property
+    def approach_m(self) -> float:
+        """Hertz approach of the two bodies' distant points, delta0 = p0 b K(e) / E* [m],
+        b the semi-minor axis, K the complete elliptic integral of the first kind and
+        E* = E / (2 (1 - nu^2)) for two bodies of the same material (Johnson 1985,
+        ch. 4)."""
+        minor = min(self.semi_axis_a_m, self.semi_axis_b_m)
+        k, _ = elliptic_ke(self.eccentricity**2)
+        e_star = self.youngs_modulus_pa / (2.0 * (1.0 - self.poissons_ratio**2))
+        return self.max_pressure_pa * minor * k / e_star
+
+    @property
+    def normal_stiffness_n_m(self) -> float:
+        """The linearised Hertz spring k_H = dN/d(delta) = 3 W / (2 delta0) [N/m]
+        (N = W (delta / delta0)^(3/2))."""
+        return 1.5 * self.normal_load_n / self.approach_m
+
 
 #: Below this elliptic parameter m = e^2, K(m) - E(m) (about pi m / 4) is evaluated from
 #: its power series: from ``K - E`` it would lose log10(1/m) digits, and the

@@ -24,6 +24,7 @@ import numpy as np
 from .contact import HertzContact, kalker_c22
 
 __all__ = [
+    "FRICTION_LAWS",
     "ContactLaw",
     "adhesion_ratio",
     "adhesion_ratio_slope",
@@ -32,6 +33,16 @@ __all__ = [
 
 #: Liu & Meehan's C22 (Table 1)
 TABLE1_C22 = 3.14
+
+#: The friction laws by name, as the decay speeds (s1, s2) [m/s] of the falling factor
+#: F(s) of Eq. 3. "falling" is the paper's law. "constant" is Eq. 3 without the falling
+#: factor (F = 1: infinite decay speeds), the creep polynomial saturating at mu_s: its
+#: slope is never negative, so falling friction cannot drive squeal and only the other
+#: mechanism, mode coupling through the normal contact, can.
+FRICTION_LAWS: dict[str, tuple[float, float]] = {
+    "falling": (0.138, 6.9),
+    "constant": (math.inf, math.inf),
+}
 
 
 @dataclass(frozen=True)
@@ -47,7 +58,8 @@ class ContactLaw:
     semi_axis_a_m, semi_axis_b_m : Hertz semi-axes (rolling, lateral), m.
     c22 : Kalker's lateral creep coefficient, dimensionless.
     decay_speed_1_m_s, decay_speed_2_m_s : the sliding speeds 0.138 and 6.9 m/s of
-        the falling-friction factor F(s) of Eq. 3.
+        the falling-friction factor F(s) of Eq. 3 (infinite: no falling friction, the
+        "constant" law of :data:`FRICTION_LAWS`).
     """
 
     normal_load_n: float
@@ -69,12 +81,14 @@ class ContactLaw:
             "semi_axis_a_m",
             "semi_axis_b_m",
             "c22",
-            "decay_speed_1_m_s",
-            "decay_speed_2_m_s",
         ):
             value = getattr(self, name)
             if not (math.isfinite(value) and value > 0.0):
                 raise ValueError(f"ContactLaw.{name} must be positive and finite, got {value!r}")
+        for name in ("decay_speed_1_m_s", "decay_speed_2_m_s"):
+            value = getattr(self, name)
+            if not value > 0.0:  # infinite is allowed: no falling friction
+                raise ValueError(f"ContactLaw.{name} must be positive (or infinite), got {value!r}")
 
     @classmethod
     def from_hertz(
@@ -83,12 +97,20 @@ class ContactLaw:
         friction_coefficient: float = 0.3,
         stationary_friction_coefficient: float | None = None,
         c22: float | str = TABLE1_C22,
+        friction_law: str = "falling",
     ) -> ContactLaw:
         """Build from a Hertz contact (which carries W, E, nu, a, b).
 
         ``c22`` is a number (Table 1: 3.14) or ``"kalker"`` for Kalker's table
         value at the contact's a/b and nu (4.28 for Table 1). mu_0 defaults to mu_s.
+        ``friction_law``: a name of :data:`FRICTION_LAWS`.
         """
+        try:
+            s1, s2 = FRICTION_LAWS[friction_law]
+        except KeyError:
+            raise ValueError(
+                f"unknown friction law {friction_law!r}; choose {', '.join(FRICTION_LAWS)}"
+            ) from None
         if isinstance(c22, str):
             if c22.lower() != "kalker":
                 raise ValueError(f"c22 must be a number or 'kalker', got {c22!r}")
@@ -106,7 +128,15 @@ class ContactLaw:
             semi_axis_a_m=hertz.semi_axis_a_m,
             semi_axis_b_m=hertz.semi_axis_b_m,
             c22=float(c22),
+            decay_speed_1_m_s=s1,
+            decay_speed_2_m_s=s2,
         )
+
+    @property
+    def friction_law(self) -> str:
+        """The name of the law in :data:`FRICTION_LAWS` (or "custom")."""
+        speeds = (self.decay_speed_1_m_s, self.decay_speed_2_m_s)
+        return next((k for k, v in FRICTION_LAWS.items() if v == speeds), "custom")
 
     @property
     def normalised_creepage_per_creepage(self) -> float:
@@ -133,22 +163,29 @@ def falling_friction_factor(sliding_speed_m_s, law: ContactLaw):
     division is skipped (no overflow for tiny or subnormal s).
     """
     s = np.abs(np.asarray(sliding_speed_m_s, dtype=float))
-    live = s > min(law.decay_speed_1_m_s, law.decay_speed_2_m_s) / 746.0
-    inv = np.divide(1.0, s, out=np.zeros_like(s), where=live)
-    with np.errstate(under="ignore"):
-        f = 1.0 - 0.5 * np.exp(-law.decay_speed_1_m_s * inv) - 0.5 * np.exp(-law.decay_speed_2_m_s * inv)
-    return np.where(live, f, 1.0)
+    f = np.ones_like(s)
+    for decay in (law.decay_speed_1_m_s, law.decay_speed_2_m_s):
+        if math.isinf(decay):  # no falling term: exp(-inf / s) = 0
+            continue
+        live = s > decay / 746.0
+        inv = np.divide(1.0, s, out=np.zeros_like(s), where=live)
+        with np.errstate(under="ignore"):
+            f = f - np.where(live, 0.5 * np.exp(-decay * inv), 0.0)
+    return f
 
 
 def _falling_friction_slope(s: np.ndarray, law: ContactLaw) -> np.ndarray:
     """dF/ds, 1/(m/s). Below s = s1/700 the exponentials underflow (e^-700) and the
     slope is exactly 0 in double precision (all derivatives of exp(-c/s) vanish at 0)."""
-    s1, s2 = law.decay_speed_1_m_s, law.decay_speed_2_m_s
-    live = s > min(s1, s2) / 700.0
-    inv = np.divide(1.0, s, out=np.zeros_like(s), where=live)
-    with np.errstate(under="ignore"):
-        d = -0.5 * s1 * inv * inv * np.exp(-s1 * inv) - 0.5 * s2 * inv * inv * np.exp(-s2 * inv)
-    return np.where(live, d, 0.0)
+    d = np.zeros_like(s)
+    for decay in (law.decay_speed_1_m_s, law.decay_speed_2_m_s):
+        if math.isinf(decay):  # no falling term
+            continue
+        live = s > decay / 700.0
+        inv = np.divide(1.0, s, out=np.zeros_like(s), where=live)
+        with np.errstate(under="ignore"):
+            d = d - np.where(live, 0.5 * decay * inv * inv * np.exp(-decay * inv), 0.0)
+    return d
 
 
 def _creep_polynomial(zp: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

@@ -53,6 +53,7 @@ def summary_dicts(lc: LimitCycle, op: OperatingPoint, contact: ContactLaw) -> di
             "semi_axis_b_m": float(contact.semi_axis_b_m),
             "c22": float(contact.c22),
             "friction_coefficient": float(contact.friction_coefficient),
+            "friction_law": contact.friction_law,
         },
     }
 

@@ -225,7 +225,14 @@ def test_simulate_with_explicit_modal_parameters_builds_no_mesh(tmp_path, monkey
         "growth_rate_1_s",
     }
     assert set(s["operating_point"]) == {"rolling_speed_m_s", "crabbing_velocity_m_s", "creepage"}
-    assert set(s["contact"]) == {"semi_axis_a_m", "semi_axis_b_m", "c22", "friction_coefficient"}
+    assert set(s["contact"]) == {
+        "semi_axis_a_m",
+        "semi_axis_b_m",
+        "c22",
+        "friction_coefficient",
+        "friction_law",
+    }
+    assert s["contact"]["friction_law"] == "falling"  # the paper's law by default
     # the paper's case: limit cycle marginally below Vc (docs/validation.md: ~0.367 m/s)
     assert s["limit_cycle"]["squeal"] is True
     assert 0.35 <= s["limit_cycle"]["velocity_amplitude_m_s"] <= 0.39

@@ -131,12 +131,14 @@ def explicit_dof(mass_kg: float, stiffness_n_m: float, damping_ns_m: float, noda
     return ModalDOF(mass_kg, stiffness_n_m, damping_ns_m, int(nodal_diameters))
 
 
-def contact_law(design: Design, c22: float | str | None = None):
+def contact_law(design: Design, c22: float | str | None = None, friction_law: str | None = None):
     """Creep-law parameters of the design's wheel on its roller (Hertz + Eq. 3, 6).
 
     ``c22``: None for the design's value (Table 1: 3.14), a number, or ``"kalker"``.
+    ``friction_law``: None for the design's ([contact] friction_law), or a name of
+    ``reduced.FRICTION_LAWS``.
     """
-    from reduced import ContactLaw, hertz_contact
+    from reduced import FRICTION_LAWS, ContactLaw, hertz_contact
 
     if isinstance(c22, str):
         if c22.lower() != "kalker":
@@ -155,7 +157,12 @@ def contact_law(design: Design, c22: float | str | None = None):
     )
     c = design.contact
     c22 = c.c22 if c22 is None else c22
-    return ContactLaw.from_hertz(hertz, friction_coefficient=c.friction_coefficient, c22=c22)
+    law = c.friction_law if friction_law is None else friction_law
+    if law not in FRICTION_LAWS:
+        raise RequestError(f"friction law must be one of {', '.join(FRICTION_LAWS)}, got {law!r}")
+    return ContactLaw.from_hertz(
+        hertz, friction_coefficient=c.friction_coefficient, c22=c22, friction_law=law
+    )
 
 
 def operating_point(

@@ -128,6 +128,8 @@ class ChainOptions:
         Microphone and air (default: 0.05 m off the rim face, air at 20 degC).
     c22
         The creep coefficient (None: the design's; a number; "kalker").
+    friction_law
+        A name of ``reduced.FRICTION_LAWS`` (None: the design's).
     margin
         With no squeal, find how far the least stable mode is from growing (one root
         find, some 20 eigen-solves); False leaves it out (studies).
@@ -147,6 +149,7 @@ class ChainOptions:
     sound: bool = True
     listener: Listener | None = None
     c22: float | str | None = None
+    friction_law: str | None = None
     margin: bool = True
     simulate_stable: bool = True
 
@@ -205,7 +208,7 @@ def analyse(
         )
     timings["modes"] = time.perf_counter() - t0
     t0 = time.perf_counter()
-    contact = contact_law(design, opts.c22)
+    contact = contact_law(design, opts.c22, opts.friction_law)
     rows, result = stability_table(design, modes, contact, op, opts.rotation)
     timings["stability"] = time.perf_counter() - t0
     chain = _Chain(design, opts, fid, modes, contact, op, rows, progress, cache, budget, memo)

@@ -28,7 +28,7 @@ from typing import Any
 from geometry import SECTIONS, DesignError, WheelDesign
 from geometry.design import MAX_LENGTH_M, NAME_PATTERN, NAME_RULE, toml_float
 from geometry.files import read_toml
-from reduced.creep import TABLE1_C22
+from reduced.creep import FRICTION_LAWS, TABLE1_C22
 
 from .errors import RequestError
 
@@ -79,18 +79,32 @@ class Roller:
         _positive("roller", "crown_radius", self.crown_radius)
 
 
+#: The paper's friction law, the default of every design
+DEFAULT_FRICTION_LAW = "falling"
+#: The numeric fields of [contact] (a design parameter each, see :data:`FIELDS`)
+CONTACT_NUMBERS = ("normal_load", "c22", "friction_coefficient")
+
+
 @dataclass(frozen=True)
 class Contact:
     """The contact of the wheel on the roller. normal_load: W [N]; c22: Kalker's creep
-    coefficient C22 [-] (the paper's 3.14); friction_coefficient: mu_s = mu_0 [-]."""
+    coefficient C22 [-] (the paper's 3.14); friction_coefficient: mu_s = mu_0 [-];
+    friction_law: a name of ``reduced.FRICTION_LAWS`` ("falling", the paper's, or
+    "constant": no falling friction)."""
 
     normal_load: float = 1000.0
     c22: float = TABLE1_C22
     friction_coefficient: float = 0.3
+    friction_law: str = DEFAULT_FRICTION_LAW
 
     def __post_init__(self) -> None:
-        for f in fields(self):
-            _positive("contact", f.name, getattr(self, f.name))
+        for name in CONTACT_NUMBERS:
+            _positive("contact", name, getattr(self, name))
+        if self.friction_law not in FRICTION_LAWS:
+            raise RequestError(
+                f"[contact] friction_law must be one of {', '.join(map(repr, FRICTION_LAWS))}, "
+                f"got {self.friction_law!r}"
+            )
 
 
 @dataclass(frozen=True)
@@ -141,7 +155,7 @@ FIELDS: dict[str, tuple[str, str]] = {
     **{k: ("wheel", k) for keys in SECTIONS.values() for k in keys},
     "roller_rolling_radius": ("roller", "rolling_radius"),
     "roller_crown_radius": ("roller", "crown_radius"),
-    **{f.name: ("contact", f.name) for f in fields(Contact)},
+    **{name: ("contact", name) for name in CONTACT_NUMBERS},
     "modal_damping_ratio": ("damping", "modal_damping_ratio"),
 }
 #: The sections of the file after the wheel's, and the dataclass each is read into.
@@ -173,11 +187,13 @@ class Design:
 
     def replace(self, **changes: Any) -> Design:
         """A validated copy with fields changed, by their flat names (:data:`FIELDS`), or
-        ``name``, ``description``, ``squeal_mode`` and ``mode_damping``."""
+        ``name``, ``description``, ``friction_law``, ``squeal_mode`` and ``mode_damping``."""
         parts: dict[str, dict[str, Any]] = {}
         for name, value in changes.items():
             if name in ("name", "description"):
                 parts.setdefault("wheel", {})[name] = value
+            elif name == "friction_law":
+                parts.setdefault("contact", {})[name] = value
             elif name == "squeal_mode":
                 parts.setdefault("squeal", {})["mode"] = value
             elif name == "mode_damping":
@@ -199,11 +215,15 @@ class Design:
     def content_hash(self) -> str:
         """Stable SHA-256 (16 hex) of every value but the name and the description (the
         wheel's modes depend on ``wheel.content_hash("structure")`` alone)."""
-        payload = {
-            "wheel": self.wheel.content_hash("all"),
-            **{p: {k: repr(v) for k, v in dataclasses.asdict(getattr(self, p)).items()}
-               for p in ("roller", "contact", "damping", "squeal")},
-        }  # fmt: skip
+
+        def values(part: str) -> dict[str, str]:
+            out = {k: repr(v) for k, v in dataclasses.asdict(getattr(self, part)).items()}
+            if out.get("friction_law") == repr(DEFAULT_FRICTION_LAW):
+                del out["friction_law"]  # the default law keeps the hashes of designs before it
+            return out
+
+        payload = {"wheel": self.wheel.content_hash("all"),
+                   **{p: values(p) for p in ("roller", "contact", "damping", "squeal")}}  # fmt: skip
         return hashlib.sha256(json.dumps(payload, sort_keys=True).encode()).hexdigest()[:16]
 
     def to_dict(self) -> dict[str, Any]:
@@ -211,6 +231,7 @@ class Design:
         return {
             **self.wheel.to_dict(),
             **{n: self.get(n) for n, (part, _) in FIELDS.items() if part != "wheel"},
+            "friction_law": self.contact.friction_law,
             "squeal_mode": self.squeal.mode,
             "mode_damping": [list(x) for x in self.damping.by_mode],
         }
@@ -274,9 +295,12 @@ class Design:
     def to_toml(self) -> str:
         """The design file's text (round-trips through :meth:`from_toml`)."""
         lines = [self.wheel.to_toml().rstrip()]
-        for section, obj in (("roller", self.roller), ("contact", self.contact)):
-            lines.append(f"\n[{section}]")
-            lines += [f"{f.name} = {toml_float(getattr(obj, f.name))}" for f in fields(obj)]
+        lines.append("\n[roller]")
+        lines += [f"{f.name} = {toml_float(getattr(self.roller, f.name))}" for f in fields(self.roller)]
+        lines.append("\n[contact]")
+        lines += [f"{name} = {toml_float(getattr(self.contact, name))}" for name in CONTACT_NUMBERS]
+        if self.contact.friction_law != DEFAULT_FRICTION_LAW:
+            lines.append(f"friction_law = {json.dumps(self.contact.friction_law)}")
         lines.append(f"\n[damping]\nmodal_damping_ratio = {toml_float(self.damping.modal_damping_ratio)}")
         if self.squeal.mode or self.damping.by_mode:
             lines.append("\n[squeal]")
@@ -305,6 +329,9 @@ def _section(table: Any, section: str, cls_: type, source: str) -> dict[str, flo
             raise RequestError(
                 f"{source}: unknown key '{key}' in [{section}]; allowed: {', '.join(sorted(allowed))}"
             )
+        if cls_ is Contact and key == "friction_law":
+            out[key] = value  # a name, checked by Contact
+            continue
         if isinstance(value, bool) or not isinstance(value, int | float):
             raise RequestError(f"{source}: [{section}] {key} must be a number, got {value!r}")
         out[key] = float(value)

@@ -73,6 +73,7 @@ FIELDS: dict[str, Field] = {
     "friction_damping_ns_m": Field(
         "N s/m", "linearised friction damping g = W/V0 dmu/dzeta (negative: destabilising)"
     ),
+    "friction_law": Field("-", "the creep law: falling (the paper's) or constant (no falling friction)"),
     "friction_slope_at_rpm": Field("rev/min", "wheel speed where the required friction slope binds"),
     "growth_rate_1_s": Field(
         "1/s", "linear growth rate (negative: decays); the largest where no mode squeals"

@@ -112,7 +112,8 @@ def squeal_report(sim, dof, label: str | None = None) -> str:
         f"k = {dof.stiffness_n_m:.4g} N/m, c = {dof.damping_ns_m:.2f} N s/m",
         f"contact ellipse: a = {ct['semi_axis_a_m'] * 1e3:.3f} mm (rolling), "
         f"b = {ct['semi_axis_b_m'] * 1e3:.3f} mm, C22 = {ct['c22']:.3g}, "
-        f"mu = {ct['friction_coefficient']:.3g}",
+        f"mu = {ct['friction_coefficient']:.3g}"
+        + ("" if ct["friction_law"] == "falling" else f" ({ct['friction_law']} friction)"),
         f"operating point: V0 = {op['rolling_speed_m_s']:.2f} m/s, "
         f"Vc = {op['crabbing_velocity_m_s']:.4g} m/s, creepage = {op['creepage']:.4g}",
     ]

@@ -124,6 +124,7 @@ def analysis_of(args, design: Design, progress: Progress, cache: StageCache, lis
         duration=getattr(args, "duration", None),
         listener=listener,
         c22=args.c22,
+        friction_law=getattr(args, "friction_law", None),
         modes=modes,
         cache=cache,
         budget=budget_of(args),

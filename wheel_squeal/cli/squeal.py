@@ -82,7 +82,7 @@ def cmd_simulate(args, plots: PlotWorkers) -> int:
     design = design_of(args)
     out = out_of(args, design.name)
     with result_folder(out, "simulate") as tmp:
-        contact = api.contact_law(design, args.c22)
+        contact = api.contact_law(design, args.c22, args.friction_law)
         op = operating_point_of(args, design)
         sq = squeal_mode(args, design, progress, cache_of(args), contact, op)
         with progress.stage("squeal model"):
@@ -116,7 +116,7 @@ def cmd_sweep(args) -> int:
     explicit = (args.mass, args.stiffness, args.damping)
     out = out_of(args, design.name)
     with result_folder(out, "sweep") as tmp:
-        contact = api.contact_law(design, args.c22)
+        contact = api.contact_law(design, args.c22, args.friction_law)
         cache = cache_of(args)
         dof = ms = None
         if any(v is not None for v in explicit):
@@ -216,7 +216,7 @@ def cmd_stability(args) -> int:
     out = out_of(args, design.name)
     with result_folder(out, "stability") as tmp:
         op = operating_point_of(args, design)
-        contact = api.contact_law(design, args.c22)
+        contact = api.contact_law(design, args.c22, args.friction_law)
         budget = budget_of(args)
         cache = cache_of(args)
         fid, ms = modes_of(args, design, progress, cache)

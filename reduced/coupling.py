@@ -1,0 +1,145 @@
+"""The contact in two directions: the linear stability of modes that move the contact
+point both laterally (t) and normally (n), and which mechanism makes an eigenvalue grow.
+
+With mass-normalised modal coordinates q and each mode's components at the contact,
+``phi_t`` (lateral tangent) and ``phi_n`` (normal, towards the counter-body), the normal
+force follows the Hertz spring, ``N = W + k_H u_n`` with ``u_n = phi_n . q`` (a rigid,
+fixed counter-body), and the lateral creep force ``Q = -mu(zeta) N``. Linearised about
+steady sliding at ``zeta0 = Vc / V0`` (``mu0 = mu(zeta0)``, ``g = (W / V0) dmu/dzeta``):
+
+    q'' + (C + g phi_t phi_t^T) q' + (K + k_H phi_n phi_n^T + mu0 k_H phi_t phi_n^T) q = 0
+
+The velocity term with ``g < 0`` is falling friction; the last stiffness term is not
+symmetric: it is mode coupling (two modes whose contact-stiffened frequencies merge
+into a growing pair). The eigenvalues hold both; :func:`coupled_stability` also solves
+the system with either term alone, so that each growing eigenvalue is given the
+mechanism that makes it grow. With ``phi_n = 0`` the model is the paper's lateral one
+(:func:`reduced.linear_stability`).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass
+from typing import Literal
+
+import numpy as np
+
+from .creep import ContactLaw, adhesion_ratio
+from .model import OperatingPoint
+from .stability import friction_damping_ns_m
+
+__all__ = ["ContactMode", "CoupledStability", "coupled_stability", "coupling_matrices", "two_mode_coalesces"]
+
+Mechanism = Literal["falling friction", "mode coupling", "both"]
+
+
+@dataclass(frozen=True)
+class ContactMode:
+    """A mode as the contact sees it: natural frequency [Hz], damping ratio [-], and its
+    mass-normalised displacement components at the contact point [1/sqrt(kg)] along the
+    lateral tangent (``phi_t``: 1/sqrt(m) of the lateral modal mass m) and the normal."""
+
+    frequency_hz: float
+    damping_ratio: float
+    phi_t: float
+    phi_n: float = 0.0
+
+    @property
+    def omega_rad_s(self) -> float:
+        return 2.0 * math.pi * self.frequency_hz
+
+
+def coupling_matrices(
+    modes: Sequence[ContactMode],
+    friction_damping_ns_m: float,
+    adhesion_ratio_now: float,
+    normal_stiffness_n_m: float,
+    falling: bool = True,
+    coupling: bool = True,
+) -> tuple[np.ndarray, np.ndarray]:
+    """(D, S) of ``q'' + D q' + S q = 0``: ``falling`` keeps the friction damping term,
+    ``coupling`` the non-symmetric friction stiffness term (see the module docstring)."""
+    w = np.array([m.omega_rad_s for m in modes])
+    zeta = np.array([m.damping_ratio for m in modes])
+    pt = np.array([m.phi_t for m in modes])
+    pn = np.array([m.phi_n for m in modes])
+    damping = np.diag(2.0 * zeta * w)
+    if falling:
+        damping = damping + friction_damping_ns_m * np.outer(pt, pt)
+    stiffness = np.diag(w**2) + normal_stiffness_n_m * np.outer(pn, pn)
+    if coupling:
+        stiffness = stiffness + adhesion_ratio_now * normal_stiffness_n_m * np.outer(pt, pn)
+    return damping, stiffness
+
+
+def _eigenvalues(damping: np.ndarray, stiffness: np.ndarray) -> np.ndarray:
+    n = len(damping)
+    a = np.block([[np.zeros((n, n)), np.eye(n)], [-stiffness, -damping]])
+    lam = np.linalg.eigvals(a)
+    return lam[lam.imag >= 0.0]
+
+
+@dataclass(frozen=True)
+class CoupledStability:
+    """The eigenvalues of the two-direction model with Im >= 0 [1/s], fastest-growing
+    first, and for each: ``frequency_hz``, ``growth_rate_1_s`` and the ``mechanism`` that
+    makes it grow ("falling friction" if it grows with the friction damping alone,
+    "mode coupling" if with the coupling stiffness alone, "both" if only together; None
+    where it decays)."""
+
+    eigenvalues: np.ndarray
+    mechanisms: tuple[Mechanism | None, ...]
+    friction_damping_ns_m: float
+    adhesion_ratio: float
+    normal_stiffness_n_m: float
+
+    @property
+    def growth_rate_1_s(self) -> np.ndarray:
+        return self.eigenvalues.real
+
+    @property
+    def frequency_hz(self) -> np.ndarray:
+        return self.eigenvalues.imag / (2.0 * math.pi)
+
+    @property
+    def unstable(self) -> bool:
+        return bool(np.any(self.growth_rate_1_s > 0.0))
+
+
+def coupled_stability(
+    modes: Sequence[ContactMode],
+    contact: ContactLaw,
+    op: OperatingPoint,
+    normal_stiffness_n_m: float,
+) -> CoupledStability:
+    """The linear stability of ``modes`` on a rigid, fixed counter-body through a Hertz
+    spring of ``normal_stiffness_n_m`` [N/m] (``reduced.HertzContact.normal_stiffness_n_m``)."""
+    g = friction_damping_ns_m(contact, op)
+    mu0 = float(adhesion_ratio(op.creepage, contact, op.rolling_speed_m_s))
+    args = (modes, g, mu0, normal_stiffness_n_m)
+    lam = _eigenvalues(*coupling_matrices(*args))
+    order = np.argsort(-lam.real)
+    lam = lam[order]
+    alone: list[tuple[Mechanism, np.ndarray]] = [
+        ("falling friction", _eigenvalues(*coupling_matrices(*args, coupling=False))),
+        ("mode coupling", _eigenvalues(*coupling_matrices(*args, falling=False))),
+    ]
+    mechanisms: list[Mechanism | None] = []
+    for x in lam:
+        if x.real <= 0.0:
+            mechanisms.append(None)
+            continue
+        # the same eigenvalue in each one-term system: the one nearest in frequency
+        grows = [k for k, ev in alone if ev[np.argmin(np.abs(ev.imag - x.imag))].real > 0.0]
+        mechanisms.append(grows[0] if len(grows) == 1 else "both")
+    return CoupledStability(lam, tuple(mechanisms), g, mu0, normal_stiffness_n_m)
+
+
+def two_mode_coalesces(stiffness: np.ndarray) -> bool:
+    """Whether two undamped modes with the (non-symmetric) stiffness matrix ``stiffness``
+    form a growing pair: the eigenvalues of S are complex, ``(S11 - S22)^2 + 4 S12 S21 <
+    0`` (which needs S12 S21 < 0)."""
+    s = np.asarray(stiffness, float)
+    return bool((s[0, 0] - s[1, 1]) ** 2 + 4.0 * s[0, 1] * s[1, 0] < 0.0)

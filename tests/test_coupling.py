@@ -1,0 +1,91 @@
+"""The contact in two directions (reduced.coupling): the lateral model is its limit with
+no normal motion, the two-mode coalescence condition matches the eigen-solver, and each
+growing eigenvalue is given the mechanism that makes it grow."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+import reduced as r
+from reduced.coupling import coupling_matrices, two_mode_coalesces
+
+HERTZ = r.hertz_contact(0.213, 0.300, 0.085, 0.040, 175e9, 0.28, 1000.0)
+K_H = HERTZ.normal_stiffness_n_m  # 1.36e8 N/m
+OP = r.OperatingPoint.from_rpm(800, 0.213, 0.39)
+#: (phi_t, phi_n) [1/sqrt(kg)] of two modes whose friction couplings have opposite signs
+#: (S12 S21 < 0): with mu0 = 0.3 they coalesce when their stiffened frequencies are
+#: within about 50 Hz of each other near 1 kHz (1025 Hz against 1000 Hz does)
+PAIR = ((0.5, 0.05), (0.5, -0.05))
+
+
+def _contact_mode(dof: r.ModalDOF, phi_n: float = 0.0) -> r.ContactMode:
+    zeta = dof.damping_ns_m / (2 * math.sqrt(dof.stiffness_n_m * dof.mass_kg))
+    return r.ContactMode(dof.frequency_hz, zeta, 1 / math.sqrt(dof.mass_kg), phi_n)
+
+
+def test_without_normal_motion_it_is_the_lateral_model():
+    """phi_n = 0: the growth rates of linear_stability (the same matrices: to round-off)."""
+    law = r.ContactLaw.from_hertz(HERTZ, 0.3)
+    dofs = [r.ModalDOF(3.1, 1.6e8, 42.0), r.ModalDOF(6.0, 2.0e7, 20.0), r.ModalDOF(2.0, 6.0e8, 90.0)]
+    lateral = sorted(m.growth_rate_1_s for m in r.linear_stability(dofs, law, OP).modes)
+    coupled = r.coupled_stability([_contact_mode(d) for d in dofs], law, OP, K_H)
+    assert sorted(coupled.growth_rate_1_s) == pytest.approx(lateral, rel=1e-9, abs=1e-9)
+    assert coupled.mechanisms[0] == "falling friction"
+
+
+@pytest.mark.parametrize("detune", [-0.2, -0.05, -0.01, 0.0, 0.01, 0.05, 0.2])
+def test_the_two_mode_condition_matches_the_eigen_solver(detune):
+    """Two undamped modes, no friction damping: they grow exactly when the coupled
+    stiffness has complex eigenvalues, (S11 - S22)^2 + 4 S12 S21 < 0. Near the boundary
+    the growth rate tends to 0: a margin of 1e-6 of the frequency separates the cases."""
+    f1 = 1000.0
+    modes = [r.ContactMode(f1, 0.0, *PAIR[0]), r.ContactMode(f1 * (1 + detune) + 25.0, 0.0, *PAIR[1])]
+    damping, stiffness = coupling_matrices(modes, 0.0, 0.3, K_H)
+    lam = np.linalg.eigvals(np.block([[np.zeros((2, 2)), np.eye(2)], [-stiffness, -damping]]))
+    grows = lam.real.max() > 1e-6 * 2 * math.pi * f1
+    assert grows == two_mode_coalesces(stiffness)
+    # the closed form of the growth rate: lambda^2 = -s, s the eigenvalues of S
+    s = np.linalg.eigvals(stiffness).astype(complex)
+    assert lam.real.max() == pytest.approx(np.sqrt(-s).real.max(), rel=1e-9, abs=1e-9)
+
+
+def test_the_boundary_is_crossed_where_the_closed_form_says():
+    """Sweep the second mode's frequency through coalescence: the eigen-solver's growth
+    switches on and off at the roots of the discriminant."""
+    f = np.linspace(900.0, 1100.0, 4001)
+    grows, closed = [], []
+    for f2 in f:
+        modes = [r.ContactMode(1000.0, 0.0, *PAIR[0]), r.ContactMode(f2, 0.0, *PAIR[1])]
+        damping, stiffness = coupling_matrices(modes, 0.0, 0.3, K_H)
+        lam = np.linalg.eigvals(np.block([[np.zeros((2, 2)), np.eye(2)], [-stiffness, -damping]]))
+        grows.append(lam.real.max() > 1e-3)
+        closed.append(two_mode_coalesces(stiffness))
+    grows, closed = np.array(grows), np.array(closed)
+    assert closed.any() and not closed.all()  # the sweep crosses the boundary both ways
+    assert np.array_equal(grows, closed)
+
+
+def test_mode_coupling_vanishes_with_the_normal_coupling_and_needs_no_falling_friction():
+    law = r.ContactLaw.from_hertz(HERTZ, 0.3, friction_law="constant")  # no falling friction
+
+    def pair(scale: float) -> list[r.ContactMode]:
+        (pt1, pn1), (pt2, pn2) = PAIR
+        return [r.ContactMode(1000.0, 1e-4, pt1, pn1 * scale), r.ContactMode(1025.0, 1e-4, pt2, pn2 * scale)]
+
+    strong = r.coupled_stability(pair(1.0), law, OP, K_H)
+    assert strong.unstable and strong.mechanisms[0] == "mode coupling"
+    rates = [r.coupled_stability(pair(s), law, OP, K_H).growth_rate_1_s.max() for s in (1.0, 0.1, 0.01, 0.0)]
+    assert rates[0] > 0 and all(x < 0 for x in rates[1:])  # once the pair separates it decays
+
+
+def test_falling_friction_growth_does_not_depend_on_the_hertz_spring():
+    """A mode with no normal motion at the contact grows by falling friction alone: the
+    normal spring does not enter (to round-off)."""
+    law = r.ContactLaw.from_hertz(HERTZ, 0.3)
+    mode = [_contact_mode(r.ModalDOF(3.1, 1.6e8, 42.0))]
+    rates = [r.coupled_stability(mode, law, OP, k).growth_rate_1_s[0] for k in (1e6, K_H, 1e10)]
+    assert rates == pytest.approx([rates[0]] * 3, rel=1e-12)
+    assert rates[0] > 0
