@@ -409,8 +409,10 @@ def _expand(
     shapes: list[np.ndarray] = []
     for i, (f, n, x, torsion) in enumerate(raw):
         family, circles, v_c = labeller.label(x)
-        contact = (v_c,) if n == 0 else (v_c, 0.0)
-        modes.append(Mode(i, f, n, circles, family, contact))
+        u_c = labeller.radial_at_contact(x)
+        # the cos member carries u_r and u_z at theta = 0; the sin member u_theta only
+        contact, radial = ((v_c,), (u_c,)) if n == 0 else ((v_c, 0.0), (u_c, 0.0))
+        modes.append(Mode(i, f, n, circles, family, contact, radial))
         UVW = x[labeller.nodal].T
         members = ["cos"] if n == 0 else ["cos", "sin"]
         shapes.append(np.stack([expand_harmonic(UVW, n, theta, m, torsion) for m in members]))

@@ -239,6 +239,7 @@ def _whole_wheel_mode(
     theta = S.delta * np.arange(N)
     cos_t, sin_t = np.cos(theta)[:, None], np.sin(theta)[:, None]
     ic = 3 * mesh.contact_node + 2  # contact node = profile vertex on face 0 = local index
+    ir = 3 * mesh.contact_node  # its x component: radial at (R1, 0, 0)
     real = p == 0 or 2 * p == N
     # the profile field, phased so that (u_r, u_z) are real: the cos member
     xp = x[prof_dof]
@@ -271,7 +272,13 @@ def _whole_wheel_mode(
         g[..., 1] = sin_t * w[..., 0] + cos_t * w[..., 1]
         g[..., 2] = w[..., 2]
         out.append(scale * g.reshape(-1, 3))
-    return Mode(i, f, p, circles, family, contact), np.stack(out)
+    xr = x[ir]
+    radial = (
+        (clean_contact(scale * xr.real, peak),)
+        if real
+        else (clean_contact(scale * xr.real, peak), clean_contact(scale * xr.imag, peak))
+    )
+    return Mode(i, f, p, circles, family, contact, radial), np.stack(out)
 
 
 def _solve(design, mesh, fmax_hz, k, boundary, factorization, t0, t_mesh) -> ModeSet:

@@ -70,6 +70,10 @@ class ProfileLabeller:
             v_c = 0.0  # in-plane mode of a symmetric wheel: the contact is a node
         return family, circles, clean_contact(v_c, float(np.abs(x).max()))
 
+    def radial_at_contact(self, x: np.ndarray) -> float:
+        """The radial displacement U of profile vector x at the contact point."""
+        return clean_contact(float((self.P_contact @ x)[0]), float(np.abs(x).max()))
+
     def in_plane_fraction(self, x: np.ndarray) -> float:
         """Share of the mode's (r-weighted, nodal) squared amplitude with in-plane
         parity (:func:`fem.rules.in_plane_fraction`); only for a mirror-symmetric wheel."""

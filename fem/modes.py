@@ -76,6 +76,8 @@ class Mode:
     family: "axial" (out-of-plane), "radial" or "circumferential" (in-plane).
     contact_axial: axial displacement at the contact point of each mass-normalised
         member [m / sqrt(kg)]; its squares sum to 1 / modal mass.
+    contact_radial: radial displacement there, member by member [m / sqrt(kg)] (the
+        normal direction of a contact at the tread apex; empty: not computed).
     """
 
     index: int
@@ -84,6 +86,7 @@ class Mode:
     nodal_circles: int
     family: str
     contact_axial: tuple[float, ...]
+    contact_radial: tuple[float, ...] = ()
 
     @property
     def omega(self) -> float:
@@ -110,6 +113,18 @@ class Mode:
 
     def label(self) -> str:
         return f"({self.nodal_diameters},{self.nodal_circles}) {self.family}"
+
+    @property
+    def contact_components(self) -> tuple[float, float]:
+        """(phi_t, phi_n) [1/sqrt(kg)]: the axial and radial displacement at the contact
+        of the member combination with the largest axial motion there (phi_t >= 0; both
+        do not depend on how the solver rotated a pair). phi_t = 0: a node."""
+        a = np.asarray(self.contact_axial, float)
+        r = np.asarray(self.contact_radial or (0.0,) * len(a), float)
+        t = float(np.linalg.norm(a))
+        if t == 0.0:
+            return 0.0, float(np.linalg.norm(r))
+        return t, float(a @ r) / t
 
     def to_dict(self, damping_ratio: float) -> dict:
         """JSON-ready summary (the keys of ``summary.json``'s ``modes``)."""
@@ -288,7 +303,16 @@ class ModeSet:
     def from_arrays(cls, arrays: dict[str, np.ndarray]) -> ModeSet:
         """The mode set :meth:`to_arrays` wrote."""
         meta = json.loads(str(arrays["meta"]))
-        modes = [Mode(**{**m, "contact_axial": tuple(m["contact_axial"])}) for m in meta["modes"]]
+        modes = [
+            Mode(
+                **{
+                    **m,
+                    "contact_axial": tuple(m["contact_axial"]),
+                    "contact_radial": tuple(m["contact_radial"]),
+                }
+            )
+            for m in meta["modes"]
+        ]
         return cls(
             modes=modes,
             points=arrays["points"],

@@ -278,7 +278,8 @@ def straight_basis(asm_: SolidModel):
 
 
 def _contact_operator(design, asm_: SolidModel) -> tuple[sp.csr_matrix, str]:
-    """Row vector giving u_z at the contact point (R1, 0, 0), and how it was obtained.
+    """Rows giving u_z and u_x (axial, radial) at the contact point (R1, 0, 0), and how
+    they were obtained.
 
     The gmsh mesh has a node at the tread apex: the P1/P2 nodal DOF there is the value
     itself (no interpolation). Otherwise interpolate with ``basis.probes``; if the point
@@ -291,14 +292,14 @@ def _contact_operator(design, asm_: SolidModel) -> tuple[sp.csr_matrix, str]:
     vert = b.doflocs[:, b.nodal_dofs[2]]
     dist = np.linalg.norm(vert - xc[:, None], axis=0)
     j = int(np.argmin(dist))
-    row = sp.csr_matrix(([1.0], ([0], [b.nodal_dofs[2, j]])), shape=(1, b.N))
+    rows = sp.csr_matrix(([1.0, 1.0], ([0, 1], [b.nodal_dofs[2, j], b.nodal_dofs[0, j]])), shape=(2, b.N))
     if dist[j] <= 1e-9 * design.rolling_radius:
-        return row, "node"
+        return rows, "node"
     try:
         P = sp.csr_matrix(straight_basis(asm_).probes(xc[:, None]))
-        return P[2:3], "probes"
+        return sp.csr_matrix(sp.vstack([P[2:3], P[0:1]])), "probes"
     except Exception:
-        return row, f"nearest node ({dist[j] * 1e3:.3g} mm away)"
+        return rows, f"nearest node ({dist[j] * 1e3:.3g} mm away)"
 
 
 def _rigid_modes(xyz_by_comp: list[np.ndarray], comp: list[np.ndarray], n: int) -> np.ndarray:
@@ -543,11 +544,13 @@ def _build_modes(design, A: SolidModel, X: np.ndarray, lam: np.ndarray, fmax_hz,
                 RuntimeWarning,
                 stacklevel=3,
             )
-        raw = [float((crow @ x)[0]) for x in members]
+        at = [crow @ x for x in members]  # (axial, radial) of each member
+        raw = [float(v[0]) for v in at]
         if parity is not None and _in_plane_parity(parity, members) > 0.5:
             raw = [0.0] * len(members)  # in-plane mode of a symmetric wheel: a node
         contact = tuple(clean_contact(c, float(np.abs(x).max())) for c, x in zip(raw, members))
-        modes.append(Mode(len(modes), fr, n, circles, fam, contact))
+        radial = tuple(clean_contact(float(v[1]), float(np.abs(x).max())) for v, x in zip(at, members))
+        modes.append(Mode(len(modes), fr, n, circles, fam, contact, radial))
         shapes.append(np.stack([x[vdofs].T for x in members]))
     return modes, shapes, kept
 
