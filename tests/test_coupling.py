@@ -157,3 +157,22 @@ def test_the_normal_components_agree_with_the_3d_solver():
         )
         for x, y in zip(a.contact_components, c.contact_components):
             assert x == pytest.approx(y, rel=5e-3, abs=1e-4), a.label()
+
+
+def test_the_rig_wheel_squeals_by_falling_friction_only_at_contact_angle_zero():
+    """With the normal contact included, every growing eigenvalue of the Table 1 wheel at
+    the Fig. 6 point grows by falling friction, and with constant friction nothing grows:
+    at the tread apex no mode couples through the normal direction (the wheel is
+    symmetric), so mode coupling needs a contact angle."""
+    import wheel_squeal as ws
+    from wheel_squeal.stability import two_directions
+
+    design = ws.load_design("table1")
+    modes = ws.compute_modes(design, "fast")
+    op = ws.operating_point(design, rpm=800, crab_velocity=0.39)
+    falling = two_directions(design, modes, ws.contact_law(design), op)
+    assert falling["normal_stiffness_n_m"] == pytest.approx(1.36e8, abs=0.005e8)
+    assert falling["growing"] and {g["mechanism"] for g in falling["growing"]} == {"falling friction"}
+    assert "(3,0) axial" in {g["mode"] for g in falling["growing"]}
+    constant = two_directions(design, modes, ws.contact_law(design, friction_law="constant"), op)
+    assert constant["growing"] == []

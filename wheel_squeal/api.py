@@ -48,6 +48,7 @@ __all__ = [
     "check_modes_budget",
     "compute_modes",
     "contact_law",
+    "hertz_of",
     "explicit_dof",
     "load_design",
     "modal_dof",
@@ -131,22 +132,11 @@ def explicit_dof(mass_kg: float, stiffness_n_m: float, damping_ns_m: float, noda
     return ModalDOF(mass_kg, stiffness_n_m, damping_ns_m, int(nodal_diameters))
 
 
-def contact_law(design: Design, c22: float | str | None = None, friction_law: str | None = None):
-    """Creep-law parameters of the design's wheel on its roller (Hertz + Eq. 3, 6).
+def hertz_of(design: Design):
+    """The Hertz contact (``reduced.HertzContact``) of the design's wheel on its roller."""
+    from reduced import hertz_contact
 
-    ``c22``: None for the design's value (Table 1: 3.14), a number, or ``"kalker"``.
-    ``friction_law``: None for the design's ([contact] friction_law), or a name of
-    ``reduced.FRICTION_LAWS``.
-    """
-    from reduced import FRICTION_LAWS, ContactLaw, hertz_contact
-
-    if isinstance(c22, str):
-        if c22.lower() != "kalker":
-            raise RequestError(f"c22 must be a number or 'kalker', got {c22!r}")
-        c22 = "kalker"
-    elif c22 is not None and not (math.isfinite(c22) and c22 > 0):
-        raise RequestError(f"c22 must be a positive number or 'kalker', got {c22}")
-    hertz = hertz_contact(
+    return hertz_contact(
         design.wheel.rolling_radius,
         design.wheel.crown_radius,
         design.roller.rolling_radius,
@@ -155,6 +145,24 @@ def contact_law(design: Design, c22: float | str | None = None, friction_law: st
         design.wheel.poissons_ratio,
         design.contact.normal_load,
     )
+
+
+def contact_law(design: Design, c22: float | str | None = None, friction_law: str | None = None):
+    """Creep-law parameters of the design's wheel on its roller (Hertz + Eq. 3, 6).
+
+    ``c22``: None for the design's value (Table 1: 3.14), a number, or ``"kalker"``.
+    ``friction_law``: None for the design's ([contact] friction_law), or a name of
+    ``reduced.FRICTION_LAWS``.
+    """
+    from reduced import FRICTION_LAWS, ContactLaw
+
+    if isinstance(c22, str):
+        if c22.lower() != "kalker":
+            raise RequestError(f"c22 must be a number or 'kalker', got {c22!r}")
+        c22 = "kalker"
+    elif c22 is not None and not (math.isfinite(c22) and c22 > 0):
+        raise RequestError(f"c22 must be a positive number or 'kalker', got {c22}")
+    hertz = hertz_of(design)
     c = design.contact
     c22 = c.c22 if c22 is None else c22
     law = c.friction_law if friction_law is None else friction_law

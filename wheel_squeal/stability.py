@@ -47,6 +47,7 @@ __all__ = [
     "named_mode",
     "NamedMode",
     "stability_table",
+    "two_directions",
     "wheel_speed_rad_s",
 ]
 
@@ -124,6 +125,46 @@ def stability_seconds(design: Design, modeset: ModeSet, rotation: bool = False, 
     from reduced.stability import stability_seconds as seconds
 
     return seconds(mode_dofs(excitable(modeset), design), rotation, bounds)
+
+
+def two_directions(design: Design, modeset: ModeSet, contact: ContactLaw, op: OperatingPoint) -> dict:
+    """The linear stability with the contact's normal direction (``reduced.coupling``):
+    every mode seen at the contact in either direction, with its damping ratio and
+    (phi_t, phi_n) at the tread apex, on the Hertz spring of the design's contact. The
+    JSON-ready summary: k_H, and every growing eigenvalue with its tone, the nearest
+    mode and the mechanism that makes it grow."""
+    from reduced import ContactMode, coupled_stability
+
+    from .api import hertz_of
+
+    modes = [m for m in modeset.modes if any(abs(x) > 0 for x in m.contact_components)]
+    ratios = [design.damping.ratio(m.nodal_diameters, m.nodal_circles) for m in modes]
+    cms = [ContactMode(m.frequency_hz, z, *m.contact_components) for m, z in zip(modes, ratios)]
+    k_h = hertz_of(design).normal_stiffness_n_m
+    cs = coupled_stability(cms, contact, op, k_h)
+    growing = []
+    for lam, mech, f in zip(cs.eigenvalues, cs.mechanisms, cs.frequency_hz):
+        if mech is None:
+            continue
+        near = min(modes, key=lambda m: abs(m.frequency_hz - f))
+        growing.append({"mode": near.label(), "frequency_hz": float(f), "growth_rate_1_s": float(lam.real),
+                        "mechanism": mech})  # fmt: skip
+    return {
+        "normal_stiffness_n_m": k_h,
+        "friction_law": contact.friction_law,
+        "modes_with_normal_motion": sum(_moves_normally(m) for m in modes),
+        "growing": growing,
+    }
+
+
+#: a mode moves the contact normally when phi_n is above this fraction of its larger
+#: component (below it: a symmetric wheel's meshing noise, about 2e-6)
+NORMAL_MOTION_RTOL = 1e-3
+
+
+def _moves_normally(mode: Mode) -> bool:
+    t, n = mode.contact_components
+    return abs(n) > NORMAL_MOTION_RTOL * max(abs(t), abs(n))
 
 
 def margin_of(

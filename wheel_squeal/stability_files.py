@@ -157,6 +157,19 @@ def multimode_text(multi) -> str:
     )
 
 
+def two_directions_text(s: dict) -> str:
+    """One line: what grows when the contact's normal direction is included."""
+    k_h, law, coupled = s["normal_stiffness_n_m"], s["friction_law"], s["modes_with_normal_motion"]
+    head = (
+        f"with the normal contact (k_H = {k_h:.3g} N/m, {law} friction; {coupled} modes move it normally): "
+    )
+    if not s["growing"]:
+        return head + "nothing grows"
+    parts = [f"{g['mode']} at {g['frequency_hz']:.1f} Hz by {g['mechanism']}" for g in s["growing"][:4]]
+    more = f" and {len(s['growing']) - 4} more" if len(s["growing"]) > 4 else ""
+    return head + f"{len(s['growing'])} grow: " + ", ".join(parts) + more
+
+
 def mitigation_text(mitigation: dict) -> str:
     """The damping per mode and the friction slope that stop squeal over the envelope."""
     vc, rpm = mitigation["crabbing_velocity_m_s"], mitigation["rpm"]

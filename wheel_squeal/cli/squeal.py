@@ -15,7 +15,7 @@ from ..plotting import PlotWorkers
 from ..presets import DEFAULT_ENVELOPE_CRAB_VELOCITIES, DEFAULT_SPEEDS_RPM
 from ..progress import Progress
 from ..sound_files import sound_text
-from ..stability import excitable, stability_seconds, stability_table, wheel_speed_rad_s
+from ..stability import excitable, stability_seconds, stability_table, two_directions, wheel_speed_rad_s
 from .arguments import grid_axis
 from .common import (
     analysis_of,
@@ -251,6 +251,7 @@ def cmd_stability(args) -> int:
             "friction_damping_ns_m": result.friction_damping_ns_m,
             "modes": table,
             "winner": table[result.winner],
+            "two_directions": two_directions(design, ms, contact, op),
         }
         if axes is not None:
             vcs, rpms = axes
@@ -262,6 +263,7 @@ def cmd_stability(args) -> int:
             stability_files.write_envelope_plot(tmp / "stability.png", env)
         write_json(tmp / "summary.json", summary)
     print(stability_files.stability_text(rows, result.winner))
+    print(stability_files.two_directions_text(summary["two_directions"]))
     if axes is not None:
         print(stability_files.mitigation_text(summary["mitigation"]))
     print("\n".join(a.verdict.lines()))
