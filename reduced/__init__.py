@@ -12,7 +12,13 @@ All quantities are SI (m, s, kg, N, Pa, W, Hz).
 
 from ._engine import load_compiled_kernels
 from .contact import HertzContact, hertz_contact, kalker_c22
-from .coupling import ContactMode, CoupledStability, coupled_stability
+from .coupling import (
+    ContactMode,
+    CoupledStability,
+    TwoDirectionHistory,
+    coupled_stability,
+    simulate_two_directions,
+)
 from .creep import FRICTION_LAWS, ContactLaw, adhesion_ratio, adhesion_ratio_slope, falling_friction_factor
 from .limit_cycle import Cycles, LimitCycle, analytic_growth_rate, cycles, limit_cycle
 from .modal_content import ModalContent, modal_content
@@ -54,6 +60,8 @@ __all__ = [
     "ContactMode",
     "CoupledStability",
     "coupled_stability",
+    "TwoDirectionHistory",
+    "simulate_two_directions",
     "FRICTION_LAWS",
     "adhesion_ratio",
     "adhesion_ratio_slope",

@@ -30,7 +30,15 @@ from .creep import ContactLaw, adhesion_ratio
 from .model import OperatingPoint
 from .stability import friction_damping_ns_m
 
-__all__ = ["ContactMode", "CoupledStability", "coupled_stability", "coupling_matrices", "two_mode_coalesces"]
+__all__ = [
+    "ContactMode",
+    "CoupledStability",
+    "TwoDirectionHistory",
+    "coupled_stability",
+    "coupling_matrices",
+    "simulate_two_directions",
+    "two_mode_coalesces",
+]
 
 Mechanism = Literal["falling friction", "mode coupling", "both"]
 
@@ -143,3 +151,98 @@ def two_mode_coalesces(stiffness: np.ndarray) -> bool:
     0`` (which needs S12 S21 < 0)."""
     s = np.asarray(stiffness, float)
     return bool((s[0, 0] - s[1, 1]) ** 2 + 4.0 * s[0, 1] * s[1, 0] < 0.0)
+
+
+@dataclass(frozen=True)
+class TwoDirectionHistory:
+    """A time history of the two-direction model (:func:`simulate_two_directions`).
+
+    t [s]; q, qd (n, N): the mass-normalised modal coordinates and their rates; v_t,
+    u_n [m/s, m]: the lateral velocity and the normal approach at the contact;
+    normal_force_n, lateral_force_n [N]: N and Q; separated: where N = 0 (the surfaces
+    apart); energy_j: the modes' energy plus the Hertz spring's stored energy [J];
+    power_w: Q v_t minus the modal damping losses [W] (its integral is the change of
+    energy_j)."""
+
+    t: np.ndarray
+    q: np.ndarray
+    qd: np.ndarray
+    v_t: np.ndarray
+    u_n: np.ndarray
+    normal_force_n: np.ndarray
+    lateral_force_n: np.ndarray
+    separated: np.ndarray
+    energy_j: np.ndarray
+    power_w: np.ndarray
+
+
+def simulate_two_directions(
+    modes: Sequence[ContactMode],
+    contact: ContactLaw,
+    op: OperatingPoint,
+    approach_m: float,
+    duration_s: float,
+    steps_per_period: int = 64,
+    kick: float | None = None,
+) -> TwoDirectionHistory:
+    """Integrate the modes from rest with the contact in both directions (RK4).
+
+    The normal force follows Hertz about the static approach ``approach_m`` (delta0,
+    ``reduced.HertzContact.approach_m``): N = W (1 + u_n/delta0)^(3/2), 0 once the
+    surfaces separate (u_n < -delta0); the static preload W is balanced by that
+    approach, so the modes carry N - W. The lateral force is the creep law's
+    Q = -mu(zeta) N with zeta = (Vc + v_t)/V0, applied from t = 0 as in the paper's
+    model (its step starts the oscillation). With phi_n = 0 these are the paper's
+    N-mode equations. ``kick``: None starts from rest (the paper's start: the creep
+    force's step excites the modes); a number starts at the linearised static
+    equilibrium with every modal rate equal to ``kick`` [sqrt(kg) m/s], small enough to
+    stay linear while an instability grows. Plain NumPy: for the checks of the linear
+    model, not for sweeps.
+    """
+    w = np.array([m.omega_rad_s for m in modes])
+    c = 2.0 * np.array([m.damping_ratio for m in modes]) * w
+    pt = np.array([m.phi_t for m in modes])
+    pn = np.array([m.phi_n for m in modes])
+    load = contact.normal_load_n
+    v0, vc = op.rolling_speed_m_s, op.crabbing_velocity_m_s
+
+    def forces(q: np.ndarray, qd: np.ndarray) -> tuple[float, float]:
+        u = float(pn @ q)
+        normal = load * (1.0 + u / approach_m) ** 1.5 if u > -approach_m else 0.0
+        zeta = (vc + float(pt @ qd)) / v0
+        return normal, -float(adhesion_ratio(zeta, contact, v0)) * normal
+
+    def rhs(q: np.ndarray, qd: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        normal, lateral = forces(q, qd)
+        return qd, -c * qd - w**2 * q - (normal - load) * pn + lateral * pt
+
+    h = 2.0 * math.pi / (w.max() * steps_per_period)
+    n = int(math.ceil(duration_s / h))
+    h = duration_s / n
+    q: np.ndarray = np.zeros(len(modes))
+    qd: np.ndarray = np.zeros(len(modes))
+    if kick is not None:
+        mu0 = float(adhesion_ratio(op.creepage, contact, v0))
+        k_h = 1.5 * load / approach_m
+        stiffness = np.diag(w**2) + k_h * np.outer(pn, pn) + mu0 * k_h * np.outer(pt, pn)
+        q = np.linalg.solve(stiffness, -mu0 * load * pt)
+        qd = np.full(len(modes), float(kick))
+    qs, qds = np.empty((n + 1, len(modes))), np.empty((n + 1, len(modes)))
+    qs[0], qds[0] = q, qd
+    for k in range(n):
+        a1, b1 = rhs(q, qd)
+        a2, b2 = rhs(q + 0.5 * h * a1, qd + 0.5 * h * b1)
+        a3, b3 = rhs(q + 0.5 * h * a2, qd + 0.5 * h * b2)
+        a4, b4 = rhs(q + h * a3, qd + h * b3)
+        q = q + h / 6.0 * (a1 + 2 * a2 + 2 * a3 + a4)
+        qd = qd + h / 6.0 * (b1 + 2 * b2 + 2 * b3 + b4)
+        qs[k + 1], qds[k + 1] = q, qd
+    f = np.array([forces(a, b) for a, b in zip(qs, qds)])
+    u_n, v_t = qs @ pn, qds @ pt
+    x = np.maximum(1.0 + u_n / approach_m, 0.0)
+    # the Hertz spring's energy above the static state: integral of (N - W) du_n
+    hertz = load * approach_m * (0.4 * x**2.5 - 0.4) - load * u_n
+    energy = 0.5 * np.sum(qds**2 + (w * qs) ** 2, axis=1) + hertz
+    power = f[:, 1] * v_t - np.sum(c * qds**2, axis=1)
+    t = np.arange(n + 1) * h
+    return TwoDirectionHistory(t, qs, qds, v_t, u_n, f[:, 0], f[:, 1], f[:, 0] == 0.0, energy, power)
