@@ -24,6 +24,7 @@ if TYPE_CHECKING:
     from fem.modes import Mode, ModeSet
     from reduced import (
         ContactLaw,
+        ContactMode,
         ModalContent,
         ModalDOF,
         ModeStability,
@@ -36,6 +37,7 @@ if TYPE_CHECKING:
 
 __all__ = [
     "ModeChoice",
+    "contact_modes",
     "StabilityTable",
     "stability_seconds",
     "MultiMode",
@@ -127,19 +129,27 @@ def stability_seconds(design: Design, modeset: ModeSet, rotation: bool = False, 
     return seconds(mode_dofs(excitable(modeset), design), rotation, bounds)
 
 
+def contact_modes(design: Design, modeset: ModeSet) -> tuple[list[Mode], list[ContactMode]]:
+    """The modes that move the contact in either direction, and each as the contact sees
+    it (``reduced.ContactMode``: frequency, the design's damping ratio, (phi_t, phi_n))."""
+    from reduced import ContactMode
+
+    modes = [m for m in modeset.modes if any(abs(x) > 0 for x in m.contact_components)]
+    ratios = [design.damping.ratio(m.nodal_diameters, m.nodal_circles) for m in modes]
+    return modes, [ContactMode(m.frequency_hz, z, *m.contact_components) for m, z in zip(modes, ratios)]
+
+
 def two_directions(design: Design, modeset: ModeSet, contact: ContactLaw, op: OperatingPoint) -> dict:
     """The linear stability with the contact's normal direction (``reduced.coupling``):
     every mode seen at the contact in either direction, with its damping ratio and
     (phi_t, phi_n) at the tread apex, on the Hertz spring of the design's contact. The
     JSON-ready summary: k_H, and every growing eigenvalue with its tone, the nearest
     mode and the mechanism that makes it grow."""
-    from reduced import ContactMode, coupled_stability
+    from reduced import coupled_stability
 
     from .api import hertz_of
 
-    modes = [m for m in modeset.modes if any(abs(x) > 0 for x in m.contact_components)]
-    ratios = [design.damping.ratio(m.nodal_diameters, m.nodal_circles) for m in modes]
-    cms = [ContactMode(m.frequency_hz, z, *m.contact_components) for m, z in zip(modes, ratios)]
+    modes, cms = contact_modes(design, modeset)
     k_h = hertz_of(design).normal_stiffness_n_m
     cs = coupled_stability(cms, contact, op, k_h)
     growing = []
