@@ -43,11 +43,11 @@ from collections.abc import Iterator, Sequence
 from pathlib import Path
 from typing import Any
 
-from geometry.files import umask, write_atomic
+from geometry.files import umask
 
 from .errors import RequestError
 
-__all__ = ["MARKER", "ResultFolder", "result_folder", "write_csv", "write_json", "write_text_atomic"]
+__all__ = ["MARKER", "ResultFolder", "result_folder", "write_csv", "write_json"]
 
 #: The file that marks a folder as a result of this tool.
 MARKER = ".wheel-squeal-result"
@@ -333,8 +333,3 @@ def write_csv(path: Path, rows: list[dict], columns: Sequence[str] | None = None
         for r in rows:
             writer.writerow([csv_cell(r[k]) for k in keys])
     return path
-
-
-def write_text_atomic(path: Path, text: str) -> Path:
-    """Write one file atomically (``geometry.files.write_atomic``)."""
-    return write_atomic(path, text)

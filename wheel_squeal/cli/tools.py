@@ -5,9 +5,11 @@ from __future__ import annotations
 import os
 from pathlib import Path
 
+from geometry.files import write_atomic
+
 from ..cache import ENV_SIZE, StageCache, parse_size
 from ..errors import RequestError
-from ..outputs import result_folder, write_text_atomic
+from ..outputs import result_folder
 from ..progress import Progress
 from .common import design_of, out_of
 
@@ -50,7 +52,7 @@ def cmd_calibrate(args) -> int:
         + f", weighted rms {cal.residual['weighted_rms']:.3g} ({cal.evaluations} evaluations)"
     )
     if path is not None:
-        write_text_atomic(path, cal_design.to_toml())
+        write_atomic(path, cal_design.to_toml())
         print(f"-> {path}")
     return 0
 
