@@ -212,9 +212,11 @@ def simulate_two_directions(
         zeta = (vc + float(pt @ qd)) / v0
         return normal, -float(adhesion_ratio(zeta, contact, v0)) * normal
 
+    def accel(q: np.ndarray, qd: np.ndarray, normal: float, lateral: float) -> np.ndarray:
+        return -c * qd - w**2 * q - (normal - load) * pn + lateral * pt
+
     def rhs(q: np.ndarray, qd: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        normal, lateral = forces(q, qd)
-        return qd, -c * qd - w**2 * q - (normal - load) * pn + lateral * pt
+        return qd, accel(q, qd, *forces(q, qd))
 
     h = 2.0 * math.pi / (w.max() * steps_per_period)
     n = int(math.ceil(duration_s / h))
@@ -228,16 +230,18 @@ def simulate_two_directions(
         q = np.linalg.solve(stiffness, -mu0 * load * pt)
         qd = np.full(len(modes), float(kick))
     qs, qds = np.empty((n + 1, len(modes))), np.empty((n + 1, len(modes)))
+    f = np.empty((n + 1, 2))  # (N, Q) at each stored state
     qs[0], qds[0] = q, qd
     for k in range(n):
-        a1, b1 = rhs(q, qd)
+        f[k] = forces(q, qd)  # the first stage's forces: kept, not evaluated twice
+        a1, b1 = qd, accel(q, qd, f[k, 0], f[k, 1])
         a2, b2 = rhs(q + 0.5 * h * a1, qd + 0.5 * h * b1)
         a3, b3 = rhs(q + 0.5 * h * a2, qd + 0.5 * h * b2)
         a4, b4 = rhs(q + h * a3, qd + h * b3)
         q = q + h / 6.0 * (a1 + 2 * a2 + 2 * a3 + a4)
         qd = qd + h / 6.0 * (b1 + 2 * b2 + 2 * b3 + b4)
         qs[k + 1], qds[k + 1] = q, qd
-    f = np.array([forces(a, b) for a, b in zip(qs, qds)])
+    f[n] = forces(q, qd)
     u_n, v_t = qs @ pn, qds @ pt
     x = np.maximum(1.0 + u_n / approach_m, 0.0)
     # the Hertz spring's energy above the static state: integral of (N - W) du_n
