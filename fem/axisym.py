@@ -66,6 +66,7 @@ import scipy.sparse as sp
 import skfem as fe
 from skfem.helpers import dot
 
+from geometry.contact import ContactFrame
 from geometry.design import WheelDesign
 
 from .eigen import blas_threads, small_problem_factorization, solve_band, solve_eigen
@@ -303,6 +304,7 @@ def solve_axisymmetric(
     curved: bool = False,
     intorder: int | None = None,
     factorization: str | None = None,
+    contact: ContactFrame | None = None,
 ) -> ModeSet:
     """Natural modes of the wheel by the axisymmetric-harmonic method.
 
@@ -325,6 +327,9 @@ def solve_axisymmetric(
     intorder: quadrature order (default 2 * order + 3, see the module docstring).
     factorization: passed to :func:`fem.eigen.solve_eigen`; default
         :func:`small_problem_factorization` (cholmod if installed, else splu).
+    contact: the contact point and frame the modes' contact components are given in
+        (``geometry.contact``; default: the design's, the tread apex for a parametric
+        wheel).
 
     Returns a :class:`fem.modes.ModeSet` sorted by frequency with ``solver="axisym"``;
     ``dofs`` is the number of free DOFs summed over the harmonic problems solved (n = 0
@@ -347,6 +352,7 @@ def solve_axisymmetric(
             curved=curved,
             intorder=intorder,
             factorization=factorization,
+            contact=contact,
         )
 
 
@@ -408,11 +414,11 @@ def _expand(
     modes: list[Mode] = []
     shapes: list[np.ndarray] = []
     for i, (f, n, x, torsion) in enumerate(raw):
-        family, circles, v_c = labeller.label(x)
-        u_c = labeller.radial_at_contact(x)
+        family, circles = labeller.label(x)
+        t_c, n_c = labeller.contact_of(x)
         # the cos member carries u_r and u_z at theta = 0; the sin member u_theta only
-        contact, radial = ((v_c,), (u_c,)) if n == 0 else ((v_c, 0.0), (u_c, 0.0))
-        modes.append(Mode(i, f, n, circles, family, contact, radial))
+        lateral, normal = ((t_c,), (n_c,)) if n == 0 else ((t_c, 0.0), (n_c, 0.0))
+        modes.append(Mode(i, f, n, circles, family, lateral, normal))
         UVW = x[labeller.nodal].T
         members = ["cos"] if n == 0 else ["cos", "sin"]
         shapes.append(np.stack([expand_harmonic(UVW, n, theta, m, torsion) for m in members]))
@@ -432,6 +438,7 @@ def _solve_axisymmetric(
     curved,
     intorder,
     factorization,
+    contact,
 ) -> ModeSet:
     t_start = time.perf_counter()
     if factorization is None:
@@ -446,7 +453,7 @@ def _solve_axisymmetric(
     fidelity_warnings(design, h, order, fmax_hz, before=True)
 
     model = assemble_harmonic(design, skm, order=order, boundary=boundary, intorder=intorder)
-    labeller = ProfileLabeller(design, model)
+    labeller = ProfileLabeller(design, model, contact)
     t_asm = time.perf_counter()
 
     sigma = 0.0 if boundary == "clamped" else free_shift(design)
@@ -479,7 +486,8 @@ def _solve_axisymmetric(
         cells={"wedge": wedges},
         shapes=shapes,
         solver="axisym",
-        contact_point=(design.rolling_radius, 0.0, 0.0),
+        contact_point=(labeller.contact.r_m, 0.0, labeller.contact.z_m),
+        contact_angle_rad=labeller.contact.angle_rad,
         dofs=int(dofs_total),
         timings_s={
             "mesh": t_mesh - t_start,

@@ -41,12 +41,14 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.spatial import cKDTree
 
+from geometry.contact import ContactFrame
+
 from .axisym import assemble_harmonic
 from .eigen import blas_threads, small_problem_factorization, solve_band
 from .elasticity import assemble_elasticity
 from .labels import ProfileLabeller
 from .meshes import to_skfem_tet, to_skfem_tri
-from .modes import DEFAULT_FMAX_HZ, EmptyBandWarning, Mode, ModeSet, ResolutionWarning, clean_contact
+from .modes import DEFAULT_FMAX_HZ, EmptyBandWarning, Mode, ModeSet, ResolutionWarning
 from .rules import free_shift, harmonics_done, lame, rigid_frequency
 
 #: Default circumferential element length, in units of the profile element size: the
@@ -184,6 +186,7 @@ def solve_cyclic(
     k: int | None = None,
     boundary: str = "clamped",
     factorization: str | None = None,
+    contact: ContactFrame | None = None,
 ) -> ModeSet:
     """Natural modes of the wheel from the 3-D P2 model, by cyclic symmetry.
 
@@ -197,6 +200,8 @@ def solve_cyclic(
         at p = 0, two pairs at p = 1).
     factorization: of each harmonic problem (:func:`fem.eigen.solve_eigen`); default
         :func:`fem.eigen.small_problem_factorization`.
+    contact: the contact frame of the modes' contact components (``geometry.contact``;
+        default the design's).
 
     Returns a :class:`~fem.modes.ModeSet` (``solver="3d-cyclic-p2"``), points and
     ``"tetra"`` cells of the whole wheel's corner nodes, ``shapes[i]`` (members,
@@ -210,10 +215,10 @@ def solve_cyclic(
     t0 = time.perf_counter()
     t_mesh = time.perf_counter()
     with blas_threads(1):  # small problems (see fem.axisym.solve_axisymmetric)
-        return _solve(design, mesh, fmax_hz, k, boundary, factorization, t0, t_mesh)
+        return _solve(design, mesh, fmax_hz, k, boundary, factorization, t0, t_mesh, contact)
 
 
-def _profile_labeller(design, mesh, layout, boundary):
+def _profile_labeller(design, mesh, layout, boundary, contact):
     """The axisymmetric labeller on face 0 (the profile mesh) and the map from its
     DOFs (U, V, W at each node) to the owned-local nodes."""
     tri = layout.face_triangles  # local indices 0..n-1 = the profile's own numbering
@@ -225,7 +230,7 @@ def _profile_labeller(design, mesh, layout, boundary):
         raise RuntimeError("profile DOFs do not match the face-0 nodes")
     # profile component (0 U = u_r, 1 V = u_z, 2 W = u_theta) -> local Cartesian at theta=0
     cart = np.array([0, 2, 1])[model.comp]
-    return ProfileLabeller(design, model), 3 * node + cart
+    return ProfileLabeller(design, model, contact), 3 * node + cart
 
 
 def _whole_wheel_mode(
@@ -250,17 +255,20 @@ def _whole_wheel_mode(
         alpha = 0.5 * np.angle(np.sum(np.where(ur_uz, xp**2, -(xp**2))))
         xr = xp * np.exp(-1j * alpha)
         x2 = np.where(ur_uz, xr.real, -xr.imag)
-    family, circles, v_c = labeller.label(x2)
+    family, circles = labeller.label(x2)
     scale = math.sqrt((1.0 if real else 2.0) / N)
-    xc = x[ic]
     peak = scale * float(np.abs(x).max())
-    contact: tuple[float, ...]
-    if v_c == 0.0:  # in-plane mode of a symmetric wheel, or a node: the labeller's rule
-        contact = (0.0,) if real else (0.0, 0.0)
-    elif real:
-        contact = (clean_contact(scale * xc.real, peak),)
+    if labeller.at_apex:
+        ur, uz = scale * x[ir], scale * x[ic]  # the contact is a node of face 0
     else:
-        contact = (clean_contact(scale * xc.real, peak), clean_contact(scale * xc.imag, peak))
+        u = labeller.P_contact @ xp
+        ur, uz = scale * u[0], scale * u[1]
+    forbidden = labeller.parity_zero(x2)
+    gate_t, gate_n = labeller.contact_of(x2)  # a node of the cos member is a node of the mode
+    parts = [(ur.real, uz.real)] if real else [(ur.real, uz.real), (ur.imag, uz.imag)]
+    comps = [labeller.contact_components(r_, z_, forbidden, peak) for r_, z_ in parts]
+    contact = tuple(0.0 if gate_t == 0.0 else c[0] for c in comps)
+    radial = tuple(0.0 if gate_n == 0.0 else c[1] for c in comps)
     # whole-wheel shapes at the corner nodes: sector s is the Bloch wave rotated by s Delta
     u = x[: 3 * nv].reshape(nv, 3)
     wave = np.exp(1j * p * theta)[:, None, None] * u[None]  # (N, nv, 3)
@@ -272,22 +280,16 @@ def _whole_wheel_mode(
         g[..., 1] = sin_t * w[..., 0] + cos_t * w[..., 1]
         g[..., 2] = w[..., 2]
         out.append(scale * g.reshape(-1, 3))
-    xr = x[ir]
-    radial = (
-        (clean_contact(scale * xr.real, peak),)
-        if real
-        else (clean_contact(scale * xr.real, peak), clean_contact(scale * xr.imag, peak))
-    )
     return Mode(i, f, p, circles, family, contact, radial), np.stack(out)
 
 
-def _solve(design, mesh, fmax_hz, k, boundary, factorization, t0, t_mesh) -> ModeSet:
+def _solve(design, mesh, fmax_hz, k, boundary, factorization, t0, t_mesh, contact) -> ModeSet:
     if factorization is None:
         factorization = small_problem_factorization()
     S = SectorModel(design, mesh, boundary)
     N = S.n_sectors
     L = S.layout
-    labeller, prof_dof = _profile_labeller(design, mesh, L, boundary)
+    labeller, prof_dof = _profile_labeller(design, mesh, L, boundary, contact)
     t_asm = time.perf_counter()
 
     sigma = 0.0 if boundary == "clamped" else free_shift(design)
@@ -356,7 +358,8 @@ def _solve(design, mesh, fmax_hz, k, boundary, factorization, t0, t_mesh) -> Mod
         cells={"tetra": np.asarray(mesh.tetra)[:, :4].copy()},
         shapes=shapes,
         solver=f"3d-cyclic-p{2 if mesh.order == 2 else 1}",
-        contact_point=(design.rolling_radius, 0.0, 0.0),
+        contact_point=(labeller.contact.r_m, 0.0, labeller.contact.z_m),
+        contact_angle_rad=labeller.contact.angle_rad,
         dofs=int(N * nfree),
         timings_s={
             "mesh": t_mesh - t0,

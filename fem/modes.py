@@ -74,10 +74,11 @@ class Mode:
     nodal_diameters: n, the circumferential harmonic.
     nodal_circles: number of nodal circles of the dominant displacement component.
     family: "axial" (out-of-plane), "radial" or "circumferential" (in-plane).
-    contact_axial: axial displacement at the contact point of each mass-normalised
-        member [m / sqrt(kg)]; its squares sum to 1 / modal mass.
-    contact_radial: radial displacement there, member by member [m / sqrt(kg)] (the
-        normal direction of a contact at the tread apex; empty: not computed).
+    contact_lateral: displacement at the contact point along the lateral tangent t of
+        each mass-normalised member [m / sqrt(kg)] (axial for a contact at the tread
+        apex, ``geometry.contact``); its squares sum to 1 / modal mass.
+    contact_normal: displacement there along the contact normal n (radial at the
+        apex), member by member [m / sqrt(kg)] (empty: not computed).
     """
 
     index: int
@@ -85,8 +86,8 @@ class Mode:
     nodal_diameters: int
     nodal_circles: int
     family: str
-    contact_axial: tuple[float, ...]
-    contact_radial: tuple[float, ...] = ()
+    contact_lateral: tuple[float, ...]
+    contact_normal: tuple[float, ...] = ()
 
     @property
     def omega(self) -> float:
@@ -95,12 +96,17 @@ class Mode:
 
     @property
     def multiplicity(self) -> int:
-        return len(self.contact_axial)
+        return len(self.contact_lateral)
 
     @property
     def modal_mass(self) -> float:
-        """Contact-point modal mass in the axial direction [kg] (inf at a node)."""
-        return contact_modal_mass(self.contact_axial)
+        """Contact-point modal mass in the lateral direction [kg] (inf at a node)."""
+        return contact_modal_mass(self.contact_lateral)
+
+    @property
+    def normal_modal_mass(self) -> float:
+        """Contact-point modal mass in the normal direction [kg] (inf at a node)."""
+        return contact_modal_mass(self.contact_normal)
 
     @property
     def modal_stiffness(self) -> float:
@@ -116,11 +122,12 @@ class Mode:
 
     @property
     def contact_components(self) -> tuple[float, float]:
-        """(phi_t, phi_n) [1/sqrt(kg)]: the axial and radial displacement at the contact
-        of the member combination with the largest axial motion there (phi_t >= 0; both
-        do not depend on how the solver rotated a pair). phi_t = 0: a node."""
-        a = np.asarray(self.contact_axial, float)
-        r = np.asarray(self.contact_radial or (0.0,) * len(a), float)
+        """(phi_t, phi_n) [1/sqrt(kg)]: the lateral and normal displacement at the contact
+        of the member combination with the largest lateral motion there (phi_t >= 0;
+        both do not depend on how the solver rotated a pair); with no lateral motion,
+        (0, the normal one's size). (0, 0): a node."""
+        a = np.asarray(self.contact_lateral, float)
+        r = np.asarray(self.contact_normal or (0.0,) * len(a), float)
         t = float(np.linalg.norm(a))
         if t == 0.0:
             return 0.0, float(np.linalg.norm(r))
@@ -142,13 +149,13 @@ class Mode:
         }
 
 
-def contact_modal_mass(contact_axial: Iterable[float]) -> float:
+def contact_modal_mass(contact_lateral: Iterable[float]) -> float:
     """m = 1 / sum(phi_i^2) over the members of a (possibly degenerate) mode [kg].
 
     ``phi_i`` are the axial contact displacements of mass-normalised shapes
     [m / sqrt(kg)]. Returns ``inf`` when the contact point is a node of the mode.
     """
-    s = float(np.sum(np.square(np.asarray(tuple(contact_axial), dtype=float))))
+    s = float(np.sum(np.square(np.asarray(tuple(contact_lateral), dtype=float))))
     return math.inf if s <= 0.0 else 1.0 / s
 
 
@@ -268,8 +275,10 @@ class ModeSet:
     ``(members, n_points, 3)``: Cartesian displacement (x, y, z) at ``points`` of the
     visualisation mesh (for the axisymmetric solver: the shapes expanded onto a
     revolved mesh). ``cells`` are that mesh's cells as ``{meshio cell type: array}``.
-    ``contact_point``: (R1, 0, 0), the contact point [m] (None: the mesh's largest
-    radius at z = 0, right for a wheel whose tread apex is its largest radius).
+    ``contact_point``: (r, 0, z), the contact point [m] ((R1, 0, 0) at the tread apex;
+    None: the mesh's largest radius at z = 0, right for a wheel whose tread apex is its
+    largest radius); ``contact_angle_rad``: the contact angle of the frame the modes'
+    contact components are given in (``geometry.contact``).
     """
 
     modes: list[Mode]
@@ -280,6 +289,7 @@ class ModeSet:
     dofs: int
     timings_s: dict[str, float] = field(default_factory=dict)
     contact_point: tuple[float, float, float] | None = None
+    contact_angle_rad: float = 0.0
 
     def to_arrays(self) -> dict[str, np.ndarray]:
         """The mode set as plain arrays (the metadata as one JSON string), for ``.npz``
@@ -291,6 +301,7 @@ class ModeSet:
             "timings_s": self.timings_s,
             "cell_types": list(self.cells),
             "contact_point": self.contact_point,
+            "contact_angle_rad": self.contact_angle_rad,
         }
         arrays = {"meta": np.array(json.dumps(meta)), "points": np.asarray(self.points, float)}
         for name, conn in self.cells.items():
@@ -307,8 +318,8 @@ class ModeSet:
             Mode(
                 **{
                     **m,
-                    "contact_axial": tuple(m["contact_axial"]),
-                    "contact_radial": tuple(m["contact_radial"]),
+                    "contact_lateral": tuple(m["contact_lateral"]),
+                    "contact_normal": tuple(m["contact_normal"]),
                 }
             )
             for m in meta["modes"]
@@ -322,6 +333,7 @@ class ModeSet:
             dofs=meta["dofs"],
             timings_s=meta["timings_s"],
             contact_point=None if meta.get("contact_point") is None else tuple(meta["contact_point"]),
+            contact_angle_rad=float(meta.get("contact_angle_rad", 0.0)),
         )
 
 

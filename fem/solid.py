@@ -30,10 +30,10 @@ Each eigenvector is labelled in cylindrical components (r, theta, z):
 
 Degenerate cos/sin pairs (same n >= 1, same family, relative frequency gap below
 ``pair_rtol``) become one :class:`~fem.modes.Mode` with two members; the frequency is
-their mean, and ``contact_axial`` holds both members' axial displacement at the
+their mean, and ``contact_lateral`` holds both members' axial displacement at the
 contact point, so the pair-combined modal mass does not depend on the rotation.
 
-The contact is a node (``contact_axial`` exactly 0.0, modal mass ``inf``), as in
+The contact is a node (``contact_lateral`` exactly 0.0, modal mass ``inf``), as in
 :mod:`fem.axisym`, when (a) the wheel is mirror-symmetric about z = 0
 (its profile its own mirror image) and more than half of the mode's nodal squared amplitude has
 u_r, u_theta even and u_z odd in z (an in-plane mode; the unstructured mesh is not
@@ -61,6 +61,7 @@ from skfem import Basis, BilinearForm, ElementTetP1, ElementTetP2, ElementVector
 from skfem.helpers import dot
 from skfem.models.elasticity import linear_elasticity
 
+from geometry.contact import ContactFrame, contact_frame
 from geometry.profile import half_profile
 
 from .eigen import blas_threads, solve_eigen
@@ -277,8 +278,8 @@ def straight_basis(asm_: SolidModel):
     return straight
 
 
-def _contact_operator(design, asm_: SolidModel) -> tuple[sp.csr_matrix, str]:
-    """Rows giving u_z and u_x (axial, radial) at the contact point (R1, 0, 0), and how
+def _contact_operator(design, asm_: SolidModel, contact: ContactFrame) -> tuple[sp.csr_matrix, str]:
+    """Rows giving u_z and u_x (axial, radial) at the contact point (r, 0, z), and how
     they were obtained.
 
     The gmsh mesh has a node at the tread apex: the P1/P2 nodal DOF there is the value
@@ -288,7 +289,7 @@ def _contact_operator(design, asm_: SolidModel) -> tuple[sp.csr_matrix, str]:
     accurate to O((h n / R1)^2).
     """
     b = asm_.basis
-    xc = np.array([design.rolling_radius, 0.0, 0.0])
+    xc = np.array([contact.r_m, 0.0, contact.z_m])
     vert = b.doflocs[:, b.nodal_dofs[2]]
     dist = np.linalg.norm(vert - xc[:, None], axis=0)
     j = int(np.argmin(dist))
@@ -324,6 +325,7 @@ def solve_solid(
     k: int | None = None,
     boundary: str = "clamped",
     factorization: str = "auto",
+    contact: ContactFrame | None = None,
 ) -> ModeSet:
     """Natural modes of the wheel from a 3-D tetrahedral model.
 
@@ -338,10 +340,13 @@ def solve_solid(
     boundary: ``"clamped"`` (bore fixed) or ``"free"`` (six rigid modes dropped).
     factorization: passed to :func:`fem.eigen.solve_eigen` (``"auto"`` picks the
         fastest available).
+    contact: the contact frame of the modes' contact components (``geometry.contact``;
+        default the design's).
 
     Returns a :class:`~fem.modes.ModeSet` whose ``points``/``cells`` are the corner
     nodes and ``"tetra"`` cells, ``shapes[i]`` of shape (members, n_points, 3).
     """
+    contact = contact or contact_frame(design)
     if k is None and fmax_hz is None:
         raise ValueError("give k or fmax_hz")
     t0 = time.perf_counter()
@@ -351,7 +356,7 @@ def solve_solid(
     t1 = time.perf_counter()
     model = assemble(design, mesh.points, mesh.tetra, order=order, boundary=boundary)
     timings["assemble"] = time.perf_counter() - t1
-    ms, _ = solve_model(design, model, fmax_hz=fmax_hz, k=k, factorization=factorization)
+    ms, _ = solve_model(design, model, fmax_hz=fmax_hz, k=k, factorization=factorization, contact=contact)
     timings.update({key: v for key, v in ms.timings_s.items() if key != "total"})
     timings["total"] = time.perf_counter() - t0
     ms.timings_s = timings
@@ -375,8 +380,10 @@ def solve_model(
     fmax_hz: float | None = DEFAULT_FMAX_HZ,
     k: int | None = None,
     factorization: str = "auto",
+    contact: ContactFrame | None = None,
 ) -> tuple[ModeSet, list[np.ndarray]]:
-    """Eigen-solve and label an assembled model.
+    """Eigen-solve and label an assembled model (``contact``: the contact frame of the
+    modes' contact components, default the design's).
 
     Returns the :class:`~fem.modes.ModeSet` and, for each mode, its mass-normalised
     members as full DOF vectors, shape (n_dofs, members) (zeros on clamped DOFs), for
@@ -384,6 +391,7 @@ def solve_model(
     """
     if k is None and fmax_hz is None:
         raise ValueError("give k or fmax_hz")
+    contact = contact or contact_frame(design)
     A = model
     t2 = time.perf_counter()
     Kf = A.K[A.free][:, A.free].tocsr()
@@ -408,7 +416,7 @@ def solve_model(
     with blas_threads():
         if free_free:
             X, lam = _drop_rigid(A, X, lam, rigid_frequency(design))
-        modes, shapes, groups = _build_modes(design, A, X, lam, fmax_hz, k)
+        modes, shapes, groups = _build_modes(design, A, X, lam, fmax_hz, k, contact)
     if not modes and fmax_hz is not None:
         f_low = res.lowest_hz(skip=n_rigid)
         low = f"the lowest is {f_low:.4g} Hz" if f_low is not None else "none was found"
@@ -427,7 +435,8 @@ def solve_model(
         cells={"tetra": A.mesh.t.T.copy()},
         shapes=shapes,
         solver=f"3d-p{order}",
-        contact_point=(design.rolling_radius, 0.0, 0.0),
+        contact_point=(contact.r_m, 0.0, contact.z_m),
+        contact_angle_rad=contact.angle_rad,
         dofs=int(A.free.size),
         timings_s={"eigen": t_eig, "label": t_lab, "total": t_eig + t_lab},
     )
@@ -497,10 +506,10 @@ def _in_plane_parity(mirror, members: list[np.ndarray]) -> float:
     return in_plane_fraction(u, u[:, :, j])
 
 
-def _build_modes(design, A: SolidModel, X: np.ndarray, lam: np.ndarray, fmax_hz, k):
+def _build_modes(design, A: SolidModel, X: np.ndarray, lam: np.ndarray, fmax_hz, k, contact: ContactFrame):
     lab = _Labeller(design, A)
-    crow, _how = _contact_operator(design, A)
-    parity = _mirror_map(design, A)
+    crow, _how = _contact_operator(design, A, contact)
+    parity = _mirror_map(design, A) if contact.z_m == 0.0 else None
     f = np.sqrt(np.maximum(lam, 0.0)) / (2 * math.pi)
     m = X.shape[1]
     info = []
@@ -544,13 +553,15 @@ def _build_modes(design, A: SolidModel, X: np.ndarray, lam: np.ndarray, fmax_hz,
                 RuntimeWarning,
                 stacklevel=3,
             )
-        at = [crow @ x for x in members]  # (axial, radial) of each member
-        raw = [float(v[0]) for v in at]
-        if parity is not None and _in_plane_parity(parity, members) > 0.5:
-            raw = [0.0] * len(members)  # in-plane mode of a symmetric wheel: a node
-        contact = tuple(clean_contact(c, float(np.abs(x).max())) for c, x in zip(raw, members))
-        radial = tuple(clean_contact(float(v[1]), float(np.abs(x).max())) for v, x in zip(at, members))
-        modes.append(Mode(len(modes), fr, n, circles, fam, contact, radial))
+        at = np.array([crow @ x for x in members])  # (axial, radial) of each member
+        if parity is not None:  # a symmetric wheel, the contact in its mirror plane
+            # an in-plane mode has no axial motion there, an out-of-plane one no radial
+            at[:, 0 if _in_plane_parity(parity, members) > 0.5 else 1] = 0.0
+        tn = [contact.components(float(r_), float(z_)) for z_, r_ in at]
+        peaks = [float(np.abs(x).max()) for x in members]
+        lateral = tuple(clean_contact(t, p) for (t, _), p in zip(tn, peaks))
+        normal = tuple(clean_contact(n_, p) for (_, n_), p in zip(tn, peaks))
+        modes.append(Mode(len(modes), fr, n, circles, fam, lateral, normal))
         shapes.append(np.stack([x[vdofs].T for x in members]))
     return modes, shapes, kept
 

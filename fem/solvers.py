@@ -20,8 +20,12 @@ A *method* names a solver with its element order and mesh order:
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 from .modes import DEFAULT_FMAX_HZ, ModeSet
+
+if TYPE_CHECKING:
+    from geometry.contact import ContactFrame
 
 __all__ = ["SOLVERS", "Solver", "get_solver", "method_label", "parse_method", "solve_modes"]
 
@@ -86,23 +90,27 @@ def solve_modes(
     order: int = 2,
     fmax_hz: float = DEFAULT_FMAX_HZ,
     n_sectors: int | None = None,
+    contact: ContactFrame | None = None,
 ) -> ModeSet:
     """Modes up to ``fmax_hz`` [Hz] of ``solver`` on a mesh from :mod:`geometry.mesh`: a
     ``ProfileMesh`` for "axisym" (curved elements if it is second order) and "3d"
     (revolved in ``n_sectors``, default :func:`fem.cyclic.default_sectors`), a
-    ``SolidMesh`` for "3d-tet"."""
+    ``SolidMesh`` for "3d-tet"; ``contact``: the contact frame of the modes' contact
+    components (``geometry.contact``; default the design's)."""
     get_solver(solver)
     if solver == "axisym":
         from .axisym import solve_axisymmetric
 
-        return solve_axisymmetric(design, mesh, order=order, fmax_hz=fmax_hz, curved=mesh.order == 2)
+        return solve_axisymmetric(
+            design, mesh, order=order, fmax_hz=fmax_hz, curved=mesh.order == 2, contact=contact
+        )
     if solver == "3d":
         from geometry.revolve import revolve_profile
 
         from .cyclic import default_sectors, solve_cyclic
 
         solid = revolve_profile(mesh, n_sectors or default_sectors(design, mesh.size))
-        return solve_cyclic(design, solid, fmax_hz=fmax_hz)
+        return solve_cyclic(design, solid, fmax_hz=fmax_hz, contact=contact)
     from .solid import solve_solid
 
-    return solve_solid(design, mesh, order=order, fmax_hz=fmax_hz)
+    return solve_solid(design, mesh, order=order, fmax_hz=fmax_hz, contact=contact)

@@ -57,9 +57,12 @@ ON_BOUNDARY_REL = 1e-6
 WALL_FACING = 0.5
 #: Beyond this many polygon edges the wall thickness casts fewer rays per edge.
 MANY_EDGES = 2000
-#: Largest angle [deg] between the outward normal at the contact point and the radial
-#: direction: the contact model's normal is radial.
-MAX_CONTACT_TILT_DEG = 15.0
+#: Largest contact angle [deg]: the angle between the outward normal at the contact
+#: point and the radial direction. Up to it the contact is one Hertz ellipse on a tread
+#: or a flange root, whose spin creepage (sin(angle) / r) stays small beside the lateral
+#: creepage of the model; beyond it lies flange contact, a different regime (two-point
+#: contact, spin-dominated creep) that the lateral creep law does not describe.
+MAX_CONTACT_ANGLE_DEG = 45.0
 
 
 @dataclass(frozen=True)
@@ -219,6 +222,11 @@ class Outline:
     def contact_segment(self) -> int:
         """The segment the contact point lies on (the first, at a vertex)."""
         return _contact_segment(self)
+
+    def contact_normal(self) -> tuple[float, float]:
+        """The outward unit normal (n_r, n_z) of the outline at the contact point."""
+        n = -_inward_normals(self, self.contact_segment(), np.array([self.contact]))[0]
+        return float(n[0]), float(n[1])
 
     def contact_crown_radius(self) -> float:
         """Transverse radius of the tread at the contact point [m], inf on a straight one."""
@@ -460,10 +468,11 @@ def check(o: Outline) -> None:
     pt = np.array([o.contact])
     normal = -_inward_normals(o, i, pt)[0]
     tilt = math.degrees(math.acos(max(-1.0, min(1.0, float(normal[0])))))
-    if tilt > MAX_CONTACT_TILT_DEG:
+    if tilt > MAX_CONTACT_ANGLE_DEG:
         raise OutlineError(
-            f"contact point {_pt(o.contact)}: the tread's outward normal there is {tilt:.3g} deg from "
-            f"radial (at most {MAX_CONTACT_TILT_DEG:g}); the contact must be on the tread"
+            f"contact point {_pt(o.contact)}: the outward normal there is {tilt:.3g} deg from radial "
+            f"(at most {MAX_CONTACT_ANGLE_DEG:g}: beyond it is flange contact, which the lateral "
+            "creep model does not describe); the contact must be on the tread or the flange root"
         )
     if a is not None and float(np.dot(a[0] - pt[0], normal)) > 0:
         raise OutlineError(

@@ -1,7 +1,10 @@
 """Reduced (modal) curve-squeal model of Liu & Meehan (CM2015).
 
 Hertz contact -> creep law (Eq. 3, 6) -> modes at the contact point driven by the
-lateral creep force (Eq. 1, 2, 4, 5) -> linear stability of every mode -> time
+lateral creep force (Eq. 1, 2, 4, 5) and, where they move the contact normally, by the
+Hertz normal force; the counter-body's own modes in series -> linear stability of every
+mode, with the mechanism of each growing eigenvalue (falling friction or mode
+coupling) -> time
 integration (fixed-step RK4, interpreted while a process's runs are few and short,
 numba-compiled otherwise; solve_ivp reference), optionally on a turning wheel (each pair
 two travelling waves) -> limit-cycle metrics, the mode that carries the cycle,
@@ -12,17 +15,13 @@ All quantities are SI (m, s, kg, N, Pa, W, Hz).
 
 from ._engine import load_compiled_kernels
 from .contact import HertzContact, hertz_contact, kalker_c22
-from .coupling import (
-    ContactMode,
-    CoupledStability,
-    TwoDirectionHistory,
-    coupled_stability,
-    simulate_two_directions,
-)
+from .counter_body import CounterBody, ModalRoller, RigidCounterBody, counter_body
+from .coupling import coupling_stiffness, two_mode_coalesces
 from .creep import FRICTION_LAWS, ContactLaw, adhesion_ratio, adhesion_ratio_slope, falling_friction_factor
 from .limit_cycle import Cycles, LimitCycle, analytic_growth_rate, cycles, limit_cycle
 from .modal_content import ModalContent, modal_content
 from .model import (
+    Integration,
     IntegrationError,
     ModalDOF,
     OperatingPoint,
@@ -39,6 +38,7 @@ from .report import (
 )
 from .saturate import longest_record_s, simulate_to_limit_cycle
 from .stability import (
+    LinearContact,
     Mitigation,
     ModeStability,
     StabilityMap,
@@ -57,11 +57,13 @@ __all__ = [
     "hertz_contact",
     "kalker_c22",
     "ContactLaw",
-    "ContactMode",
-    "CoupledStability",
-    "coupled_stability",
-    "TwoDirectionHistory",
-    "simulate_two_directions",
+    "CounterBody",
+    "ModalRoller",
+    "RigidCounterBody",
+    "counter_body",
+    "coupling_stiffness",
+    "two_mode_coalesces",
+    "LinearContact",
     "FRICTION_LAWS",
     "adhesion_ratio",
     "adhesion_ratio_slope",

@@ -23,12 +23,18 @@ from . import _kernels
 
 #: the kernels, each with whether its compiled twin runs its ``prange`` loop in parallel
 _KERNELS = {
+    "adhesion": False,
     "lateral_force": False,
+    "normal_force": False,
+    "hertz_energy": False,
+    "_contact": False,
+    "steady_force": False,
     "_participation": False,
     "_deriv": False,
     "_rk4_step": False,
     "_rk4_step_1": False,
     "_energy": False,
+    "_total_energy": False,
     "integrate_store_1": False,
     "integrate_store": False,
     "extract_cycles": False,

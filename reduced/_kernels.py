@@ -8,19 +8,27 @@ bits; ``prange`` is the compiled twin's parallel loop and a plain ``range`` here
 
 State: modal displacements y_i (m) and velocities u_i (m/s) of N modal coordinates
 that share the contact point, each seen there with a participation
-p_i(t) = cos(w_i t + phase_i): contact velocity v = sum_i p_i u_i, lateral force
-Q = -mu((Vc + v)/V0) W, and m_i y_i'' + c_i y_i' + k_i y_i = p_i Q. Without rotation
-every w_i and phase_i is 0 and p_i = 1 exactly (the paper's N-mode model); on a wheel
-turning at Omega, a pair of n nodal diameters is two coordinates with w = n Omega and
-phases 0 and pi/2 (p = cos(n Omega t) and -sin(n Omega t), docs/theory.md, rotation).
+p_i(t) = cos(w_i t + phase_i) and moving the contact a_i y_i along the lateral
+tangent and b_i y_i along the normal: lateral contact velocity v = sum_i p_i a_i u_i,
+normal approach u_n = sum_i p_i b_i y_i, normal force N = W (1 + u_n/delta0)^(3/2)
+(0 once the surfaces separate), lateral force Q = -mu((Vc + v)/V0) N, and
+m_i y_i'' + c_i y_i' + k_i y_i = p_i (a_i Q - b_i (N - W)). With transient creep the
+force the modes feel lags the steady Q: tau Q_l' = Q - Q_l. Without rotation every
+w_i and phase_i is 0 and p_i = 1 exactly; with a_i = 1, b_i = 0 and no lag this is the
+paper's N-mode model, and the same IEEE operations give its bits. On a wheel turning
+at Omega, a pair of n nodal diameters is two coordinates with w = n Omega and phases 0
+and pi/2 (p = cos(n Omega t) and -sin(n Omega t), docs/theory.md, rotation).
 
-Creep-law parameters are passed as a float64 vector ``law``::
+Contact parameters are passed as a float64 vector ``law``::
 
-    law = [W, mu_s, K = G a b C22/(mu_0 W), s1, s2, V0, Vc]
+    law = [W, mu_s, K = G a b C22/(mu_0 W), s1, s2, V0, Vc, delta0, tau, u_n0]
 
-Every kernel also integrates the power balance, dE/dt = Q v - sum c_i u_i^2 with
-E = sum (m_i u_i^2 + k_i y_i^2)/2, with the RK4 weights: a mismatch between the
-energy change and the integrated power flags a step too large for the dynamics.
+(delta0 infinite: constant normal load; tau 0: steady creep; u_n0 the static normal
+approach under the steady creep force, from which the Hertz spring is measured: the
+rig's load keeps the mean normal force at W). Every kernel also
+integrates the power balance, dE/dt = Q v - sum c_i u_i^2 with E = sum (m_i u_i^2 +
+k_i y_i^2)/2 plus the Hertz spring's energy, with the RK4 weights: a mismatch between
+the energy change and the integrated power flags a step too large for the dynamics.
 """
 
 from __future__ import annotations
@@ -29,13 +37,13 @@ import math
 
 import numpy as np
 
-_LAW_W, _LAW_MUS, _LAW_K, _LAW_S1, _LAW_S2, _LAW_V0, _LAW_VC = range(7)
+_LAW_W, _LAW_MUS, _LAW_K, _LAW_S1, _LAW_S2, _LAW_V0, _LAW_VC, _LAW_D0, _LAW_TAU, _LAW_UN0 = range(10)
 
 prange = range
 
 
-def lateral_force(v, law):
-    """Q(v) = -mu((Vc + v)/V0) W in N for contact velocity v in m/s (Eq. 2-4, 6)."""
+def adhesion(v, law):
+    """mu((Vc + v)/V0), the signed adhesion ratio at contact velocity v in m/s (Eq. 3, 4, 6)."""
     V0 = law[_LAW_V0]
     zeta = (law[_LAW_VC] + v) / V0
     a = abs(zeta)
@@ -52,7 +60,50 @@ def lateral_force(v, law):
     mu = law[_LAW_MUS] * poly * f
     if zeta < 0.0:
         mu = -mu
-    return -mu * law[_LAW_W]
+    return mu
+
+
+def lateral_force(v, law):
+    """Q(v) = -mu((Vc + v)/V0) W in N for contact velocity v in m/s (Eq. 2-4, 6)."""
+    return -adhesion(v, law) * law[_LAW_W]
+
+
+def normal_force(un, law):
+    """N = W (1 + (u_n - u_n0)/delta0)^(3/2) in N at a normal approach u_n in m; 0 once
+    the surfaces separate; W exactly at u_n = u_n0 or delta0 infinite."""
+    x = 1.0 + (un - law[_LAW_UN0]) / law[_LAW_D0]
+    if x <= 0.0:
+        return 0.0
+    return law[_LAW_W] * (x * math.sqrt(x))
+
+
+def hertz_energy(un, law):
+    """The Hertz spring's energy above the static state, int_u_n0^u_n (N - W) du, in J
+    (0 with a constant normal load)."""
+    d0 = law[_LAW_D0]
+    if math.isinf(d0):
+        return 0.0
+    d = un - law[_LAW_UN0]
+    x = 1.0 + d / d0
+    if x < 0.0:
+        x = 0.0
+    return law[_LAW_W] * (0.4 * d0 * (x * x * math.sqrt(x) - 1.0) - d)
+
+
+def _contact(y, u, p, a, b):
+    """(v, u_n): the lateral contact velocity and the normal approach."""
+    v = 0.0
+    un = 0.0
+    for i in range(y.shape[0]):
+        v += p[i] * a[i] * u[i]
+        un += p[i] * b[i] * y[i]
+    return v, un
+
+
+def steady_force(y, u, p, a, b, law):
+    """The steady lateral force Q = -mu N at the state (y, u) [N]."""
+    v, un = _contact(y, u, p, a, b)
+    return -adhesion(v, law) * normal_force(un, law)
 
 
 def _participation(w, phase, t, p):
@@ -61,23 +112,33 @@ def _participation(w, phase, t, p):
         p[i] = math.cos(w[i] * t + phase[i])
 
 
-def _deriv(y, u, p, m, c, k, law, dy, du):
+def _deriv(y, u, ql, p, m, c, k, a, b, law, dy, du):
+    """The state's rates into (dy, du); returns (power Q v - sum c u^2 [W], |Q v| [W],
+    the lagged force's rate [N/s])."""
     n = y.shape[0]
-    v = 0.0
-    for i in range(n):
-        v += p[i] * u[i]
-    q = lateral_force(v, law)
+    v, un = _contact(y, u, p, a, b)
+    nf = normal_force(un, law)
+    qs = -adhesion(v, law) * nf
+    tau = law[_LAW_TAU]
+    if tau > 0.0:
+        q = ql
+        dq = (qs - ql) / tau
+    else:
+        q = qs
+        dq = 0.0
+    dn = nf - law[_LAW_W]
     power = q * v
     for i in range(n):
         dy[i] = u[i]
-        du[i] = (p[i] * q - c[i] * u[i] - k[i] * y[i]) / m[i]
+        du[i] = (p[i] * a[i] * q - p[i] * b[i] * dn - c[i] * u[i] - k[i] * y[i]) / m[i]
         power -= c[i] * u[i] * u[i]
-    return power, abs(q * v)
+    return power, abs(q * v), dq
 
 
-def _rk4_step(y, u, m, c, k, w, phase, law, t, h, scratch):
+def _rk4_step(y, u, ql, m, c, k, a, b, w, phase, law, t, h, scratch):
     """Advance (y, u) in place by one RK4 step h (s) from time t (s); return the RK4
-    estimate of the energy input  int P dt  and  int |Q v| dt  over the step (J)."""
+    estimate of the energy input  int P dt  and  int |Q v| dt  over the step (J), and
+    the lagged force at its end (N)."""
     n = y.shape[0]
     ky1, ku1, ky2, ku2 = scratch[0], scratch[1], scratch[2], scratch[3]
     ky3, ku3, ky4, ku4 = scratch[4], scratch[5], scratch[6], scratch[7]
@@ -85,23 +146,25 @@ def _rk4_step(y, u, m, c, k, w, phase, law, t, h, scratch):
     _participation(w, phase, t, p0)
     _participation(w, phase, t + 0.5 * h, ph)
     _participation(w, phase, t + h, p1)
-    e1, r1 = _deriv(y, u, p0, m, c, k, law, ky1, ku1)
+    e1, r1, g1 = _deriv(y, u, ql, p0, m, c, k, a, b, law, ky1, ku1)
     for i in range(n):
         yt[i] = y[i] + 0.5 * h * ky1[i]
         ut[i] = u[i] + 0.5 * h * ku1[i]
-    e2, r2 = _deriv(yt, ut, ph, m, c, k, law, ky2, ku2)
+    e2, r2, g2 = _deriv(yt, ut, ql + 0.5 * h * g1, ph, m, c, k, a, b, law, ky2, ku2)
     for i in range(n):
         yt[i] = y[i] + 0.5 * h * ky2[i]
         ut[i] = u[i] + 0.5 * h * ku2[i]
-    e3, r3 = _deriv(yt, ut, ph, m, c, k, law, ky3, ku3)
+    e3, r3, g3 = _deriv(yt, ut, ql + 0.5 * h * g2, ph, m, c, k, a, b, law, ky3, ku3)
     for i in range(n):
         yt[i] = y[i] + h * ky3[i]
         ut[i] = u[i] + h * ku3[i]
-    e4, r4 = _deriv(yt, ut, p1, m, c, k, law, ky4, ku4)
+    e4, r4, g4 = _deriv(yt, ut, ql + h * g3, p1, m, c, k, a, b, law, ky4, ku4)
     for i in range(n):
         y[i] += h / 6.0 * (ky1[i] + 2.0 * ky2[i] + 2.0 * ky3[i] + ky4[i])
         u[i] += h / 6.0 * (ku1[i] + 2.0 * ku2[i] + 2.0 * ku3[i] + ku4[i])
-    return h / 6.0 * (e1 + 2.0 * e2 + 2.0 * e3 + e4), h / 6.0 * (r1 + 2.0 * r2 + 2.0 * r3 + r4)
+    work = h / 6.0 * (e1 + 2.0 * e2 + 2.0 * e3 + e4)
+    absqv = h / 6.0 * (r1 + 2.0 * r2 + 2.0 * r3 + r4)
+    return work, absqv, ql + h / 6.0 * (g1 + 2.0 * g2 + 2.0 * g3 + g4)
 
 
 def _rk4_step_1(y, u, m, c, k, law, h):
@@ -169,10 +232,24 @@ def _energy(y, u, m, k):
     return e
 
 
-def integrate_store(y0, u0, m, c, k, w, phase, law, h, n_steps, store_every, out_y, out_u):
+def _total_energy(y, u, m, k, a, b, w, phase, law, t, p):
+    """The modes' energy plus the Hertz spring's at time t (p: scratch for the
+    participations) [J]."""
+    e = _energy(y, u, m, k)
+    if math.isinf(law[_LAW_D0]):
+        return e
+    _participation(w, phase, t, p)
+    _v, un = _contact(y, u, p, a, b)
+    return e + hertz_energy(un, law)
+
+
+def integrate_store(y0, u0, m, c, k, a, b, w, phase, law, h, n_steps, store_every, out_y, out_u, out_q):
     """Integrate n_steps RK4 steps of size h (s) from (y0, u0) at t = 0, storing every
-    ``store_every``-th state (row 0 = initial state) into out_y, out_u (n_out, N);
-    participations cos(w t + phase) (see the module docstring).
+    ``store_every``-th state (row 0 = initial state) into out_y, out_u (n_out, N) and
+    the lateral force the modes feel into out_q (n_out,); participations cos(w t +
+    phase) and contact gains a, b (see the module docstring). With transient creep the
+    lagged force starts at its steady value (without a lag out_q holds that first
+    value only: the steady force follows from the stored state).
 
     Returns (status, energy_mismatch_J, max_energy_J, work_in_J, steps_done):
     status 0 = ok, 1 = non-finite state. energy_mismatch = |E_end - E_0 - int P dt|.
@@ -180,19 +257,25 @@ def integrate_store(y0, u0, m, c, k, w, phase, law, h, n_steps, store_every, out
     n = y0.shape[0]
     y = y0.copy()
     u = u0.copy()
-    scratch = np.zeros((13, n))
-    e0 = _energy(y, u, m, k)
+    scratch = np.zeros((14, n))
+    pe = scratch[13]
+    _participation(w, phase, 0.0, pe)
+    ql = steady_force(y, u, pe, a, b, law)
+    e0 = _total_energy(y, u, m, k, a, b, w, phase, law, 0.0, pe)
     emax = e0
     work = 0.0
     out_y[0, :] = y
     out_u[0, :] = u
+    out_q[0] = ql
     row = 1
     status = 0
     step = 0
     for step in range(1, n_steps + 1):
-        dw, _wq = _rk4_step(y, u, m, c, k, w, phase, law, (step - 1) * h, h, scratch)
+        dw, _wq, ql_end = _rk4_step(y, u, ql, m, c, k, a, b, w, phase, law, (step - 1) * h, h, scratch)
         work += dw
-        e = _energy(y, u, m, k)
+        e = _total_energy(y, u, m, k, a, b, w, phase, law, step * h, pe)
+        if law[_LAW_TAU] > 0.0:
+            ql = ql_end
         if not math.isfinite(e):
             status = 1
             break
@@ -201,8 +284,9 @@ def integrate_store(y0, u0, m, c, k, w, phase, law, h, n_steps, store_every, out
         if step % store_every == 0 and row < out_y.shape[0]:
             out_y[row, :] = y
             out_u[row, :] = u
+            out_q[row] = ql
             row += 1
-    e_end = _energy(y, u, m, k)
+    e_end = _total_energy(y, u, m, k, a, b, w, phase, law, step * h, pe)
     return status, abs(e_end - e0 - work), emax, work, step
 
 
@@ -263,6 +347,8 @@ def sweep_kernel(
     m,
     c,
     k,
+    a,
+    b,
     laws,
     h_per_case,
     n_steps_per_case,
@@ -288,8 +374,11 @@ def sweep_kernel(
         ns = n_steps_per_case[ic]
         y = np.zeros(n)
         u = np.zeros(n)
-        scratch = np.zeros((13, n))
+        scratch = np.zeros((14, n))
         still = np.zeros(n)  # no rotation: participation 1
+        ones = np.ones(n)
+        scalar = n == 1 and a[0] == 1.0 and b[0] == 0.0 and law[_LAW_TAU] == 0.0
+        ql = steady_force(y, u, ones, a, b, law)
         t = np.empty(ns + 1)
         v = np.empty(ns + 1)
         cp = np.empty(ns + 1)
@@ -304,16 +393,16 @@ def sweep_kernel(
         y1 = 0.0
         u1 = 0.0
         for step in range(1, ns + 1):
-            if n == 1:
+            if scalar:
                 y1, u1, w, wq = _rk4_step_1(y1, u1, m[0], c[0], k[0], law, h)
                 e = 0.5 * (m[0] * u1 * u1 + k[0] * y1 * y1)
                 vv = u1
             else:
-                w, wq = _rk4_step(y, u, m, c, k, still, still, law, 0.0, h, scratch)
-                e = _energy(y, u, m, k)
-                vv = 0.0
-                for i in range(n):
-                    vv += u[i]
+                w, wq, ql_end = _rk4_step(y, u, ql, m, c, k, a, b, still, still, law, 0.0, h, scratch)
+                if law[_LAW_TAU] > 0.0:
+                    ql = ql_end
+                e = _total_energy(y, u, m, k, a, b, still, still, law, 0.0, scratch[13])
+                vv, _un = _contact(y, u, ones, a, b)
             if not math.isfinite(e):
                 status = 1
                 last = step - 1
@@ -324,10 +413,10 @@ def sweep_kernel(
             v[step] = vv
             cp[step] = cp[step - 1] + w
             cq[step] = cq[step - 1] + wq
-        if n == 1:
+        if scalar:
             e_end = 0.5 * (m[0] * u1 * u1 + k[0] * y1 * y1)
         else:
-            e_end = _energy(y, u, m, k)
+            e_end = _total_energy(y, u, m, k, a, b, still, still, law, 0.0, scratch[13])
         out_status[ic] = status
         out_emax[ic] = emax
         out_mismatch[ic] = abs(e_end - cp[last]) if status == 0 else np.inf

@@ -60,6 +60,13 @@ class ContactLaw:
     decay_speed_1_m_s, decay_speed_2_m_s : the sliding speeds 0.138 and 6.9 m/s of
         the falling-friction factor F(s) of Eq. 3 (infinite: no falling friction, the
         "constant" law of :data:`FRICTION_LAWS`).
+    hertz_approach_m : delta0, the static Hertz approach under W, m: the normal force
+        follows N = W (1 + d / delta0)^(3/2) for an extra approach d (linearised: the
+        spring k_H = 3 W / (2 delta0)). Infinite: the paper's constant normal load (no
+        normal spring: the contact's normal direction is switched off).
+    relaxation_length_m : L, the rolling distance over which the creep force builds up
+        (transient creep: a first-order lag of time constant L / V0), m; 0: the paper's
+        steady creep law.
     """
 
     normal_load_n: float
@@ -71,6 +78,8 @@ class ContactLaw:
     c22: float = TABLE1_C22
     decay_speed_1_m_s: float = 0.138
     decay_speed_2_m_s: float = 6.9
+    hertz_approach_m: float = math.inf
+    relaxation_length_m: float = 0.0
 
     def __post_init__(self) -> None:
         for name in (
@@ -89,6 +98,14 @@ class ContactLaw:
             value = getattr(self, name)
             if not value > 0.0:  # infinite is allowed: no falling friction
                 raise ValueError(f"ContactLaw.{name} must be positive (or infinite), got {value!r}")
+        if not self.hertz_approach_m > 0.0:
+            raise ValueError(
+                f"ContactLaw.hertz_approach_m must be positive (or infinite), got {self.hertz_approach_m!r}"
+            )
+        if not (math.isfinite(self.relaxation_length_m) and self.relaxation_length_m >= 0.0):
+            raise ValueError(
+                f"ContactLaw.relaxation_length_m must be 0 or positive, got {self.relaxation_length_m!r}"
+            )
 
     @classmethod
     def from_hertz(
@@ -98,12 +115,17 @@ class ContactLaw:
         stationary_friction_coefficient: float | None = None,
         c22: float | str = TABLE1_C22,
         friction_law: str = "falling",
+        normal: bool = True,
+        relaxation_length_m: float = 0.0,
     ) -> ContactLaw:
         """Build from a Hertz contact (which carries W, E, nu, a, b).
 
         ``c22`` is a number (Table 1: 3.14) or ``"kalker"`` for Kalker's table
         value at the contact's a/b and nu (4.28 for Table 1). mu_0 defaults to mu_s.
-        ``friction_law``: a name of :data:`FRICTION_LAWS`.
+        ``friction_law``: a name of :data:`FRICTION_LAWS`. ``normal``: the Hertz spring
+        in the normal direction (its approach ``hertz.approach_m``); False keeps the
+        normal load constant (the paper's model). ``relaxation_length_m``: transient
+        creep (0: steady).
         """
         try:
             s1, s2 = FRICTION_LAWS[friction_law]
@@ -130,7 +152,18 @@ class ContactLaw:
             c22=float(c22),
             decay_speed_1_m_s=s1,
             decay_speed_2_m_s=s2,
+            hertz_approach_m=hertz.approach_m if normal else math.inf,
+            relaxation_length_m=float(relaxation_length_m),
         )
+
+    @property
+    def normal_stiffness_n_m(self) -> float:
+        """k_H = 3 W / (2 delta0) [N/m]; 0 with the normal direction switched off."""
+        return 1.5 * self.normal_load_n / self.hertz_approach_m
+
+    def relaxation_time_s(self, rolling_speed_m_s: float) -> float:
+        """tau = L / V0 [s], the lag of the creep force (0: steady creep)."""
+        return self.relaxation_length_m / rolling_speed_m_s
 
     @property
     def friction_law(self) -> str:

@@ -46,7 +46,7 @@ import numpy as np
 from . import _engine
 from .creep import ContactLaw
 from .model import OperatingPoint, TimeHistory, as_modes
-from .stability import friction_damping_ns_m, growth_rates
+from .stability import LinearContact, growth_rates
 
 __all__ = ["Cycles", "LimitCycle", "cycles", "limit_cycle", "analytic_growth_rate"]
 
@@ -108,8 +108,8 @@ def analytic_growth_rate(
     largest real part of the coupled eigenvalues (:mod:`reduced.stability`); for one
     mode sigma = -(c + W/V0 dmu/dzeta(Vc/V0)) / (2 m) exactly (an underdamped one)."""
     modes = as_modes(modes)
-    g = friction_damping_ns_m(contact, op)
-    return float(np.max(growth_rates(modes, [md.damping_ns_m for md in modes], g, wheel_speed_rad_s)))
+    linear = LinearContact.at(contact, op)
+    return float(np.max(growth_rates(modes, [md.damping_ns_m for md in modes], linear, wheel_speed_rad_s)))
 
 
 def cycles(history: TimeHistory) -> Cycles:

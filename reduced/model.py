@@ -50,22 +50,32 @@ def _finite_positive(owner: str, name: str, value: float, allow_zero: bool = Fal
 
 @dataclass(frozen=True)
 class ModalDOF:
-    """One mode seen at the contact point (lateral = axial direction).
+    """One degree of freedom seen at the contact point: a wheel mode, or a mode of the
+    counter-body.
 
     Attributes
     ----------
-    mass_kg : modal mass m at the contact point, kg (for a degenerate pair the
-        pair-combined contact modal mass).
+    mass_kg : modal mass m at the contact point along the coordinate's reference
+        direction, kg (for a degenerate pair the pair-combined contact modal mass; for
+        the paper's lateral mode, the lateral modal mass 1/phi_t^2).
     stiffness_n_m : modal stiffness k = omega^2 m, N/m.
     damping_ns_m : viscous modal damping c, N s/m.
     nodal_diameters : n; a mode with n >= 1 is a cos/sin pair, which wheel rotation
         turns into two travelling waves (:mod:`reduced.stability`); 0 for a standing mode.
+    lateral, normal : the displacement of the contact along the lateral tangent t and
+        the normal n (out of the wheel, towards the counter-body) per unit of the
+        coordinate, dimensionless: (1, 0) is the paper's lateral mode, (1, phi_n/phi_t)
+        a wheel mode that also moves the contact normally, (phi_t/phi_n, 1) one that moves
+        it mostly normally, and -1 a counter-body's own motion (the contact sees the
+        wheel's motion relative to it).
     """
 
     mass_kg: float
     stiffness_n_m: float
     damping_ns_m: float
     nodal_diameters: int = 0
+    lateral: float = 1.0
+    normal: float = 0.0
 
     def __post_init__(self) -> None:
         _finite_positive("ModalDOF", "mass_kg", self.mass_kg)
@@ -74,28 +84,69 @@ class ModalDOF:
         n = self.nodal_diameters
         if isinstance(n, bool) or not isinstance(n, int | np.integer) or n < 0:
             raise ValueError(f"ModalDOF.nodal_diameters must be a non-negative integer, got {n!r}")
+        for name in ("lateral", "normal"):
+            if not math.isfinite(float(getattr(self, name))):
+                raise ValueError(f"ModalDOF.{name} must be finite, got {getattr(self, name)!r}")
+        if self.lateral == 0.0 and self.normal == 0.0:
+            raise ValueError("ModalDOF: lateral and normal are both 0: the contact does not see the mode")
 
     @classmethod
     def from_damping_ratio(
-        cls, mass_kg: float, stiffness_n_m: float, damping_ratio: float, nodal_diameters: int = 0
+        cls,
+        mass_kg: float,
+        stiffness_n_m: float,
+        damping_ratio: float,
+        nodal_diameters: int = 0,
+        lateral: float = 1.0,
+        normal: float = 0.0,
     ) -> ModalDOF:
         """c = 2 zeta_d sqrt(k m); damping_ratio dimensionless (Table 1: 9.4e-4 -> 42 N s/m)."""
         _finite_positive("ModalDOF", "damping_ratio", damping_ratio, allow_zero=True)
         c = 2.0 * damping_ratio * math.sqrt(stiffness_n_m * mass_kg)
-        return cls(mass_kg, stiffness_n_m, c, int(nodal_diameters))
+        return cls(mass_kg, stiffness_n_m, c, int(nodal_diameters), lateral, normal)
 
     @classmethod
     def from_frequency(
-        cls, mass_kg: float, frequency_hz: float, damping_ratio: float, nodal_diameters: int = 0
+        cls,
+        mass_kg: float,
+        frequency_hz: float,
+        damping_ratio: float,
+        nodal_diameters: int = 0,
+        lateral: float = 1.0,
+        normal: float = 0.0,
     ) -> ModalDOF:
         """k = (2 pi f)^2 m, c = 2 zeta_d sqrt(k m); f in Hz."""
         k = (2.0 * math.pi * frequency_hz) ** 2 * mass_kg
-        return cls.from_damping_ratio(mass_kg, k, damping_ratio, nodal_diameters)
+        return cls.from_damping_ratio(mass_kg, k, damping_ratio, nodal_diameters, lateral, normal)
+
+    @classmethod
+    def from_components(
+        cls,
+        frequency_hz: float,
+        damping_ratio: float,
+        phi_t: float,
+        phi_n: float,
+        nodal_diameters: int = 0,
+        lateral_modal_mass_kg: float | None = None,
+    ) -> ModalDOF:
+        """A mode from its mass-normalised components at the contact, ``phi_t`` (lateral)
+        and ``phi_n`` (normal) [1/sqrt(kg)]: the coordinate is the contact's motion along
+        the larger one (modal mass 1/phi^2), the other a ratio. ``lateral_modal_mass_kg``:
+        1/phi_t^2 as the caller computed it (a pair's, from both members), kept exactly."""
+        if phi_t == 0.0 and phi_n == 0.0:
+            raise ValueError(
+                "ModalDOF.from_components: the contact is a node of the mode (phi_t = phi_n = 0)"
+            )
+        if abs(phi_t) >= abs(phi_n):
+            mass = 1.0 / (phi_t * phi_t) if lateral_modal_mass_kg is None else lateral_modal_mass_kg
+            return cls.from_frequency(mass, frequency_hz, damping_ratio, nodal_diameters, 1.0, phi_n / phi_t)
+        mass = 1.0 / (phi_n * phi_n)
+        return cls.from_frequency(mass, frequency_hz, damping_ratio, nodal_diameters, phi_t / phi_n, 1.0)
 
     def with_damping_ratio(self, damping_ratio: float) -> ModalDOF:
         """The same mode with another modal damping ratio."""
         return ModalDOF.from_damping_ratio(
-            self.mass_kg, self.stiffness_n_m, damping_ratio, self.nodal_diameters
+            self.mass_kg, self.stiffness_n_m, damping_ratio, self.nodal_diameters, self.lateral, self.normal
         )
 
     @property
@@ -112,6 +163,18 @@ class ModalDOF:
     def damping_ratio(self) -> float:
         """c / (2 sqrt(k m)), dimensionless."""
         return self.damping_ns_m / (2.0 * math.sqrt(self.stiffness_n_m * self.mass_kg))
+
+    @property
+    def components(self) -> tuple[float, float]:
+        """(phi_t, phi_n): the contact's mass-normalised displacement along t and n
+        [1/sqrt(kg)] (the counter-body's, with the sign of its relative motion)."""
+        unit = 1.0 / math.sqrt(self.mass_kg)
+        return self.lateral * unit, self.normal * unit
+
+    @property
+    def lateral_only(self) -> bool:
+        """The paper's lateral mode: lateral 1, normal 0."""
+        return self.lateral == 1.0 and self.normal == 0.0
 
 
 def rpm_to_speed(rpm: float, rolling_radius_m: float) -> float:
@@ -217,14 +280,21 @@ class TimeHistory:
     Attributes
     ----------
     t : time, s, shape (n,).
-    y : contact-point lateral displacement sum_i p_i y_i, m, shape (n,).
-    v : contact-point lateral velocity sum_i p_i y_i' (the material velocity at the
-        contact), m/s, shape (n,); p_i = 1 without rotation.
+    y : contact-point lateral displacement sum_i p_i a_i y_i, m, shape (n,).
+    v : contact-point lateral velocity sum_i p_i a_i y_i' (the material velocity at the
+        contact, relative to the counter-body's), m/s, shape (n,); p_i = 1 without
+        rotation, a_i the coordinate's lateral gain (1 for the paper's mode).
     y_modes, v_modes : displacement (m) and velocity (m/s) of each modal coordinate,
         shape (n, N): one per mode, two (the pair's a, b) per rotating pair.
     creepage : zeta = (Vc + v)/V0, dimensionless.
-    Q : lateral contact force on the wheel, N (Eq. 2).
+    Q : lateral contact force on the wheel, N (Eq. 2; with transient creep the lagged
+        force the modes feel).
     P : power input to the modes Q v - sum c_i y_i'^2, W (Eq. 7).
+    u_n : the normal approach at the contact sum_i p_i b_i y_i, m (0 when no
+        coordinate moves the contact normally; the Hertz spring is measured from its
+        static value, :func:`static_normal_approach_m`).
+    N : the normal contact force, N (W with a constant normal load; 0 where the
+        surfaces have separated, :attr:`separated`).
     modes, contact, operating_point : the inputs.
     step_s : integration step, s (for the reference: the output spacing).
     method : "rk4" (fixed step, :func:`simulate`) or the solve_ivp method name.
@@ -250,6 +320,13 @@ class TimeHistory:
     energy_mismatch_j: float = field(default=float("nan"))
     wheel_speed_rad_s: float = 0.0
     coordinates: Coordinates | None = None
+    u_n: np.ndarray | None = None
+    N: np.ndarray | None = None
+
+    @property
+    def separated(self) -> np.ndarray:
+        """Where the wheel and the counter-body have lost contact (N = 0), shape (n,)."""
+        return np.zeros(len(self.t), dtype=bool) if self.N is None else self.N == 0.0
 
 
 @dataclass(frozen=True, eq=False)
@@ -258,7 +335,9 @@ class Coordinates:
 
     mode : index into ``modes`` of each coordinate; m, c, k : its mass, damping,
     stiffness (SI); w, phase : its participation at the contact is
-    ``cos(w t + phase)`` (w in rad/s; 0 and 0 without rotation: exactly 1).
+    ``cos(w t + phase)`` (w in rad/s; 0 and 0 without rotation: exactly 1); a, b : the
+    contact's lateral and normal motion per unit coordinate (``ModalDOF.lateral``,
+    ``ModalDOF.normal``).
     """
 
     mode: np.ndarray
@@ -267,6 +346,8 @@ class Coordinates:
     k: np.ndarray
     w: np.ndarray
     phase: np.ndarray
+    a: np.ndarray
+    b: np.ndarray
 
     def participation(self, t: np.ndarray) -> np.ndarray:
         """cos(w t + phase) at times t, shape (len(t), N)."""
@@ -280,17 +361,33 @@ def coordinates(modes, wheel_speed_rad_s: float = 0.0) -> Coordinates:
     rows = []
     for i, md in enumerate(modes):
         row = (i, md.mass_kg, md.damping_ns_m, md.stiffness_n_m)
+        gains = (md.lateral, md.normal)
         if wheel_speed_rad_s != 0.0 and md.nodal_diameters >= 1:
             w = md.nodal_diameters * wheel_speed_rad_s
-            rows += [(*row, w, 0.0), (*row, w, 0.5 * math.pi)]
+            rows += [(*row, w, 0.0, *gains), (*row, w, 0.5 * math.pi, *gains)]
         else:
-            rows.append((*row, 0.0, 0.0))
+            rows.append((*row, 0.0, 0.0, *gains))
     cols = list(zip(*rows))
     return Coordinates(np.array(cols[0], dtype=np.int64), *(np.array(col, dtype=float) for col in cols[1:]))
 
 
-def law_vector(contact: ContactLaw, op: OperatingPoint) -> np.ndarray:
-    """Pack the creep law and operating point for the RK4 kernels (:mod:`reduced._kernels`)."""
+def static_normal_approach_m(modes, contact: ContactLaw, op: OperatingPoint) -> float:
+    """The normal approach [m] by which the steady creep force Q0 = -mu0 W deflects the
+    modes statically, sum_i b_i a_i Q0 / k_i (0 when no mode moves the contact
+    normally). The rig's load (a dead weight or a soft spring) keeps the mean normal
+    force at W, so the Hertz spring is measured from this state: N = W at steady
+    sliding, as the linear model assumes (on a turning wheel the steady deflection of a
+    pair differs by (n Omega / omega)^2, under 1e-3 here)."""
+    modes = as_modes(modes)
+    if all(md.normal == 0.0 for md in modes):
+        return 0.0
+    q0 = -float(adhesion_ratio(op.creepage, contact, op.rolling_speed_m_s)) * contact.normal_load_n
+    return float(sum(md.normal * md.lateral * q0 / md.stiffness_n_m for md in modes))
+
+
+def law_vector(contact: ContactLaw, op: OperatingPoint, modes=None) -> np.ndarray:
+    """Pack the contact and operating point for the RK4 kernels (:mod:`reduced._kernels`);
+    with ``modes``, the static normal approach they take (:func:`static_normal_approach_m`)."""
     return np.array(
         [
             contact.normal_load_n,
@@ -300,6 +397,9 @@ def law_vector(contact: ContactLaw, op: OperatingPoint) -> np.ndarray:
             contact.decay_speed_2_m_s,
             op.rolling_speed_m_s,
             op.crabbing_velocity_m_s,
+            contact.hertz_approach_m,
+            contact.relaxation_time_s(op.rolling_speed_m_s),
+            0.0 if modes is None else static_normal_approach_m(modes, contact, op),
         ],
         dtype=float,
     )
@@ -337,13 +437,19 @@ def max_contact_damping_ns_m(contact: ContactLaw, op: OperatingPoint) -> float:
     return contact.normal_load_n / op.rolling_speed_m_s * dmu
 
 
-def highest_frequency_hz(modes, wheel_speed_rad_s: float = 0.0) -> float:
+def highest_frequency_hz(modes, wheel_speed_rad_s: float = 0.0, normal_stiffness_n_m: float = 0.0) -> float:
     """The highest frequency [Hz] the contact sees: a mode's natural frequency, plus
-    n Omega / 2 pi for a rotating pair (its forward travelling wave)."""
-    return max(
-        md.frequency_hz + md.nodal_diameters * abs(wheel_speed_rad_s) / (2.0 * math.pi)
-        for md in as_modes(modes)
-    )
+    n Omega / 2 pi for a rotating pair (its forward travelling wave), raised by the
+    normal contact spring ``normal_stiffness_n_m`` [N/m] where modes move the contact
+    normally (a bound: the largest omega^2 plus k_H (|phi_n|^2 + |phi_t| |phi_n|), the
+    second for the friction's coupling with mu <= 1)."""
+    modes = as_modes(modes)
+    f = max(md.frequency_hz + md.nodal_diameters * abs(wheel_speed_rad_s) / (2.0 * math.pi) for md in modes)
+    if normal_stiffness_n_m == 0.0 or all(md.normal == 0.0 for md in modes):
+        return f
+    pn = math.sqrt(sum(md.normal**2 / md.mass_kg for md in modes))
+    pt = math.sqrt(sum(md.lateral**2 / md.mass_kg for md in modes))
+    return math.sqrt(f * f + normal_stiffness_n_m * (pn * pn + pt * pn) / (2.0 * math.pi) ** 2)
 
 
 def choose_time_step(
@@ -353,20 +459,22 @@ def choose_time_step(
     steps_per_period: int = STEPS_PER_PERIOD,
     wheel_speed_rad_s: float = 0.0,
 ) -> float:
-    """RK4 step, s: the smaller of (i) the period of the highest frequency the contact
+    """RK4 step, s: the smallest of (i) the period of the highest frequency the contact
     sees divided by ``steps_per_period`` (accuracy; RK4's amplitude error per cycle ~
-    (omega h)^6) and (ii) 0.5 / lambda with lambda = max contact damping * sum(1/m_i) +
+    (omega h)^6), (ii) 0.5 / lambda with lambda = max contact damping * sum(a_i^2/m_i) +
     max c_i/m_i, which keeps the stiff, strongly damped direction of the creep region
-    far inside RK4's stability interval (|lambda h| < 2.78)."""
+    far inside RK4's stability interval (|lambda h| < 2.78), and (iii) with transient
+    creep the lag's time constant (RK4 is stable on it below 2.78 tau)."""
     modes = as_modes(modes)
     if steps_per_period < 8:
         raise ValueError(f"steps_per_period must be >= 8, got {steps_per_period}")
-    f_max = highest_frequency_hz(modes, wheel_speed_rad_s)
+    f_max = highest_frequency_hz(modes, wheel_speed_rad_s, contact.normal_stiffness_n_m)
     h_acc = 1.0 / (f_max * steps_per_period)
-    lam = max_contact_damping_ns_m(contact, op) * sum(1.0 / md.mass_kg for md in modes)
+    lam = max_contact_damping_ns_m(contact, op) * sum(md.lateral * md.lateral / md.mass_kg for md in modes)
     lam += max(md.damping_ns_m / md.mass_kg for md in modes)
     h_stab = 0.5 / lam if lam > 0 else math.inf
-    return min(h_acc, h_stab)
+    tau = contact.relaxation_time_s(op.rolling_speed_m_s)
+    return min(h_acc, h_stab, tau if tau > 0.0 else math.inf)
 
 
 def _initial_state(initial_state, n_modes: int):
@@ -392,12 +500,17 @@ def _history(
     coords: Coordinates,
     wheel_speed_rad_s: float,
     mismatch=float("nan"),
+    lagged_force=None,
 ) -> TimeHistory:
     p = coords.participation(t)
-    y = (p * y_modes).sum(axis=1)
-    v = (p * v_modes).sum(axis=1)
+    pa = p * coords.a[None, :]
+    y = (pa * y_modes).sum(axis=1)
+    v = (pa * v_modes).sum(axis=1)
+    u_n = (p * coords.b[None, :] * y_modes).sum(axis=1)
+    x = 1.0 + (u_n - static_normal_approach_m(modes, contact, op)) / contact.hertz_approach_m
+    N = contact.normal_load_n * np.where(x > 0.0, x * np.sqrt(np.maximum(x, 0.0)), 0.0)
     zeta = (op.crabbing_velocity_m_s + v) / op.rolling_speed_m_s
-    Q = -adhesion_ratio(zeta, contact, op.rolling_speed_m_s) * contact.normal_load_n
+    Q = -adhesion_ratio(zeta, contact, op.rolling_speed_m_s) * N if lagged_force is None else lagged_force
     P = Q * v - (coords.c[None, :] * v_modes**2).sum(axis=1)
     return TimeHistory(
         t=t,
@@ -416,6 +529,8 @@ def _history(
         energy_mismatch_j=float(mismatch),
         wheel_speed_rad_s=float(wheel_speed_rad_s),
         coordinates=coords,
+        u_n=u_n,
+        N=N,
     )
 
 
@@ -471,15 +586,17 @@ def _integrate(
     n_steps: int,
     store_every: int,
     n_out: int,
-) -> tuple[int, float, float, np.ndarray, np.ndarray]:
+) -> tuple[int, float, float, np.ndarray, np.ndarray, np.ndarray]:
     """One RK4 run of ``n_steps`` steps of ``h`` [s]: (status, energy mismatch [J], the
-    largest modal energy [J], stored y, stored y'). The paper's one-mode model takes the
-    scalar kernel."""
-    m, c, k, w, phase = coords.m, coords.c, coords.k, coords.w, coords.phase
+    largest modal energy [J], stored y, stored y', stored lagged force). The paper's
+    one-mode model takes the scalar kernel."""
+    m, c, k, w, phase, a, b = coords.m, coords.c, coords.k, coords.w, coords.phase, coords.a, coords.b
     n_coord = len(m)
     out_y = np.empty((n_out, n_coord))
     out_u = np.empty((n_out, n_coord))
-    if n_coord == 1 and w[0] == 0.0:
+    out_q = np.full(n_out, np.nan)
+    lag = law[_kernels._LAW_TAU] > 0.0
+    if n_coord == 1 and w[0] == 0.0 and a[0] == 1.0 and b[0] == 0.0 and not lag:
         kernels = _engine.integration_kernels(n_steps)
         status, mismatch, emax, _work, _done = kernels.integrate_store_1(
             *(float(x[0]) for x in (y0, u0, m, c, k)),
@@ -493,9 +610,9 @@ def _integrate(
     else:
         kernels = _engine.integration_kernels(n_steps, scalar=False)
         status, mismatch, emax, _work, _done = kernels.integrate_store(
-            y0, u0, m, c, k, w, phase, law, h, n_steps, store_every, out_y, out_u
+            y0, u0, m, c, k, a, b, w, phase, law, h, n_steps, store_every, out_y, out_u, out_q
         )
-    return status, mismatch, emax, out_y, out_u
+    return status, mismatch, emax, out_y, out_u, out_q
 
 
 def simulate(
@@ -550,7 +667,7 @@ def simulate(
         raise ValueError(f"samples_per_period must be >= 2, got {samples_per_period}")
     coords = coordinates(modes, wheel_speed_rad_s)
     n_coord = len(coords.m)
-    law = law_vector(contact, operating_point)
+    law = law_vector(contact, operating_point, modes)
     y0, u0 = _initial_state(initial_state, n_coord)
     h = (
         choose_time_step(modes, contact, operating_point, steps_per_period, wheel_speed_rad_s)
@@ -560,7 +677,7 @@ def simulate(
     if not (math.isfinite(h) and h > 0.0):
         raise ValueError(f"step_s must be positive and finite, got {step_s!r}")
     attempts = 1 + (max_refinements if refine else 0)
-    f_max = highest_frequency_hz(modes, wheel_speed_rad_s)
+    f_max = highest_frequency_hz(modes, wheel_speed_rad_s, contact.normal_stiffness_n_m)
     for attempt in range(attempts):
         n_steps = int(math.ceil(duration / h - 1e-9))
         h_eff = duration / n_steps
@@ -577,7 +694,7 @@ def simulate(
             f_max,
             ValueError if attempt == 0 else IntegrationError,
         )
-        status, mismatch, emax, out_y, out_u = _integrate(
+        status, mismatch, emax, out_y, out_u, out_q = _integrate(
             coords, law, y0, u0, h_eff, n_steps, store_every, n_out
         )
         ok = status == 0 and mismatch <= energy_tolerance * emax + 1e-300
@@ -595,6 +712,7 @@ def simulate(
                 coords,
                 wheel_speed_rad_s,
                 mismatch,
+                out_q if contact.relaxation_length_m > 0.0 else None,
             )
         reason = (
             "non-finite state"
@@ -622,7 +740,8 @@ def simulate_reference(
     wheel_speed_rad_s: float = 0.0,
 ) -> TimeHistory:
     """Reference integration with scipy.integrate.solve_ivp (adaptive, tight tolerance),
-    the same model as :func:`simulate` (rotation included) on a Python right-hand side.
+    the same model as :func:`simulate` (rotation, the normal contact and transient
+    creep included) on a Python right-hand side.
 
     Output on a uniform grid of ``samples_per_period`` points per period of the
     highest mode (dense output). atol is 1e-14 m on displacements, 1e-10 m/s on
@@ -633,31 +752,42 @@ def simulate_reference(
     modes = as_modes(modes)
     duration = _check_duration(duration)
     coords = coordinates(modes, wheel_speed_rad_s)
-    m, c, k, w, phase = coords.m, coords.c, coords.k, coords.w, coords.phase
+    m, c, k, w, phase, a, b = coords.m, coords.c, coords.k, coords.w, coords.phase, coords.a, coords.b
     n = len(m)
-    law = tuple(law_vector(contact, operating_point).tolist())
-    force = _kernels.lateral_force  # the production path's creep law, interpreted
+    load, approach = contact.normal_load_n, contact.hertz_approach_m
+    static = static_normal_approach_m(modes, contact, operating_point)
+    tau = contact.relaxation_time_s(operating_point.rolling_speed_m_s)
+    law = tuple(law_vector(contact, operating_point, modes).tolist())
+    mu = _kernels.adhesion  # the production path's creep law, interpreted
+
+    def forces(t: float, y: np.ndarray, u: np.ndarray) -> tuple[np.ndarray, float, float]:
+        p = np.cos(w * t + phase)
+        x = 1.0 + (float((p * b) @ y) - static) / approach
+        normal = load * x**1.5 if x > 0.0 else 0.0
+        return p, normal, -mu(float((p * a) @ u), law) * normal
 
     def rhs(t, s):
-        y, u = s[:n], s[n:]
-        p = np.cos(w * t + phase)
-        q = force(float(p @ u), law)
-        return np.concatenate([u, (p * q - c * u - k * y) / m])
+        y, u = s[:n], s[n : 2 * n]
+        p, normal, q = forces(t, y, u)
+        lag = [] if tau == 0.0 else [(q - s[2 * n]) / tau]
+        q = q if tau == 0.0 else s[2 * n]
+        return np.concatenate([u, (p * (a * q - b * (normal - load)) - c * u - k * y) / m, lag])
 
     y0, u0 = _initial_state(initial_state, n)
-    f_max = highest_frequency_hz(modes, wheel_speed_rad_s)
+    f_max = highest_frequency_hz(modes, wheel_speed_rad_s, contact.normal_stiffness_n_m)
     n_out = int(math.ceil(duration * f_max * samples_per_period)) + 1
     t_eval = np.linspace(0.0, duration, n_out)
-    atol = np.concatenate([np.full(n, 1e-14), np.full(n, 1e-10)])
+    q0 = [] if tau == 0.0 else [forces(0.0, y0, u0)[2]]
+    atol = np.concatenate([np.full(n, 1e-14), np.full(n, 1e-10), np.full(len(q0), 1e-8)])
     sol = solve_ivp(
-        rhs, (0.0, duration), np.concatenate([y0, u0]), method=method, t_eval=t_eval, rtol=rtol, atol=atol
+        rhs, (0.0, duration), np.concatenate([y0, u0, q0]), method=method, t_eval=t_eval, rtol=rtol, atol=atol
     )
     if not sol.success:
         raise IntegrationError(f"solve_ivp({method}) failed: {sol.message}")
     return _history(
         sol.t,
         sol.y[:n].T.copy(),
-        sol.y[n:].T.copy(),
+        sol.y[n : 2 * n].T.copy(),
         modes,
         contact,
         operating_point,
@@ -665,4 +795,5 @@ def simulate_reference(
         method,
         coords,
         wheel_speed_rad_s,
+        lagged_force=sol.y[2 * n].copy() if tau > 0.0 else None,
     )

@@ -36,12 +36,13 @@ from __future__ import annotations
 
 import math
 from collections.abc import Iterable, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
+from typing import Literal
 
 import numpy as np
 
 from ._numerics import find_root
-from .creep import ContactLaw, adhesion_ratio_slope
+from .creep import ContactLaw, adhesion_ratio, adhesion_ratio_slope
 from .model import ModalDOF, OperatingPoint, as_modes
 
 __all__ = [
@@ -70,6 +71,55 @@ def friction_damping_ns_m(contact: ContactLaw, op: OperatingPoint) -> float:
 
 
 @dataclass(frozen=True)
+class LinearContact:
+    """The contact linearised about steady sliding at an operating point.
+
+    friction_damping_ns_m : g = (W / V0) dmu/dzeta, N s/m (falling friction: g < 0).
+    adhesion_ratio : mu0 = mu(zeta0), the lateral force per unit normal force.
+    normal_stiffness_n_m : k_H, the Hertz spring (0: a constant normal load).
+    relaxation_time_s : tau = L / V0, the creep force's lag (0: steady creep).
+    """
+
+    friction_damping_ns_m: float
+    adhesion_ratio: float = 0.0
+    normal_stiffness_n_m: float = 0.0
+    relaxation_time_s: float = 0.0
+
+    @classmethod
+    def at(cls, contact: ContactLaw, op: OperatingPoint) -> LinearContact:
+        """The contact ``contact`` linearised at ``op``."""
+        mu0 = float(adhesion_ratio(op.creepage, contact, op.rolling_speed_m_s))
+        return cls(
+            friction_damping_ns_m(contact, op),
+            mu0,
+            contact.normal_stiffness_n_m,
+            contact.relaxation_time_s(op.rolling_speed_m_s),
+        )
+
+    @classmethod
+    def of(cls, linear: LinearContact | float) -> LinearContact:
+        """``linear``, or a bare friction damping g [N s/m] as the paper's lateral contact."""
+        return linear if isinstance(linear, LinearContact) else cls(float(linear))
+
+    def couples(self, modes: Sequence[ModalDOF]) -> bool:
+        """Whether the friction's stiffness coupling mu0 k_H phi_t phi_n^T acts on ``modes``
+        (the other mechanism, mode coupling, is possible)."""
+        return (
+            self.normal_stiffness_n_m != 0.0
+            and self.adhesion_ratio != 0.0
+            and any(md.normal != 0.0 for md in modes)
+        )
+
+
+Mechanism = Literal["falling friction", "mode coupling", "both"]
+
+#: An eigenvalue's participating modes: those holding at least this share of its
+#: vibration energy (a mode-coupling pair shares it about evenly; a falling-friction
+#: eigenvalue of a mode far from the others has one at over 99 %)
+PARTNER_SHARE = 0.05
+
+
+@dataclass(frozen=True)
 class ModeStability:
     """One mode's linear stability at an operating point (see the module docstring).
 
@@ -79,12 +129,18 @@ class ModeStability:
     critical_damping_ratio : modal damping ratio above which it is stable here (0 if it
         is stable without damping).
     critical_friction_slope : dmu/dzeta at zeta0 above which it is stable here.
+    mechanism : what makes its fastest eigenvalue grow ("falling friction", "mode
+        coupling", "both"; None while it decays).
+    partners : the input indices of the modes that take part in that eigenvalue's
+        motion (:data:`PARTNER_SHARE`), this one first.
     """
 
     growth_rate_1_s: float
     damped_frequency_hz: float
     critical_damping_ratio: float
     critical_friction_slope: float
+    mechanism: Mechanism | None = None
+    partners: tuple[int, ...] = ()
 
     @property
     def unstable(self) -> bool:
@@ -99,12 +155,19 @@ class StabilityResult:
     eigenvalues : every eigenvalue of the coupled system with Im >= 0, 1/s.
     friction_damping_ns_m : g, N s/m.
     wheel_speed_rad_s : Omega (0: rotation off), rad/s.
+    shares : (modes, eigenvalues), each mode's share of each eigenvalue's vibration
+        energy.
+    mechanisms : per eigenvalue, what makes it grow (None where it decays).
+    linear : the linearised contact (:class:`LinearContact`).
     """
 
     modes: tuple[ModeStability, ...]
     eigenvalues: np.ndarray
     friction_damping_ns_m: float
     wheel_speed_rad_s: float
+    shares: np.ndarray | None = None
+    mechanisms: tuple[Mechanism | None, ...] = ()
+    linear: LinearContact | None = None
 
     @property
     def winner(self) -> int:
@@ -115,6 +178,10 @@ class StabilityResult:
     def growth_rate_1_s(self) -> float:
         """The largest growth rate of the system, 1/s."""
         return max(m.growth_rate_1_s for m in self.modes)
+
+    def ranked(self) -> list[int]:
+        """The eigenvalues' indices, fastest-growing first."""
+        return [int(j) for j in np.argsort(-self.eigenvalues.real, kind="stable")]
 
 
 # --------------------------------------------------------------------------------------
@@ -133,48 +200,79 @@ def _blocks(modes: Sequence[ModalDOF], wheel_speed_rad_s: float) -> list[tuple[i
 def _state_matrix(
     modes: Sequence[ModalDOF],
     damping: np.ndarray,
-    g: float,
+    linear: LinearContact,
     wheel_speed_rad_s: float,
     blocks: list[tuple[int, int]],
 ) -> np.ndarray:
-    """A of z' = A z, z = (q, q'), for the modes with dampings ``damping`` [N s/m]."""
+    """A of z' = A z for the modes with dampings ``damping`` [N s/m]: z = (q, q') with a
+    steady creep force, (q, q', the lagged force) with transient creep."""
     nq = sum(size for _, size in blocks)
     M, D, S = np.zeros(nq), np.zeros((nq, nq)), np.zeros((nq, nq))
     a, b, e = np.zeros(nq), np.zeros(nq), np.zeros(nq)
     for md, c, (i, size) in zip(modes, damping, blocks):
         m, k = md.mass_kg, md.stiffness_n_m
         M[i : i + size] = m
-        a[i] = b[i] = 1.0
+        a[i], b[i] = md.lateral, md.normal
         if size == 1:
             D[i, i], S[i, i] = c, k
             continue
         w = md.nodal_diameters * wheel_speed_rad_s  # n Omega
         D[i : i + 2, i : i + 2] = [[c, 2 * m * w], [-2 * m * w, c]]
         S[i : i + 2, i : i + 2] = [[k - m * w * w, c * w], [-c * w, k - m * w * w]]
-        e[i + 1] = w
-    D += g * np.outer(b, a)
-    S += g * np.outer(b, e)
-    A = np.zeros((2 * nq, 2 * nq))
-    A[:nq, nq:] = np.eye(nq)
-    A[nq:, :nq] = -S / M[:, None]
-    A[nq:, nq:] = -D / M[:, None]
+        e[i + 1] = w * md.lateral
+    g, k_h, mu0, tau = (
+        linear.friction_damping_ns_m,
+        linear.normal_stiffness_n_m,
+        linear.adhesion_ratio,
+        linear.relaxation_time_s,
+    )
+    normal = k_h != 0.0 and bool(np.any(b))
+    if normal:
+        S += k_h * np.outer(b, b)
+    if tau == 0.0:
+        D += g * np.outer(a, a)
+        S += g * np.outer(a, e)
+        if normal:
+            S += mu0 * k_h * np.outer(a, b)
+        A = np.zeros((2 * nq, 2 * nq))
+    else:
+        # the lagged force f: tau f' = -f - g (a . q' + e . q) - mu0 k_H (b . q), on q: a f
+        A = np.zeros((2 * nq + 1, 2 * nq + 1))
+        A[nq : 2 * nq, 2 * nq] = a / M
+        A[2 * nq, :nq] = -(g * e + mu0 * k_h * b) / tau
+        A[2 * nq, nq : 2 * nq] = -g * a / tau
+        A[2 * nq, 2 * nq] = -1.0 / tau
+    A[:nq, nq : 2 * nq] = np.eye(nq)
+    A[nq : 2 * nq, :nq] = -S / M[:, None]
+    A[nq : 2 * nq, nq : 2 * nq] = -D / M[:, None]
     return A
 
 
-def _mode_eigenvalues(modes, damping, g, wheel_speed_rad_s, blocks):
+def _eigen(A: np.ndarray, relaxation_time_s: float) -> tuple[np.ndarray, np.ndarray]:
+    """The eigenvalues with Im >= 0 and their eigenvectors (columns); with transient
+    creep the lag's own real eigenvalue (the one nearest -1/tau) is left out."""
+    lam, vec = np.linalg.eig(A)
+    keep = lam.imag >= 0.0
+    if relaxation_time_s > 0.0:
+        real = np.flatnonzero(lam.imag == 0.0)
+        if len(real):
+            keep[real[np.argmin(np.abs(lam[real].real + 1.0 / relaxation_time_s))]] = False
+    return lam[keep], vec[:, keep]
+
+
+def _mode_eigenvalues(modes, damping, linear, wheel_speed_rad_s, blocks):
     """Eigenvalues with Im >= 0, and for each mode the ones assigned to it."""
-    lam, assigned, _ = _eigen_shares(modes, damping, g, wheel_speed_rad_s, blocks)
+    lam, assigned, _ = _eigen_shares(modes, damping, linear, wheel_speed_rad_s, blocks)
     return lam, assigned
 
 
-def _eigen_shares(modes, damping, g, wheel_speed_rad_s, blocks):
+def _eigen_shares(modes, damping, linear, wheel_speed_rad_s, blocks):
     """:func:`_mode_eigenvalues` and each mode's share of each eigenvalue's vibration
     energy, shape (modes, eigenvalues)."""
-    A = _state_matrix(modes, damping, g, wheel_speed_rad_s, blocks)
-    lam, vec = np.linalg.eig(A)
-    keep = lam.imag >= 0.0
-    lam, vec = lam[keep], vec[:, keep]
-    nq = A.shape[0] // 2
+    linear = LinearContact.of(linear)
+    A = _state_matrix(modes, damping, linear, wheel_speed_rad_s, blocks)
+    lam, vec = _eigen(A, linear.relaxation_time_s)
+    nq = sum(size for _, size in blocks)
     q = vec[:nq]
     k = np.concatenate([[md.stiffness_n_m] * size for md, (_, size) in zip(modes, blocks)])
     m = np.concatenate([[md.mass_kg] * size for md, (_, size) in zip(modes, blocks)])
@@ -192,11 +290,44 @@ def _eigen_shares(modes, damping, g, wheel_speed_rad_s, blocks):
     return lam, assigned, share
 
 
-def growth_rates(modes, damping, g: float, wheel_speed_rad_s: float = 0.0) -> np.ndarray:
-    """sigma [1/s] of each mode for dampings ``damping`` [N s/m] and friction damping g."""
+def _mechanisms(
+    modes, damping, linear: LinearContact, wheel_speed_rad_s, blocks, lam
+) -> list[Mechanism | None]:
+    """What makes each eigenvalue of ``lam`` grow, decided by the limits: the same
+    eigenvalue (the nearest) of the system without the friction's stiffness coupling
+    (mu0 k_H -> 0: falling friction alone) and of the one without the friction damping
+    (g -> 0: mode coupling alone). Growing in exactly one of them names that mechanism;
+    in both, or only with both terms, "both". None where it decays."""
+    grows = lam.real > 0.0
+    if not np.any(grows):
+        return [None] * len(lam)
+    if not linear.couples(modes):
+        return ["falling friction" if x else None for x in grows]  # no coupling term
+    limits: tuple[tuple[Mechanism, LinearContact], ...] = (
+        ("falling friction", replace(linear, adhesion_ratio=0.0)),
+        ("mode coupling", replace(linear, friction_damping_ns_m=0.0)),
+    )
+    alone: list[tuple[Mechanism, np.ndarray]] = []
+    for name, lin in limits:
+        A = _state_matrix(modes, damping, lin, wheel_speed_rad_s, blocks)
+        alone.append((name, _eigen(A, lin.relaxation_time_s)[0]))
+    out: list[Mechanism | None] = []
+    for x, up in zip(lam, grows):
+        if not up:
+            out.append(None)
+            continue
+        names: list[Mechanism] = [name for name, ev in alone if ev[np.argmin(np.abs(ev - x))].real > 0.0]
+        out.append(names[0] if len(names) == 1 else "both")
+    return out
+
+
+def growth_rates(modes, damping, linear: LinearContact | float, wheel_speed_rad_s: float = 0.0) -> np.ndarray:
+    """sigma [1/s] of each mode for dampings ``damping`` [N s/m] and the linearised
+    contact ``linear`` (a :class:`LinearContact`, or the friction damping g [N s/m] of
+    the paper's lateral contact)."""
     modes = as_modes(modes)
     blocks = _blocks(modes, wheel_speed_rad_s)
-    lam, assigned = _mode_eigenvalues(modes, np.asarray(damping, float), g, wheel_speed_rad_s, blocks)
+    lam, assigned = _mode_eigenvalues(modes, np.asarray(damping, float), linear, wheel_speed_rad_s, blocks)
     return np.array([max((lam[j].real for j in js), default=-math.inf) for js in assigned])
 
 
@@ -244,15 +375,16 @@ def critical_damping_ratio(
     growth rate, found on the coupled eigenvalues (about half :func:`bound_solves`
     eigen-solves)."""
     modes = as_modes(modes)
-    g = friction_damping_ns_m(contact, op)
+    linear = LinearContact.at(contact, op)
     damping = np.array([md.damping_ns_m for md in modes])
     crit_c = math.sqrt(modes[i].stiffness_n_m * modes[i].mass_kg)  # c = 2 zeta crit_c
 
     def sigma_at_zeta(zeta: float) -> float:
         d = damping.copy()
         d[i] = 2.0 * zeta * crit_c
-        return float(growth_rates(modes, d, g, wheel_speed_rad_s)[i])
+        return float(growth_rates(modes, d, linear, wheel_speed_rad_s)[i])
 
+    g = linear.friction_damping_ns_m * modes[i].lateral ** 2
     zeta_sep = -g / (2.0 * crit_c)  # the separated-mode value: the first bracket
     return _decreasing_root(sigma_at_zeta, 0.0, max(2.0 * zeta_sep, 1e-6), floor=0.0)
 
@@ -263,11 +395,13 @@ def critical_friction_slope(
     """The friction slope dmu/dzeta at the quasi-static creepage above which mode ``i``
     is stable at ``op`` (a root of its growth rate, as :func:`critical_damping_ratio`)."""
     modes = as_modes(modes)
+    linear = LinearContact.at(contact, op)
     damping = np.array([md.damping_ns_m for md in modes])
     scale = contact.normal_load_n / op.rolling_speed_m_s  # g per unit of dmu/dzeta
 
     def sigma_at_slope(slope: float) -> float:
-        return float(growth_rates(modes, damping, scale * slope, wheel_speed_rad_s)[i])
+        lin = replace(linear, friction_damping_ns_m=scale * slope)
+        return float(growth_rates(modes, damping, lin, wheel_speed_rad_s)[i])
 
     slope_sep = -modes[i].damping_ns_m / scale
     width = abs(slope_sep) + 1e-3
@@ -293,10 +427,11 @@ def linear_stability(
     """
     modes = as_modes(modes)
     wanted = _bound_indices(bounds, len(modes))
-    g = friction_damping_ns_m(contact, op)
+    linear = LinearContact.at(contact, op)
     damping = np.array([md.damping_ns_m for md in modes])
     blocks = _blocks(modes, wheel_speed_rad_s)
-    lam, assigned = _mode_eigenvalues(modes, damping, g, wheel_speed_rad_s, blocks)
+    lam, assigned, share = _eigen_shares(modes, damping, linear, wheel_speed_rad_s, blocks)
+    mechanisms = _mechanisms(modes, damping, linear, wheel_speed_rad_s, blocks, lam)
     result = []
     for i in range(len(modes)):
         j = max(assigned[i], key=lambda jj: lam[jj].real)
@@ -305,8 +440,17 @@ def linear_stability(
         if i in wanted:
             zeta_crit = critical_damping_ratio(modes, contact, op, i, wheel_speed_rad_s)
             slope_crit = critical_friction_slope(modes, contact, op, i, wheel_speed_rad_s)
-        result.append(ModeStability(sigma, fd, zeta_crit, slope_crit))
-    return StabilityResult(tuple(result), lam, g, float(wheel_speed_rad_s))
+        partners = [i] + [int(k) for k in np.argsort(-share[:, j]) if k != i and share[k, j] >= PARTNER_SHARE]
+        result.append(ModeStability(sigma, fd, zeta_crit, slope_crit, mechanisms[j], tuple(partners)))
+    return StabilityResult(
+        tuple(result),
+        lam,
+        linear.friction_damping_ns_m,
+        float(wheel_speed_rad_s),
+        share,
+        tuple(mechanisms),
+        linear,
+    )
 
 
 # --------------------------------------------------------------------------------------
@@ -380,11 +524,15 @@ def stability_map(
     crabbing_velocities_m_s,
     rolling_speeds_m_s,
     rolling_radius_m: float | None = None,
+    candidates: int | None = None,
 ) -> StabilityMap:
     """Growth rate, winning mode and its frequency over crabbing velocities [m/s] x
     rolling speeds [m/s], one eigen-solve per point; ``rolling_radius_m``: the radius
-    of a turning wheel (Omega = V0 / R), None for the paper's model (no rotation)."""
+    of a turning wheel (Omega = V0 / R), None for the paper's model (no rotation);
+    ``candidates``: the winner is one of the first this many modes (default all: the
+    ones after them are the counter-body's)."""
     modes = as_modes(modes)
+    k = len(modes) if candidates is None else int(candidates)
     vcs = np.asarray(crabbing_velocities_m_s, float)
     speeds = np.asarray(rolling_speeds_m_s, float)
     omegas = _wheel_speeds(speeds, rolling_radius_m)
@@ -395,9 +543,9 @@ def stability_map(
     for j, (v0, omega) in enumerate(zip(speeds, omegas)):
         blocks = _blocks(modes, omega)
         for i, vc in enumerate(vcs):
-            g = friction_damping_ns_m(contact, OperatingPoint(float(v0), float(vc)))
-            lam, assigned = _mode_eigenvalues(modes, damping, g, omega, blocks)
-            best = [max(js, key=lambda jj: lam[jj].real) for js in assigned]
+            linear = LinearContact.at(contact, OperatingPoint(float(v0), float(vc)))
+            lam, assigned = _mode_eigenvalues(modes, damping, linear, omega, blocks)
+            best = [max(js, key=lambda jj: lam[jj].real) for js in assigned[:k]]
             w = int(np.argmax([lam[b].real for b in best]))
             winner[i, j] = w
             growth[i, j] = lam[best[w]].real
@@ -443,7 +591,7 @@ MAX_DAMPING_RATIO = 1.0
 PARTICIPATION = 0.1
 
 
-def _damping_to_stop(modes, g: float, omega: float, i: int, zeta_now: float) -> float:
+def _damping_to_stop(modes, linear: LinearContact, omega: float, i: int, zeta_now: float) -> float:
     """The damping ratio of mode ``i`` (above ``zeta_now``) at which no eigenvalue in
     whose motion it takes part (:data:`PARTICIPATION`) grows: bisection on their largest
     growth rate, after doubling to bracket it (:data:`MAX_DAMPING_RATIO` if even that
@@ -455,7 +603,7 @@ def _damping_to_stop(modes, g: float, omega: float, i: int, zeta_now: float) -> 
     def largest(zeta: float) -> float:
         d = damping.copy()
         d[i] = 2.0 * zeta * crit_c
-        lam, _, share = _eigen_shares(modes, d, g, omega, blocks)
+        lam, _, share = _eigen_shares(modes, d, linear, omega, blocks)
         return float(np.max(lam.real[share[i] >= PARTICIPATION], initial=-math.inf))
 
     lo = max(zeta_now, 1e-9)
@@ -510,8 +658,8 @@ def mitigation(
     speeds = np.asarray(rolling_speeds_m_s, float)
     omegas = dict(zip(speeds.tolist(), _wheel_speeds(speeds, rolling_radius_m).tolist()))
     points = [(float(vc), float(v0)) for vc in vcs for v0 in speeds]
-    g_at = {p: friction_damping_ns_m(contact, OperatingPoint(p[1], p[0])) for p in points}
-    worst = min(points, key=lambda p: g_at[p])
+    g_at = {p: LinearContact.at(contact, OperatingPoint(p[1], p[0])) for p in points}
+    worst = min(points, key=lambda p: g_at[p].friction_damping_ns_m)
     zeta = np.array(
         [
             critical_damping_ratio(modes, contact, OperatingPoint(worst[1], worst[0]), i, omegas[worst[1]])

@@ -24,6 +24,7 @@ from .model import (
     OperatingPoint,
     as_modes,
     choose_time_step,
+    highest_frequency_hz,
     law_vector,
     mode_arrays,
     simulate,
@@ -138,13 +139,15 @@ def sweep_points(
     if not (math.isfinite(duration) and duration > 0):
         raise ValueError(f"duration must be positive and finite (s), got {duration!r}")
     m, c, k = mode_arrays(modes)
+    a = np.array([md.lateral for md in modes])
+    b = np.array([md.normal for md in modes])
     n_cases = len(ops)
     out = {name: np.full(n_cases, np.nan) for name in ("amp", "freq", "growth", "sigma", "tsat")}
     out["squeal"] = np.zeros(n_cases, dtype=bool)
     out["saturated"] = np.zeros(n_cases, dtype=bool)
     if not n_cases:
         return out
-    laws = np.array([law_vector(contact, op) for op in ops])
+    laws = np.array([law_vector(contact, op, modes) for op in ops])
     h_nominal = np.array([choose_time_step(modes, contact, op, steps_per_period) for op in ops])
     n_steps = np.ceil(duration / h_nominal - 1e-9).astype(np.int64)
     worst = int(np.argmax(n_steps))
@@ -158,7 +161,7 @@ def sweep_points(
             f"or run the case with simulate(..., store_every=...)"
         )
     h = duration / n_steps
-    f_max = max(md.frequency_hz for md in modes)
+    f_max = highest_frequency_hz(modes, 0.0, contact.normal_stiffness_n_m)
     cap = int(duration * f_max * 2.0) + 16
     ncyc = np.zeros(n_cases, dtype=np.int64)
     status = np.zeros(n_cases, dtype=np.int64)
@@ -169,7 +172,7 @@ def sweep_points(
         hi = min(lo + chunk, n_cases)
         bufs = [np.zeros((hi - lo, cap)) for _ in range(5)]
         _engine.compiled().sweep_kernel(
-            m, c, k, laws[lo:hi], h[lo:hi], n_steps[lo:hi], cap, *bufs,
+            m, c, k, a, b, laws[lo:hi], h[lo:hi], n_steps[lo:hi], cap, *bufs,
             ncyc[lo:hi], status[lo:hi], mismatch[lo:hi], emax[lo:hi],
         )  # fmt: skip
         for i in range(lo, hi):
@@ -230,32 +233,52 @@ def squeal_points(
     *,
     first: int | None = None,
     fastest: bool = True,
+    candidates: int | None = None,
     progress: Callable[[int, int], None] | None = None,
 ) -> SquealPoints:
-    """Each mode of ``modes`` run alone from rest for ``duration`` [s] where it is the
-    candidate: mode ``first`` at every point, then (``fastest``) where it does not
-    squeal, the fastest-growing mode where one grows. The growth rates come from one
-    eigen-solve per point (:func:`reduced.stability.growth_rates`)."""
-    from .stability import friction_damping_ns_m, growth_rates
+    """Each candidate mode run from rest for ``duration`` [s] where it is the candidate:
+    mode ``first`` at every point, then (``fastest``) where it does not squeal, the
+    fastest-growing mode where one grows. A mode runs with the modes that take part in
+    its fastest eigenvalue (alone when it is isolated; its partner for mode coupling).
+    The first ``candidates`` modes (default all) can squeal; the ones after them (the
+    counter-body's) run with every candidate. The growth rates and partners come from
+    one linear analysis per point (:func:`reduced.stability.linear_stability`)."""
+    from .stability import linear_stability
 
     modes = as_modes(modes)
+    k = len(modes) if candidates is None else int(candidates)
+    extra = tuple(range(k, len(modes)))
     n = len(ops)
-    damping = [d.damping_ns_m for d in modes]
-    sigma = np.array([growth_rates(modes, damping, friction_damping_ns_m(contact, op)) for op in ops])
-    sigma = sigma.reshape(n, len(modes))
-    out = {k: np.full(n, np.nan) for k in ("amp", "freq", "tsat")}
+    results = [linear_stability(modes, contact, op) for op in ops]
+    sigma = np.array([[m.growth_rate_1_s for m in r.modes[:k]] for r in results]).reshape(n, k)
+    out = {name: np.full(n, np.nan) for name in ("amp", "freq", "tsat")}
     squeals, saturated = np.zeros(n, bool), np.zeros(n, bool)
     chosen = np.full(n, -1)
 
+    def group(i_mode: int, point: int) -> tuple[int, ...]:
+        partners = tuple(j for j in results[point].modes[i_mode].partners if j < k)
+        return (partners or (i_mode,)) + extra
+
     def run(i_mode: int, where: np.ndarray) -> np.ndarray:
-        res = sweep_points(modes[i_mode], contact, [ops[k] for k in where], duration, progress=progress)
-        keep = res["squeal"]
-        for name in ("amp", "freq", "tsat"):
-            out[name][where[keep]] = res[name][keep]
-        squeals[where[keep]] = True
-        saturated[where[keep]] = res["saturated"][keep]
-        chosen[where[keep]] = i_mode
-        return where[keep]
+        done = []
+        for together in sorted({group(i_mode, int(p)) for p in where}):
+            at = np.array([p for p in where if group(i_mode, int(p)) == together], dtype=int)
+            run_modes = [modes[j] for j in together]
+            res = sweep_points(
+                run_modes if len(run_modes) > 1 else run_modes[0],
+                contact,
+                [ops[p] for p in at],
+                duration,
+                progress=progress,
+            )
+            keep = res["squeal"]
+            for name in ("amp", "freq", "tsat"):
+                out[name][at[keep]] = res[name][keep]
+            squeals[at[keep]] = True
+            saturated[at[keep]] = res["saturated"][keep]
+            chosen[at[keep]] = i_mode
+            done.append(at[keep])
+        return np.concatenate(done) if done else np.array([], dtype=int)
 
     remaining = np.arange(n)
     if first is not None:

@@ -140,9 +140,9 @@ def test_cyclic_equals_full_3d_solve(same_mesh_pair):
 def test_cyclic_shapes_match_contact_values(same_mesh_pair):
     m, cyc, _ = same_mesh_pair
     for mode, shape in zip(cyc.modes, cyc.shapes):
-        assert shape.shape == (len(mode.contact_axial), m.n_vertices, 3)
+        assert shape.shape == (len(mode.contact_lateral), m.n_vertices, 3)
         if mode.modal_mass < math.inf:
-            np.testing.assert_allclose(shape[:, m.contact_node, 2], mode.contact_axial, rtol=1e-12)
+            np.testing.assert_allclose(shape[:, m.contact_node, 2], mode.contact_lateral, rtol=1e-12)
 
 
 def test_pair_modal_mass_is_rotation_invariant(same_mesh_pair):
@@ -150,7 +150,7 @@ def test_pair_modal_mass_is_rotation_invariant(same_mesh_pair):
     mass unchanged to round-off, while a single member varies."""
     _, cyc, _ = same_mesh_pair
     mode = next(a for a in cyc.modes if key(a) == (3, 0, "axial"))
-    pa, pb = mode.contact_axial
+    pa, pb = mode.contact_lateral
     masses, single = [], []
     for ang in np.linspace(0, math.pi, 7):
         c, s = math.cos(ang), math.sin(ang)

@@ -111,9 +111,11 @@ def test_modal_mass_positive_and_independent_of_pair_rotation(d, alpha):
             assert mass == math.inf, m  # in-plane mode of a symmetric wheel: a node
         if math.isfinite(mass):
             # the interpolated contact values are the nodal values of the shapes
-            np.testing.assert_allclose(sh[:, c, 2], m.contact_axial, rtol=1e-9, atol=1e-9 * np.abs(sh).max())
+            np.testing.assert_allclose(
+                sh[:, c, 2], m.contact_lateral, rtol=1e-9, atol=1e-9 * np.abs(sh).max()
+            )
         if m.multiplicity == 2:
-            ca, cb = m.contact_axial
+            ca, cb = m.contact_lateral
             turned = (
                 math.cos(alpha) * ca + math.sin(alpha) * cb,
                 -math.sin(alpha) * ca + math.cos(alpha) * cb,

@@ -152,7 +152,7 @@ def test_corrupt_cache_entry_is_reported_and_recomputed_identically(tmp_path, ca
     err = capsys.readouterr().err
     assert "corrupt" in err and len([ln for ln in err.splitlines() if "corrupt" in ln]) == 1
     assert [m.frequency_hz for m in again.modes] == [m.frequency_hz for m in fresh.modes]
-    assert [m.contact_axial for m in again.modes] == [m.contact_axial for m in fresh.modes]
+    assert [m.contact_lateral for m in again.modes] == [m.contact_lateral for m in fresh.modes]
     # the entry was rewritten and now loads cleanly
     third = ws.compute_modes(design, "fast", cache=cache)
     assert cache.hits[-1] == "modes"

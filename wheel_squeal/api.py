@@ -48,6 +48,7 @@ __all__ = [
     "check_modes_budget",
     "compute_modes",
     "contact_law",
+    "counter_body_dofs",
     "hertz_of",
     "explicit_dof",
     "load_design",
@@ -101,18 +102,34 @@ def shipped_designs() -> dict[str, str]:
 # the reduced model: modal parameters, contact, operating point, simulation
 # --------------------------------------------------------------------------------------
 def modal_dof(mode, design: Design):
-    """The FE mode as the reduced model's (m, k, c) at the contact point, with its
-    damping ratio (the design's ``[squeal.damping]`` for it, else ``modal_damping_ratio``)
-    and its nodal diameters (a pair, on a turning wheel)."""
+    """The FE mode as the reduced model's degree of freedom at the contact point: its
+    lateral modal mass, stiffness and damping (m, k, c) with its damping ratio (the
+    design's ``[squeal.damping]`` for it, else ``modal_damping_ratio``), its nodal
+    diameters (a pair, on a turning wheel) and how it moves the contact normally
+    (``reduced.ModalDOF.from_components``: a mode that moves it only normally takes its
+    normal modal mass)."""
     from reduced import ModalDOF
 
-    if not math.isfinite(mode.modal_mass):
+    phi_t, phi_n = mode.contact_components
+    if phi_t == 0.0 and phi_n == 0.0:
         raise RequestError(
             f"mode {mode.index} ({mode.label()}) has a node at the contact point: "
             "it cannot be excited there; pick another mode"
         )
     zeta = design.damping.ratio(mode.nodal_diameters, mode.nodal_circles)
-    return ModalDOF.from_damping_ratio(mode.modal_mass, mode.modal_stiffness, zeta, mode.nodal_diameters)
+    if phi_n == 0.0:  # the paper's lateral mode, its modal mass as the FE gives it
+        return ModalDOF.from_damping_ratio(mode.modal_mass, mode.modal_stiffness, zeta, mode.nodal_diameters)
+    lateral_mass = mode.modal_mass if math.isfinite(mode.modal_mass) else None
+    return ModalDOF.from_components(mode.frequency_hz, zeta, phi_t, phi_n, mode.nodal_diameters, lateral_mass)
+
+
+def counter_body_dofs(design: Design) -> list:
+    """The roller's modal degrees of freedom at the contact (``reduced.ModalDOF``, seen
+    with gain -1: the contact feels the wheel's motion relative to the roller's), none
+    where it is rigid ([roller] in :class:`~wheel_squeal.design.Roller`)."""
+    from reduced import counter_body
+
+    return counter_body(design.roller.modal("normal"), design.roller.modal("lateral"))
 
 
 def explicit_dof(mass_kg: float, stiffness_n_m: float, damping_ns_m: float, nodal_diameters: int = 0):
@@ -133,12 +150,15 @@ def explicit_dof(mass_kg: float, stiffness_n_m: float, damping_ns_m: float, noda
 
 
 def hertz_of(design: Design):
-    """The Hertz contact (``reduced.HertzContact``) of the design's wheel on its roller."""
+    """The Hertz contact (``reduced.HertzContact``) of the design's wheel on its roller at
+    its contact point: the wheel's radius of curvature along rolling is r / cos(angle) there
+    (``geometry.contact.ContactFrame``), across it the tread's crown."""
     from reduced import hertz_contact
 
+    frame = design.contact_frame
     return hertz_contact(
-        design.wheel.rolling_radius,
-        design.wheel.crown_radius,
+        frame.rolling_curvature_radius_m,
+        frame.crown_radius_m,
         design.roller.rolling_radius,
         design.roller.crown_radius,
         design.wheel.youngs_modulus,
@@ -168,8 +188,14 @@ def contact_law(design: Design, c22: float | str | None = None, friction_law: st
     law = c.friction_law if friction_law is None else friction_law
     if law not in FRICTION_LAWS:
         raise RequestError(f"friction law must be one of {', '.join(FRICTION_LAWS)}, got {law!r}")
+    relaxation = (c.relaxation_length or hertz.semi_axis_a_m) if c.transient_creep else 0.0
     return ContactLaw.from_hertz(
-        hertz, friction_coefficient=c.friction_coefficient, c22=c22, friction_law=law
+        hertz,
+        friction_coefficient=c.friction_coefficient,
+        c22=c22,
+        friction_law=law,
+        normal=c.normal_contact == "hertz",
+        relaxation_length_m=relaxation,
     )
 
 
@@ -199,7 +225,7 @@ def operating_point(
     v0 = (
         speed
         if speed is not None
-        else rpm_to_speed(DEFAULT_RPM if rpm is None else rpm, design.wheel.rolling_radius)
+        else rpm_to_speed(DEFAULT_RPM if rpm is None else rpm, design.rolling_radius)
     )
     if angle_of_attack is not None:
         return OperatingPoint.from_angle_of_attack(v0, angle_of_attack)

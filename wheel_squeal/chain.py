@@ -24,6 +24,7 @@ from .progress import Progress
 from .sound import Listener, mode_sound
 from .stability import (
     ModeStabilityRow,
+    contact_dofs,
     margin_of,
     multimode,
     named_mode,
@@ -245,22 +246,32 @@ class _Chain:
     def linear(self, m: Mode) -> ModeOutcome:
         """A mode's linear answer."""
         s = self.by_index[m.index].stability
-        return ModeOutcome(
-            m, s.growth_rate_1_s, s.damped_frequency_hz, wave_of(m, s.damped_frequency_hz, self.omega)
-        )
+        wave = wave_of(m, s.damped_frequency_hz, self.omega)
+        return ModeOutcome(m, s.growth_rate_1_s, s.damped_frequency_hz, wave, mechanism=s.mechanism)
+
+    def together(self, m: Mode) -> list[Mode]:
+        """The modes that take part in ``m``'s fastest eigenvalue, ``m`` first: ``m``
+        alone for an isolated mode, a coupled pair for mode coupling."""
+        partners = self.by_index[m.index].stability.partners
+        return [self.rows[k].mode for k in partners if k < len(self.rows)] or [m]
 
     def run(self, m: Mode) -> ModeOutcome:
-        """A mode's time-domain answer from rest (its linear one where not simulated)."""
+        """A mode's time-domain answer from rest (its linear one where not simulated),
+        integrated with the modes that share its fastest eigenvalue and the roller's."""
         o = self.linear(m)
         if not self.opts.simulate_modes or (not o.grows and not self.opts.simulate_stable):
             return o
-        with self.progress.stage(f"squeal model of {m.label()}"):
+        modes = self.together(m)
+        dofs = contact_dofs(modes, self.design)
+        which = m.label() + (f" with {', '.join(x.label() for x in modes[1:])}" if len(modes) > 1 else "")
+        with self.progress.stage(f"squeal model of {which}"):
             sim = simulate(
-                modal_dof(m, self.design), self.contact, self.op, self.opts.duration, self.omega, self.budget
-            )
+                dofs if len(dofs) > 1 else dofs[0],
+                self.contact, self.op, self.opts.duration, self.omega, self.budget,
+            )  # fmt: skip
         f = float(sim.limit_cycle.frequency_hz)
         wave = wave_of(m, f if math.isfinite(f) else o.damped_frequency_hz, self.omega)
-        return ModeOutcome(m, o.growth_rate_1_s, o.damped_frequency_hz, wave, sim)
+        return ModeOutcome(m, o.growth_rate_1_s, o.damped_frequency_hz, wave, sim, mechanism=o.mechanism)
 
     def heard(self, o: ModeOutcome) -> ModeOutcome:
         """The outcome with its sound (where it squeals and sound is asked for)."""
@@ -273,9 +284,7 @@ class _Chain:
                 fidelity=self.fid.name, fmax_hz=self.opts.fmax_hz, cache=self.cache, budget=self.budget,
                 memo=self.memo,
             )  # fmt: skip
-        return ModeOutcome(
-            o.mode, o.growth_rate_1_s, o.damped_frequency_hz, o.wave, o.simulation, s, o.energy_share
-        )
+        return replace(o, sound=s)
 
     def named(self) -> tuple[Mode | None, str]:
         """The mode the user or the design names, and who names it."""
@@ -302,8 +311,9 @@ class _Chain:
         base = self.linear(carrier)
         wave = wave_of(carrier, multi.content.peak_frequency_hz, self.omega)
         pick = ModeOutcome(
-            carrier, base.growth_rate_1_s, base.damped_frequency_hz, wave, multi.simulation, None, share
-        )
+            carrier, base.growth_rate_1_s, base.damped_frequency_hz, wave, multi.simulation, None, share,
+            base.mechanism,
+        )  # fmt: skip
         return multi, pick
 
     def pick_words(self, p: ModeOutcome) -> str:
@@ -313,7 +323,9 @@ class _Chain:
                 f"{p.label} carries the multi-mode limit cycle ({p.energy_share:.0%} of its energy; {n_grow})"
             )
         rate = f"{p.growth_rate_1_s:.3g} 1/s at {p.damped_frequency_hz:.1f} Hz"
-        return f"{p.label} grows fastest ({rate}; {n_grow})"
+        partners = self.together(p.mode)[1:]
+        coupled = f" with {', '.join(x.label() for x in partners)}" if partners else ""
+        return f"{p.label}{coupled} grows fastest ({rate}, {p.mechanism}; {n_grow})"
 
     def quiet(self, reason: str, **extra: Any) -> Verdict:
         """No squeal, with how far the least stable mode is from growing."""

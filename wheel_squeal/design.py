@@ -26,6 +26,7 @@ from pathlib import Path
 from typing import Any
 
 from geometry import SECTIONS, DesignError, WheelDesign
+from geometry.contact import ContactFrame, ContactPointError, contact_frame
 from geometry.design import MAX_LENGTH_M, NAME_PATTERN, NAME_RULE, toml_float
 from geometry.files import read_toml
 from reduced.creep import FRICTION_LAWS, TABLE1_C22
@@ -66,23 +67,64 @@ def _positive(owner: str, name: str, value: float, *, length: bool = False) -> N
         )
 
 
+#: The counter-body's modal degrees of freedom: per direction at the contact, its
+#: frequency [Hz], damping ratio [-] and modal mass [kg] (all three, or none: rigid).
+ROLLER_MODAL = ("frequency_hz", "damping_ratio", "modal_mass_kg")
+
+
 @dataclass(frozen=True)
 class Roller:
     """The counter-body: the upper wheel of the rig. rolling_radius: R2 [m];
-    crown_radius: its transverse radius R2t [m]."""
+    crown_radius: its transverse radius R2t [m]. Rigid and fixed unless a direction
+    gives its modal degree of freedom at the contact: ``normal_frequency_hz``,
+    ``normal_damping_ratio``, ``normal_modal_mass_kg`` (along the contact normal) and
+    the same three ``lateral_`` ones (along the lateral tangent), in series with the
+    contact."""
 
     rolling_radius: float = 0.085
     crown_radius: float = 0.040
+    normal_frequency_hz: float | None = None
+    normal_damping_ratio: float | None = None
+    normal_modal_mass_kg: float | None = None
+    lateral_frequency_hz: float | None = None
+    lateral_damping_ratio: float | None = None
+    lateral_modal_mass_kg: float | None = None
 
     def __post_init__(self) -> None:
         _positive("roller", "rolling_radius", self.rolling_radius, length=True)
         _positive("roller", "crown_radius", self.crown_radius)
+        for direction in ("normal", "lateral"):
+            given = [k for k in ROLLER_MODAL if getattr(self, f"{direction}_{k}") is not None]
+            if given and len(given) < len(ROLLER_MODAL):
+                missing = [f"{direction}_{k}" for k in ROLLER_MODAL if k not in given]
+                raise RequestError(
+                    f"[roller] a {direction} modal degree of freedom needs {', '.join(missing)} too "
+                    "(frequency, damping ratio and modal mass; none of them: rigid)"
+                )
+            for k in given:
+                value = getattr(self, f"{direction}_{k}")
+                if k == "damping_ratio":
+                    if isinstance(value, bool) or not 0.0 <= value < 1.0:
+                        raise RequestError(f"[roller] {direction}_{k} = {value!r}: a damping ratio in [0, 1)")
+                else:
+                    _positive("roller", f"{direction}_{k}", value)
+
+    def modal(self, direction: str) -> tuple[float, float, float] | None:
+        """(frequency [Hz], damping ratio, modal mass [kg]) of the roller's modal degree
+        of freedom along ``direction`` ("normal" or "lateral"), None where it is rigid."""
+        values = tuple(getattr(self, f"{direction}_{k}") for k in ROLLER_MODAL)
+        return None if values[0] is None else values
 
 
 #: The paper's friction law, the default of every design
 DEFAULT_FRICTION_LAW = "falling"
+#: How the normal force follows the contact's normal motion: "hertz" (the nonlinear
+#: Hertz spring, the default) or "constant" (the paper's fixed normal load)
+NORMAL_CONTACTS = ("hertz", "constant")
 #: The numeric fields of [contact] (a design parameter each, see :data:`FIELDS`)
 CONTACT_NUMBERS = ("normal_load", "c22", "friction_coefficient")
+#: The optional numeric fields of [contact], written and hashed only when set
+CONTACT_OPTIONAL_NUMBERS = ("contact_angle", "relaxation_length")
 
 
 @dataclass(frozen=True)
@@ -90,12 +132,20 @@ class Contact:
     """The contact of the wheel on the roller. normal_load: W [N]; c22: Kalker's creep
     coefficient C22 [-] (the paper's 3.14); friction_coefficient: mu_s = mu_0 [-];
     friction_law: a name of ``reduced.FRICTION_LAWS`` ("falling", the paper's, or
-    "constant": no falling friction)."""
+    "constant": no falling friction); contact_angle: where on the tread the contact
+    lies [rad] (``geometry.contact``: 0 the apex); normal_contact: "hertz" or
+    "constant" (:data:`NORMAL_CONTACTS`); transient_creep: the creep force lags its
+    steady value by L / V0 (False: the paper's steady law), with the relaxation length
+    L = relaxation_length [m] (0: the Hertz semi-axis a along rolling)."""
 
     normal_load: float = 1000.0
     c22: float = TABLE1_C22
     friction_coefficient: float = 0.3
     friction_law: str = DEFAULT_FRICTION_LAW
+    contact_angle: float = 0.0
+    normal_contact: str = "hertz"
+    transient_creep: bool = False
+    relaxation_length: float = 0.0
 
     def __post_init__(self) -> None:
         for name in CONTACT_NUMBERS:
@@ -105,6 +155,26 @@ class Contact:
                 f"[contact] friction_law must be one of {', '.join(map(repr, FRICTION_LAWS))}, "
                 f"got {self.friction_law!r}"
             )
+        if self.normal_contact not in NORMAL_CONTACTS:
+            raise RequestError(
+                f"[contact] normal_contact must be one of {', '.join(map(repr, NORMAL_CONTACTS))}, "
+                f"got {self.normal_contact!r}"
+            )
+        if isinstance(self.contact_angle, bool) or not math.isfinite(self.contact_angle):
+            raise RequestError(f"[contact] contact_angle must be an angle in rad, got {self.contact_angle!r}")
+        if abs(self.contact_angle) > 0.5 * math.pi:
+            raise RequestError(
+                f"[contact] contact_angle = {self.contact_angle:g} is over pi/2: it is in rad "
+                f"(write {math.radians(self.contact_angle):.4g} for {self.contact_angle:g} deg)"
+            )
+        if not isinstance(self.transient_creep, bool):
+            raise RequestError(
+                f"[contact] transient_creep must be true or false, got {self.transient_creep!r}"
+            )
+        if self.relaxation_length != 0.0:
+            _positive("contact", "relaxation_length", self.relaxation_length, length=True)
+            if not self.transient_creep:
+                raise RequestError("[contact] relaxation_length needs transient_creep = true")
 
 
 @dataclass(frozen=True)
@@ -150,12 +220,23 @@ class Squeal:
                 raise RequestError(f"[squeal] mode {self.mode!r}: use n=N[,c=C], an index or f=HZ") from None
 
 
+#: Fields hashed and written only when they differ from their default (added after the
+#: first designs: those keep their hashes and files).
+_HASHED_WHEN_SET = {
+    "friction_law",
+    "contact_angle",
+    "normal_contact",
+    "transient_creep",
+    "relaxation_length",
+    *(f"{d}_{k}" for d in ("normal", "lateral") for k in ROLLER_MODAL),
+}
+
 #: Every numeric field of a design by its flat name: (section attribute, field name).
 FIELDS: dict[str, tuple[str, str]] = {
     **{k: ("wheel", k) for keys in SECTIONS.values() for k in keys},
     "roller_rolling_radius": ("roller", "rolling_radius"),
     "roller_crown_radius": ("roller", "crown_radius"),
-    **{name: ("contact", name) for name in CONTACT_NUMBERS},
+    **{name: ("contact", name) for name in CONTACT_NUMBERS + CONTACT_OPTIONAL_NUMBERS},
     "modal_damping_ratio": ("damping", "modal_damping_ratio"),
 }
 #: The sections of the file after the wheel's, and the dataclass each is read into.
@@ -172,9 +253,27 @@ class Design:
     damping: Damping = field(default_factory=Damping)
     squeal: Squeal = field(default_factory=Squeal)
 
+    def __post_init__(self) -> None:
+        self.contact_frame  # noqa: B018 (an angle the tread cannot take is refused here)
+
     @property
     def name(self) -> str:
         return self.wheel.name
+
+    @property
+    def contact_frame(self) -> ContactFrame:
+        """Where the wheel touches the roller and the contact's frame there
+        (``geometry.contact``: the tread apex unless [contact] contact_angle moves it;
+        an outline's contact point sets its own)."""
+        try:
+            return contact_frame(self.wheel, self.contact.contact_angle)
+        except ContactPointError as exc:
+            raise RequestError(f"{self.name}: {exc}") from None
+
+    @property
+    def rolling_radius(self) -> float:
+        """The radius the contact rolls on [m] (R1 at the tread apex): rpm <-> V0."""
+        return self.contact_frame.rolling_radius_m
 
     @property
     def description(self) -> str:
@@ -187,13 +286,17 @@ class Design:
 
     def replace(self, **changes: Any) -> Design:
         """A validated copy with fields changed, by their flat names (:data:`FIELDS`), or
-        ``name``, ``description``, ``friction_law``, ``squeal_mode`` and ``mode_damping``."""
+        ``name``, ``description``, ``squeal_mode``, ``mode_damping`` and the [contact] and
+        [roller] fields that are not numbers (``friction_law``, ``normal_contact``,
+        ``transient_creep``, the roller's modal degrees of freedom)."""
         parts: dict[str, dict[str, Any]] = {}
         for name, value in changes.items():
             if name in ("name", "description"):
                 parts.setdefault("wheel", {})[name] = value
-            elif name == "friction_law":
+            elif name in ("friction_law", "normal_contact", "transient_creep"):
                 parts.setdefault("contact", {})[name] = value
+            elif name.startswith(("normal_", "lateral_")) and name.split("_", 1)[1] in ROLLER_MODAL:
+                parts.setdefault("roller", {})[name] = value
             elif name == "squeal_mode":
                 parts.setdefault("squeal", {})["mode"] = value
             elif name == "mode_damping":
@@ -209,7 +312,11 @@ class Design:
 
     def scaled(self, factor: float) -> Design:
         """The same design with every length of the wheel and the roller times ``factor``."""
-        roller = Roller(self.roller.rolling_radius * factor, self.roller.crown_radius * factor)
+        roller = dataclasses.replace(
+            self.roller,
+            rolling_radius=self.roller.rolling_radius * factor,
+            crown_radius=self.roller.crown_radius * factor,
+        )
         return dataclasses.replace(self, wheel=self.wheel.scaled(factor), roller=roller)
 
     def content_hash(self) -> str:
@@ -217,10 +324,15 @@ class Design:
         wheel's modes depend on ``wheel.content_hash("structure")`` alone)."""
 
         def values(part: str) -> dict[str, str]:
-            out = {k: repr(v) for k, v in dataclasses.asdict(getattr(self, part)).items()}
-            if out.get("friction_law") == repr(DEFAULT_FRICTION_LAW):
-                del out["friction_law"]  # the default law keeps the hashes of designs before it
-            return out
+            # a field added later is hashed only when it differs from its default, so the
+            # designs before it keep their hashes
+            obj = getattr(self, part)
+            defaults = {f.name: f.default for f in fields(obj)}
+            return {
+                k: repr(v)
+                for k, v in dataclasses.asdict(obj).items()
+                if not (k in _HASHED_WHEN_SET and v == defaults[k])
+            }
 
         payload = {"wheel": self.wheel.content_hash("all"),
                    **{p: values(p) for p in ("roller", "contact", "damping", "squeal")}}  # fmt: skip
@@ -232,6 +344,14 @@ class Design:
             **self.wheel.to_dict(),
             **{n: self.get(n) for n, (part, _) in FIELDS.items() if part != "wheel"},
             "friction_law": self.contact.friction_law,
+            "normal_contact": self.contact.normal_contact,
+            "transient_creep": self.contact.transient_creep,
+            **{
+                f"roller_{d}_{k}": getattr(self.roller, f"{d}_{k}")
+                for d in ("normal", "lateral")
+                if self.roller.modal(d)
+                for k in ROLLER_MODAL
+            },  # fmt: skip
             "squeal_mode": self.squeal.mode,
             "mode_damping": [list(x) for x in self.damping.by_mode],
         }
@@ -296,11 +416,9 @@ class Design:
         """The design file's text (round-trips through :meth:`from_toml`)."""
         lines = [self.wheel.to_toml().rstrip()]
         lines.append("\n[roller]")
-        lines += [f"{f.name} = {toml_float(getattr(self.roller, f.name))}" for f in fields(self.roller)]
+        lines += [_toml_line(self.roller, f) for f in fields(self.roller) if _written(self.roller, f)]
         lines.append("\n[contact]")
-        lines += [f"{name} = {toml_float(getattr(self.contact, name))}" for name in CONTACT_NUMBERS]
-        if self.contact.friction_law != DEFAULT_FRICTION_LAW:
-            lines.append(f"friction_law = {json.dumps(self.contact.friction_law)}")
+        lines += [_toml_line(self.contact, f) for f in fields(self.contact) if _written(self.contact, f)]
         lines.append(f"\n[damping]\nmodal_damping_ratio = {toml_float(self.damping.modal_damping_ratio)}")
         if self.squeal.mode or self.damping.by_mode:
             lines.append("\n[squeal]")
@@ -312,6 +430,19 @@ class Design:
         return "\n".join(lines) + "\n"
 
 
+def _written(obj: Any, f: dataclasses.Field) -> bool:
+    return not (f.name in _HASHED_WHEN_SET and getattr(obj, f.name) == f.default)
+
+
+def _toml_line(obj: Any, f: dataclasses.Field) -> str:
+    value = getattr(obj, f.name)
+    if isinstance(value, bool):
+        return f"{f.name} = {'true' if value else 'false'}"
+    if isinstance(value, str):
+        return f"{f.name} = {json.dumps(value)}"
+    return f"{f.name} = {toml_float(value)}"
+
+
 def _field(name: str) -> tuple[str, str]:
     try:
         return FIELDS[name]
@@ -319,7 +450,7 @@ def _field(name: str) -> tuple[str, str]:
         raise RequestError(f"{name!r} is not a design parameter; choose from {', '.join(FIELDS)}") from None
 
 
-def _section(table: Any, section: str, cls_: type, source: str) -> dict[str, float]:
+def _section(table: Any, section: str, cls_: type, source: str) -> dict[str, Any]:
     if not isinstance(table, dict):
         raise RequestError(f"{source}: [{section}] must be a table")
     allowed = {f.name for f in fields(cls_) if f.name != "by_mode"}
@@ -329,8 +460,8 @@ def _section(table: Any, section: str, cls_: type, source: str) -> dict[str, flo
             raise RequestError(
                 f"{source}: unknown key '{key}' in [{section}]; allowed: {', '.join(sorted(allowed))}"
             )
-        if cls_ is Contact and key == "friction_law":
-            out[key] = value  # a name, checked by Contact
+        if cls_ is Contact and key in ("friction_law", "normal_contact", "transient_creep"):
+            out[key] = value  # a name or a switch, checked by Contact
             continue
         if isinstance(value, bool) or not isinstance(value, int | float):
             raise RequestError(f"{source}: [{section}] {key} must be a number, got {value!r}")

@@ -14,7 +14,7 @@ import numpy as np
 
 from .design import Design
 from .presets import rpm_to_speed
-from .stability import excitable, mode_dofs
+from .stability import contact_dofs, excitable
 
 if TYPE_CHECKING:
     from fem.modes import Mode, ModeSet
@@ -25,13 +25,14 @@ __all__ = ["Envelope", "Mitigation", "envelope", "envelope_seconds", "mitigation
 
 
 def _map_inputs(
-    design: Design, modeset: ModeSet, rpms: Sequence[float] | np.ndarray, rotation: bool
+    design: Design, modeset: ModeSet, contact: ContactLaw, rpms: Sequence[float] | np.ndarray, rotation: bool
 ) -> tuple[list[Mode], list[ModalDOF], np.ndarray, float | None]:
-    """What ``reduced``'s maps take: the excitable modes, their modal parameters, the
-    rolling speeds [m/s] of ``rpms``, and the rolling radius when rotation is modelled."""
-    modes = excitable(modeset)
-    speeds = np.array([rpm_to_speed(float(r), design.wheel.rolling_radius) for r in rpms])
-    return modes, mode_dofs(modes, design), speeds, design.wheel.rolling_radius if rotation else None
+    """What ``reduced``'s maps take: the excitable modes, the degrees of freedom the
+    contact sees (theirs, then the roller's), the rolling speeds [m/s] of ``rpms``, and
+    the rolling radius when rotation is modelled."""
+    modes = excitable(modeset, contact)
+    speeds = np.array([rpm_to_speed(float(r), design.rolling_radius) for r in rpms])
+    return modes, contact_dofs(modes, design), speeds, design.rolling_radius if rotation else None
 
 
 @dataclass(frozen=True)
@@ -64,8 +65,8 @@ def envelope(
     (``reduced.stability_map``)."""
     from reduced import stability_map
 
-    modes, dofs, speeds, radius = _map_inputs(design, modeset, rpms, rotation)
-    m = stability_map(dofs, contact, crab_velocities, speeds, radius)
+    modes, dofs, speeds, radius = _map_inputs(design, modeset, contact, rpms, rotation)
+    m = stability_map(dofs, contact, crab_velocities, speeds, radius, candidates=len(modes))
     rpms = np.asarray(rpms, float)
     return Envelope(
         m.crabbing_velocities_m_s, rpms, m.growth_rate_1_s, m.winner, m.damped_frequency_hz, modes
@@ -85,7 +86,7 @@ class Mitigation:
         """JSON-ready: per mode its present and required damping ratio (and where it
         binds), the friction slope required, and whether the bounds settled."""
         r = self.result
-        to_rpm = rpm_to_speed(1.0, design.wheel.rolling_radius)
+        to_rpm = rpm_to_speed(1.0, design.rolling_radius)
         return {
             "damping": [
                 {
@@ -118,7 +119,7 @@ def mitigation(
     (``reduced.mitigation``)."""
     from reduced import mitigation as find
 
-    modes, dofs, speeds, radius = _map_inputs(design, modeset, rpms, rotation)
+    modes, dofs, speeds, radius = _map_inputs(design, modeset, contact, rpms, rotation)
     result = find(dofs, contact, crab_velocities, speeds, radius)
     return Mitigation(modes, result, np.asarray(rpms, float))
 
@@ -142,11 +143,13 @@ def mitigation_summary(
     }
 
 
-def envelope_seconds(design: Design, modeset: ModeSet, n_crab_velocities: int, n_speeds: int) -> float:
+def envelope_seconds(
+    design: Design, modeset: ModeSet, contact: ContactLaw, n_crab_velocities: int, n_speeds: int
+) -> float:
     """The estimated time of the map and both mitigations (rotation off and on) [s]."""
     from reduced.stability import eigen_solve_seconds, mitigation_seconds
 
-    dofs = mode_dofs(excitable(modeset), design)
+    dofs = contact_dofs(excitable(modeset, contact), design)
     points = n_crab_velocities * n_speeds
     return sum(
         points * eigen_solve_seconds(dofs, rot) + mitigation_seconds(dofs, n_crab_velocities, n_speeds, rot)

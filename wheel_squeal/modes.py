@@ -92,6 +92,7 @@ def modes_cache_key(design: Design | WheelDesign, fid: Fidelity, fmax_hz: float)
         "method": fid.method,
         "elements_through_web": fid.elements_through_web,
         "fmax_hz": float(fmax_hz),
+        "contact": [design.contact_frame.r_m, design.contact_frame.z_m, design.contact_frame.angle_rad],
         "code": code_version("geometry", "fem"),
         "libraries": library_versions("numpy", "scipy", "scikit-fem", "gmsh"),
     }
@@ -183,7 +184,9 @@ def compute_modes(
             design, dim=dim, order=fid.mesh_order, elements_through_web=fid.elements_through_web, cache=cache
         )
     with progress.stage(f"modes ({fid.method}, f <= {fmax_hz:g} Hz)"):
-        ms = solve_modes(design.wheel, mesh, fid.solver, order=fid.order, fmax_hz=fmax_hz)
+        ms = solve_modes(
+            design.wheel, mesh, fid.solver, order=fid.order, fmax_hz=fmax_hz, contact=design.contact_frame
+        )
     if cache is not None and ms.modes:
         # an empty band is not cached, so its warning is shown again on the next request
         cache.store("modes", key, ms.to_arrays())

@@ -112,7 +112,7 @@ def mode_surface(modeset, mode, frequency_hz: float, contact_velocity_m_s: float
     from fem.shapes import meridian_outline
 
     points, displacement = meridian_outline(modeset, mode.index)
-    v_c = abs(float(mode.contact_axial[0]))
+    v_c = abs(float(mode.contact_lateral[0]))
     if not v_c > 0:
         raise RequestError(f"mode {mode.index} ({mode.label()}) does not move the contact: it cannot squeal")
     omega = 2 * math.pi * frequency_hz

@@ -2,11 +2,14 @@
 run simulates (the operating envelope and what stops the squeal over it:
 :mod:`wheel_squeal.envelope`).
 
-Every mode below ``fmax`` that the contact can excite (a finite contact modal mass)
-enters the coupled linear model of ``reduced.stability`` with its own damping (the
-design's ``[squeal.damping]`` where it gives one). On a turning wheel (``rotation``)
-each pair with n nodal diameters becomes two travelling waves at f0 -/+ n Omega / 2 pi,
-Omega = V0 / R1.
+Every mode below ``fmax`` that the contact can excite (lateral motion at the contact,
+or normal motion where the Hertz spring makes the normal force follow it) enters the
+coupled linear model of ``reduced.stability`` with its own damping (the design's
+``[squeal.damping]`` where it gives one), beside the roller's own modes when [roller]
+gives them. On a turning wheel (``rotation``) each pair with n nodal diameters becomes
+two travelling waves at f0 -/+ n Omega / 2 pi, Omega = V0 / R. Every growing
+eigenvalue is named by its mechanism (falling friction or mode coupling) and its
+participating modes.
 """
 
 from __future__ import annotations
@@ -16,6 +19,8 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, NamedTuple
 
+import numpy as np
+
 from .design import Design
 from .errors import RequestError
 from .presets import MAX_MULTIMODE
@@ -24,7 +29,6 @@ if TYPE_CHECKING:
     from fem.modes import Mode, ModeSet
     from reduced import (
         ContactLaw,
-        ContactMode,
         ModalContent,
         ModalDOF,
         ModeStability,
@@ -37,7 +41,8 @@ if TYPE_CHECKING:
 
 __all__ = [
     "ModeChoice",
-    "contact_modes",
+    "contact_dofs",
+    "eigenvalue_list",
     "StabilityTable",
     "stability_seconds",
     "MultiMode",
@@ -49,19 +54,25 @@ __all__ = [
     "named_mode",
     "NamedMode",
     "stability_table",
-    "two_directions",
     "wheel_speed_rad_s",
 ]
 
 
 def wheel_speed_rad_s(design: Design, op: OperatingPoint, rotation: bool) -> float:
     """Omega = V0 / R1 [rad/s] when the wheel's rotation is modelled, else 0."""
-    return op.wheel_speed_rad_s(design.wheel.rolling_radius) if rotation else 0.0
+    return op.wheel_speed_rad_s(design.rolling_radius) if rotation else 0.0
 
 
-def excitable(modeset: ModeSet) -> list[Mode]:
-    """The modes the contact can excite (finite contact modal mass), in frequency order."""
-    return [m for m in modeset.modes if math.isfinite(m.modal_mass)]
+def excitable(modeset: ModeSet, contact: ContactLaw) -> list[Mode]:
+    """The modes the contact can excite, in frequency order: those that move it
+    laterally, and with the Hertz spring on (``contact.normal_stiffness_n_m`` > 0) those
+    that move it normally too."""
+    normal = contact.normal_stiffness_n_m > 0.0
+    return [
+        m
+        for m in modeset.modes
+        if m.contact_components[0] != 0.0 or (normal and m.contact_components[1] != 0.0)
+    ]
 
 
 def mode_dofs(modes: Sequence[Mode], design: Design) -> list[ModalDOF]:
@@ -71,32 +82,59 @@ def mode_dofs(modes: Sequence[Mode], design: Design) -> list[ModalDOF]:
     return [modal_dof(m, design) for m in modes]
 
 
+def contact_dofs(modes: Sequence[Mode], design: Design) -> list[ModalDOF]:
+    """Every degree of freedom the contact sees: the FE modes (first, in order), then
+    the roller's modes ([roller]; none for a rigid roller)."""
+    from .api import counter_body_dofs
+
+    return mode_dofs(modes, design) + counter_body_dofs(design)
+
+
+#: Names of the roller's degrees of freedom (after the FE modes), by their gains
+def _dof_label(modes: Sequence[Mode], dofs: Sequence[ModalDOF], i: int) -> str:
+    if i < len(modes):
+        return modes[i].label()
+    return "roller normal" if dofs[i].normal != 0.0 else "roller lateral"
+
+
 @dataclass(frozen=True)
 class ModeStabilityRow:
-    """One FE mode and its linear stability (``reduced.ModeStability``)."""
+    """One FE mode and its linear stability (``reduced.ModeStability``); partners: the
+    labels of the modes that take part in its fastest eigenvalue."""
 
     mode: Mode
     stability: ModeStability
+    partners: tuple[str, ...] = ()
 
     def to_dict(self, design: Design) -> dict:
         m, s = self.mode, self.stability
+        phi_t, phi_n = m.contact_components
         return {
             **m.to_dict(design.damping.ratio(m.nodal_diameters, m.nodal_circles)),
+            "lateral_component": phi_t,
+            "normal_component": phi_n,
             "growth_rate_1_s": s.growth_rate_1_s,
             "damped_frequency_hz": s.damped_frequency_hz,
             "critical_damping_ratio": s.critical_damping_ratio,
             "critical_friction_slope": s.critical_friction_slope,
             "unstable": bool(s.unstable),
+            "mechanism": s.mechanism,
+            "partners": list(self.partners),
         }
 
 
 class StabilityTable(NamedTuple):
     """Every excitable mode's linear stability: ``rows`` (a :class:`ModeStabilityRow`
-    each, in frequency order) and ``result`` (the ``reduced.StabilityResult``, whose
-    ``winner`` is the row that grows fastest)."""
+    each, in frequency order) and ``result`` (the ``reduced.StabilityResult`` of the
+    modes and, after them, the roller's degrees of freedom)."""
 
     rows: list[ModeStabilityRow]
     result: StabilityResult
+
+    @property
+    def fastest(self) -> int:
+        """The index of the row that grows fastest."""
+        return max(range(len(self.rows)), key=lambda i: self.rows[i].stability.growth_rate_1_s)
 
 
 def stability_table(
@@ -114,67 +152,56 @@ def stability_table(
     ``reduced.linear_stability``)."""
     from reduced import linear_stability
 
-    modes = excitable(modeset)
+    modes = excitable(modeset, contact)
     if not modes:
         raise RequestError("no mode below fmax is seen at the contact: nothing can squeal there")
     omega = wheel_speed_rad_s(design, op, rotation)
-    result = linear_stability(mode_dofs(modes, design), contact, op, omega, bounds=bounds)
-    return StabilityTable([ModeStabilityRow(m, s) for m, s in zip(modes, result.modes)], result)
+    dofs = contact_dofs(modes, design)
+    if bounds == "all":
+        bounds = range(len(modes))
+    result = linear_stability(dofs, contact, op, omega, bounds=bounds)
+    rows = [
+        ModeStabilityRow(m, s, tuple(_dof_label(modes, dofs, k) for k in s.partners))
+        for m, s in zip(modes, result.modes)
+    ]
+    return StabilityTable(rows, result)
 
 
-def stability_seconds(design: Design, modeset: ModeSet, rotation: bool = False, bounds: int = 0) -> float:
+def eigenvalue_list(table: StabilityTable, design: Design) -> list[dict]:
+    """Every eigenvalue of the table's system, fastest-growing first: its growth rate
+    [1/s], damped frequency [Hz], mechanism (None: it decays) and participating modes
+    with their shares of its vibration energy (those of at least
+    ``reduced.stability.PARTNER_SHARE``)."""
+    from reduced.stability import PARTNER_SHARE
+
+    rows, result = table
+    assert result.shares is not None  # linear_stability gives them
+    modes = [r.mode for r in rows]
+    dofs = contact_dofs(modes, design)
+    out = []
+    for j in result.ranked():
+        lam, share = result.eigenvalues[j], result.shares[:, j]
+        order = [int(k) for k in np.argsort(-share) if share[k] >= PARTNER_SHARE]
+        out.append(
+            {
+                "growth_rate_1_s": float(lam.real),
+                "damped_frequency_hz": float(abs(lam.imag)) / (2 * math.pi),
+                "mechanism": result.mechanisms[j],
+                "participants": [
+                    {"mode": _dof_label(modes, dofs, k), "share": float(share[k])} for k in order
+                ],
+            }
+        )
+    return out
+
+
+def stability_seconds(
+    design: Design, modeset: ModeSet, contact: ContactLaw, rotation: bool = False, bounds: int = 0
+) -> float:
     """The estimated time of :func:`stability_table` with ``bounds`` modes' bounds [s]."""
     from reduced.stability import stability_seconds as seconds
 
-    return seconds(mode_dofs(excitable(modeset), design), rotation, bounds)
-
-
-def contact_modes(design: Design, modeset: ModeSet) -> tuple[list[Mode], list[ContactMode]]:
-    """The modes that move the contact in either direction, and each as the contact sees
-    it (``reduced.ContactMode``: frequency, the design's damping ratio, (phi_t, phi_n))."""
-    from reduced import ContactMode
-
-    modes = [m for m in modeset.modes if any(abs(x) > 0 for x in m.contact_components)]
-    ratios = [design.damping.ratio(m.nodal_diameters, m.nodal_circles) for m in modes]
-    return modes, [ContactMode(m.frequency_hz, z, *m.contact_components) for m, z in zip(modes, ratios)]
-
-
-def two_directions(design: Design, modeset: ModeSet, contact: ContactLaw, op: OperatingPoint) -> dict:
-    """The linear stability with the contact's normal direction (``reduced.coupling``):
-    every mode seen at the contact in either direction, with its damping ratio and
-    (phi_t, phi_n) at the tread apex, on the Hertz spring of the design's contact. The
-    JSON-ready summary: k_H, and every growing eigenvalue with its tone, the nearest
-    mode and the mechanism that makes it grow."""
-    from reduced import coupled_stability
-
-    from .api import hertz_of
-
-    modes, cms = contact_modes(design, modeset)
-    k_h = hertz_of(design).normal_stiffness_n_m
-    cs = coupled_stability(cms, contact, op, k_h)
-    growing = []
-    for lam, mech, f in zip(cs.eigenvalues, cs.mechanisms, cs.frequency_hz):
-        if mech is None:
-            continue
-        near = min(modes, key=lambda m: abs(m.frequency_hz - f))
-        growing.append({"mode": near.label(), "frequency_hz": float(f), "growth_rate_1_s": float(lam.real),
-                        "mechanism": mech})  # fmt: skip
-    return {
-        "normal_stiffness_n_m": k_h,
-        "friction_law": contact.friction_law,
-        "modes_with_normal_motion": sum(_moves_normally(m) for m in modes),
-        "growing": growing,
-    }
-
-
-#: a mode moves the contact normally when phi_n is above this fraction of its larger
-#: component (below it: a symmetric wheel's meshing noise, about 2e-6)
-NORMAL_MOTION_RTOL = 1e-3
-
-
-def _moves_normally(mode: Mode) -> bool:
-    t, n = mode.contact_components
-    return abs(n) > NORMAL_MOTION_RTOL * max(abs(t), abs(n))
+    return seconds(contact_dofs(excitable(modeset, contact), design), rotation, bounds)
 
 
 def margin_of(
@@ -192,7 +219,7 @@ def margin_of(
     i = max(range(len(rows)), key=lambda k: rows[k].stability.growth_rate_1_s)
     m = rows[i].mode
     omega = wheel_speed_rad_s(design, op, rotation)
-    dofs = mode_dofs([r.mode for r in rows], design)
+    dofs = contact_dofs([r.mode for r in rows], design)
     result = linear_stability(dofs, contact, op, omega, bounds=[i])
     s = result.modes[i]
     zeta_now = design.damping.ratio(m.nodal_diameters, m.nodal_circles)
@@ -267,7 +294,8 @@ def choose_mode(
     with the largest linear growth rate at ``op``; anything else selects as
     :func:`wheel_squeal.api.pick_mode` does.
     """
-    rows, result = stability_table(design, modeset, contact, op, rotation)
+    table = stability_table(design, modeset, contact, op, rotation)
+    rows = table.rows
     named = named_mode(design, modeset, mode)
     if named.mode is not None and mode != "auto":
         chosen, why = named.mode, named.reason
@@ -275,7 +303,7 @@ def choose_mode(
         chosen = named.mode
         why = f"the mode {design.name} names as its squeal mode ({design.squeal.mode}): {named.reason}"
     else:
-        row = rows[result.winner]
+        row = rows[table.fastest]
         chosen = row.mode
         why = (
             f"largest linear growth rate at this operating point, {row.stability.growth_rate_1_s:.3g} 1/s"
@@ -300,8 +328,9 @@ class MultiMode:
 
     @property
     def carrier(self) -> Mode:
-        """The FE mode that carries the limit cycle (most of the vibration energy)."""
-        return self.modes[self.content.carrier]
+        """The FE mode that carries the limit cycle (most of the vibration energy; the
+        roller's degrees of freedom, after the modes, are not candidates)."""
+        return self.modes[int(np.argmax(self.content.energy_share[: len(self.modes)]))]
 
     @property
     def agrees(self) -> bool:
@@ -312,7 +341,8 @@ class MultiMode:
         c = self.content
         return {
             "mode_indices": [m.index for m in self.modes],
-            "energy_share": {m.label(): float(s) for m, s in zip(self.modes, c.energy_share)},
+            "energy_share": {m.label(): float(s) for m, s in zip(self.modes, c.energy_share)}
+            | {f"roller {i}": float(s) for i, s in enumerate(c.energy_share[len(self.modes) :])},
             "carrier_mode": self.carrier.index,
             "carrier": self.carrier.label(),
             "peak_frequency_hz": c.peak_frequency_hz,
@@ -344,6 +374,6 @@ def multimode(
     ranked = sorted(rows, key=lambda r: -r.stability.growth_rate_1_s)
     chosen = [r.mode for r in ranked if r.stability.unstable][:count] or [ranked[0].mode]
     sim = simulate(
-        mode_dofs(chosen, design), contact, op, duration, wheel_speed_rad_s(design, op, rotation), budget
+        contact_dofs(chosen, design), contact, op, duration, wheel_speed_rad_s(design, op, rotation), budget
     )
     return MultiMode(chosen, sim, modal_content(sim.history), ranked[0].mode)

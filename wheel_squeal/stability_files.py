@@ -157,17 +157,23 @@ def multimode_text(multi) -> str:
     )
 
 
-def two_directions_text(s: dict) -> str:
-    """One line: what grows when the contact's normal direction is included."""
-    k_h, law, coupled = s["normal_stiffness_n_m"], s["friction_law"], s["modes_with_normal_motion"]
-    head = (
-        f"with the normal contact (k_H = {k_h:.3g} N/m, {law} friction; {coupled} modes move it normally): "
-    )
-    if not s["growing"]:
-        return head + "nothing grows"
-    parts = [f"{g['mode']} at {g['frequency_hz']:.1f} Hz by {g['mechanism']}" for g in s["growing"][:4]]
-    more = f" and {len(s['growing']) - 4} more" if len(s["growing"]) > 4 else ""
-    return head + f"{len(s['growing'])} grow: " + ", ".join(parts) + more
+def eigenvalues_text(eigenvalues: list[dict], contact: dict) -> str:
+    """The growing eigenvalues: tone, growth rate, mechanism and the modes that take part."""
+    k_h = contact["normal_stiffness_n_m"]
+    normal = f"Hertz normal spring {k_h:.3g} N/m" if k_h else "constant normal load"
+    angle = contact["contact_angle_deg"]
+    head = f"with {contact['friction_law']} friction, {normal}, contact angle {angle:.3g} deg: "
+    growing = [e for e in eigenvalues if e["mechanism"] is not None]
+    if not growing:
+        return head + "no eigenvalue grows"
+    lines = [head + f"{len(growing)} eigenvalue(s) grow"]
+    for e in growing[:6]:
+        who = " + ".join(f"{p['mode']} {p['share']:.0%}" for p in e["participants"][:3])
+        f, sigma = e["damped_frequency_hz"], e["growth_rate_1_s"]
+        lines.append(f"  {f:8.1f} Hz  {sigma:9.3g} 1/s  {e['mechanism']:<16}  {who}")
+    if len(growing) > 6:
+        lines.append(f"  and {len(growing) - 6} more")
+    return "\n".join(lines)
 
 
 def mitigation_text(mitigation: dict) -> str:

@@ -82,7 +82,7 @@ def sweep_verdicts(
     from reduced import OperatingPoint
     from reduced.sweep import squeal_points
 
-    from .stability import excitable, mode_dofs, named_mode
+    from .stability import contact_dofs, excitable, named_mode
 
     progress = progress or Progress(quiet=True)
     budget = budget or Budget.from_environment()
@@ -92,7 +92,7 @@ def sweep_verdicts(
         raise RequestError("crabbing velocities must be finite and wheel speeds positive")
     if not (math.isfinite(duration) and duration > 0):
         raise RequestError(f"duration must be positive, got {duration:g}")
-    speeds = np.array([rpm_to_speed(r, design.wheel.rolling_radius) for r in rpms])
+    speeds = np.array([rpm_to_speed(r, design.rolling_radius) for r in rpms])
     shape = (len(vcs), len(rpms))
     n_points = shape[0] * shape[1]
     modes: list[Mode] = []
@@ -102,10 +102,10 @@ def sweep_verdicts(
     else:
         if modeset is None:
             raise TypeError("sweep_verdicts needs the FE modes (modeset) or one mode (dof)")
-        modes = excitable(modeset)
+        modes = excitable(modeset, contact)
         if not modes:
             raise RequestError("no mode below fmax is seen at the contact: nothing can squeal there")
-        dofs = mode_dofs(modes, design)
+        dofs = contact_dofs(modes, design)
         first = named_mode(design, modeset, mode).mode
         named_i = next((k for k, m in enumerate(modes) if first and m.index == first.index), None)
         named = first.label() if first is not None else ""
@@ -113,7 +113,10 @@ def sweep_verdicts(
     seconds = _check_cost(dofs, contact, vcs, speeds, duration, runs, budget)
     report = progress.counter("sweep", "cases") if seconds > 2.0 else None
     ops = [OperatingPoint(float(v0), float(vc)) for vc in vcs for v0 in speeds]
-    pts = squeal_points(dofs, contact, ops, duration, first=named_i, fastest=dof is None, progress=report)
+    pts = squeal_points(
+        dofs, contact, ops, duration, first=named_i, fastest=dof is None, candidates=len(modes) or None,
+        progress=report,
+    )  # fmt: skip
     chosen = pts.mode
     if dof is None:
         label = np.array([modes[k].label() if k >= 0 else "" for k in chosen], dtype=object)

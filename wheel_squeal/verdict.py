@@ -63,7 +63,9 @@ class ModeOutcome:
 
     growth_rate_1_s : the linear growth rate, 1/s. damped_frequency_hz : the linear
     frequency at the contact, Hz. wave : see :func:`wave_of`. energy_share : its share of
-    a multi-mode limit cycle's vibration energy (None: simulated alone).
+    a multi-mode limit cycle's vibration energy (None: simulated alone). mechanism : what
+    makes its eigenvalue grow ("falling friction", "mode coupling", "both"; None while
+    it decays).
     """
 
     mode: Mode
@@ -73,6 +75,7 @@ class ModeOutcome:
     simulation: Simulation | None = None
     sound: Sound | None = None
     energy_share: float | None = None
+    mechanism: str | None = None
 
     @property
     def label(self) -> str:
@@ -131,6 +134,7 @@ class ModeOutcome:
             "tone_hz": finite_or_none(self.tone_hz),
             "wave": self.wave,
             "growth_rate_1_s": finite_or_none(self.growth_rate_1_s),
+            "mechanism": self.mechanism,
             "amplitude_m_s": self.amplitude_m_s,
             "saturated": self.saturated,
             **self.levels(),
@@ -170,6 +174,7 @@ class Verdict:
             "tone_hz": finite_or_none(o.tone_hz) if o else None,
             "wave": o.wave if o else None,
             "growth_rate_1_s": finite_or_none(o.growth_rate_1_s) if o else None,
+            "mechanism": o.mechanism if o else None,
             "amplitude_m_s": o.amplitude_m_s if o else None,
             "saturated": o.saturated if o else False,
             **(o.levels() if o else {"spl_db": None, "sound_power_level_db": None}),
@@ -201,7 +206,8 @@ class Verdict:
             f", {o.amplitude_m_s:.4g} m/s at the contact ({state})" if o.amplitude_m_s is not None else ""
         )
         wave = f", its {o.wave} wave" if o.wave != "standing" else ""
+        by = f" by {o.mechanism}" if o.mechanism else ""
         return [
-            f"VERDICT: squeals in {o.label} at {o.tone_hz:.1f} Hz{wave}{amplitude}{level}",
+            f"VERDICT: squeals in {o.label}{by} at {o.tone_hz:.1f} Hz{wave}{amplitude}{level}",
             f"  why: {self.reason}",
         ]

@@ -11,6 +11,7 @@ import math
 from pathlib import Path
 
 from .design import Design
+from .outputs import finite_or_none
 from .plotting import PlotWorkers
 from .presets import Fidelity, rpm_to_speed
 
@@ -63,10 +64,27 @@ def operating_point_summary(op, design: Design) -> dict:
     """The operating point (SI units, and the wheel speed in rev/min)."""
     return {
         "rolling_speed_m_s": op.rolling_speed_m_s,
-        "rpm": op.rolling_speed_m_s / rpm_to_speed(1.0, design.wheel.rolling_radius),
+        "rpm": op.rolling_speed_m_s / rpm_to_speed(1.0, design.rolling_radius),
         "crabbing_velocity_m_s": op.crabbing_velocity_m_s,
         "creepage": op.creepage,
-        "wheel_speed_rad_s": op.wheel_speed_rad_s(design.wheel.rolling_radius),
+        "wheel_speed_rad_s": op.wheel_speed_rad_s(design.rolling_radius),
+    }
+
+
+def contact_summary(design: Design, contact, op) -> dict:
+    """The contact as the stability sees it: its point and angle, the friction law, the
+    normal spring, transient creep and the roller's modes (SI units)."""
+    frame = design.contact_frame
+    return {
+        **frame.to_dict(),
+        "friction_law": contact.friction_law,
+        "normal_contact": design.contact.normal_contact,
+        "normal_stiffness_n_m": contact.normal_stiffness_n_m,
+        "hertz_approach_m": finite_or_none(contact.hertz_approach_m),
+        "relaxation_length_m": contact.relaxation_length_m,
+        "relaxation_time_s": contact.relaxation_time_s(op.rolling_speed_m_s),
+        "roller_normal": design.roller.modal("normal"),
+        "roller_lateral": design.roller.modal("lateral"),
     }
 
 
@@ -92,7 +110,7 @@ def modes_table(modes, design: Design, selected=None) -> str:
 def analysis_header(a) -> str:
     """One line: the design, the preset, how many modes grow at the operating point."""
     op = a.operating_point
-    rpm = op.rolling_speed_m_s / rpm_to_speed(1.0, a.design.wheel.rolling_radius)
+    rpm = op.rolling_speed_m_s / rpm_to_speed(1.0, a.design.rolling_radius)
     grow = sum(r.stability.unstable for r in a.rows)
     preset = f"{a.fidelity.name} preset{', rotating' if a.rotation else ''}"
     return (

@@ -140,5 +140,5 @@ def speeds_or_rpm(args, design: Design) -> list[float]:
             raise RequestError("give --rpm or --speed, not both")
         if min(args.speed) <= 0:
             raise RequestError("--speed: rolling speeds must be positive")
-        return [v / rpm_to_speed(1.0, design.wheel.rolling_radius) for v in args.speed]
+        return [v / rpm_to_speed(1.0, design.rolling_radius) for v in args.speed]
     return list(args.rpm) if args.rpm is not None else list(DEFAULT_SPEEDS_RPM)

@@ -15,7 +15,7 @@ from ..plotting import PlotWorkers
 from ..presets import DEFAULT_ENVELOPE_CRAB_VELOCITIES, DEFAULT_SPEEDS_RPM
 from ..progress import Progress
 from ..sound_files import sound_text
-from ..stability import excitable, stability_seconds, stability_table, two_directions, wheel_speed_rad_s
+from ..stability import eigenvalue_list, excitable, stability_seconds, stability_table, wheel_speed_rad_s
 from .arguments import grid_axis
 from .common import (
     analysis_of,
@@ -220,24 +220,25 @@ def cmd_stability(args) -> int:
         budget = budget_of(args)
         cache = cache_of(args)
         fid, ms = modes_of(args, design, progress, cache)
-        n = len(excitable(ms))
+        n = len(excitable(ms, contact))
         bounds = None if args.no_bounds else "all"
         seconds = budget.check_work(
             f"the critical damping and friction slope of {n} modes",
-            stability_seconds(design, ms, args.rotation, 0 if bounds is None else n),
+            stability_seconds(design, ms, contact, args.rotation, 0 if bounds is None else n),
             "lower --fmax, or give --no-bounds for the growth rates alone",
         )
         if axes is not None:
             budget.check_work(
                 f"the stability envelope ({len(axes[0])} x {len(axes[1])} points, {n} modes) and its "
                 "mitigation",
-                envelope_seconds(design, ms, len(axes[0]), len(axes[1])),
+                envelope_seconds(design, ms, contact, len(axes[0]), len(axes[1])),
                 "use fewer --envelope-crab-velocity points or a lower --fmax",
             )
         with progress.stage(
             f"linear stability of {n} modes" + (f" (about {seconds:.2g} s)" if seconds > 2 else "")
         ):
-            rows, result = stability_table(design, ms, contact, op, args.rotation, bounds=bounds)
+            stab = stability_table(design, ms, contact, op, args.rotation, bounds=bounds)
+        rows, result = stab
         table = [r.to_dict(design) for r in rows]
         with progress.stage("verdict"):
             a = analysis_of(args, design, progress, cache, modes=ms)
@@ -248,10 +249,11 @@ def cmd_stability(args) -> int:
             "solver": ms.solver,
             "rotation": bool(args.rotation),
             "operating_point": writers.operating_point_summary(op, design),
+            "contact": writers.contact_summary(design, contact, op),
             "friction_damping_ns_m": result.friction_damping_ns_m,
             "modes": table,
-            "winner": table[result.winner],
-            "two_directions": two_directions(design, ms, contact, op),
+            "winner": table[stab.fastest],
+            "eigenvalues": eigenvalue_list(stab, design),
         }
         if axes is not None:
             vcs, rpms = axes
@@ -262,8 +264,8 @@ def cmd_stability(args) -> int:
             stability_files.write_envelope_csv(tmp / "stability.csv", env)
             stability_files.write_envelope_plot(tmp / "stability.png", env)
         write_json(tmp / "summary.json", summary)
-    print(stability_files.stability_text(rows, result.winner))
-    print(stability_files.two_directions_text(summary["two_directions"]))
+    print(stability_files.stability_text(rows, stab.fastest))
+    print(stability_files.eigenvalues_text(summary["eigenvalues"], summary["contact"]))
     if axes is not None:
         print(stability_files.mitigation_text(summary["mitigation"]))
     print("\n".join(a.verdict.lines()))

@@ -120,7 +120,9 @@ class FERung:
         solver, order, mesh_order = parse_method(self.method)
         mesher = mesh_wheel if SOLVERS[solver].mesh_dim == 3 else mesh_profile
         mesh = mesher(design.wheel, elements_through_web=self.etw, order=mesh_order)
-        return solve_modes(design.wheel, mesh, solver, order=order, fmax_hz=DEFAULT_FMAX_HZ)
+        return solve_modes(
+            design.wheel, mesh, solver, order=order, fmax_hz=DEFAULT_FMAX_HZ, contact=design.contact_frame
+        )
 
 
 def _fe_job(design, rung: FERung, mode: str) -> Callable[[], dict]:

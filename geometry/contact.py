@@ -1,0 +1,132 @@
+"""Where the wheel touches its counter-body: the contact point on the tread and the
+contact frame there.
+
+In the meridian plane (r, z) at angle 0 the contact point P carries the unit normal
+``n = (cos g, sin g)``, out of the wheel towards the counter-body, at the *contact
+angle* g from the radial direction, and the lateral tangent ``t = (-sin g, cos g)``
+(axial at g = 0); rolling is circumferential. A parametric wheel's tread is a crown
+arc of radius R1t about (R1 - R1t, 0): a contact angle g puts P where that arc's
+normal makes the angle g, ``(R1 - R1t (1 - cos g), R1t sin g)``, as far as the arc
+reaches across the rim. An outline names its contact point, and its own outward normal
+there sets the angle. Beyond :data:`geometry.outline.MAX_CONTACT_ANGLE_DEG` lies flange
+contact, a different regime.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
+from .outline import MAX_CONTACT_ANGLE_DEG
+
+if TYPE_CHECKING:
+    from .design import WheelDesign
+
+__all__ = ["ContactFrame", "ContactPointError", "contact_frame", "largest_contact_angle_rad"]
+
+#: Angles below this [rad] are the apex's exactly (an outline's normal computed as
+#: (1, 1e-17) must not tilt the frame by rounding).
+ZERO_ANGLE_RAD = 1e-12
+#: The contact stays this fraction of the crown arc's reach inside the tread's edge
+#: (a contact on the rim's corner has no single normal).
+EDGE_MARGIN = 0.999
+
+
+class ContactPointError(ValueError):
+    """A contact angle the wheel's tread cannot take; the message names the limit."""
+
+
+@dataclass(frozen=True)
+class ContactFrame:
+    """The contact point and its frame (see the module docstring).
+
+    r_m, z_m : the point P in the meridian plane, m. angle_rad : the contact angle g,
+    rad (positive: the normal leans towards +z). crown_radius_m : the tread's transverse
+    radius at P, m (inf on a straight tread).
+    """
+
+    r_m: float
+    z_m: float
+    angle_rad: float = 0.0
+    crown_radius_m: float = math.inf
+
+    @property
+    def normal(self) -> tuple[float, float]:
+        """n = (n_r, n_z), out of the wheel."""
+        return math.cos(self.angle_rad), math.sin(self.angle_rad)
+
+    @property
+    def tangent(self) -> tuple[float, float]:
+        """t = (t_r, t_z), the lateral direction (axial at angle 0)."""
+        return -math.sin(self.angle_rad), math.cos(self.angle_rad)
+
+    @property
+    def rolling_radius_m(self) -> float:
+        """The radius P rolls on [m] (V0 = Omega r)."""
+        return self.r_m
+
+    @property
+    def rolling_curvature_radius_m(self) -> float:
+        """The tread's radius of curvature in the rolling direction at P, r / cos(g) [m]
+        (Meusnier: the circumferential normal section of a surface of revolution)."""
+        return self.r_m / math.cos(self.angle_rad)
+
+    def components(self, u_r, u_z):
+        """(u_t, u_n): a displacement (u_r, u_z) along the tangent and the normal (arrays
+        or numbers; at angle 0 exactly (u_z, u_r))."""
+        (t_r, t_z), (n_r, n_z) = self.tangent, self.normal
+        return t_z * u_z + t_r * u_r, n_r * u_r + n_z * u_z
+
+    def to_dict(self) -> dict:
+        return {
+            "r_m": self.r_m,
+            "z_m": self.z_m,
+            "contact_angle_rad": self.angle_rad,
+            "contact_angle_deg": math.degrees(self.angle_rad),
+            "crown_radius_m": self.crown_radius_m if math.isfinite(self.crown_radius_m) else None,
+        }
+
+
+def largest_contact_angle_rad(wheel: WheelDesign) -> float:
+    """The largest contact angle [rad] a parametric wheel's crown arc reaches on its
+    tread (inside its edge), and no more than the model's limit."""
+    reach = math.asin(min(1.0, wheel.rim_width / 2 / wheel.crown_radius)) * EDGE_MARGIN
+    return min(reach, math.radians(MAX_CONTACT_ANGLE_DEG))
+
+
+def contact_frame(wheel: WheelDesign, contact_angle_rad: float = 0.0) -> ContactFrame:
+    """The contact frame of ``wheel`` at ``contact_angle_rad`` [rad] (parametric wheels;
+    an outline's contact point sets its own angle, so it takes 0 here). Raises
+    :class:`ContactPointError` for an angle the tread cannot take."""
+    g = float(contact_angle_rad)
+    if not math.isfinite(g):
+        raise ContactPointError(f"contact_angle must be a finite angle in rad, got {g!r}")
+    if wheel.profile is not None:
+        o = wheel.profile
+        if abs(g) > ZERO_ANGLE_RAD:
+            n_r, n_z = o.contact_normal()
+            own = math.degrees(math.atan2(n_z, n_r))
+            raise ContactPointError(
+                f"contact_angle: an outline's contact point sets its own angle (here {own:.3g} deg); "
+                "move [profile] contact instead"
+            )
+        n_r, n_z = o.contact_normal()
+        angle = math.atan2(n_z, n_r)
+        angle = 0.0 if abs(angle) < ZERO_ANGLE_RAD else angle
+        return ContactFrame(o.contact[0], o.contact[1], angle, o.contact_crown_radius())
+    if abs(g) < ZERO_ANGLE_RAD:
+        return ContactFrame(wheel.rolling_radius, 0.0, 0.0, wheel.crown_radius)
+    top = largest_contact_angle_rad(wheel)
+    if abs(g) > top:
+        why = (
+            f"the model's limit (beyond {MAX_CONTACT_ANGLE_DEG:g} deg: flange contact)"
+            if top >= math.radians(MAX_CONTACT_ANGLE_DEG)
+            else f"the reach of its {wheel.crown_radius:g} m crown across the {wheel.rim_width:g} m rim"
+        )
+        raise ContactPointError(
+            f"contact_angle {math.degrees(g):.3g} deg is off the tread: at most {math.degrees(top):.3g} deg, "
+            f"{why}; a smaller crown_radius or an outline reaches further"
+        )
+    rt = wheel.crown_radius
+    return ContactFrame(wheel.rolling_radius - rt * (1.0 - math.cos(g)), rt * math.sin(g), g, rt)
