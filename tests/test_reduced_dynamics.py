@@ -156,7 +156,8 @@ def test_n_mode_kernel_with_one_mode_equals_paper_model(law, op_fig6):
     ya, ua = np.empty((n + 1, 1)), np.empty((n + 1, 1))
     yb, ub = np.empty(n + 1), np.empty(n + 1)
     compiled = _engine.compiled()
-    compiled.integrate_store(np.zeros(1), np.zeros(1), m, c, k, np.zeros(1), np.zeros(1), lv, h, n, 1, ya, ua)
+    z1, o1 = np.zeros(1), np.ones(1)
+    compiled.integrate_store(z1, z1, m, c, k, o1, z1, z1, z1, lv, h, n, 1, ya, ua, np.empty(n + 1))
     compiled.integrate_store_1(0.0, 0.0, 3.1, 42.0, 1.6e8, lv, h, n, 1, yb, ub)
     np.testing.assert_allclose(ua[:, 0], ub, rtol=1e-12, atol=1e-15)
 
@@ -189,7 +190,9 @@ def test_interpreted_and_compiled_kernels_give_the_same_bits(law, op_fig6):
     for kernels in (_kernels, compiled):
         y, u = np.empty((1001, 2)), np.empty((1001, 2))
         z = np.full(2, 1e-6)
-        rotating.append((kernels.integrate_store(z, z, m, c, k, w, phase, lv_array, h, 1000, 1, y, u), u))
+        ones, zeros, q = np.ones(2), np.zeros(2), np.empty(1001)
+        status = kernels.integrate_store(z, z, m, c, k, ones, zeros, w, phase, lv_array, h, 1000, 1, y, u, q)
+        rotating.append((status, u))
     assert rotating[0][0] == rotating[1][0]
     np.testing.assert_array_equal(rotating[0][1], rotating[1][1])
 

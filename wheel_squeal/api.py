@@ -126,7 +126,7 @@ def modal_dof(mode, design: Design):
 def counter_body_dofs(design: Design) -> list:
     """The roller's modal degrees of freedom at the contact (``reduced.ModalDOF``, seen
     with gain -1: the contact feels the wheel's motion relative to the roller's), none
-    where it is rigid ([roller] in :class:`~wheel_squeal.design.Roller`)."""
+    where it is rigid ([roller] in :class:`~wheel_squeal.sections.Roller`)."""
     from reduced import counter_body
 
     return counter_body(design.roller.modal("normal"), design.roller.modal("lateral"))

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -29,8 +30,18 @@ __all__ = [
 ]
 
 
-def design_of(args) -> Design:
-    return api.load_design(args.design)
+def design_of(args, path=None) -> Design:
+    """The design of ``--design`` (or ``path``) with the command's [contact] overrides
+    (``--contact-angle`` in degrees, ``--normal-contact``, ``--transient-creep``)."""
+    design = api.load_design(args.design if path is None else path)
+    changes: dict = {}
+    if getattr(args, "contact_angle", None) is not None:
+        changes["contact_angle"] = math.radians(args.contact_angle)
+    if getattr(args, "normal_contact", None) is not None:
+        changes["normal_contact"] = args.normal_contact
+    if getattr(args, "transient_creep", False):
+        changes["transient_creep"] = True
+    return design.replace(**changes) if changes else design
 
 
 def cache_of(args) -> StageCache:

@@ -19,6 +19,7 @@ from ..presets import (
     DEFAULT_RPM,
     FIDELITIES,
 )
+from ..sections import NORMAL_CONTACTS
 from .arguments import c22_value, finite, grid_axis, non_negative, positive
 
 __all__ = [
@@ -32,6 +33,7 @@ __all__ = [
     "add_rotation",
     "add_microphone",
     "add_modal",
+    "add_contact",
     "add_friction_law",
 ]
 
@@ -143,6 +145,30 @@ def add_operating(p: argparse.ArgumentParser, speed: bool = True, duration: bool
         "--c22", type=c22_value, help="creep coefficient C22: a number or 'kalker' (default: the design's)"
     )
     add_friction_law(p)
+    add_contact(p)
+
+
+def add_contact(p: argparse.ArgumentParser) -> None:
+    """Where and how the wheel touches the roller (each overrides the design's [contact])."""
+    p.add_argument(
+        "--contact-angle",
+        type=finite,
+        metavar="DEG",
+        help="move the contact along the tread's crown to this contact angle [deg] (the design "
+        "file's contact_angle is in rad; default: the design's)",
+    )
+    p.add_argument(
+        "--normal-contact",
+        choices=list(NORMAL_CONTACTS),
+        help="'hertz' (the normal force follows the contact's normal motion) or 'constant' (the "
+        "paper's fixed normal load); default: the design's [contact] normal_contact",
+    )
+    p.add_argument(
+        "--transient-creep",
+        action="store_true",
+        help="the creep force lags its steady value by L / V0 (L: the Hertz semi-axis along "
+        "rolling, or the design's relaxation_length); default: the paper's steady law",
+    )
 
 
 def add_rotation(p: argparse.ArgumentParser) -> None:

@@ -25,6 +25,7 @@ from .options import (
     add_budget,
     add_cache,
     add_common,
+    add_contact,
     add_fe,
     add_friction_law,
     add_microphone,
@@ -149,6 +150,7 @@ def _add_sweep_command(sub: argparse._SubParsersAction) -> None:
     )
     p.add_argument("--c22", type=c22_value, help="C22 or 'kalker'")
     add_friction_law(p)
+    add_contact(p)
     p.add_argument("--sound", action="store_true", help="also the SPL at the microphone (Fig. 5 in dB)")
     add_microphone(p)
 

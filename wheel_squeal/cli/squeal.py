@@ -158,7 +158,7 @@ def cmd_compare(args) -> int:
     designs = []
     for path in args.designs:
         try:
-            designs.append(api.load_design(path))
+            designs.append(design_of(args, path))
         except RequestError as exc:
             raise RequestError(f"design {path}: {exc}") from None
     if len({d.name for d in designs}) != len(designs):
