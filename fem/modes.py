@@ -79,6 +79,8 @@ class Mode:
         apex, ``geometry.contact``); its squares sum to 1 / modal mass.
     contact_normal: displacement there along the contact normal n (radial at the
         apex), member by member [m / sqrt(kg)] (empty: not computed).
+    name: a label of its own (a measured mode's), instead of "(n,c) family".
+    damping_ratio: its own modal damping ratio (a modal test's), None: the design's.
     """
 
     index: int
@@ -88,6 +90,8 @@ class Mode:
     family: str
     contact_lateral: tuple[float, ...]
     contact_normal: tuple[float, ...] = ()
+    name: str = ""
+    damping_ratio: float | None = None
 
     @property
     def omega(self) -> float:
@@ -118,7 +122,7 @@ class Mode:
         return modal_damping(self.modal_mass, self.modal_stiffness, damping_ratio)
 
     def label(self) -> str:
-        return f"({self.nodal_diameters},{self.nodal_circles}) {self.family}"
+        return self.name or f"({self.nodal_diameters},{self.nodal_circles}) {self.family}"
 
     @property
     def contact_components(self) -> tuple[float, float]:

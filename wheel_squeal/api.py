@@ -116,7 +116,7 @@ def modal_dof(mode, design: Design):
             f"mode {mode.index} ({mode.label()}) has a node at the contact point: "
             "it cannot be excited there; pick another mode"
         )
-    zeta = design.damping.ratio(mode.nodal_diameters, mode.nodal_circles)
+    zeta = design.damping_ratio_of(mode)
     if phi_n == 0.0:  # the paper's lateral mode, its modal mass as the FE gives it
         return ModalDOF.from_damping_ratio(mode.modal_mass, mode.modal_stiffness, zeta, mode.nodal_diameters)
     lateral_mass = mode.modal_mass if math.isfinite(mode.modal_mass) else None

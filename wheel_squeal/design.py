@@ -22,7 +22,7 @@ import json
 import warnings
 from dataclasses import dataclass, field, fields
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from geometry import SECTIONS, DesignError, WheelDesign
 from geometry.contact import ContactFrame, ContactPointError, contact_frame
@@ -40,6 +40,9 @@ from .sections import (
     Squeal,
     mode_key,
 )
+
+if TYPE_CHECKING:
+    from fem.modes import Mode
 
 __all__ = ["FIELDS", "Contact", "Damping", "Design", "Roller", "Squeal", "as_design", "mode_key"]
 
@@ -93,6 +96,13 @@ class Design:
             return contact_frame(self.wheel, self.contact.contact_angle)
         except ContactPointError as exc:
             raise RequestError(f"{self.name}: {exc}") from None
+
+    def damping_ratio_of(self, mode: Mode) -> float:
+        """A mode's modal damping ratio: its own (a modal test's), else the design's for its
+        (n, c) ([squeal.damping]), else the design's ``modal_damping_ratio``."""
+        if mode.damping_ratio is not None:
+            return mode.damping_ratio
+        return self.damping.ratio(mode.nodal_diameters, mode.nodal_circles)
 
     @property
     def rolling_radius(self) -> float:

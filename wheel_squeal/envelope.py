@@ -93,7 +93,7 @@ class Mitigation:
                     "mode": m.index,
                     "label": m.label(),
                     "frequency_hz": m.frequency_hz,
-                    "damping_ratio": design.damping.ratio(m.nodal_diameters, m.nodal_circles),
+                    "damping_ratio": design.damping_ratio_of(m),
                     "required_damping_ratio": float(z),
                     "at_crabbing_velocity_m_s": float(p[0]),
                     "at_rpm": float(p[1]) / to_rpm,

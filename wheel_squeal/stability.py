@@ -110,7 +110,7 @@ class ModeStabilityRow:
         m, s = self.mode, self.stability
         phi_t, phi_n = m.contact_components
         return {
-            **m.to_dict(design.damping.ratio(m.nodal_diameters, m.nodal_circles)),
+            **m.to_dict(design.damping_ratio_of(m)),
             "lateral_component": phi_t,
             "normal_component": phi_n,
             "growth_rate_1_s": s.growth_rate_1_s,
@@ -222,7 +222,7 @@ def margin_of(
     dofs = contact_dofs([r.mode for r in rows], design)
     result = linear_stability(dofs, contact, op, omega, bounds=[i])
     s = result.modes[i]
-    zeta_now = design.damping.ratio(m.nodal_diameters, m.nodal_circles)
+    zeta_now = design.damping_ratio_of(m)
     slope_now = result.friction_damping_ns_m * op.rolling_speed_m_s / contact.normal_load_n
     damping = (
         f"a damping ratio below {s.critical_damping_ratio:.3g} (it has {zeta_now:.3g})"

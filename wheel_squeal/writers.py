@@ -44,7 +44,7 @@ def modes_summary(design: Design, modeset, selected, fid: Fidelity, why: str | N
     selected mode (and why; None when no mode was selected), the solver, DOFs and timings."""
 
     def zeta(m) -> float:
-        return design.damping.ratio(m.nodal_diameters, m.nodal_circles)
+        return design.damping_ratio_of(m)
 
     sel = selected.to_dict(zeta(selected)) if selected is not None else None
     if why is not None and sel is not None:
@@ -95,7 +95,7 @@ def modes_table(modes, design: Design, selected=None) -> str:
         f"{'k [N/m]':>10} {'c [Ns/m]':>9}"
     ]
     for m in modes:
-        d = m.to_dict(design.damping.ratio(m.nodal_diameters, m.nodal_circles))
+        d = m.to_dict(design.damping_ratio_of(m))
         mass = f"{d['modal_mass_kg']:10.3f}" if d["modal_mass_kg"] is not None else f"{'node':>10}"
         k = f"{d['modal_stiffness_n_m']:10.3e}" if d["modal_stiffness_n_m"] is not None else f"{'-':>10}"
         c = f"{d['modal_damping_ns_m']:9.2f}" if d["modal_damping_ns_m"] is not None else f"{'-':>9}"

@@ -11,6 +11,7 @@ from ..budget import Budget
 from ..cache import StageCache
 from ..design import Design
 from ..errors import RequestError
+from ..modal_model import MODAL_MODEL_SOLVER
 from ..presets import DEFAULT_SPEEDS_RPM, fidelity_for, rpm_to_speed
 from ..progress import Progress
 from ..stability import choose_mode
@@ -23,6 +24,7 @@ __all__ = [
     "budget_of",
     "cache_of",
     "design_of",
+    "modal_model_of",
     "modes_of",
     "operating_point_of",
     "squeal_mode",
@@ -41,7 +43,19 @@ def design_of(args, path=None) -> Design:
         changes["normal_contact"] = args.normal_contact
     if getattr(args, "transient_creep", False):
         changes["transient_creep"] = True
+    if modal_model_of(args) is not None:  # the design's [squeal] names FE modes
+        changes |= {"squeal_mode": "", "mode_damping": ()}
     return design.replace(**changes) if changes else design
+
+
+def modal_model_of(args):
+    """The ``--modal-model`` file's modes (``fem.ModeSet``), None without one."""
+    path = getattr(args, "modal_model", None)
+    if path is None:
+        return None
+    from ..modal_model import load_modal_model
+
+    return load_modal_model(path)
 
 
 def cache_of(args) -> StageCache:
@@ -61,6 +75,10 @@ def modes_of(args, design: Design, progress: Progress, cache: StageCache | None 
     """(fidelity, mode set): the design's FE modes with the command's ``--fidelity``,
     ``--solver``, ``--fmax``, cache and budget flags."""
     fid = fidelity_for(args.fidelity, args.solver)
+    measured = modal_model_of(args)
+    if measured is not None:
+        progress.say(f"modes: {len(measured.modes)} from the modal model {args.modal_model} (no FE)")
+        return fid, measured
     cache = cache_of(args) if cache is None else cache
     budget = budget_of(args)
     return fid, api.compute_modes(
@@ -117,8 +135,12 @@ def out_of(args, name: str) -> Path:
 
 
 def analysis_of(args, design: Design, progress: Progress, cache: StageCache, listener=None, modes=None):
-    """:func:`wheel_squeal.chain.analyse` with the command's flags."""
+    """:func:`wheel_squeal.chain.analyse` with the command's flags (a modal model's modes
+    have no shape: nothing is radiated)."""
     from ..chain import analyse
+
+    measured = modal_model_of(args) if modes is None else None
+    modes = measured if measured is not None else modes
 
     return analyse(
         design,
@@ -134,6 +156,7 @@ def analysis_of(args, design: Design, progress: Progress, cache: StageCache, lis
         multimode_count=getattr(args, "multimode", None),
         duration=getattr(args, "duration", None),
         listener=listener,
+        sound=modes is None or modes.solver != MODAL_MODEL_SOLVER,
         c22=args.c22,
         friction_law=getattr(args, "friction_law", None),
         modes=modes,

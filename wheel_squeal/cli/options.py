@@ -35,6 +35,7 @@ __all__ = [
     "add_modal",
     "add_contact",
     "add_friction_law",
+    "add_modal_model",
 ]
 
 
@@ -201,6 +202,17 @@ def add_modal(p: argparse.ArgumentParser) -> None:
     )
     p.add_argument("--stiffness", type=positive, help="modal stiffness [N/m]")
     p.add_argument("--damping", type=non_negative, help="modal damping [N s/m]")
+
+
+def add_modal_model(p: argparse.ArgumentParser) -> None:
+    p.add_argument(
+        "--modal-model",
+        type=Path,
+        metavar="FILE.toml",
+        help="the wheel's modes from a modal test instead of the FE: one [[mode]] table per mode "
+        "(frequency_hz, damping_ratio, lateral, normal [1/sqrt(kg)], optional nodal_diameters, label); "
+        "the design gives the contact",
+    )
 
 
 def add_friction_law(p: argparse.ArgumentParser) -> None:

@@ -30,6 +30,7 @@ from .options import (
     add_friction_law,
     add_microphone,
     add_modal,
+    add_modal_model,
     add_operating,
     add_out,
     add_rotation,
@@ -87,6 +88,7 @@ def _add_run_command(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("run", help="design -> modes -> squeal limit cycle -> report (default: Table 1)")
     add_common(p)
     add_fe(p)
+    add_modal_model(p)
     add_operating(p)
     p.add_argument(
         "--render",
@@ -127,6 +129,7 @@ def _add_simulate_command(sub: argparse._SubParsersAction) -> None:
     add_common(p)
     add_fe(p)
     add_modal(p)
+    add_modal_model(p)
     add_operating(p)
     add_rotation(p)
     p.add_argument(
@@ -171,6 +174,7 @@ def _add_stability_command(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("stability", help="linear stability of every mode: which squeals, what stops it")
     add_common(p)
     add_fe(p)
+    add_modal_model(p)
     add_operating(p, duration=False)
     add_rotation(p)
     p.add_argument(

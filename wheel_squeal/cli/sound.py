@@ -60,7 +60,7 @@ def cmd_sound(args) -> int:
                 budget=budget_of(args),
             )
         write_sound_files(tmp, sound)
-        zeta = design.damping.ratio(mode.nodal_diameters, mode.nodal_circles)
+        zeta = design.damping_ratio_of(mode)
         write_json(
             tmp / "summary.json",
             {

@@ -10,6 +10,7 @@ from .. import api, compare_files, stability_files, writers
 from ..envelope import envelope, envelope_seconds, mitigation_summary
 from ..errors import RequestError
 from ..fields import columns_of
+from ..modal_model import MODAL_MODEL_SOLVER
 from ..outputs import result_folder, write_csv, write_json
 from ..plotting import PlotWorkers
 from ..presets import DEFAULT_ENVELOPE_CRAB_VELOCITIES, DEFAULT_SPEEDS_RPM
@@ -30,6 +31,14 @@ from .common import (
     write_files,
 )
 from .sound import listener_of, write_sound_files
+
+
+def files_in(folder) -> str:
+    """The result folder's files, the PNGs as one pattern."""
+    names = sorted(p.name for p in folder.iterdir() if p.is_file() and not p.name.startswith("."))
+    pngs = [n for n in names if n.endswith(".png")]
+    return ", ".join([n for n in names if not n.endswith(".png")] + (["*.png"] if pngs else []))
+
 
 __all__ = ["cmd_compare", "cmd_run", "cmd_simulate", "cmd_stability", "cmd_sweep"]
 
@@ -54,8 +63,9 @@ def cmd_run(args, plots: PlotWorkers) -> int:
         ms = a.modeset
         shown = [o.mode.index] if o is not None else []
         indices = {"selected": shown, "none": [], "all": list(range(len(ms.modes)))}[args.render]
-        with progress.stage("mode views"):
-            write_files(tmp, api.mode_views(design, a.fidelity, args.fmax, ms, indices, cache))
+        if ms.solver != MODAL_MODEL_SOLVER:  # a modal model has no shapes to draw
+            with progress.stage("mode views"):
+                write_files(tmp, api.mode_views(design, a.fidelity, args.fmax, ms, indices, cache))
         with progress.stage("plots"):
             plots.draw()
         summary = {
@@ -73,7 +83,7 @@ def cmd_run(args, plots: PlotWorkers) -> int:
         print(stability_files.multimode_text(a.multimode))
     print("\n".join(a.verdict.lines()))
     seconds = time.perf_counter() - t0
-    print(f"files: {out}/ (summary.json, timeseries.csv, *.png, modes.vtu, pressure.vtu)  [{seconds:.1f} s]")
+    print(f"files: {out}/ ({files_in(out)})  [{seconds:.1f} s]")
     return 0
 
 

@@ -1,0 +1,97 @@
+"""A modal model without FE: what a modal test of the wheel gives, as a TOML file of one
+``[[mode]]`` table per mode::
+
+    [[mode]]
+    frequency_hz = 1143.0       # natural frequency [Hz]
+    damping_ratio = 9.4e-4      # modal damping ratio [-]
+    lateral = 0.568             # mass-normalised shape at the contact along t [1/sqrt(kg)]
+    normal = 0.0                # ... along the contact normal n [1/sqrt(kg)]
+    nodal_diameters = 3         # optional (0): a pair on a turning wheel
+    label = "(3,0) measured"    # optional
+
+Table 1's mode is ``lateral = 1/sqrt(3.1)``, ``normal = 0``. The modes stand in for the
+FE modes of ``stability``, ``simulate`` and ``run``: the design still gives the contact
+(load, radii, material, friction, angle, roller), and each mode's own damping ratio
+replaces the design's. A modal model has no shapes, so nothing is radiated or drawn.
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from fem.modes import Mode, ModeSet
+from geometry.files import read_toml
+
+from .errors import RequestError
+
+__all__ = ["MODAL_MODEL_SOLVER", "load_modal_model"]
+
+#: The ``solver`` of a mode set read from a modal model
+MODAL_MODEL_SOLVER = "modal-model"
+_KEYS = {"frequency_hz", "damping_ratio", "lateral", "normal", "nodal_diameters", "label"}
+_REQUIRED = ("frequency_hz", "damping_ratio", "lateral", "normal")
+
+
+def _number(where: str, key: str, value: Any) -> float:
+    if isinstance(value, bool) or not isinstance(value, int | float) or not math.isfinite(value):
+        raise RequestError(f"{where}: {key} must be a finite number, got {value!r}")
+    return float(value)
+
+
+def _mode(i: int, table: Any, source: str) -> Mode:
+    where = f"{source}: [[mode]] {i + 1}"
+    if not isinstance(table, dict):
+        raise RequestError(f"{where} must be a table")
+    unknown = sorted(set(table) - _KEYS)
+    if unknown:
+        raise RequestError(f"{where}: unknown key {unknown[0]!r}; allowed: {', '.join(sorted(_KEYS))}")
+    missing = [k for k in _REQUIRED if k not in table]
+    if missing:
+        raise RequestError(f"{where} needs {', '.join(missing)}")
+    f, zeta, t, n = (_number(where, k, table[k]) for k in _REQUIRED)
+    if f <= 0:
+        raise RequestError(f"{where}: frequency_hz must be positive, got {f:g}")
+    if not 0.0 <= zeta < 1.0:
+        raise RequestError(f"{where}: damping_ratio = {zeta:g}: a modal damping ratio in [0, 1)")
+    if t == 0.0 and n == 0.0:
+        raise RequestError(f"{where}: lateral and normal are both 0: the contact does not see this mode")
+    nd = table.get("nodal_diameters", 0)
+    if isinstance(nd, bool) or not isinstance(nd, int) or nd < 0:
+        raise RequestError(f"{where}: nodal_diameters must be a whole number >= 0, got {nd!r}")
+    label = table.get("label", "")
+    if not isinstance(label, str):
+        raise RequestError(f"{where}: label must be a string, got {label!r}")
+    members = 1 if nd == 0 else 2  # a pair: its second member has a node at the contact
+    lateral, normal = (t,) + (0.0,) * (members - 1), (n,) + (0.0,) * (members - 1)
+    return Mode(i, f, nd, 0, "measured", lateral, normal, label or f"mode {i + 1} ({f:.1f} Hz)", zeta)
+
+
+def load_modal_model(path: str | Path) -> ModeSet:
+    """The modes of a modal-model file as a ``fem.ModeSet`` (no shapes; ``solver`` is
+    :data:`MODAL_MODEL_SOLVER`), in frequency order. A bad file raises
+    :class:`~wheel_squeal.errors.RequestError` in one line naming the problem."""
+    source = str(path)
+    _, data = read_toml(path, "modal model", RequestError)
+    unknown = sorted(set(data) - {"mode"})
+    if unknown:
+        raise RequestError(f"{source}: unknown key or table {unknown[0]!r}; a modal model is [[mode]] tables")
+    tables = data.get("mode")
+    if not isinstance(tables, list) or not tables:
+        raise RequestError(
+            f"{source}: no [[mode]] table: give one per mode (frequency_hz, damping_ratio, ...)"
+        )
+    modes = sorted((_mode(i, t, source) for i, t in enumerate(tables)), key=lambda m: m.frequency_hz)
+    modes = [
+        Mode(k, m.frequency_hz, m.nodal_diameters, 0, m.family, m.contact_lateral, m.contact_normal, m.name,
+             m.damping_ratio)
+        for k, m in enumerate(modes)
+    ]  # fmt: skip
+    labels = [m.name for m in modes]
+    if len(set(labels)) != len(labels):
+        raise RequestError(f"{source}: two modes have the same label; give each its own")
+    return ModeSet(modes, np.zeros((0, 3)), {}, [np.zeros((m.multiplicity, 0, 3)) for m in modes],
+                   MODAL_MODEL_SOLVER, 0)  # fmt: skip
