@@ -59,12 +59,17 @@ def summary_dicts(lc: LimitCycle, op: OperatingPoint, contact: ContactLaw) -> di
 
 
 def write_timeseries_csv(history: TimeHistory, directory: Path, name: str = "timeseries.csv") -> Path:
-    """Write t_s, y_m, v_m_s, creepage, Q_N, P_W (contact-point totals) as CSV."""
+    """Write t_s, y_m, v_m_s, creepage, Q_N, P_W, u_n_m, N_N (contact-point totals) as CSV."""
     path = Path(directory) / name
-    data = np.column_stack([history.t, history.y, history.v, history.creepage, history.Q, history.P])
+    zero = np.zeros(len(history.t))
+    u_n = zero if history.u_n is None else history.u_n
+    normal = zero + history.contact.normal_load_n if history.N is None else history.N
+    data = np.column_stack(
+        [history.t, history.y, history.v, history.creepage, history.Q, history.P, u_n, normal]
+    )
     header = (
         "# Liu & Meehan squeal model time history at the contact point; SI units\n"
-        "t_s,y_m,v_m_s,creepage,Q_N,P_W"
+        "t_s,y_m,v_m_s,creepage,Q_N,P_W,u_n_m,N_N"
     )
     row = ",".join(["%.9g"] * data.shape[1]) + "\n"
     # one format operation for the whole table: the text of np.savetxt, 2.5x faster

@@ -242,10 +242,15 @@ class Simulation:
     operating_point: Any
 
     def summary(self) -> dict:
-        """JSON-ready {limit_cycle, operating_point, contact} (SI units, NaN -> None)."""
+        """JSON-ready {limit_cycle, operating_point, contact} (SI units, NaN -> None); the
+        limit cycle says over which share of its last quarter the wheel and the roller
+        lost contact (N = 0)."""
         from reduced import summary_dicts
 
-        return summary_dicts(self.limit_cycle, self.operating_point, self.contact)
+        out = summary_dicts(self.limit_cycle, self.operating_point, self.contact)
+        separated = self.history.separated
+        out["limit_cycle"]["contact_lost_fraction"] = float(separated[3 * len(separated) // 4 :].mean())
+        return out
 
 
 def simulate(

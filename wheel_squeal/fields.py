@@ -38,6 +38,7 @@ class Field:
 
 #: key -> Field, alphabetical
 FIELDS: dict[str, Field] = {
+    "N_N": Field("N", "normal contact force (0 where the wheel and the roller have separated)"),
     "P_W": Field("W", "power the contact force puts into the modes, Q v minus the modal damping losses"),
     "Q_N": Field("N", "lateral contact (creep) force on the wheel"),
     "amplitude_m_s": Field("m/s", "contact velocity amplitude of the limit cycle (or the last cycle)"),
@@ -47,8 +48,12 @@ FIELDS: dict[str, Field] = {
     "carrier": Field("-", "the mode that carries the multi-mode limit cycle (most of its energy)"),
     "carrier_mode": Field("-", "its index"),
     "c22": Field("", "Kalker's lateral creep coefficient C22 used"),
+    "contact_lost_fraction": Field("", "share of the record's last quarter with the surfaces apart (N = 0)"),
+    "contact_angle_deg": Field("deg", "the contact angle: the contact normal's angle from radial"),
+    "contact_angle_rad": Field("rad", "the contact angle"),
     "crab_velocity": Field("m/s", "crabbing velocity of the operating point (a study's axis)"),
     "crabbing_velocity_m_s": Field("m/s", "crabbing velocity Vc of the operating point"),
+    "crown_radius_m": Field("m", "the tread's transverse radius at the contact (null: straight)"),
     "creepage": Field("", "quasi-static lateral creepage Vc / V0 (or the instantaneous one in a record)"),
     "critical_damping_ratio": Field("", "damping ratio below which the mode grows here"),
     "critical_friction_slope": Field("", "creep-curve slope dmu/dzeta below which the mode grows here"),
@@ -75,12 +80,16 @@ FIELDS: dict[str, Field] = {
     ),
     "friction_law": Field("-", "the creep law: falling (the paper's) or constant (no falling friction)"),
     "friction_slope_at_rpm": Field("rev/min", "wheel speed where the required friction slope binds"),
+    "hertz_approach_m": Field("m", "the static Hertz approach delta0 under W (null: constant normal load)"),
     "growth_rate_1_s": Field(
         "1/s", "linear growth rate (negative: decays); the largest where no mode squeals"
     ),
     "hits": Field("-", "stages read from the cache"),
     "index": Field("-", "the mode's index in frequency order"),
     "label": Field("-", "mode label (n,c) family"),
+    "lateral_component": Field(
+        "1/sqrt(kg)", "the mode's mass-normalised displacement at the contact along t"
+    ),
     "linear_winner_mode": Field("-", "index of the fastest-growing mode"),
     "mass_kg": Field("kg", "modal mass at the contact (a study: the wheel's mass)"),
     "mechanism": Field("-", "what makes it grow: falling friction, mode coupling, or both (only together)"),
@@ -100,23 +109,39 @@ FIELDS: dict[str, Field] = {
     "named_mode": Field("-", "the mode the design names ([squeal] mode)"),
     "nodal_circles": Field("-", "number of nodal circles"),
     "nodal_diameters": Field("-", "number of nodal diameters"),
-    "modes_with_normal_motion": Field("-", "modes that move the contact point normally (radially)"),
     "nodes": Field("-", "number of mesh nodes"),
-    "normal_stiffness_n_m": Field("N/m", "the linearised Hertz spring k_H = 3W / (2 delta0)"),
+    "normal_stiffness_n_m": Field(
+        "N/m", "the linearised Hertz spring k_H = 3W / (2 delta0); 0: constant load"
+    ),
+    "normal_component": Field("1/sqrt(kg)", "the mode's mass-normalised displacement at the contact along n"),
+    "normal_contact": Field(
+        "-", "hertz (the normal force follows the normal motion) or constant (fixed load)"
+    ),
     "order": Field("-", "element (mesh) order"),
     "override_growth_rate_1_s": Field("1/s", "growth rate of the named mode"),
     "override_mode": Field("-", "the named mode (an override of the model's pick)"),
+    "partners": Field("-", "the modes that take part in the mode's fastest eigenvalue, itself first"),
     "peak_frequency_hz": Field("Hz", "the contact velocity's spectral peak over the last window"),
     "points": Field("-", "number of operating points"),
     "radiation_efficiency": Field("", "radiated power over rho0 c0 S <vn^2>"),
+    "r_m": Field("m", "radius of the contact point"),
     "reason": Field("-", "why, in words"),
+    "relaxation_length_m": Field("m", "transient creep's relaxation length L (0: steady creep)"),
+    "relaxation_time_s": Field("s", "its lag L / V0 at the operating point"),
     "required_damping_ratio": Field("", "damping ratio that keeps the mode stable over the envelope"),
     "required_friction_slope": Field("", "creep-curve slope that keeps every mode stable over the envelope"),
     "rim_depth": Field("m", "a study's design axis (any design field may be one)"),
+    "roller_lateral": Field(
+        "-", "the roller's lateral mode: [frequency Hz, damping ratio, modal mass kg] (null: rigid)"
+    ),
+    "roller_normal": Field(
+        "-", "the roller's normal mode: [frequency Hz, damping ratio, modal mass kg] (null: rigid)"
+    ),
     "rolling_speed_m_s": Field("m/s", "rolling speed V0 at the contact"),
     "rotation": Field("-", "whether the wheel's rotation is modelled"),
     "rpm": Field("rev/min", "wheel speed"),
     "saturated": Field("-", "whether the oscillation reached its limit cycle within the run"),
+    "share": Field("", "the mode's share of the eigenvalue's vibration energy"),
     "seconds": Field("s", "wall time"),
     "semi_axis_a_m": Field("m", "Hertz contact semi-axis in the rolling direction"),
     "semi_axis_b_m": Field("m", "Hertz contact semi-axis across (lateral)"),
@@ -134,6 +159,7 @@ FIELDS: dict[str, Field] = {
     "t_s": Field("s", "time"),
     "time_to_saturation_s": Field("s", "when the oscillation reached its limit cycle"),
     "tone_hz": Field("Hz", "the tone a stationary microphone hears"),
+    "u_n_m": Field("m", "normal approach of the wheel to the roller at the contact (the modes' share)"),
     "unstable": Field("-", "whether the mode grows here"),
     "v_m_s": Field("m/s", "lateral velocity of the wheel at the contact"),
     "velocity_amplitude_m_s": Field("m/s", "contact velocity amplitude"),
@@ -144,16 +170,17 @@ FIELDS: dict[str, Field] = {
     "window_s": Field("s", "start and end of the window the energy shares are taken over"),
     "why": Field("-", "why this mode"),
     "y_m": Field("m", "lateral displacement of the wheel at the contact"),
+    "z_m": Field("m", "axial position of the contact point"),
 }
 
 #: JSON objects that hold fields
 GROUPS: dict[str, str] = {
     "cache": "cache hits and misses of the run's stages",
     "checks": "independent checks of the radiated power",
-    "contact": "the Hertz contact and creep law",
+    "contact": "the contact: its point and angle, the Hertz ellipse and spring, the creep law, the roller",
     "damping": "per mode: the damping that stops squeal over the envelope",
     "designs": "one row per design (as compare.csv)",
-    "growing": "each growing eigenvalue of the two-direction model: its tone, nearest mode and mechanism",
+    "eigenvalues": "every eigenvalue of the linear system, fastest-growing first (mechanism null: decays)",
     "limit_cycle": "the limit cycle of the simulated mode",
     "mitigation": "what stops squeal over the envelope (rotation off and on)",
     "modal_parameters": "m, k, c of the simulated mode at the contact",
@@ -168,10 +195,10 @@ GROUPS: dict[str, str] = {
     "rotation_on": "mitigation with rotation",
     "selected_mode": "the mode the command selected",
     "sound": "the sound of the verdict's mode at its amplitude",
-    "two_directions": "the linear stability with the contact's normal direction (mode coupling)",
+    "participants": "the modes holding at least 5 % of one eigenvalue's energy, with their shares",
     "stability": "every excitable mode's linear stability",
     "verdict": "the one answer: whether, in which mode, at what tone, how loud, why",
-    "winner": "the fastest-growing mode",
+    "winner": "the fastest-growing mode (its fastest eigenvalue's growth rate, frequency and mechanism)",
 }
 
 #: JSON objects whose keys name things: stages (seconds each) or designs (a verdict each)
@@ -212,7 +239,7 @@ FILES: dict[str, OutputFile] = {
     "timeseries.csv": OutputFile(
         ("run", "simulate"),
         "the time history at the contact (a comment line, then the columns)",
-        ("t_s", "y_m", "v_m_s", "creepage", "Q_N", "P_W"),
+        ("t_s", "y_m", "v_m_s", "creepage", "Q_N", "P_W", "u_n_m", "N_N"),
     ),
     "sweep.csv": OutputFile(
         ("sweep",),
