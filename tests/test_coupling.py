@@ -71,6 +71,26 @@ def test_the_time_domain_without_normal_motion_is_the_lateral_kernel_bit_for_bit
     assert np.array_equal(y[:, 0], y1) and np.array_equal(u[:, 0], u1)
 
 
+#: sha256 of the Fig. 6 record's contact velocity and lateral force (Table 1 mode, 800 RPM,
+#: Vc = 0.39 m/s, 0.5 s from rest) as the lateral model computed it before the contact's
+#: normal direction was added
+FIG6_V_SHA256 = "f5e8f7e45104b487a5f3c700bbfb1540621dde9bc7531e457b583f842aa8a96a"
+FIG6_Q_SHA256 = "4f38900867593d3680aabd31a6221834fc7340984a0157df3a45110c0275dab6"
+
+
+@pytest.mark.parametrize("normal", [True, False])
+def test_the_fig6_record_is_unchanged_to_the_bit(normal):
+    """The paper's mode with the Hertz spring on (it has no normal motion) or off gives
+    the record of the lateral model before the normal direction existed, to the bit
+    (the RK4 kernels use IEEE arithmetic and the platform's exp, as then)."""
+    import hashlib
+
+    law = r.ContactLaw.from_hertz(HERTZ, 0.3, normal=normal)
+    hist = r.simulate(TABLE1, law, OP, 0.5)
+    assert hashlib.sha256(hist.v.tobytes()).hexdigest() == FIG6_V_SHA256
+    assert hashlib.sha256(hist.Q.tobytes()).hexdigest() == FIG6_Q_SHA256
+
+
 @pytest.mark.parametrize("detune", [-0.2, -0.05, -0.01, 0.0, 0.01, 0.05, 0.2])
 def test_the_two_mode_condition_matches_the_eigen_solver(detune):
     """Two undamped modes, no friction damping: they grow exactly when the coupled

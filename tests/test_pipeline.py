@@ -223,7 +223,9 @@ def test_simulate_with_explicit_modal_parameters_builds_no_mesh(tmp_path, monkey
         "frequency_hz",
         "time_to_saturation_s",
         "growth_rate_1_s",
+        "contact_lost_fraction",
     }
+    assert s["limit_cycle"]["contact_lost_fraction"] == 0.0  # no normal motion: never apart
     assert set(s["operating_point"]) == {"rolling_speed_m_s", "crabbing_velocity_m_s", "creepage"}
     assert set(s["contact"]) == {
         "semi_axis_a_m",
@@ -239,7 +241,7 @@ def test_simulate_with_explicit_modal_parameters_builds_no_mesh(tmp_path, monkey
     assert abs(s["limit_cycle"]["frequency_hz"] / 1143.0 - 1) < 0.01
     assert abs(s["operating_point"]["creepage"] - 0.022) < 0.0005
     header = (out / "timeseries.csv").read_text().splitlines()[1]
-    assert header == "t_s,y_m,v_m_s,creepage,Q_N,P_W"
+    assert header == "t_s,y_m,v_m_s,creepage,Q_N,P_W,u_n_m,N_N"
     # Fig. 7-10 windows: growing (0.2 s) and on the limit cycle (saturated at ~0.41 s here)
     for png in [
         "creep_curve",

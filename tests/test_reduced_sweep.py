@@ -114,9 +114,9 @@ def test_report_files_and_json(tmp_path, law, grid):
 
     csv = r.write_timeseries_csv(hist, tmp_path)
     lines = csv.read_text().splitlines()
-    assert lines[1] == "t_s,y_m,v_m_s,creepage,Q_N,P_W"
+    assert lines[1] == "t_s,y_m,v_m_s,creepage,Q_N,P_W,u_n_m,N_N"
     data = np.loadtxt(csv, delimiter=",", skiprows=2)
-    assert data.shape == (len(hist.t), 6)
+    assert data.shape == (len(hist.t), 8)
     np.testing.assert_allclose(data[:, 2], hist.v, rtol=1e-8, atol=1e-12)
     pngs = r.write_time_history_plots(hist, tmp_path)
     names = {p.name for p in pngs}
