@@ -301,8 +301,10 @@ def test_a_youngs_modulus_grid_scales_the_tone_as_its_square_root(tmp_path):
     modes that move the contact normally (this outline's do: its web is curved)."""
     from wheel_squeal.study.runner import case_results
 
-    base = (ROOT / "designs" / "curved_web.toml").read_text().replace(
-        "[contact]\n", '[contact]\nnormal_contact = "constant"\n'
+    base = (
+        (ROOT / "designs" / "curved_web.toml")
+        .read_text()
+        .replace("[contact]\n", '[contact]\nnormal_contact = "constant"\n')
     )
     spec = load_spec(
         write(
