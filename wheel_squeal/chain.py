@@ -18,10 +18,11 @@ from typing import TYPE_CHECKING, Any
 from .api import contact_law, modal_dof, operating_point, simulate
 from .design import Design
 from .errors import RequestError
+from .levels import squeal_sound
 from .modes import compute_modes
 from .presets import DEFAULT_FIDELITY, DEFAULT_FMAX_HZ, Fidelity, fidelity_for
 from .progress import Progress
-from .sound import Listener, mode_sound
+from .sound import Listener
 from .stability import (
     ModeStabilityRow,
     contact_dofs,
@@ -278,9 +279,9 @@ class _Chain:
         if not (self.opts.sound and o.simulation is not None and o.squeals):
             return o
         with self.progress.stage(f"sound of {o.label}"):
-            s = mode_sound(
+            s = squeal_sound(
                 self.design, self.modeset, o.mode, wave_frequency_hz(o.mode, o.wave, self.omega),
-                o.amplitude_m_s or 0.0, listener=self.opts.listener, travelling=o.wave != "standing",
+                o.simulation, o.tone_hz, listener=self.opts.listener, travelling=o.wave != "standing",
                 fidelity=self.fid.name, fmax_hz=self.opts.fmax_hz, cache=self.cache, budget=self.budget,
                 memo=self.memo,
             )  # fmt: skip

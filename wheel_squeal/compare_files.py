@@ -31,6 +31,7 @@ def compare_row(a) -> dict:
         "amplitude_m_s": d["amplitude_m_s"],
         "saturated": d["saturated"],
         "spl_db": d["spl_db"],
+        "spl_dba": d["spl_dba"],
         "sound_power_level_db": d["sound_power_level_db"],
         "override_mode": v.named.label if v.named else "",
         "override_growth_rate_1_s": v.named.growth_rate_1_s if v.named else None,

@@ -48,6 +48,7 @@ FIELDS: dict[str, Field] = {
     "carrier": Field("-", "the mode that carries the multi-mode limit cycle (most of its energy)"),
     "carrier_mode": Field("-", "its index"),
     "c22": Field("", "Kalker's lateral creep coefficient C22 used"),
+    "centre_hz": Field("Hz", "the one-third-octave band's exact centre frequency, 1000 * 10^(k/10)"),
     "contact_lost_fraction": Field("", "share of the record's last quarter with the surfaces apart (N = 0)"),
     "contact_angle_deg": Field("deg", "the contact angle: the contact normal's angle from radial"),
     "contact_angle_rad": Field("rad", "the contact angle"),
@@ -87,10 +88,12 @@ FIELDS: dict[str, Field] = {
     "hits": Field("-", "stages read from the cache"),
     "index": Field("-", "the mode's index in frequency order"),
     "label": Field("-", "mode label (n,c) family"),
+    "label_hz": Field("Hz", "the band's nominal centre frequency (IEC 61260-1)"),
     "lateral_component": Field(
         "1/sqrt(kg)", "the mode's mass-normalised displacement at the contact along t"
     ),
     "linear_winner_mode": Field("-", "index of the fastest-growing mode"),
+    "loudest_angle_deg": Field("deg", "meridian angle from the +z axis of the far field's largest intensity"),
     "mass_kg": Field("kg", "modal mass at the contact (a study: the wheel's mass)"),
     "mechanism": Field("-", "what makes it grow: falling friction, mode coupling, or both (only together)"),
     "mesh_volume_m3": Field("m^3", "volume of the mesh (revolved for a profile)"),
@@ -118,6 +121,7 @@ FIELDS: dict[str, Field] = {
         "-", "hertz (the normal force follows the normal motion) or constant (fixed load)"
     ),
     "order": Field("-", "element (mesh) order"),
+    "order_k": Field("-", "the harmonic's order k (its frequency k f0)"),
     "override_growth_rate_1_s": Field("1/s", "growth rate of the named mode"),
     "override_mode": Field("-", "the named mode (an override of the model's pick)"),
     "partners": Field("-", "the modes that take part in the mode's fastest eigenvalue, itself first"),
@@ -147,8 +151,16 @@ FIELDS: dict[str, Field] = {
     "semi_axis_b_m": Field("m", "Hertz contact semi-axis across (lateral)"),
     "settled": Field("-", "whether the mitigation bounds converged"),
     "solver": Field("-", "modal solver"),
-    "sound_power_level_db": Field("dB re 1 pW", "sound power level"),
-    "spl_db": Field("dB re 20 uPa", "sound pressure level at the microphone"),
+    "sound_power_level_db": Field("dB re 1 pW", "sound power level (all harmonics radiated)"),
+    "sound_power_level_dba": Field("dB(A) re 1 pW", "A-weighted sound power level (IEC 61672-1)"),
+    "spl_db": Field("dB re 20 uPa", "sound pressure level at the microphone (all harmonics; a band's)"),
+    "spl_dba": Field("dB(A) re 20 uPa", "A-weighted sound pressure level at the microphone (IEC 61672-1)"),
+    "spl_1m_db": Field("dB re 20 uPa", "SPL 1 m from the wheel centre in the loudest direction"),
+    "spl_1m_axis_db": Field(
+        "dB re 20 uPa", "SPL 1 m from the wheel centre on its axis (null: n >= 1, silent)"
+    ),
+    "spl_7_5m_db": Field("dB re 20 uPa", "SPL 7.5 m from the wheel centre in the loudest direction"),
+    "spl_7_5m_axis_db": Field("dB re 20 uPa", "SPL 7.5 m from the wheel centre on its axis (null: silent)"),
     "squeal": Field("-", "whether the limit cycle is a self-sustained oscillation"),
     "squealing_points": Field("-", "operating points that squeal"),
     "squeals": Field("-", "the verdict: whether the wheel squeals"),
@@ -163,8 +175,10 @@ FIELDS: dict[str, Field] = {
     "unstable": Field("-", "whether the mode grows here"),
     "v_m_s": Field("m/s", "lateral velocity of the wheel at the contact"),
     "velocity_amplitude_m_s": Field("m/s", "contact velocity amplitude"),
+    "velocity_energy_share": Field("", "share of the contact velocity's energy the radiated harmonics hold"),
     "verdict_mode": Field("-", "the verdict's mode (empty: no squeal)"),
     "wave": Field("-", "standing, forward or backward (travelling wave with rotation)"),
+    "wav_full_scale_pa": Field("Pa", "the pressure of squeal.wav's full scale (its peak sample)"),
     "web_thickness": Field("m", "a study's design axis"),
     "wheel_speed_rad_s": Field("rad/s", "wheel speed Omega = V0 / R1"),
     "window_s": Field("s", "start and end of the window the energy shares are taken over"),
@@ -190,7 +204,9 @@ GROUPS: dict[str, str] = {
     "multimode": "the multi-mode run (--multimode)",
     "operating_point": "the operating point",
     "override": "the named mode's own result (as the verdict's fields)",
-    "per_unit_velocity": "levels at 1 m/s contact velocity",
+    "per_unit_velocity": "levels at 1 m/s contact velocity (the fundamental)",
+    "third_octave_bands": "the microphone's one-third-octave band levels over the limit cycle (null: empty)",
+    "harmonics": "each radiated harmonic of the contact velocity: order, frequency, amplitude, levels",
     "rotation_off": "mitigation with the wheel's rotation left out",
     "rotation_on": "mitigation with rotation",
     "selected_mode": "the mode the command selected",
@@ -225,7 +241,7 @@ _SWEEP_POINT = ("crabbing_velocity_m_s", "rpm", "rolling_speed_m_s", "verdict_mo
 
 #: A study case's results per operating point, each (n_crab_velocities, n_rpm): numbers
 #: (NaN where they do not apply), flags, and mode labels ("" where none).
-RESULT_FIELDS = ("tone_hz", "growth_rate_1_s", "amplitude_m_s", "spl_db", "sound_power_level_db",
+RESULT_FIELDS = ("tone_hz", "growth_rate_1_s", "amplitude_m_s", "spl_db", "spl_dba", "sound_power_level_db",
                  "model_pick_growth_rate_1_s", "override_growth_rate_1_s")  # fmt: skip
 FLAG_FIELDS = ("squeals", "saturated")
 LABEL_FIELDS = ("verdict_mode", "model_pick")
@@ -276,6 +292,7 @@ FILES: dict[str, OutputFile] = {
             "amplitude_m_s",
             "saturated",
             "spl_db",
+            "spl_dba",
             "sound_power_level_db",
             "override_mode",
             "override_growth_rate_1_s",

@@ -34,6 +34,7 @@ __all__ = [
     "Listener",
     "air_for",
     "check_velocity_amplitude",
+    "contact_velocity_phase",
     "ring_points",
     "sound_of",
 ]
@@ -118,6 +119,12 @@ def mode_surface(modeset, mode, frequency_hz: float, contact_velocity_m_s: float
     omega = 2 * math.pi * frequency_hz
     velocity = 1j * omega * displacement * (contact_velocity_m_s / (omega * v_c))
     return Surface(points, velocity, int(mode.nodal_diameters))
+
+
+def contact_velocity_phase(mode) -> complex:
+    """The complex contact velocity of :func:`mode_surface`'s surface per unit amplitude:
+    j sign(phi_c) (the pressure's phase against the contact velocity divides by it)."""
+    return 1j * math.copysign(1.0, float(mode.contact_lateral[0]))
 
 
 #: The circle on which the sound plot draws the SPL: this fraction of the air region's
@@ -259,6 +266,14 @@ class Sound:
         p = pressure_amplitude(self.radiation.microphone_pressure_pa, self.field.harmonic, self.microphone[2],
                                self.travelling)  # fmt: skip
         return p * self.velocity_amplitude_m_s
+
+    def microphone_transfer(self) -> complex:
+        """The complex pressure [Pa] at the microphone per unit contact velocity amplitude
+        of the surface's phase (:func:`contact_velocity_phase`): P cos(n theta) for a
+        standing wave; a travelling wave passes with the antinode's |P|."""
+        n, theta = self.field.harmonic, self.microphone[2]
+        factor = 1.0 if self.travelling else math.cos(n * theta)
+        return self.radiation.microphone_pressure_pa * factor
 
     @property
     def sound_power_w(self) -> float:

@@ -32,9 +32,12 @@ if TYPE_CHECKING:
     from fem.modes import Mode
 
     from .api import Simulation
-    from .sound import Sound
+    from .levels import SquealSound
 
-__all__ = ["ModeOutcome", "Verdict", "Wave", "wave_of"]
+__all__ = ["LEVELS", "ModeOutcome", "Verdict", "Wave", "wave_of"]
+
+#: The levels a verdict gives (summary.json's ``sound`` has more)
+LEVELS = ("spl_db", "spl_dba", "sound_power_level_db")
 
 #: How a mode is seen from the (fixed) contact: standing (the paper's model), or on a
 #: turning wheel, the backward or forward travelling wave of a pair.
@@ -73,7 +76,7 @@ class ModeOutcome:
     damped_frequency_hz: float
     wave: Wave = "standing"
     simulation: Simulation | None = None
-    sound: Sound | None = None
+    sound: SquealSound | None = None
     energy_share: float | None = None
     mechanism: str | None = None
 
@@ -122,9 +125,10 @@ class ModeOutcome:
         return None if self.simulation is None else float(self.simulation.history.t[-1])
 
     def levels(self) -> dict:
-        """SPL at the microphone and sound power level [dB] (None without sound)."""
+        """SPL at the microphone in dB and dB(A), and the sound power level [dB] (None
+        without sound)."""
         s = self.sound.summary() if self.sound is not None else {}
-        return {"spl_db": s.get("spl_db"), "sound_power_level_db": s.get("sound_power_level_db")}
+        return {k: s.get(k) for k in LEVELS}
 
     def to_dict(self) -> dict:
         return {
@@ -177,7 +181,7 @@ class Verdict:
             "mechanism": o.mechanism if o else None,
             "amplitude_m_s": o.amplitude_m_s if o else None,
             "saturated": o.saturated if o else False,
-            **(o.levels() if o else {"spl_db": None, "sound_power_level_db": None}),
+            **(o.levels() if o else dict.fromkeys(LEVELS)),
             "reason": self.reason,
         }
         if self.named is not None:
@@ -200,8 +204,12 @@ class Verdict:
             else "linear analysis only"
         )
         levels = o.levels()
-        spl, power = levels["spl_db"], levels["sound_power_level_db"]
-        level = f", SPL {spl:.1f} dB at the microphone, sound power {power:.1f} dB" if spl is not None else ""
+        spl, dba, power = levels["spl_db"], levels["spl_dba"], levels["sound_power_level_db"]
+        level = (
+            f", SPL {spl:.1f} dB ({dba:.1f} dB(A)) at the microphone, sound power {power:.1f} dB"
+            if spl is not None
+            else ""
+        )
         amplitude = (
             f", {o.amplitude_m_s:.4g} m/s at the contact ({state})" if o.amplitude_m_s is not None else ""
         )

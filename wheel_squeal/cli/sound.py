@@ -7,11 +7,18 @@ from pathlib import Path
 
 from .. import api
 from ..design import Design
+from ..levels import SquealSound, tone_sound
 from ..outputs import result_folder, write_json
 from ..plotting import PlotWorkers
 from ..progress import Progress
-from ..sound import Listener, Sound, air_for, check_velocity_amplitude, microphone_for, mode_sound
-from ..sound_files import sound_text, write_pressure_vtu, write_sound_plot
+from ..sound import Listener, air_for, check_velocity_amplitude, microphone_for, mode_sound
+from ..sound_files import (
+    sound_text,
+    write_pressure_vtu,
+    write_sound_plot,
+    write_spectrum_plot,
+    write_squeal_wav,
+)
 from ..stability import choose_mode
 from .common import budget_of, cache_of, design_of, modes_of, out_of
 
@@ -24,13 +31,23 @@ def listener_of(args, design: Design) -> Listener:
     return Listener(microphone_for(design, args.microphone), air_for(args.air_density, args.sound_speed))
 
 
-def write_sound_files(directory: Path, sound: Sound, plots: PlotWorkers | None = None) -> None:
-    """sound_field.png and pressure.vtu (queued on ``plots`` when given)."""
-    for fn, name in ((write_sound_plot, "sound_field.png"), (write_pressure_vtu, "pressure.vtu")):
+def write_sound_files(
+    directory: Path, sound: SquealSound, plots: PlotWorkers | None = None, simulation=None
+) -> None:
+    """sound_field.png and pressure.vtu, and with the run's record (``simulation``)
+    spectrum.png and squeal.wav (the plots queued on ``plots`` when given)."""
+    jobs: list = [
+        (write_sound_plot, "sound_field.png", (sound,)),
+        (write_pressure_vtu, "pressure.vtu", (sound,)),
+    ]
+    if simulation is not None and sound.signal is not None:
+        write_squeal_wav(directory / "squeal.wav", sound)
+        jobs.append((write_spectrum_plot, "spectrum.png", (simulation, sound)))
+    for fn, name, args in jobs:
         if plots is not None:
-            plots.submit(fn, directory / name, sound)
+            plots.submit(fn, directory / name, *args)
         else:
-            fn(directory / name, sound)
+            fn(directory / name, *args)
 
 
 def cmd_sound(args) -> int:
@@ -47,7 +64,7 @@ def cmd_sound(args) -> int:
         )
         f = args.frequency or mode.frequency_hz
         with progress.stage(f"sound of mode {mode.index} ({mode.label()}) at {f:.1f} Hz"):
-            sound = mode_sound(
+            tone = mode_sound(
                 design,
                 ms,
                 mode,
@@ -59,6 +76,7 @@ def cmd_sound(args) -> int:
                 cache=cache,
                 budget=budget_of(args),
             )
+        sound = tone_sound(tone)
         write_sound_files(tmp, sound)
         zeta = design.damping_ratio_of(mode)
         write_json(

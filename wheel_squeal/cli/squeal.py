@@ -57,7 +57,7 @@ def cmd_run(args, plots: PlotWorkers) -> int:
             with progress.stage("report"):
                 writers.write_simulation_files(tmp, o.simulation, plots)
         if a.verdict.outcome is not None and a.verdict.outcome.sound is not None:
-            write_sound_files(tmp, a.verdict.outcome.sound, plots)
+            write_sound_files(tmp, a.verdict.outcome.sound, plots, a.verdict.outcome.simulation)
         if a.multimode is not None:
             plots.submit(stability_files.write_multimode_plot, tmp / "multimode.png", a.multimode)
         ms = a.modeset

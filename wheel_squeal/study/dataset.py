@@ -8,8 +8,8 @@ point, the verdict there (:mod:`wheel_squeal.verdict`): ``verdict_mode`` (the la
 the mode that squeals, "" where none), ``squeals``, ``saturated`` (False: still growing
 at the end of the run, not a limit cycle), ``tone_hz``, ``growth_rate_1_s`` (the
 squealing mode's; where none squeals the largest of all, <= 0),
-``amplitude_m_s`` (contact velocity), ``spl_db`` (at the default microphone) and
-``sound_power_level_db``; the model's own pick (``model_pick`` and its
+``amplitude_m_s`` (contact velocity), ``spl_db`` and ``spl_dba`` (at the default
+microphone) and ``sound_power_level_db``; the model's own pick (``model_pick`` and its
 ``model_pick_growth_rate_1_s``) and, when the base design names a mode (the attribute
 ``named_mode``), that mode's ``override_growth_rate_1_s``.
 """

@@ -1,0 +1,133 @@
+"""From a vibration record to what a microphone records: the harmonics of a periodic
+velocity, the pressure signal through a transfer function known at those harmonics,
+resampling, and a WAV file.
+
+A limit cycle is periodic but not sinusoidal: its velocity holds harmonics at k f0, and
+each radiates at its own frequency. The pressure signal of a whole run (its growth
+and its limit cycle) is built in the frequency domain: the velocity record's spectrum
+is split into bands around the harmonics, ((k - 1/2) f0, (k + 1/2) f0], and each band is
+multiplied by the transfer (pressure per unit velocity, complex) at k f0. The growth
+spreads each harmonic over a few Hz, a band is f0 wide: the transfer is taken constant
+across it (the radiation varies over hundreds of Hz).
+"""
+
+from __future__ import annotations
+
+import math
+import wave
+from pathlib import Path
+
+import numpy as np
+
+__all__ = [
+    "WAV_RATE_HZ",
+    "periodic_samples",
+    "whole_periods",
+    "harmonic_amplitudes",
+    "harmonics_holding",
+    "line_spectrum",
+    "pressure_signal",
+    "resample",
+    "write_wav",
+]
+
+#: The WAV files' sample rate [Hz] (CD audio)
+WAV_RATE_HZ = 44_100
+
+
+def whole_periods(t: np.ndarray, x: np.ndarray, periods: int) -> tuple[float, float, int]:
+    """(start, end [s], count): the last ``periods`` whole periods of an oscillating
+    record, between upward zero crossings (interpolated between samples; fewer periods
+    where the record holds fewer). A window of whole periods keeps a periodic signal's
+    spectrum free of leakage."""
+    t, x = np.asarray(t, float), np.asarray(x, float)
+    x = x - np.mean(x[len(x) // 2 :])
+    up = np.flatnonzero((x[:-1] < 0.0) & (x[1:] >= 0.0))
+    if len(up) < 2:
+        return float(t[0]), float(t[-1]), 1
+    cross = t[up] - x[up] * (t[up + 1] - t[up]) / (x[up + 1] - x[up])
+    count = min(periods, len(cross) - 1)
+    return float(cross[-1 - count]), float(cross[-1]), int(count)
+
+
+def periodic_samples(t: np.ndarray, x: np.ndarray, start: float, end: float, samples: int) -> np.ndarray:
+    """``samples`` equally spaced samples of ``x`` over [start, end) by cubic-spline
+    interpolation (on a record of 48 samples per period its amplitude error is 1e-5;
+    linear interpolation would lose 0.15 %): for whole periods, the samples of one period
+    of a periodic sequence, whose DFT bins fall on the harmonics."""
+    from scipy.interpolate import CubicSpline
+
+    t, x = np.asarray(t, float), np.asarray(x, float)
+    lo = max(0, int(np.searchsorted(t, start)) - 4)
+    hi = min(len(t), int(np.searchsorted(t, end)) + 4)
+    spline = CubicSpline(t[lo:hi], x[lo:hi])
+    return spline(start + (end - start) * np.arange(samples) / samples)
+
+
+def harmonic_amplitudes(samples: np.ndarray, periods: int, k_max: int) -> np.ndarray:
+    """The complex amplitudes X_k (x ~ sum Re(X_k e^{j 2 pi k f0 t})) of k = 1..k_max of
+    ``samples`` spanning ``periods`` whole periods (:func:`periodic_samples`): the DFT
+    bins k * periods."""
+    spec = np.fft.rfft(np.asarray(samples, float)) * 2.0 / len(samples)
+    bins = np.arange(1, k_max + 1) * periods
+    return np.where(bins < len(spec), spec[np.minimum(bins, len(spec) - 1)], 0.0)
+
+
+def line_spectrum(samples: np.ndarray, periods: int) -> tuple[np.ndarray, np.ndarray]:
+    """(orders k, amplitudes |X_k|) of every harmonic of ``samples`` spanning ``periods``
+    whole periods, up to the highest the sampling resolves."""
+    spec = np.abs(np.fft.rfft(np.asarray(samples, float))) * 2.0 / len(samples)
+    bins = np.arange(periods, len(spec), periods)
+    return bins // periods, spec[bins]
+
+
+def harmonics_holding(amplitudes: np.ndarray, share: float) -> int:
+    """The fewest leading harmonics whose energy (|X_k|^2) holds ``share`` of all of
+    ``amplitudes``' (at least one)."""
+    energy = np.abs(np.asarray(amplitudes)) ** 2
+    total = energy.sum()
+    if total <= 0:
+        return 1
+    return int(np.searchsorted(np.cumsum(energy) / total, share * (1 - 1e-12)) + 1)
+
+
+def pressure_signal(
+    t: np.ndarray, x: np.ndarray, f0_hz: float, transfer: dict[int, complex], periodic: bool = False
+) -> np.ndarray:
+    """The pressure record [Pa] of a velocity record ``x`` [m/s] (uniform ``t`` [s]) with
+    the transfer ``transfer[k]`` [Pa per m/s] at the harmonic k f0 applied to the band
+    around it (module docstring); bands without a transfer are left out. ``periodic``:
+    the record is whole periods of a periodic signal (its spectrum is then exact); else
+    it is padded with as many zeros, so that its end does not wrap onto its start."""
+    x = np.asarray(x, float)
+    n = len(x)
+    dt = float(t[1] - t[0])
+    size = n if periodic else 2 * n
+    spec = np.fft.rfft(x, size)
+    f = np.fft.rfftfreq(size, dt)
+    out = np.zeros_like(spec)
+    for k, h in transfer.items():
+        band = (f > (k - 0.5) * f0_hz) & (f <= (k + 0.5) * f0_hz)
+        out[band] = spec[band] * h
+    return np.fft.irfft(out, size)[:n]
+
+
+def resample(t: np.ndarray, x: np.ndarray, rate_hz: float) -> np.ndarray:
+    """``x`` on a uniform grid of ``rate_hz`` over the record's span (linear
+    interpolation: the record is sampled much finer than its content)."""
+    n = int(math.floor((t[-1] - t[0]) * rate_hz)) + 1
+    return np.interp(t[0] + np.arange(n) / rate_hz, t, x)
+
+
+def write_wav(path: str | Path, signal: np.ndarray, rate_hz: int = WAV_RATE_HZ) -> float:
+    """Write ``signal`` as a mono 16-bit PCM WAV file, peak-normalised (the largest
+    |sample| at full scale); returns the peak it was divided by (0: a silent file)."""
+    s = np.asarray(signal, float)
+    peak = float(np.max(np.abs(s))) if len(s) else 0.0
+    pcm = np.zeros(len(s), dtype="<i2") if peak == 0 else np.round(s / peak * 32767).astype("<i2")
+    with wave.open(str(path), "wb") as w:
+        w.setnchannels(1)
+        w.setsampwidth(2)
+        w.setframerate(int(rate_hz))
+        w.writeframes(pcm.tobytes())
+    return peak

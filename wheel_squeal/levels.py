@@ -1,0 +1,288 @@
+"""The squeal as acousticians report it: the limit cycle's harmonics, each radiated at its
+own frequency, the microphone signal of the whole run, its levels in dB and dB(A), its
+one-third-octave bands, the levels at 1 m and 7.5 m from the wheel centre and the
+far-field directivity (the numerics are ``acoustics.levels``, ``acoustics.farfield`` and
+``acoustics.signal``; the radiation of each harmonic is :func:`wheel_squeal.sound.mode_sound`'s).
+
+The contact velocity's harmonics over the last :data:`LIMIT_CYCLE_PERIODS` periods of the
+run are radiated up to the fewest that hold :data:`HARMONIC_ENERGY_SHARE` of its energy
+(at most :data:`MAX_HARMONICS`, none above :data:`MAX_HARMONIC_HZ`: the air mesh grows
+as the frequency squared; the share they hold is reported). Each harmonic k of the tone
+f0 is the mode's shape vibrating at k f0 (the radiation at k times the mode's frequency);
+the microphone hears their sum. Levels of several harmonics add in energy.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+if TYPE_CHECKING:
+    from .api import Simulation
+    from .sound import Sound
+
+__all__ = [
+    "DISTANCES_M",
+    "HARMONIC_ENERGY_SHARE",
+    "MAX_HARMONICS",
+    "MAX_HARMONIC_HZ",
+    "LIMIT_CYCLE_PERIODS",
+    "MicrophoneSignal",
+    "SquealSound",
+    "harmonic_velocities",
+    "squeal_sound",
+    "tone_sound",
+]
+
+#: The contact velocity's harmonics radiated hold this share of its energy
+HARMONIC_ENERGY_SHARE = 0.99
+#: ... and are at most this many, none above this frequency [Hz]
+MAX_HARMONICS, MAX_HARMONIC_HZ = 8, 10_000.0
+#: The limit cycle's harmonics and band levels are taken over its last this many periods
+LIMIT_CYCLE_PERIODS = 50
+#: The distances from the wheel centre the far levels are given at [m] (a listener at
+#: 1 m; 7.5 m, the pass-by distance of railway noise measurements)
+DISTANCES_M = (1.0, 7.5)
+#: The one-third-octave bands reported [Hz] (their centres)
+BANDS_HZ = (20.0, 10_000.0)
+#: A band this far below the overall level holds only round-off: it is reported empty
+EMPTY_BAND_DB = 100.0
+
+
+@dataclass(frozen=True, eq=False)
+class MicrophoneSignal:
+    """The pressure at the microphone: over the simulated run, t [s] (uniform) and p
+    [Pa]; over whole periods of the limit cycle, ``cycle_pa`` [Pa] at ``cycle_rate_hz``
+    (from the contact velocity's periodic samples there, exact for a periodic signal:
+    its levels and bands are taken from it)."""
+
+    t: np.ndarray
+    p: np.ndarray
+    cycle_pa: np.ndarray
+    cycle_rate_hz: float
+    window: tuple[float, float, int]
+
+    def wav_samples(self) -> np.ndarray:
+        """The pressure over the run at the WAV file's sample rate [Pa]."""
+        from acoustics.signal import WAV_RATE_HZ, resample
+
+        return resample(self.t, self.p, WAV_RATE_HZ)
+
+
+#: Samples per period the limit cycle is resampled to for its spectrum (its harmonics
+#: up to the 16th, far above :data:`MAX_HARMONICS`)
+SAMPLES_PER_PERIOD = 32
+
+
+def harmonic_velocities(simulation: Simulation, f0_hz: float, mode_frequency_hz: float):
+    """(orders, complex amplitudes [m/s], the share of the velocity's energy they hold,
+    the window (start, end [s], whole periods), the velocity's samples over it, at
+    :data:`SAMPLES_PER_PERIOD` per period): the contact velocity's harmonics over the
+    limit cycle, the fewest holding :data:`HARMONIC_ENERGY_SHARE` (module docstring)."""
+    from acoustics.signal import harmonic_amplitudes, harmonics_holding, periodic_samples, whole_periods
+
+    h = simulation.history
+    periods = max(1, min(LIMIT_CYCLE_PERIODS, int(0.25 * (h.t[-1] - h.t[0]) * f0_hz)))
+    start, end, count = whole_periods(h.t, h.v, periods)
+    samples = periodic_samples(h.t, h.v, start, end, count * SAMPLES_PER_PERIOD)
+    k_max = max(1, min(MAX_HARMONICS, int(MAX_HARMONIC_HZ / mode_frequency_hz)))
+    amps = harmonic_amplitudes(samples, count, k_max)
+    mean_square = float(np.var(samples))
+    held = 0.5 * np.cumsum(np.abs(amps) ** 2) / mean_square if mean_square > 0 else np.ones(k_max)
+    k = min(k_max, harmonics_holding(amps, HARMONIC_ENERGY_SHARE / max(float(held[-1]), 1e-300)))
+    share = min(1.0, float(held[k - 1]))
+    return tuple(range(1, k + 1)), amps[:k], share, (start, end, count), samples
+
+
+def tone_sound(sound: Sound) -> SquealSound:
+    """A pure tone (one ``Sound``, no record) as a :class:`SquealSound`."""
+    return SquealSound((sound,), (1,), 1.0, float(sound.field.frequency_hz))
+
+
+@dataclass(frozen=True, eq=False)
+class SquealSound:
+    """The sound of a squeal (module docstring): ``harmonics`` (a ``Sound`` each, the
+    fundamental first, at its own frequency and velocity amplitude), their ``orders``,
+    the ``velocity_share`` of the contact velocity's energy they hold, the tone
+    ``tone_hz`` [Hz] the microphone hears, and the microphone ``signal`` of the run
+    (None for a tone without a record)."""
+
+    harmonics: tuple[Sound, ...]
+    orders: tuple[int, ...]
+    velocity_share: float
+    tone_hz: float
+    signal: MicrophoneSignal | None = None
+
+    # -- the fundamental stands for the sound where one field is asked for ------------------
+    @property
+    def fundamental(self) -> Sound:
+        return self.harmonics[0]
+
+    @property
+    def field(self):
+        return self.fundamental.field
+
+    @property
+    def radiation(self):
+        return self.fundamental.radiation
+
+    @property
+    def microphone(self) -> tuple[float, float, float]:
+        return self.fundamental.microphone
+
+    @property
+    def velocity_amplitude_m_s(self) -> float:
+        return self.fundamental.velocity_amplitude_m_s
+
+    @property
+    def travelling(self) -> bool:
+        return self.fundamental.travelling
+
+    @property
+    def frequencies_hz(self) -> np.ndarray:
+        """The harmonics' frequencies as the microphone hears them, k f0 [Hz]."""
+        return np.array(self.orders, float) * self.tone_hz
+
+    # -- levels ---------------------------------------------------------------------------
+    def mean_squares_pa2(self) -> np.ndarray:
+        """Each harmonic's mean-square pressure at the microphone [Pa^2]."""
+        return np.array([0.5 * s.microphone_pressure_pa**2 for s in self.harmonics])
+
+    def powers_w(self) -> np.ndarray:
+        """Each harmonic's radiated power [W]."""
+        return np.array([s.sound_power_w for s in self.harmonics])
+
+    def far_mean_squares_pa2(self, distance_m: float, angle_rad: float) -> np.ndarray:
+        """Each harmonic's mean-square pressure at ``distance_m`` from the wheel centre at
+        meridian angle ``angle_rad`` from the +z axis, at an antinode around the axis
+        (a travelling wave passes every angle with it) [Pa^2]."""
+        from acoustics.farfield import distant_mean_squares_pa2
+
+        fields = [s.field for s in self.harmonics]
+        return distant_mean_squares_pa2(
+            fields, [s.velocity_amplitude_m_s for s in self.harmonics], distance_m, angle_rad
+        )
+
+    def loudest_angle_rad(self) -> float:
+        """The meridian angle of the far field's largest intensity (all harmonics)."""
+        from acoustics.farfield import loudest_angle_rad
+
+        return loudest_angle_rad([(s.field, s.velocity_amplitude_m_s) for s in self.harmonics])
+
+    def bands(self):
+        """(bands, band levels [dB re 20 uPa], overall [dB re 20 uPa]) of the microphone
+        pressure: of its record over the limit cycle (Parseval), or of the harmonics'
+        line spectrum without a record."""
+        from acoustics.levels import band_levels_db, third_octave_bands
+
+        bands = third_octave_bands(*BANDS_HZ)
+        if self.signal is not None:
+            levels, overall = band_levels_db(self.signal.cycle_pa, self.signal.cycle_rate_hz, bands)
+            return bands, levels, overall
+        ms = self.mean_squares_pa2()
+        levels = np.full(len(bands), -math.inf)
+        for f, m in zip(self.frequencies_hz, ms):
+            for i, b in enumerate(bands):
+                if b.lower_hz <= f < b.upper_hz and m > 0:
+                    levels[i] = 10 * math.log10(10 ** (levels[i] / 10) + m / 20e-6**2)
+        return bands, levels, _db(ms.sum(), 20e-6**2)
+
+    def summary(self) -> dict:
+        """summary.json's ``sound``: the fundamental's fields (its radiation per unit
+        velocity, the checks), the overall levels of all harmonics in dB and dB(A), the
+        far levels, the bands and the harmonics (None where a level has no pressure)."""
+        from acoustics.levels import a_weighting_db
+
+        out = self.fundamental.summary()
+        ms, w = self.mean_squares_pa2(), self.powers_w()
+        a = np.power(10.0, a_weighting_db(self.frequencies_hz) / 10.0)
+        angle = self.loudest_angle_rad()
+        far = {}
+        silent_axis = self.field.harmonic >= 1  # cos(n phi) with n >= 1 vanishes on the axis
+        for d in DISTANCES_M:
+            tag = f"{d:g}".replace(".", "_")
+            far[f"spl_{tag}m_db"] = _db(self.far_mean_squares_pa2(d, angle).sum(), 20e-6**2)
+            axis = None if silent_axis else _db(self.far_mean_squares_pa2(d, 0.0).sum(), 20e-6**2)
+            far[f"spl_{tag}m_axis_db"] = axis
+        bands, levels, overall = self.bands()
+        levels = np.where(levels >= overall - EMPTY_BAND_DB, levels, -math.inf)
+        out |= {
+            "spl_db": _db(ms.sum(), 20e-6**2),
+            "sound_power_level_db": _db(w.sum(), 1e-12),
+            "spl_dba": _db((ms * a).sum(), 20e-6**2),
+            "sound_power_level_dba": _db((w * a).sum(), 1e-12),
+            "tone_hz": self.tone_hz,
+            **far,
+            "loudest_angle_deg": math.degrees(angle),
+            "third_octave_bands": [
+                {"centre_hz": b.centre_hz, "label_hz": b.label_hz, "spl_db": _finite(x)}
+                for b, x in zip(bands, levels)
+            ],
+            "harmonics": [
+                {
+                    "order_k": k,
+                    "frequency_hz": k * self.tone_hz,
+                    "velocity_amplitude_m_s": s.velocity_amplitude_m_s,
+                    "spl_db": _db(m, 20e-6**2),
+                    "sound_power_level_db": _db(p, 1e-12),
+                }
+                for k, s, m, p in zip(self.orders, self.harmonics, ms, w)
+            ],
+            "velocity_energy_share": self.velocity_share,
+        }
+        if self.signal is not None:
+            out["wav_full_scale_pa"] = float(np.max(np.abs(self.signal.wav_samples())))
+        return out
+
+
+def _db(value: float, reference: float) -> float | None:
+    return 10.0 * math.log10(value / reference) if value > 0 else None
+
+
+def _finite(x: float) -> float | None:
+    return float(x) if math.isfinite(x) else None
+
+
+def squeal_sound(
+    design,
+    modeset,
+    mode,
+    mode_frequency_hz: float,
+    simulation: Simulation,
+    tone_hz: float,
+    **radiation,
+) -> SquealSound:
+    """The :class:`SquealSound` of ``mode`` squealing as ``simulation`` says, heard at
+    ``tone_hz`` [Hz]: its harmonics radiated at k times ``mode_frequency_hz`` through
+    :func:`wheel_squeal.sound.mode_sound` (``radiation``: its keywords: listener,
+    travelling, fidelity, fmax_hz, cache, budget, memo), and the microphone signal of the
+    whole run (each band of the contact velocity's spectrum through its harmonic's
+    transfer)."""
+    from acoustics.signal import pressure_signal
+
+    from .sound import contact_velocity_phase, mode_sound
+
+    orders, amplitudes, share, window, cycle = harmonic_velocities(simulation, tone_hz, mode_frequency_hz)
+    tone_hz = window[2] / (window[1] - window[0])  # measured over whole periods
+    sounds = tuple(
+        mode_sound(design, modeset, mode, k * mode_frequency_hz, float(abs(a)), **radiation)
+        for k, a in zip(orders, amplitudes)
+    )
+    phase = contact_velocity_phase(mode)
+    transfer = {
+        k: s.microphone_transfer() / phase for k, s in zip(orders, sounds)
+    }  # pressure per unit contact velocity
+    h = simulation.history
+    rate = tone_hz * SAMPLES_PER_PERIOD
+    cycle_t = np.arange(len(cycle)) / rate
+    signal = MicrophoneSignal(
+        h.t,
+        pressure_signal(h.t, h.v, tone_hz, transfer),
+        pressure_signal(cycle_t, cycle, tone_hz, transfer, periodic=True),
+        rate,
+        window,
+    )
+    return SquealSound(sounds, orders, share, tone_hz, signal)
