@@ -18,6 +18,7 @@ from geometry import DesignError, MeshError
 from ..design import Design
 from ..errors import BudgetError, RequestError
 from ..fields import FLAG_FIELDS, LABEL_FIELDS, RESULT_FIELDS
+from ..verdict import LEVELS
 
 __all__ = ["CODE_PACKAGES", "FLAG_FIELDS", "LABEL_FIELDS", "CaseJob", "RESULT_FIELDS", "run_case"]
 
@@ -101,14 +102,7 @@ def _run(design: Design, job: CaseJob) -> dict:
                 cache=cache, budget=budget, memo=memo, margin=False, simulate_stable=False,
             )  # fmt: skip
             v = a.verdict.to_dict()
-            for k in (
-                "tone_hz",
-                "growth_rate_1_s",
-                "amplitude_m_s",
-                "spl_db",
-                "spl_dba",
-                "sound_power_level_db",
-            ):
+            for k in ("tone_hz", "growth_rate_1_s", "amplitude_m_s", *LEVELS):
                 numbers[k][i, j] = np.nan if v[k] is None else v[k]
             if not v["squeals"]:  # how far from squeal: the largest growth rate (<= 0)
                 numbers["growth_rate_1_s"][i, j] = a.stability.growth_rate_1_s
