@@ -15,7 +15,15 @@ from .fields import columns_of
 from .outputs import write_csv
 from .sweeps import VerdictGrid
 
-__all__ = ["curve", "sweep_table", "write_sweep_csv", "write_sweep_plot", "write_sweep_spl"]
+__all__ = [
+    "curve",
+    "measured_table",
+    "sweep_table",
+    "write_measured_csv",
+    "write_sweep_csv",
+    "write_sweep_plot",
+    "write_sweep_spl",
+]
 
 
 def _cell(x: float) -> float | None:
@@ -74,11 +82,12 @@ def curve(grid: VerdictGrid, values: np.ndarray, j: int) -> tuple[np.ndarray, np
     return x, np.where(cycle, y, np.nan), hollow
 
 
-def write_sweep_plot(path: Path, grid: VerdictGrid) -> Path:
+def write_sweep_plot(path: Path, grid: VerdictGrid, measured=None) -> Path:
     """sweep.png: the amplitude (top) and the SPL (bottom, with sound; else the velocity
     level re 5e-8 m/s) against the crabbing velocity, one curve per speed; hollow: still
     growing at the end of the run; each filled point labelled by nothing, the modes in
-    the legend."""
+    the legend; ``measured`` (``wheel_squeal.measured.Measured``): the measured levels
+    as crosses in their speed's colour."""
     from matplotlib.figure import Figure
 
     from reduced.report import VELOCITY_REFERENCE_M_S
@@ -97,8 +106,17 @@ def write_sweep_plot(path: Path, grid: VerdictGrid) -> Path:
         (line,) = top.plot(x, y, "-o", ms=3, label=f"{rpm:g} RPM")
         top.plot(x[hollow], grid.amplitude_m_s[hollow, j], "o", mfc="white", mec=line.get_color(), ms=6)
         _, yl, _ = curve(grid, level, j)
-        bottom.plot(x, yl, "-o", ms=3, color=line.get_color())
+        bottom.plot(x, yl, "-o", ms=3, color=line.get_color(), label=f"{rpm:g} RPM, predicted")
         bottom.plot(x[hollow], level[hollow, j], "o", mfc="white", mec=line.get_color(), ms=6)
+        if measured is not None:
+            at = np.isclose(measured.rpm, rpm, rtol=0.01)
+            if at.any():
+                bottom.plot(
+                    measured.crab_velocity[at], measured.spl_db[at], "x", ms=8, mew=2,
+                    color=line.get_color(), label=f"{rpm:g} RPM, measured",
+                )  # fmt: skip
+    if measured is not None:
+        bottom.legend(fontsize=8)
     if (grid.squeals & ~grid.saturated).any():
         top.plot([], [], "o", mfc="white", mec="0.4", ms=6, label="still growing: not a limit cycle")
     top.plot(grid.crabbing_velocities_m_s, np.abs(grid.crabbing_velocities_m_s), "k--", lw=0.8, label="|Vc|")
@@ -134,4 +152,33 @@ def sweep_table(grid: VerdictGrid) -> str:
         "contact velocity amplitude [m/s]; - no squeal, * still growing at the end of the run; "
         f"squealing modes: {', '.join(modes) or 'none'}"
     )
+    return "\n".join(lines)
+
+
+def write_measured_csv(path: Path, comparison: list[dict]) -> Path:
+    """measured.csv: per measured point its values, the prediction there and the
+    prediction minus the measurement (``wheel_squeal.measured.compare_measured``)."""
+    return write_csv(path, comparison, columns_of("measured.csv"))
+
+
+def measured_table(comparison: list[dict]) -> str:
+    """The comparison as text: prediction minus measurement per point, and its mean and
+    spread over the points with a prediction."""
+
+    def num(x, fmt: str) -> str:
+        return "-" if x is None else format(x, fmt)
+
+    lines = [f"{'Vc [m/s]':>9} {'rpm':>6} {'measured':>9} {'predicted':>9} {'pred-meas':>9}  dB"]
+    for c in comparison:
+        lines.append(
+            f"{c['crabbing_velocity_m_s']:9.4f} {c['rpm']:6.0f} {c['measured_spl_db']:9.1f} "
+            f"{num(c['predicted_spl_db'], '9.1f'):>9} {num(c['spl_difference_db'], '+9.1f'):>9}"
+        )
+    d = np.array([c["spl_difference_db"] for c in comparison if c["spl_difference_db"] is not None])
+    if len(d):
+        lines.append(
+            f"prediction minus measurement over {len(d)} of {len(comparison)} points: "
+            f"mean {d.mean():+.1f} dB, rms {np.sqrt(np.mean(d**2)):.1f} dB "
+            "('-': no limit cycle predicted there)"
+        )
     return "\n".join(lines)

@@ -155,6 +155,13 @@ def _add_sweep_command(sub: argparse._SubParsersAction) -> None:
     add_friction_law(p)
     add_contact(p)
     p.add_argument("--sound", action="store_true", help="also the SPL at the microphone (Fig. 5 in dB)")
+    p.add_argument(
+        "--measured",
+        type=Path,
+        metavar="FILE.csv",
+        help="measured levels to draw over the --sound curves and compare (columns crab_velocity, rpm, "
+        "spl_db, optional frequency_hz): measured.csv holds prediction minus measurement",
+    )
     add_microphone(p)
 
 

@@ -123,6 +123,13 @@ def cmd_sweep(args) -> int:
     progress = Progress(args.quiet)
     design = design_of(args)
     listener = listener_of(args, design) if args.sound else None
+    measured = None
+    if args.measured is not None:
+        from ..measured import load_measured
+
+        if not args.sound:
+            raise RequestError("--measured compares levels: give --sound too")
+        measured = load_measured(args.measured)
     explicit = (args.mass, args.stiffness, args.damping)
     out = out_of(args, design.name)
     with result_folder(out, "sweep") as tmp:
@@ -143,9 +150,16 @@ def cmd_sweep(args) -> int:
                 budget=budget_of(args), progress=progress,
             )  # fmt: skip
         write_sweep_csv(tmp / "sweep.csv", grid)
-        write_sweep_plot(tmp / "sweep.png", grid)
+        write_sweep_plot(tmp / "sweep.png", grid, measured)
         if args.sound:
             write_sweep_spl(tmp / "sweep_spl.csv", grid)
+        comparison = None
+        if measured is not None:
+            from ..measured import compare_measured
+            from ..sweep_files import write_measured_csv
+
+            comparison = compare_measured(grid, measured)
+            write_measured_csv(tmp / "measured.csv", comparison)
         write_json(
             tmp / "summary.json",
             {
@@ -159,7 +173,11 @@ def cmd_sweep(args) -> int:
             },
         )
     print(sweep_table(grid))
-    print(f"-> {out} (sweep.csv, sweep.png{', sweep_spl.csv' if args.sound else ''})")
+    if comparison is not None:
+        from ..sweep_files import measured_table
+
+        print(measured_table(comparison))
+    print(f"-> {out} ({files_in(out)})")
     return 0
 
 
