@@ -100,6 +100,8 @@ def written(tmp_path_factory) -> dict[str, Path]:
     root = tmp_path_factory.mktemp("fields")
     cache = ("--cache-dir", str(root / "cache"))
     fast = ("--fidelity", "fast", "--quiet", *cache)
+    measured = root / "measured.csv"
+    measured.write_text("crab_velocity,rpm,spl_db,frequency_hz\n0.35,800,126.0,1140\n")
     runs = {
         "run": ("run", *fast, "--render", "none", "--multimode", "2"),
         "stability": (
@@ -111,7 +113,17 @@ def written(tmp_path_factory) -> dict[str, Path]:
             "--envelope-rpm",
             "400,800",
         ),
-        "sweep": ("sweep", *fast, "--sound", "--crab-velocity", "0.3,0.4", "--rpm", "800"),
+        "sweep": (
+            "sweep",
+            *fast,
+            "--sound",
+            "--crab-velocity",
+            "0.3,0.4",
+            "--rpm",
+            "800",
+            "--measured",
+            str(measured),
+        ),  # fmt: skip
         "compare": ("compare", "table1", "thin_web", *fast),
         "sound": ("sound", *fast),
         "modes": ("modes", *fast),

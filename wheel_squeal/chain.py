@@ -29,6 +29,7 @@ from .stability import (
     margin_of,
     multimode,
     named_mode,
+    remedy_of,
     stability_table,
     wheel_speed_rad_s,
 )
@@ -328,6 +329,16 @@ class _Chain:
         coupled = f" with {', '.join(x.label() for x in partners)}" if partners else ""
         return f"{p.label}{coupled} grows fastest ({rate}, {p.mechanism}; {n_grow})"
 
+    def loud(self, outcome: ModeOutcome, reason: str, named=None, pick=None) -> Verdict:
+        """It squeals in ``outcome``: with its sound, and (``margin`` asked for) what
+        would stop it."""
+        remedy = None
+        if self.opts.margin:
+            remedy = remedy_of(
+                self.design, self.rows, self.contact, self.op, outcome.mode, self.opts.rotation
+            )
+        return Verdict(True, self.heard(outcome), reason, named, pick, remedy=remedy)
+
     def quiet(self, reason: str, **extra: Any) -> Verdict:
         """No squeal, with how far the least stable mode is from growing."""
         far = None
@@ -347,13 +358,13 @@ class _Chain:
                     rate = f"{pick.tone_hz:.1f} Hz ({pick.growth_rate_1_s:.3g} 1/s)"
                     beside = f"; the model alone picks {pick.label} at {rate}"
                 reason = f"{source} {named.label()}, simulated as asked{beside}"
-                return Verdict(True, self.heard(n_out), reason, n_out, pick)
+                return self.loud(n_out, reason, n_out, pick)
             if pick is None:
                 return self.quiet(f"{source} {named.label()}; no mode grows here", named=n_out)
             p_out = pick if pick.simulation is not None else self.run(pick.mode)
             stable = f"{source} {named.label()}, which does not squeal here ({n_out.growth_rate_1_s:.3g} 1/s)"
             if p_out.squeals:
-                return Verdict(True, self.heard(p_out), f"{stable}; {self.pick_words(p_out)}", n_out, p_out)
+                return self.loud(p_out, f"{stable}; {self.pick_words(p_out)}", n_out, p_out)
             return self.quiet(
                 f"{stable}; {self.pick_words(p_out)} but does not sustain from rest", named=n_out, pick=p_out
             )
@@ -361,7 +372,7 @@ class _Chain:
             return self.quiet("no mode grows here")
         p_out = pick if pick.simulation is not None else self.run(pick.mode)
         if p_out.squeals:
-            return Verdict(True, self.heard(p_out), self.pick_words(p_out), None, p_out)
+            return self.loud(p_out, self.pick_words(p_out), None, p_out)
         return self.quiet(
             f"{self.pick_words(p_out)} but its oscillation does not sustain from rest", pick=p_out
         )

@@ -79,6 +79,7 @@ FIELDS: dict[str, Field] = {
     "friction_damping_ns_m": Field(
         "N s/m", "linearised friction damping g = W/V0 dmu/dzeta (negative: destabilising)"
     ),
+    "friction_slope": Field("", "the creep curve's slope dmu/dzeta at the quasi-static creepage now"),
     "friction_law": Field("-", "the creep law: falling (the paper's) or constant (no falling friction)"),
     "friction_slope_at_rpm": Field("rev/min", "wheel speed where the required friction slope binds"),
     "hertz_approach_m": Field("m", "the static Hertz approach delta0 under W (null: constant normal load)"),
@@ -166,6 +167,8 @@ FIELDS: dict[str, Field] = {
     "spl_7_5m_db": Field("dB re 20 uPa", "SPL 7.5 m from the wheel centre in the loudest direction"),
     "spl_7_5m_axis_db": Field("dB re 20 uPa", "SPL 7.5 m from the wheel centre on its axis (null: silent)"),
     "spl_difference_db": Field("dB", "prediction minus measurement"),
+    "stops_above_damping_ratio": Field("", "the squealing mode's damping ratio above which it stops here"),
+    "stops_above_friction_slope": Field("", "the creep-curve slope dmu/dzeta above which the squeal stops"),
     "squeal": Field("-", "whether the limit cycle is a self-sustained oscillation"),
     "squealing_points": Field("-", "operating points that squeal"),
     "squeals": Field("-", "the verdict: whether the wheel squeals"),
@@ -189,6 +192,7 @@ FIELDS: dict[str, Field] = {
     "wheel_speed_rad_s": Field("rad/s", "wheel speed Omega = V0 / R1"),
     "window_s": Field("s", "start and end of the window the energy shares are taken over"),
     "why": Field("-", "why this mode"),
+    "words": Field("-", "the same, in words"),
     "y_m": Field("m", "lateral displacement of the wheel at the contact"),
     "z_m": Field("m", "axial position of the contact point"),
 }
@@ -213,6 +217,7 @@ GROUPS: dict[str, str] = {
     "per_unit_velocity": "levels at 1 m/s contact velocity (the fundamental)",
     "third_octave_bands": "the microphone's one-third-octave band levels over the limit cycle (null: empty)",
     "harmonics": "each radiated harmonic of the contact velocity: order, frequency, amplitude, levels",
+    "remedy": "with squeal: the damping ratio or the friction slope that would stop it",
     "rotation_off": "mitigation with the wheel's rotation left out",
     "rotation_on": "mitigation with rotation",
     "selected_mode": "the mode the command selected",

@@ -53,6 +53,7 @@ __all__ = [
     "multimode",
     "named_mode",
     "NamedMode",
+    "remedy_of",
     "stability_table",
     "wheel_speed_rad_s",
 ]
@@ -204,6 +205,17 @@ def stability_seconds(
     return seconds(contact_dofs(excitable(modeset, contact), design), rotation, bounds)
 
 
+def _bounds(design, rows, contact, op, rotation, i):
+    """(its stability with bounds, damping ratio now, friction slope now) of row ``i``."""
+    from reduced import linear_stability
+
+    omega = wheel_speed_rad_s(design, op, rotation)
+    dofs = contact_dofs([r.mode for r in rows], design)
+    result = linear_stability(dofs, contact, op, omega, bounds=[i])
+    slope_now = result.friction_damping_ns_m * op.rolling_speed_m_s / contact.normal_load_n
+    return result.modes[i], design.damping_ratio_of(rows[i].mode), slope_now
+
+
 def margin_of(
     design: Design,
     rows: Sequence[ModeStabilityRow],
@@ -214,16 +226,9 @@ def margin_of(
     """How far from squeal a point where no mode grows is: the least stable mode, its
     growth rate [1/s], and the damping ratio below which (or the friction slope
     dmu/dzeta below which) it would grow, with the values now; ``words`` says it."""
-    from reduced import linear_stability
-
     i = max(range(len(rows)), key=lambda k: rows[k].stability.growth_rate_1_s)
     m = rows[i].mode
-    omega = wheel_speed_rad_s(design, op, rotation)
-    dofs = contact_dofs([r.mode for r in rows], design)
-    result = linear_stability(dofs, contact, op, omega, bounds=[i])
-    s = result.modes[i]
-    zeta_now = design.damping_ratio_of(m)
-    slope_now = result.friction_damping_ns_m * op.rolling_speed_m_s / contact.normal_load_n
+    s, zeta_now, slope_now = _bounds(design, rows, contact, op, rotation, i)
     damping = (
         f"a damping ratio below {s.critical_damping_ratio:.3g} (it has {zeta_now:.3g})"
         if s.critical_damping_ratio > 0
@@ -244,6 +249,42 @@ def margin_of(
         "friction_slope": slope_now,
         "grows_below_friction_slope": s.critical_friction_slope,
         "words": words,
+    }
+
+
+def remedy_of(
+    design: Design,
+    rows: Sequence[ModeStabilityRow],
+    contact: ContactLaw,
+    op: OperatingPoint,
+    mode: Mode,
+    rotation: bool = False,
+) -> dict:
+    """What would stop the squealing ``mode`` here: the damping ratio above which it
+    stops growing (the other modes as they are) and the creep-curve slope dmu/dzeta
+    above which it stops, with the values now; ``words`` says it. (The mitigation of
+    ``stability --envelope`` makes every mode stable over a whole envelope.)"""
+    i = next(k for k, r in enumerate(rows) if r.mode.index == mode.index)
+    s, zeta_now, slope_now = _bounds(design, rows, contact, op, rotation, i)
+    damping = (
+        f"a damping ratio of {mode.label()} above {s.critical_damping_ratio:.3g} (now {zeta_now:.3g})"
+        if math.isfinite(s.critical_damping_ratio)
+        else f"no damping of {mode.label()} alone"
+    )
+    slope = (
+        f"a creep curve falling less steeply than dmu/dzeta = {s.critical_friction_slope:.3g} at the "
+        f"quasi-static creepage (now {slope_now:.3g})"
+        if math.isfinite(s.critical_friction_slope)
+        else "no friction slope alone"
+    )
+    return {
+        "mode": mode.label(),
+        "mode_index": mode.index,
+        "damping_ratio": zeta_now,
+        "stops_above_damping_ratio": s.critical_damping_ratio,
+        "friction_slope": slope_now,
+        "stops_above_friction_slope": s.critical_friction_slope,
+        "words": f"it stops with {damping}, or with {slope}",
     }
 
 

@@ -15,6 +15,7 @@ from .fields import columns_of
 from .outputs import write_csv
 
 __all__ = [
+    "write_mode_growth_plot",
     "mitigation_text",
     "multimode_text",
     "stability_text",
@@ -44,6 +45,51 @@ def stability_text(rows: Sequence, winner: int) -> str:
             f"{_cell(s.critical_friction_slope, 11)}{mark}"
         )
     return "\n".join(lines)
+
+
+#: Marker and colour of each mechanism in the growth-rate plot (None: decays)
+_MECHANISM_STYLE = {
+    "falling friction": ("o", "C3"),
+    "mode coupling": ("s", "C0"),
+    "both": ("D", "C4"),
+    None: ("o", "0.6"),
+}
+
+
+def write_mode_growth_plot(path: Path, rows: Sequence, chosen: int | None = None) -> Path:
+    """growth.png: every mode's linear growth rate [1/s] against its frequency [Hz],
+    marked by the mechanism that makes it grow (grey: it decays), each mode labelled,
+    the verdict's mode (``chosen``, a mode index) circled."""
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=(8, 4.2))
+    ax = fig.subplots()
+    fig.subplots_adjust(left=0.1, right=0.97, bottom=0.13, top=0.9)
+    seen = set()
+    for row in rows:
+        m, st = row.mode, row.stability
+        marker, colour = _MECHANISM_STYLE.get(st.mechanism, ("o", "k"))
+        label = st.mechanism or "decays"
+        ax.plot(
+            [st.damped_frequency_hz], [st.growth_rate_1_s], marker, color=colour, ms=7,
+            label=None if label in seen else label,
+        )  # fmt: skip
+        seen.add(label)
+        ax.annotate(m.label(), (st.damped_frequency_hz, st.growth_rate_1_s), fontsize=7,
+                    xytext=(4, 4), textcoords="offset points")  # fmt: skip
+        if chosen is not None and m.index == chosen:
+            ax.plot([st.damped_frequency_hz], [st.growth_rate_1_s], "o", mfc="none", mec="k", ms=15,
+                    label="the verdict's mode")  # fmt: skip
+    ax.axhline(0.0, color="k", lw=0.8)
+    ax.set(
+        xlabel="frequency at the contact (Hz)",
+        ylabel="linear growth rate (1/s)",
+        title="every mode at the operating point: above 0 it grows (can squeal)",
+    )
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8)
+    fig.savefig(path, dpi=PLOT_DPI)
+    return Path(path)
 
 
 def write_envelope_csv(path: Path, env) -> Path:

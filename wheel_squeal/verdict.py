@@ -163,6 +163,7 @@ class Verdict:
     named: ModeOutcome | None = None
     pick: ModeOutcome | None = None
     margin: dict | None = None
+    remedy: dict | None = None
 
     def get(self, key: str):
         """A field of the verdict's outcome (None without squeal)."""
@@ -189,6 +190,8 @@ class Verdict:
             out["model_pick"] = self.pick.to_dict() if self.pick is not None else None
         if self.margin is not None:
             out["margin"] = self.margin
+        if self.remedy is not None:
+            out["remedy"] = self.remedy
         return out
 
     def lines(self) -> list[str]:
@@ -218,4 +221,5 @@ class Verdict:
         return [
             f"VERDICT: squeals in {o.label}{by} at {o.tone_hz:.1f} Hz{wave}{amplitude}{level}",
             f"  why: {self.reason}",
+            *([f"  remedy: {self.remedy['words']}"] if self.remedy is not None else []),
         ]

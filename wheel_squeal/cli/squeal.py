@@ -15,6 +15,7 @@ from ..outputs import result_folder, write_csv, write_json
 from ..plotting import PlotWorkers
 from ..presets import DEFAULT_ENVELOPE_CRAB_VELOCITIES, DEFAULT_SPEEDS_RPM
 from ..progress import Progress
+from ..report import compare_report, run_report
 from ..sound_files import sound_text
 from ..stability import eigenvalue_list, excitable, stability_seconds, stability_table, wheel_speed_rad_s
 from .arguments import grid_axis
@@ -66,6 +67,8 @@ def cmd_run(args, plots: PlotWorkers) -> int:
         if ms.solver != MODAL_MODEL_SOLVER:  # a modal model has no shapes to draw
             with progress.stage("mode views"):
                 write_files(tmp, api.mode_views(design, a.fidelity, args.fmax, ms, indices, cache))
+        plots.submit(stability_files.write_mode_growth_plot, tmp / "growth.png", a.rows,
+                     o.mode.index if o is not None else None)  # fmt: skip
         with progress.stage("plots"):
             plots.draw()
         summary = {
@@ -74,6 +77,7 @@ def cmd_run(args, plots: PlotWorkers) -> int:
             "cache": {"hits": cache.hits, "misses": cache.misses},
         }
         write_json(tmp / "summary.json", summary)
+        run_report(tmp, a)
     print(writers.analysis_header(a))
     if o is not None:
         print(writers.squeal_report(o.simulation, api.modal_dof(o.mode, design), o.label))
@@ -213,6 +217,7 @@ def cmd_compare(args) -> int:
                 "operating_point": writers.operating_point_summary(analyses[0].operating_point, designs[0]),
             },
         )
+        compare_report(tmp, rows, analyses)
     print(compare_files.compare_table(rows))
     for a in analyses:
         print(f"{a.design.name}: " + "\n  ".join(a.verdict.lines()))

@@ -1,0 +1,310 @@
+"""``report.html``: one self-contained page per result folder (``run``, ``compare``,
+``study``) to send to a colleague: the inputs, the verdict and its reason, the tables
+and the figures, the squeal to listen to, the assumptions and the files.
+
+The page needs nothing but itself: its images and its sound are embedded as data URIs,
+its style is inline, and it loads nothing from the network, so it opens from a mail
+attachment. It is written last, from the files already in the folder.
+"""
+
+from __future__ import annotations
+
+import base64
+import datetime as _dt
+import html
+import importlib.metadata
+from collections.abc import Sequence
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+from geometry.files import write_atomic
+
+from .cache import code_version
+
+if TYPE_CHECKING:
+    from .chain import Analysis
+
+__all__ = ["ASSUMPTIONS", "REPORT_NAME", "compare_report", "run_report", "study_report"]
+
+REPORT_NAME = "report.html"
+
+#: What every prediction rests on, said on every report
+ASSUMPTIONS = (
+    "The wheel is axisymmetric and linear-elastic, clamped at the bore; its modes come from "
+    "the finite-element model of the chosen preset.",
+    "The contact is one Hertz ellipse on the tread (or a flange root) with lateral creep only "
+    "(no spin, no longitudinal creep); the normal force follows the Hertz spring about the load.",
+    "Each mode is damped by its modal damping ratio (the design's, or a measured one).",
+    "Linear stability is a linearisation about steady sliding; the level is the time domain's "
+    "limit cycle from rest.",
+    "Sound: the wheel alone in free field (no roller, axle, ground or enclosure), the mode's "
+    "shape radiating at each harmonic of the contact velocity; levels at the microphone, at 1 m "
+    "and 7.5 m from the wheel centre.",
+)
+
+_STYLE = """
+body { font-family: -apple-system, Segoe UI, Helvetica, Arial, sans-serif; margin: 2em auto;
+       max-width: 1100px; color: #222; line-height: 1.4; }
+h1 { font-size: 1.6em; margin-bottom: 0.2em; } h2 { font-size: 1.2em; margin-top: 1.8em;
+       border-bottom: 1px solid #ccc; }
+.verdict { font-size: 1.15em; padding: 0.8em 1em; border-left: 6px solid #b22; background: #fbeaea; }
+.verdict.quiet { border-color: #282; background: #eaf6ea; }
+table { border-collapse: collapse; margin: 0.6em 0; font-size: 0.9em; }
+td, th { border: 1px solid #ccc; padding: 0.2em 0.6em; text-align: right; }
+th { background: #f3f3f3; } td.text, th.text { text-align: left; }
+img { max-width: 100%; border: 1px solid #eee; margin: 0.4em 0; }
+.muted { color: #666; font-size: 0.9em; }
+"""
+
+
+# -- pieces ----------------------------------------------------------------------------------
+def _e(x) -> str:
+    return html.escape(str(x))
+
+
+def image(path: Path, alt: str) -> str:
+    """An embedded PNG (empty where the file is not there)."""
+    if not path.is_file():
+        return ""
+    data = base64.b64encode(path.read_bytes()).decode()
+    return f'<img src="data:image/png;base64,{data}" alt="{_e(alt)}">'
+
+
+def audio(path: Path) -> str:
+    """An embedded WAV player (empty where the file is not there)."""
+    if not path.is_file():
+        return ""
+    data = base64.b64encode(path.read_bytes()).decode()
+    return f'<audio controls preload="auto" src="data:audio/wav;base64,{data}"></audio>'
+
+
+def _cell(x) -> str:
+    if x is None:
+        return "-"
+    if isinstance(x, bool):
+        return "yes" if x else "no"
+    if isinstance(x, float):
+        return f"{x:.4g}"
+    return _e(x)
+
+
+def table(rows: Sequence[dict], columns: Sequence[tuple[str, str]]) -> str:
+    """An HTML table of ``rows`` with ``columns`` as (key, heading)."""
+    head = "".join(f'<th class="text">{_e(h)}</th>' if i == 0 else f"<th>{_e(h)}</th>"
+                   for i, (_, h) in enumerate(columns))  # fmt: skip
+    body = "".join(
+        "<tr>"
+        + "".join(
+            f'<td class="text">{_cell(r.get(k))}</td>'
+            if i == 0 or isinstance(r.get(k), str)
+            else f"<td>{_cell(r.get(k))}</td>"
+            for i, (k, _) in enumerate(columns)
+        )
+        + "</tr>"
+        for r in rows
+    )
+    return f"<table><tr>{head}</tr>{body}</table>"
+
+
+def _pairs(items: Sequence[tuple[str, object]]) -> str:
+    return table([{"k": k, "v": v} for k, v in items], [("k", "quantity"), ("v", "value")])
+
+
+def versions() -> list[tuple[str, object]]:
+    """The tool's and its libraries' versions and the code's hash."""
+    out: list[tuple[str, object]] = []
+    for name in ("wheel-squeal", "numpy", "scipy", "scikit-fem", "gmsh", "numba"):
+        try:
+            out.append((name, importlib.metadata.version(name)))
+        except importlib.metadata.PackageNotFoundError:
+            out.append((name, "absent"))
+    out.append(("code", code_version("geometry", "fem", "reduced", "acoustics", "wheel_squeal")))
+    return out
+
+
+def _files(folder: Path) -> str:
+    names = sorted(p.name for p in folder.iterdir() if p.is_file() and not p.name.startswith("."))
+    return "<ul>" + "".join(f"<li><code>{_e(n)}</code></li>" for n in names + [REPORT_NAME]) + "</ul>"
+
+
+def _page(title: str, subtitle: str, body: list[str]) -> str:
+    when = _dt.datetime.now(_dt.UTC).strftime("%Y-%m-%d %H:%M UTC")
+    return (
+        '<!DOCTYPE html>\n<html lang="en"><head><meta charset="utf-8">'
+        f"<title>{_e(title)}</title><style>{_STYLE}</style></head><body>"
+        f'<h1>{_e(title)}</h1><p class="muted">{_e(subtitle)}; written {when}</p>'
+        + "".join(body)
+        + "</body></html>\n"
+    )
+
+
+def _section(title: str, *parts: str) -> str:
+    return f"<h2>{_e(title)}</h2>" + "".join(p for p in parts if p)
+
+
+def _verdict_block(lines: Sequence[str], squeals: bool) -> str:
+    return (
+        f'<div id="verdict" class="verdict{"" if squeals else " quiet"}">'
+        + "<br>".join(_e(x) for x in lines)
+        + "</div>"
+    )
+
+
+def _assumptions() -> str:
+    return "<ul>" + "".join(f"<li>{_e(a)}</li>" for a in ASSUMPTIONS) + "</ul>"
+
+
+def _write(folder: Path, text: str) -> Path:
+    return write_atomic(folder / REPORT_NAME, text)
+
+
+# -- the reports -------------------------------------------------------------------------------
+def run_report(folder: Path, a: Analysis) -> Path:
+    """The report of ``run``: the analysis ``a`` and the files in ``folder``."""
+    from . import writers
+
+    d, op = a.design, writers.operating_point_summary(a.operating_point, a.design)
+    frame = d.contact_frame
+    inputs = [
+        ("design", f"{d.name}: {d.description}"),
+        (
+            "rolling radius at the contact",
+            f"{frame.r_m:.4g} m (contact angle {frame.to_dict()['contact_angle_deg']:.3g} deg)",
+        ),
+        ("wheel speed", f"{op['rpm']:.4g} rev/min (V0 = {op['rolling_speed_m_s']:.4g} m/s)"),
+        ("crabbing velocity", f"{op['crabbing_velocity_m_s']:.4g} m/s (creepage {op['creepage']:.4g})"),
+        (
+            "normal load, friction",
+            f"{d.contact.normal_load:g} N, mu = {d.contact.friction_coefficient:g}, "
+            f"{a.contact.friction_law} law, normal contact {d.contact.normal_contact}",
+        ),  # fmt: skip
+        (
+            "damping ratio",
+            f"{d.damping.modal_damping_ratio:g} (measured by mode: {dict(d.damping.by_mode) or 'none'})",
+        ),
+        ("rotation", "modelled (travelling waves)" if a.rotation else "left out (the paper's model)"),
+        ("fidelity", f"{a.fidelity.name} preset, {a.modeset.solver} solver, {a.modeset.dofs} DOFs"),
+    ]
+    rows = []
+    for r in a.rows:
+        m, st = r.mode, r.stability
+        mass = m.modal_mass
+        rows.append({
+            "mode": m.label(), "f": m.frequency_hz, "mass": mass if mass != float("inf") else None,
+            "sigma": st.growth_rate_1_s, "fd": st.damped_frequency_hz, "mech": st.mechanism or "decays",
+        })  # fmt: skip
+    mode_table = table(
+        rows,
+        [
+            ("mode", "mode"),
+            ("f", "f (Hz)"),
+            ("mass", "lateral modal mass (kg)"),
+            ("fd", "frequency with contact (Hz)"),
+            ("sigma", "growth rate (1/s)"),
+            ("mech", "mechanism"),
+        ],  # fmt: skip
+    )
+    o = a.verdict.outcome
+    sound = o.sound.summary() if o is not None and o.sound is not None else None
+    levels = ""
+    if sound is not None:
+        levels = _pairs(
+            [
+                (
+                    "SPL at the microphone",
+                    f"{sound['spl_db']:.1f} dB, {sound['spl_dba']:.1f} dB(A) re 20 uPa",
+                ),
+                ("microphone (r, z, theta)", ", ".join(f"{x:g}" for x in sound["microphone_m"])),
+                (
+                    "sound power level",
+                    f"{sound['sound_power_level_db']:.1f} dB, "
+                    f"{sound['sound_power_level_dba']:.1f} dB(A) re 1 pW",
+                ),
+                (
+                    "SPL 1 m / 7.5 m from the centre",
+                    f"{sound['spl_1m_db']:.1f} / {sound['spl_7_5m_db']:.1f} dB "
+                    f"(loudest direction, {sound['loudest_angle_deg']:.0f} deg from the axis)",
+                ),  # fmt: skip
+                (
+                    "harmonics radiated",
+                    f"{len(sound['harmonics'])}, holding {sound['velocity_energy_share']:.2%} "
+                    "of the contact velocity's energy",
+                ),  # fmt: skip
+                ("radiation efficiency", f"{sound['radiation_efficiency']:.3g}"),
+            ]
+        )
+    body = [
+        _verdict_block(a.verdict.lines(), a.verdict.squeals),
+        _section("Inputs", _pairs(inputs), '<p class="muted">versions</p>', _pairs(versions())),
+        _section("Which mode squeals", mode_table, image(folder / "growth.png", "growth rate of every mode")),
+        _section(
+            "The limit cycle",
+            image(folder / "velocity_history.png", "contact velocity over the run"),
+            image(folder / "force_velocity_0.20s.png", ""),
+        ),  # fmt: skip
+        _section(
+            "Spectra and band levels", image(folder / "spectrum.png", "spectra and one-third-octave bands")
+        ),
+        _section("Sound", levels, image(folder / "sound_field.png", "near field and far-field directivity")),
+        _section(
+            "Listen",
+            audio(folder / "squeal.wav"),
+            '<p class="muted">the microphone\'s pressure over the simulated run (growth and limit cycle), '
+            "peak-normalised: its true level is above</p>",
+        )
+        if (folder / "squeal.wav").is_file()
+        else "",  # fmt: skip
+        _section("The squeal mode", *(image(p, p.stem) for p in sorted(folder.glob("mode_*.png")))),
+        _section("Assumptions and limits", _assumptions()),
+        _section("Files", _files(folder)),
+    ]
+    return _write(folder, _page(f"Squeal of {d.name}", "wheel-squeal run", body))
+
+
+def compare_report(folder: Path, rows: Sequence[dict], analyses: Sequence[Analysis]) -> Path:
+    """The report of ``compare``: one verdict per design."""
+    verdicts = "".join(
+        f"<h3>{_e(a.design.name)}</h3>" + _verdict_block(a.verdict.lines(), a.verdict.squeals)
+        for a in analyses
+    )
+    columns = [("design", "design"), ("verdict_mode", "verdict"), ("tone_hz", "tone (Hz)"),
+               ("growth_rate_1_s", "growth (1/s)"), ("amplitude_m_s", "amplitude (m/s)"),
+               ("spl_db", "SPL (dB)"), ("spl_dba", "SPL (dB(A))"),
+               ("sound_power_level_db", "L_W (dB)")]  # fmt: skip
+    a0 = analyses[0]
+    body = [
+        _section("Verdicts", verdicts),
+        _section("Side by side", table(rows, columns), image(folder / "compare.png", "designs compared")),
+        _section(
+            "Inputs",
+            _pairs(
+                [
+                    ("designs", ", ".join(a.design.name for a in analyses)),
+                    ("fidelity", f"{a0.fidelity.name} preset"),
+                    (
+                        "operating point",
+                        f"V0 = {a0.operating_point.rolling_speed_m_s:.4g} m/s, "
+                        f"Vc = {a0.operating_point.crabbing_velocity_m_s:.4g} m/s",
+                    ),
+                ]
+            ),
+            _pairs(versions()),
+        ),  # fmt: skip
+        _section("Assumptions and limits", _assumptions()),
+        _section("Files", _files(folder)),
+    ]
+    return _write(folder, _page("Designs compared", "wheel-squeal compare", body))
+
+
+def study_report(
+    folder: Path, name: str, summary_lines: Sequence[str], inputs: Sequence[tuple[str, object]]
+) -> Path:
+    """The report of ``study``: its summary and every plot in ``folder``."""
+    body = [
+        _section("Summary", "<ul>" + "".join(f"<li>{_e(x)}</li>" for x in summary_lines) + "</ul>"),
+        _section("Plots", *(image(p, p.stem) for p in sorted(folder.glob("*.png")))),
+        _section("Inputs", _pairs(list(inputs)), _pairs(versions())),
+        _section("Assumptions and limits", _assumptions()),
+        _section("Files", _files(folder)),
+    ]
+    return _write(folder, _page(f"Study {name}", "wheel-squeal study", body))
