@@ -44,7 +44,17 @@ from .sections import (
 if TYPE_CHECKING:
     from fem.modes import Mode
 
-__all__ = ["FIELDS", "Contact", "Damping", "Design", "Roller", "Squeal", "as_design", "mode_key"]
+__all__ = [
+    "FIELDS",
+    "FIELD_UNITS",
+    "Contact",
+    "Damping",
+    "Design",
+    "Roller",
+    "Squeal",
+    "as_design",
+    "mode_key",
+]
 
 
 #: Fields hashed and written only when they differ from their default (added after the
@@ -66,6 +76,20 @@ FIELDS: dict[str, tuple[str, str]] = {
     **{name: ("contact", name) for name in CONTACT_NUMBERS + CONTACT_OPTIONAL_NUMBERS},
     "modal_damping_ratio": ("damping", "modal_damping_ratio"),
 }
+#: The unit of every numeric design field by its flat name ("" dimensionless): lengths
+#: in m unless said otherwise.
+FIELD_UNITS: dict[str, str] = {
+    **dict.fromkeys(FIELDS, "m"),
+    "youngs_modulus": "Pa",
+    "poissons_ratio": "",
+    "density": "kg/m^3",
+    "normal_load": "N",
+    "c22": "",
+    "friction_coefficient": "",
+    "contact_angle": "rad",
+    "modal_damping_ratio": "",
+}
+
 #: The sections of the file after the wheel's, and the dataclass each is read into.
 _PARTS = {"roller": Roller, "contact": Contact, "damping": Damping}
 

@@ -43,5 +43,8 @@ def cmd_study(args) -> int:
         f"{counts['failed']} failed) x {ds.sizes['crab_velocity']} crabbing velocities x "
         f"{ds.sizes['rpm']} speeds"
     )
+    from ..study.dataset import study_summary
+
+    print("\n".join(study_summary(ds, spec)))
     print(f"files: {out}/ ({', '.join(files)})")
     return 0
