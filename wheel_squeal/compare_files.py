@@ -117,9 +117,13 @@ def write_compare_plot(path: Path, rows: Sequence[dict], analyses: Sequence) -> 
     axes[2].bar(
         x, spl, color=["tab:orange" if r["saturated"] else "none" for r in rows], edgecolor="tab:orange"
     )
+    for xi, r in zip(x, rows):
+        if r["spl_db"] is not None:
+            axes[2].annotate(f"{r['spl_db']:.1f} dB\n{r['spl_dba']:.1f} dB(A)", (xi, r["spl_db"]),
+                             ha="center", va="bottom", fontsize=7)  # fmt: skip
     finite = [v for v in spl if np.isfinite(v)]
     if finite:
-        axes[2].set_ylim(min(finite) - 20, max(finite) + 5)
+        axes[2].set_ylim(min(finite) - 20, max(finite) + 8)
     axes[2].set(
         xticks=x, ylabel="SPL at the microphone (dB re 20 uPa)", title="level (hollow: not a limit cycle)"
     )

@@ -112,44 +112,76 @@ def write_envelope_csv(path: Path, env) -> Path:
     return write_csv(path, rows, columns_of("stability.csv"))
 
 
-def write_envelope_plot(path: Path, env) -> Path:
+def write_envelope_plot(path: Path, env, mitigation: dict | None = None) -> Path:
     """stability.png: the largest growth rate against the crabbing velocity, one curve
-    per speed, each point coloured by the mode that grows fastest there."""
+    per speed (its marker in the legend), each point coloured by the mode that grows
+    fastest there; with ``mitigation`` (summary.json's), a second panel: each mode's
+    damping ratio now and the one that keeps it stable over the envelope (rotation off
+    and on), and the friction slope required."""
     from matplotlib.figure import Figure
+    from matplotlib.lines import Line2D
 
-    fig = Figure(figsize=(8, 5))
-    ax = fig.subplots()
-    fig.subplots_adjust(left=0.1, right=0.7, bottom=0.11, top=0.92)
+    fig = Figure(figsize=(13 if mitigation else 8, 5))
+    axes = fig.subplots(1, 2 if mitigation else 1, squeeze=False)[0]
+    ax = axes[0]
+    fig.subplots_adjust(left=0.07, right=0.97 if mitigation else 0.7, bottom=0.2, top=0.9, wspace=0.55)
     labels = {
         int(i): f"{env.modes[i].label()}, {env.modes[i].frequency_hz:.0f} Hz" for i in np.unique(env.winner)
     }
     colours = {i: f"C{k % 10}" for k, i in enumerate(labels)}
     markers = "osD^v<>"
-    for j, rpm in enumerate(env.rpm):
+    for j in range(len(env.rpm)):
         ax.plot(env.crabbing_velocities_m_s, env.growth_rate_1_s[:, j], "-", color="0.6", lw=0.8)
-        for i, label in labels.items():
+        for i in labels:
             sel = env.winner[:, j] == i
-            ax.plot(
-                env.crabbing_velocities_m_s[sel],
-                env.growth_rate_1_s[sel, j],
-                markers[j % 7],
-                ms=4,
-                color=colours[i],
-                label=label if j == 0 else None,
-            )
-        ax.annotate(
-            f"{rpm:.0f} RPM", (env.crabbing_velocities_m_s[-1], env.growth_rate_1_s[-1, j]), fontsize=8
-        )
+            ax.plot(env.crabbing_velocities_m_s[sel], env.growth_rate_1_s[sel, j], markers[j % 7], ms=4,
+                    color=colours[i])  # fmt: skip
     ax.axhline(0.0, color="k", lw=0.8)
     ax.set(
         xlabel="crabbing velocity Vc (m/s)",
         ylabel="largest growth rate (1/s)",
-        title="Linear stability: growth rate and the fastest mode (> 0: squeal grows)",
+        title="growth rate and the fastest mode (> 0: squeal grows)",
     )
-    ax.legend(title="fastest mode", fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0))
+    handles = [
+        Line2D([], [], ls="", marker="s", color=colours[i], label=label) for i, label in labels.items()
+    ]
+    handles += [Line2D([], [], ls="-", marker=markers[j % 7], color="0.5", label=f"{rpm:.0f} RPM")
+                for j, rpm in enumerate(env.rpm)]  # fmt: skip
+    ax.legend(
+        handles=handles, title="fastest mode; speed", fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0)
+    )
     ax.grid(alpha=0.3)
+    if mitigation:
+        _mitigation_panel(axes[1], mitigation)
     fig.savefig(path, dpi=PLOT_DPI)
     return path
+
+
+def _mitigation_panel(ax, mitigation: dict) -> None:
+    """Each mode's damping ratio now and required over the envelope (log scale)."""
+    off, on = mitigation["rotation_off"], mitigation["rotation_on"]
+    names = [d["label"] for d in off["damping"]]
+    x = np.arange(len(names))
+    now = [d["damping_ratio"] for d in off["damping"]]
+    ax.bar(x - 0.27, now, 0.27, color="0.6", label="now")
+    ax.bar(x, [d["required_damping_ratio"] for d in off["damping"]], 0.27, color="C3", label="required")
+    ax.bar(x + 0.27, [d["required_damping_ratio"] for d in on["damping"]], 0.27, color="C1",
+           label="required, rotation on")  # fmt: skip
+    ax.set_yscale("log")
+    positive = [z for z in now if z > 0]
+    if positive:  # a mode stable without damping needs none: its bar is below the axis
+        ax.set_ylim(bottom=0.1 * min(positive))
+    ax.set_xticks(x, names, rotation=60, ha="right", fontsize=7)
+    ax.set(
+        ylabel="modal damping ratio",
+        title=f"what stops squeal for Vc {mitigation['crabbing_velocity_m_s'][0]:g}-"
+        f"{mitigation['crabbing_velocity_m_s'][1]:g} m/s: damping per mode,\n"
+        f"or a creep curve no steeper than dmu/dzeta = {off['required_friction_slope']:.3g} "
+        f"(rotation on: {on['required_friction_slope']:.3g})",
+    )
+    ax.title.set_fontsize(9)
+    ax.legend(fontsize=7)
+    ax.grid(alpha=0.3, axis="y")
 
 
 def write_multimode_plot(path: Path, multi) -> Path:

@@ -295,7 +295,7 @@ def cmd_stability(args) -> int:
             with progress.stage("mitigation (rotation off and on)"):
                 summary["mitigation"] = mitigation_summary(design, ms, contact, vcs, rpms)
             stability_files.write_envelope_csv(tmp / "stability.csv", env)
-            stability_files.write_envelope_plot(tmp / "stability.png", env)
+            stability_files.write_envelope_plot(tmp / "stability.png", env, summary["mitigation"])
         write_json(tmp / "summary.json", summary)
     print(stability_files.stability_text(rows, stab.fastest))
     print(stability_files.eigenvalues_text(summary["eigenvalues"], summary["contact"]))
