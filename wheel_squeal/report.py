@@ -233,9 +233,20 @@ def run_report(folder: Path, a: Analysis) -> Path:
                 ("radiation efficiency", f"{sound['radiation_efficiency']:.3g}"),
             ]
         )
+    listen = (
+        _section(
+            "Listen",
+            audio(folder / "squeal.wav"),
+            '<p class="muted">the microphone\'s pressure over the simulated run (growth and limit cycle), '
+            "peak-normalised: its true level is above</p>",
+        )
+        if (folder / "squeal.wav").is_file()
+        else ""
+    )
     body = [
         _verdict_block(a.verdict.lines(), a.verdict.squeals),
-        _section("Inputs", _pairs(inputs), '<p class="muted">versions</p>', _pairs(versions())),
+        _section("How loud", levels) if levels else "",
+        listen,
         _section("Which mode squeals", mode_table, image(folder / "growth.png", "growth rate of every mode")),
         _section(
             "The limit cycle",
@@ -245,16 +256,11 @@ def run_report(folder: Path, a: Analysis) -> Path:
         _section(
             "Spectra and band levels", image(folder / "spectrum.png", "spectra and one-third-octave bands")
         ),
-        _section("Sound", levels, image(folder / "sound_field.png", "near field and far-field directivity")),
         _section(
-            "Listen",
-            audio(folder / "squeal.wav"),
-            '<p class="muted">the microphone\'s pressure over the simulated run (growth and limit cycle), '
-            "peak-normalised: its true level is above</p>",
-        )
-        if (folder / "squeal.wav").is_file()
-        else "",  # fmt: skip
+            "Sound field and directivity", image(folder / "sound_field.png", "near field and far field")
+        ),
         _section("The squeal mode", *(image(p, p.stem) for p in sorted(folder.glob("mode_*.png")))),
+        _section("Inputs", _pairs(inputs), '<p class="muted">versions</p>', _pairs(versions())),
         _section("Assumptions and limits", _assumptions()),
         _section("Files", _files(folder)),
     ]
