@@ -38,10 +38,11 @@ def directivity(field: SoundField, angles_rad: np.ndarray = DIRECTIVITY_ANGLES) 
     return np.abs(field.far_field(np.cos(np.asarray(angles_rad, float))))
 
 
-def loudest_angle_rad(fields_and_weights, angles_rad: np.ndarray = DIRECTIVITY_ANGLES) -> float:
+def loudest_angle_rad(directivities, amplitudes, angles_rad: np.ndarray = DIRECTIVITY_ANGLES) -> float:
     """The meridian angle [rad] where the far-field intensity of several harmonics
-    together (pairs of a ``SoundField`` and the amplitude it is scaled by) is largest."""
-    total = sum((w * directivity(f, angles_rad)) ** 2 for f, w in fields_and_weights)
+    together (their |D| on ``angles_rad`` and the amplitudes they are scaled by) is
+    largest."""
+    total = sum((a * np.asarray(d)) ** 2 for d, a in zip(directivities, amplitudes))
     return float(np.asarray(angles_rad)[int(np.argmax(total))])
 
 

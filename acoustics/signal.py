@@ -51,17 +51,19 @@ def whole_periods(t: np.ndarray, x: np.ndarray, periods: int) -> tuple[float, fl
 
 
 def periodic_samples(t: np.ndarray, x: np.ndarray, start: float, end: float, samples: int) -> np.ndarray:
-    """``samples`` equally spaced samples of ``x`` over [start, end) by cubic-spline
-    interpolation (on a record of 48 samples per period its amplitude error is 1e-5;
-    linear interpolation would lose 0.15 %): for whole periods, the samples of one period
-    of a periodic sequence, whose DFT bins fall on the harmonics."""
-    from scipy.interpolate import CubicSpline
-
+    """``samples`` equally spaced samples of ``x`` (uniformly sampled at ``t``) over
+    [start, end), by four-point cubic (Lagrange) interpolation: on a record of 48 samples
+    per period its amplitude error is 2e-5 (linear interpolation would lose 0.15 %). For
+    whole periods, the samples of one period of a periodic sequence, whose DFT bins fall
+    on the harmonics."""
     t, x = np.asarray(t, float), np.asarray(x, float)
-    lo = max(0, int(np.searchsorted(t, start)) - 4)
-    hi = min(len(t), int(np.searchsorted(t, end)) + 4)
-    spline = CubicSpline(t[lo:hi], x[lo:hi])
-    return spline(start + (end - start) * np.arange(samples) / samples)
+    dt = float(t[1] - t[0])
+    s = (start + (end - start) * np.arange(samples) / samples - t[0]) / dt
+    k = np.clip(np.floor(s).astype(np.int64), 1, len(x) - 3)
+    u = s - k
+    weights = (-u * (u - 1) * (u - 2) / 6, (u + 1) * (u - 1) * (u - 2) / 2, -(u + 1) * u * (u - 2) / 2,
+               (u + 1) * u * (u - 1) / 6)  # fmt: skip
+    return sum(w * x[k + j] for w, j in zip(weights, (-1, 0, 1, 2)))
 
 
 def harmonic_amplitudes(samples: np.ndarray, periods: int, k_max: int) -> np.ndarray:

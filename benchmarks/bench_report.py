@@ -35,29 +35,31 @@ def main() -> None:
     args = ap.parse_args()
     tmp = Path(tempfile.mkdtemp(prefix="bench-report-"))
     base = tmp / "baseline"
+    git = ["git", "-C", str(ROOT), "worktree"]
     try:
-        subprocess.run(["git", "-C", str(ROOT), "worktree", "add", "-q", "--detach", str(base), args.baseline],
-                       check=True)  # fmt: skip
+        subprocess.run([*git, "add", "-q", "--detach", str(base), args.baseline], check=True)
         trees = {"now": ROOT, "baseline": base}
         for tree in trees.values():  # bytecode compiled, as an install would
-            subprocess.run([sys.executable, "-m", "compileall", "-q", str(tree / "wheel_squeal"), str(tree / "reduced"),
-                            str(tree / "acoustics"), str(tree / "fem"), str(tree / "geometry")], check=True)  # fmt: skip
+            packages = [str(tree / p) for p in ("wheel_squeal", "reduced", "acoustics", "fem", "geometry")]
+            subprocess.run([sys.executable, "-m", "compileall", "-q", *packages], check=True)
         times: dict[str, list[float]] = {k: [] for k in trees}
+
+        def run(k: str, out: str) -> list[str]:
+            return [sys.executable, str(trees[k] / "pipeline.py"), "run", "--quiet",
+                    "--cache-dir", str(tmp / f"cache-{k}"), "--out", str(tmp / out)]  # fmt: skip
+
         for k, tree in trees.items():  # fill each cache once
-            seconds([sys.executable, str(tree / "pipeline.py"), "run", "--quiet", "--cache-dir", str(tmp / f"cache-{k}"),
-                     "--out", str(tmp / f"first-{k}")], tree)  # fmt: skip
+            seconds(run(k, f"first-{k}"), tree)
         for i in range(args.repeat):
             for k, tree in trees.items():
-                command = [sys.executable, str(tree / "pipeline.py"), "run", "--quiet", "--cache-dir",
-                           str(tmp / f"cache-{k}"), "--out", str(tmp / f"{k}-{i}")]  # fmt: skip
-                times[k].append(seconds(command, tree))
+                times[k].append(seconds(run(k, f"{k}-{i}"), tree))
         now, before = statistics.median(times["now"]), statistics.median(times["baseline"])
         files = sorted(p.name for p in (tmp / "now-0").iterdir() if not p.name.startswith("."))
         print(f"warm run now: {now:.2f} s (median of {args.repeat}; {', '.join(files)})")
         print(f"warm run at {args.baseline}: {before:.2f} s (median of {args.repeat})")
         print(f"ratio {now / before:.2f} (target <= 1.3)")
     finally:
-        subprocess.run(["git", "-C", str(ROOT), "worktree", "remove", "--force", str(base)], check=False)
+        subprocess.run([*git, "remove", "--force", str(base)], check=False)
         shutil.rmtree(tmp, ignore_errors=True)
 
 

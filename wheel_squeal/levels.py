@@ -14,6 +14,7 @@ the microphone hears their sum. Levels of several harmonics add in energy.
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
@@ -170,7 +171,8 @@ class SquealSound:
         """The meridian angle of the far field's largest intensity (all harmonics)."""
         from acoustics.farfield import loudest_angle_rad
 
-        return loudest_angle_rad([(s.field, s.velocity_amplitude_m_s) for s in self.harmonics])
+        directivities = [s.radiation.directivity_pa_m for s in self.harmonics]
+        return loudest_angle_rad(directivities, [s.velocity_amplitude_m_s for s in self.harmonics])
 
     def bands(self):
         """(bands, band levels [dB re 20 uPa], overall [dB re 20 uPa]) of the microphone
@@ -193,7 +195,12 @@ class SquealSound:
     def summary(self) -> dict:
         """summary.json's ``sound``: the fundamental's fields (its radiation per unit
         velocity, the checks), the overall levels of all harmonics in dB and dB(A), the
-        far levels, the bands and the harmonics (None where a level has no pressure)."""
+        far levels, the bands and the harmonics (None where a level has no pressure);
+        computed once (a copy each call)."""
+        return dict(self._summary)
+
+    @functools.cached_property
+    def _summary(self) -> dict:
         from acoustics.levels import a_weighting_db
 
         out = self.fundamental.summary()

@@ -141,20 +141,25 @@ def ring_points(radius_m: float) -> np.ndarray:
 
 @dataclass(frozen=True)
 class Radiation:
-    """A mode's sound field at 1 m/s contact velocity (``acoustics.SoundField``) and its
-    pressure [Pa] (complex amplitude of cos(n theta)) where the outputs look: at the
-    microphone's (r, z) and on :func:`ring_points` (evaluated once, with the field)."""
+    """A mode's sound field at 1 m/s contact velocity (``acoustics.SoundField``) and what
+    the outputs look at, evaluated once with the field: its pressure [Pa] (complex
+    amplitude of cos(n theta)) at the microphone's (r, z) and on :func:`ring_points`,
+    and its far-field directivity |D| [Pa m] on ``acoustics.farfield.DIRECTIVITY_ANGLES``."""
 
     field: object
     microphone_pressure_pa: complex
     ring_pressure_pa: np.ndarray
+    directivity_pa_m: np.ndarray
 
     @classmethod
     def of(cls, field, microphone) -> Radiation:
         """The radiation of ``field`` (``acoustics.SoundField`` at 1 m/s) seen from a
         microphone (r, z[, theta])."""
+        from acoustics.farfield import directivity
+
         at_microphone = complex(field.pressure_at(np.array([microphone[:2]]))[0])
-        return cls(field, at_microphone, field.pressure_at(ring_points(field.mesh.radius)))
+        ring = field.pressure_at(ring_points(field.mesh.radius))
+        return cls(field, at_microphone, ring, directivity(field))
 
 
 def radiation_key(modes_key: dict, mode, frequency_hz: float, air) -> dict:
@@ -202,6 +207,7 @@ def mode_radiation(
             **key,
             "stage": "sound-at",
             "microphone_rz": [round(microphone[0], 9), round(microphone[1], 9)],
+            "stored": ["microphone_pressure", "ring_pressure", "directivity"],
         }
         try:
             field = SoundField.from_arrays(cache.load("sound", key))
@@ -210,7 +216,9 @@ def mode_radiation(
         if field is not None:
             try:
                 at = cache.load("sound-at", at_key)
-                return Radiation(field, complex(at["microphone_pressure"][0]), at["ring_pressure"])
+                return Radiation(
+                    field, complex(at["microphone_pressure"][0]), at["ring_pressure"], at["directivity"]
+                )
             except CacheMiss:
                 rad = Radiation.of(field, microphone)
                 cache.store("sound-at", at_key, _at_arrays(rad))
@@ -239,6 +247,7 @@ def _at_arrays(rad: Radiation) -> dict[str, np.ndarray]:
     return {
         "microphone_pressure": np.array([rad.microphone_pressure_pa]),
         "ring_pressure": rad.ring_pressure_pa,
+        "directivity": rad.directivity_pa_m,
     }
 
 

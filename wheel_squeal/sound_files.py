@@ -29,7 +29,7 @@ def write_sound_plot(path: Path, sound) -> Path:
     from matplotlib.tri import Triangulation
 
     from acoustics import spl_db
-    from acoustics.farfield import DIRECTIVITY_ANGLES, directivity
+    from acoustics.farfield import DIRECTIVITY_ANGLES
 
     field, v = sound.field, sound.velocity_amplitude_m_s
     pts, tri = field.mesh.points, field.mesh.triangles
@@ -58,7 +58,7 @@ def write_sound_plot(path: Path, sound) -> Path:
     )
     ax.legend(loc="lower right", fontsize=8)
     fig.colorbar(im, ax=ax, shrink=0.85, label="SPL (dB re 20 uPa)")
-    total = sum((h.velocity_amplitude_m_s * directivity(h.field)) ** 2 for h in _harmonics(sound))
+    total = sum((h.velocity_amplitude_m_s * h.radiation.directivity_pa_m) ** 2 for h in _harmonics(sound))
     db = 10 * np.log10(np.maximum(total / max(float(np.max(total)), 1e-300), 1e-30))
     radius = np.clip(db + DIRECTIVITY_RANGE_DB, 0.0, None)
     theta = np.concatenate([DIRECTIVITY_ANGLES, 2 * np.pi - DIRECTIVITY_ANGLES[::-1]])
@@ -107,7 +107,7 @@ def write_spectrum_plot(path: Path, simulation, sound) -> Path:
         _lines(ax, k * f0, scale * np.log10(np.maximum(amp / ref, 1e-30)))
         ax.set(title=f"{name}: amplitude per harmonic", xlabel="frequency (Hz)", ylabel=unit)
     ax = axes.flat[2]
-    spl = [x["spl_db"] for x in sound.summary()["harmonics"]]
+    spl = [x["spl_db"] for x in sound.summary()["harmonics"]]  # computed once, before the plot
     _lines(ax, sound.frequencies_hz, np.array(spl, float))
     ax.set(
         title=f"microphone: SPL of the {len(spl)} harmonic(s) radiated",
@@ -115,13 +115,13 @@ def write_spectrum_plot(path: Path, simulation, sound) -> Path:
         ylabel="dB re 20 uPa",
         xlim=axes.flat[0].get_xlim(),
     )
-    bands = sound.summary()["third_octave_bands"]
+    s = sound.summary()
+    bands = s["third_octave_bands"]
     ax = axes.flat[3]
     labels = [b["label_hz"] for b in bands]
     values = [b["spl_db"] if b["spl_db"] is not None else np.nan for b in bands]
     ax.bar(range(len(labels)), values, color="0.4")
     ax.set_xticks(range(len(labels)), [f"{x:g}" for x in labels], rotation=90, fontsize=6)
-    s = sound.summary()
     ax.set(
         title=f"one-third-octave bands: {s['spl_db']:.1f} dB, {s['spl_dba']:.1f} dB(A)",
         xlabel="band centre (Hz)",
