@@ -120,7 +120,7 @@ def reference(tmp_path_factory):
     assert set(np.unique(ds["verdict_mode"].values)) - {""}  # something squeals
     assert ds.attrs["named_mode"] == "n=3,c=0"  # the base design names its squeal mode
     assert ds.attrs["spec"] == SMOKE.read_text() and ds.attrs["code_version"]
-    for name in ("study.csv", "study.toml", "study_amplitude.png"):
+    for name in ("study.csv", "study.toml", "study_tone_level.png", "report.html"):
         assert (tmp / "out" / name).is_file()
     return ds
 

@@ -78,7 +78,10 @@ def test_every_command_gives_the_same_verdict(cases, name):
     )
     assert r.returncode == 0, r.stderr
     got["stability"] = json.loads((base / "st" / "summary.json").read_text())["verdict"]
-    assert r.stdout.splitlines()[-2].startswith("  why:") or "no squeal" in r.stdout.splitlines()[-2]
+    last = r.stdout.splitlines()[-4:-1]  # the verdict, why and what would stop it, before the folder
+    assert (
+        last[0].startswith("VERDICT:") and last[1].startswith("  why:") and last[2].startswith("  remedy:")
+    ) or ("no squeal" in r.stdout.splitlines()[-2])
     r = run_cli("compare", design, *FAST, *POINT, "--out", base / "cmp", "--quiet", *cache)
     assert r.returncode == 0, r.stderr
     row = _csv(base / "cmp" / "compare.csv")[0]

@@ -215,7 +215,8 @@ class SquealSound:
             axis = None if silent_axis else _db(self.far_mean_squares_pa2(d, 0.0).sum(), 20e-6**2)
             far[f"spl_{tag}m_axis_db"] = axis
         bands, levels, overall = self.bands()
-        levels = np.where(levels >= overall - EMPTY_BAND_DB, levels, -math.inf)
+        if overall is not None and math.isfinite(overall):
+            levels = np.where(levels >= overall - EMPTY_BAND_DB, levels, -math.inf)
         out |= {
             "spl_db": _db(ms.sum(), 20e-6**2),
             "sound_power_level_db": _db(w.sum(), 1e-12),
