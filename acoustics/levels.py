@@ -20,7 +20,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .medium import P_REF_PA
+from .medium import mean_square_spl_db
 
 __all__ = [
     "NOMINAL_THIRD_OCTAVES_HZ",
@@ -98,8 +98,5 @@ def band_levels_db(
     levels = np.empty(len(bands))
     for i, b in enumerate(bands):
         sel = (f >= b.lower_hz) & (f < b.upper_hz)
-        ms = float(power[sel].sum())
-        levels[i] = 10.0 * math.log10(ms / P_REF_PA**2) if ms > 0 else -math.inf
-    overall_ms = float(np.mean(p**2))
-    overall = 10.0 * math.log10(overall_ms / P_REF_PA**2) if overall_ms > 0 else -math.inf
-    return levels, overall
+        levels[i] = float(mean_square_spl_db(power[sel].sum()))
+    return levels, float(mean_square_spl_db(np.mean(p**2)))

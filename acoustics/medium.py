@@ -15,6 +15,7 @@ __all__ = [
     "W_REF_W",
     "Air",
     "implausible_air",
+    "mean_square_spl_db",
     "sound_power_level_db",
     "spl_db",
 ]
@@ -80,6 +81,12 @@ def spl_db(pressure_amplitude_pa) -> np.ndarray:
     p_rms = np.abs(np.asarray(pressure_amplitude_pa)) / math.sqrt(2.0)
     with np.errstate(divide="ignore"):
         return 20.0 * np.log10(p_rms / P_REF_PA)
+
+
+def mean_square_spl_db(mean_square_pa2) -> np.ndarray:
+    """Sound pressure level [dB re 20 uPa] of a mean-square pressure [Pa^2] (-inf at 0)."""
+    with np.errstate(divide="ignore"):
+        return 10.0 * np.log10(np.asarray(mean_square_pa2, dtype=float) / P_REF_PA**2)
 
 
 def sound_power_level_db(power_w) -> np.ndarray:

@@ -264,7 +264,7 @@ def _whole_wheel_mode(
         u = labeller.P_contact @ xp
         ur, uz = scale * u[0], scale * u[1]
     forbidden = labeller.parity_zero(x2)
-    gate_t, gate_n = labeller.contact_of(x2)  # a node of the cos member is a node of the mode
+    gate_t, gate_n = labeller.contact_of(x2, forbidden)  # a node of the cos member is one of the mode
     parts = [(ur.real, uz.real)] if real else [(ur.real, uz.real), (ur.imag, uz.imag)]
     comps = [labeller.contact_components(r_, z_, forbidden, peak) for r_, z_ in parts]
     contact = tuple(0.0 if gate_t == 0.0 else c[0] for c in comps)

@@ -91,10 +91,12 @@ class ProfileLabeller:
         t, n = self.contact.components(u_r, u_z)
         return clean_contact(t, peak), clean_contact(n, peak)
 
-    def contact_of(self, x: np.ndarray) -> tuple[float, float]:
-        """(u_t, u_n) at the contact of the real profile vector x (the cos member)."""
+    def contact_of(self, x: np.ndarray, forbidden: str | None = None) -> tuple[float, float]:
+        """(u_t, u_n) at the contact of the real profile vector x (the cos member);
+        ``forbidden``: :meth:`parity_zero` of x when the caller has it already."""
         u = self.P_contact @ x
-        return self.contact_components(u[0], u[1], self.parity_zero(x), float(np.abs(x).max()))
+        forbidden = self.parity_zero(x) if forbidden is None else forbidden
+        return self.contact_components(u[0], u[1], forbidden, float(np.abs(x).max()))
 
     def in_plane_fraction(self, x: np.ndarray) -> float:
         """Share of the mode's (r-weighted, nodal) squared amplitude with in-plane

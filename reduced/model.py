@@ -387,7 +387,10 @@ def static_normal_approach_m(modes, contact: ContactLaw, op: OperatingPoint) -> 
 
 def law_vector(contact: ContactLaw, op: OperatingPoint, modes=None) -> np.ndarray:
     """Pack the contact and operating point for the RK4 kernels (:mod:`reduced._kernels`);
-    with ``modes``, the static normal approach they take (:func:`static_normal_approach_m`)."""
+    with ``modes``, the static normal approach they take (:func:`static_normal_approach_m`),
+    and where none of them moves the contact normally no Hertz spring at all (the normal
+    force is W either way: the kernels then skip its energy at every step)."""
+    lateral_only = modes is not None and all(md.normal == 0.0 for md in as_modes(modes))
     return np.array(
         [
             contact.normal_load_n,
@@ -397,7 +400,7 @@ def law_vector(contact: ContactLaw, op: OperatingPoint, modes=None) -> np.ndarra
             contact.decay_speed_2_m_s,
             op.rolling_speed_m_s,
             op.crabbing_velocity_m_s,
-            contact.hertz_approach_m,
+            math.inf if lateral_only else contact.hertz_approach_m,
             contact.relaxation_time_s(op.rolling_speed_m_s),
             0.0 if modes is None else static_normal_approach_m(modes, contact, op),
         ],

@@ -263,13 +263,8 @@ def squeal_points(
         done = []
         for together in sorted({group(i_mode, int(p)) for p in where}):
             at = np.array([p for p in where if group(i_mode, int(p)) == together], dtype=int)
-            run_modes = [modes[j] for j in together]
             res = sweep_points(
-                run_modes if len(run_modes) > 1 else run_modes[0],
-                contact,
-                [ops[p] for p in at],
-                duration,
-                progress=progress,
+                [modes[j] for j in together], contact, [ops[p] for p in at], duration, progress=progress
             )
             keep = res["squeal"]
             for name in ("amp", "freq", "tsat"):

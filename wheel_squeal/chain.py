@@ -267,10 +267,7 @@ class _Chain:
         dofs = contact_dofs(modes, self.design)
         which = m.label() + (f" with {', '.join(x.label() for x in modes[1:])}" if len(modes) > 1 else "")
         with self.progress.stage(f"squeal model of {which}"):
-            sim = simulate(
-                dofs if len(dofs) > 1 else dofs[0],
-                self.contact, self.op, self.opts.duration, self.omega, self.budget,
-            )  # fmt: skip
+            sim = simulate(dofs, self.contact, self.op, self.opts.duration, self.omega, self.budget)
         f = float(sim.limit_cycle.frequency_hz)
         wave = wave_of(m, f if math.isfinite(f) else o.damped_frequency_hz, self.omega)
         return ModeOutcome(m, o.growth_rate_1_s, o.damped_frequency_hz, wave, sim, mechanism=o.mechanism)

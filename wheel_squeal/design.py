@@ -17,6 +17,7 @@ one flat name (:data:`FIELDS`: ``rim_depth``, ``roller_rolling_radius``,
 from __future__ import annotations
 
 import dataclasses
+import functools
 import hashlib
 import json
 import warnings
@@ -111,7 +112,7 @@ class Design:
     def name(self) -> str:
         return self.wheel.name
 
-    @property
+    @functools.cached_property
     def contact_frame(self) -> ContactFrame:
         """Where the wheel touches the roller and the contact's frame there
         (``geometry.contact``: the tread apex unless [contact] contact_angle moves it;

@@ -178,7 +178,8 @@ class SquealSound:
         """(bands, band levels [dB re 20 uPa], overall [dB re 20 uPa]) of the microphone
         pressure: of its record over the limit cycle (Parseval), or of the harmonics'
         line spectrum without a record."""
-        from acoustics.levels import band_levels_db, third_octave_bands
+        from acoustics.levels import band_levels_db, energy_sum_db, third_octave_bands
+        from acoustics.medium import mean_square_spl_db
 
         bands = third_octave_bands(*BANDS_HZ)
         if self.signal is not None:
@@ -189,8 +190,8 @@ class SquealSound:
         for f, m in zip(self.frequencies_hz, ms):
             for i, b in enumerate(bands):
                 if b.lower_hz <= f < b.upper_hz and m > 0:
-                    levels[i] = 10 * math.log10(10 ** (levels[i] / 10) + m / 20e-6**2)
-        return bands, levels, _db(ms.sum(), 20e-6**2)
+                    levels[i] = energy_sum_db([levels[i], float(mean_square_spl_db(m))])
+        return bands, levels, _spl(ms.sum())
 
     def summary(self) -> dict:
         """summary.json's ``sound``: the fundamental's fields (its radiation per unit
@@ -211,17 +212,17 @@ class SquealSound:
         silent_axis = self.field.harmonic >= 1  # cos(n phi) with n >= 1 vanishes on the axis
         for d in DISTANCES_M:
             tag = f"{d:g}".replace(".", "_")
-            far[f"spl_{tag}m_db"] = _db(self.far_mean_squares_pa2(d, angle).sum(), 20e-6**2)
-            axis = None if silent_axis else _db(self.far_mean_squares_pa2(d, 0.0).sum(), 20e-6**2)
+            far[f"spl_{tag}m_db"] = _spl(self.far_mean_squares_pa2(d, angle).sum())
+            axis = None if silent_axis else _spl(self.far_mean_squares_pa2(d, 0.0).sum())
             far[f"spl_{tag}m_axis_db"] = axis
         bands, levels, overall = self.bands()
         if overall is not None and math.isfinite(overall):
             levels = np.where(levels >= overall - EMPTY_BAND_DB, levels, -math.inf)
         out |= {
-            "spl_db": _db(ms.sum(), 20e-6**2),
-            "sound_power_level_db": _db(w.sum(), 1e-12),
-            "spl_dba": _db((ms * a).sum(), 20e-6**2),
-            "sound_power_level_dba": _db((w * a).sum(), 1e-12),
+            "spl_db": _spl(ms.sum()),
+            "sound_power_level_db": _lw(w.sum()),
+            "spl_dba": _spl((ms * a).sum()),
+            "sound_power_level_dba": _lw((w * a).sum()),
             "tone_hz": self.tone_hz,
             **far,
             "loudest_angle_deg": math.degrees(angle),
@@ -234,8 +235,8 @@ class SquealSound:
                     "order_k": k,
                     "frequency_hz": k * self.tone_hz,
                     "velocity_amplitude_m_s": s.velocity_amplitude_m_s,
-                    "spl_db": _db(m, 20e-6**2),
-                    "sound_power_level_db": _db(p, 1e-12),
+                    "spl_db": _spl(m),
+                    "sound_power_level_db": _lw(p),
                 }
                 for k, s, m, p in zip(self.orders, self.harmonics, ms, w)
             ],
@@ -246,8 +247,18 @@ class SquealSound:
         return out
 
 
-def _db(value: float, reference: float) -> float | None:
-    return 10.0 * math.log10(value / reference) if value > 0 else None
+def _spl(mean_square_pa2: float) -> float | None:
+    """The SPL [dB re 20 uPa] of a mean square [Pa^2]; None where there is no pressure."""
+    from acoustics.medium import mean_square_spl_db
+
+    return float(mean_square_spl_db(mean_square_pa2)) if mean_square_pa2 > 0 else None
+
+
+def _lw(power_w: float) -> float | None:
+    """The sound power level [dB re 1 pW]; None where nothing is radiated."""
+    from acoustics import sound_power_level_db
+
+    return float(sound_power_level_db(power_w)) if power_w > 0 else None
 
 
 def _finite(x: float) -> float | None:

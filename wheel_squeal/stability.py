@@ -91,8 +91,8 @@ def contact_dofs(modes: Sequence[Mode], design: Design) -> list[ModalDOF]:
     return mode_dofs(modes, design) + counter_body_dofs(design)
 
 
-#: Names of the roller's degrees of freedom (after the FE modes), by their gains
 def _dof_label(modes: Sequence[Mode], dofs: Sequence[ModalDOF], i: int) -> str:
+    """An FE mode's label, or the roller's degree of freedom (after the modes) by its gains."""
     if i < len(modes):
         return modes[i].label()
     return "roller normal" if dofs[i].normal != 0.0 else "roller lateral"
