@@ -83,14 +83,15 @@ def line_spectrum(samples: np.ndarray, periods: int) -> tuple[np.ndarray, np.nda
     return bins // periods, spec[bins]
 
 
-def harmonics_holding(amplitudes: np.ndarray, share: float) -> int:
-    """The fewest leading harmonics whose energy (|X_k|^2) holds ``share`` of all of
-    ``amplitudes``' (at least one)."""
-    energy = np.abs(np.asarray(amplitudes)) ** 2
-    total = energy.sum()
-    if total <= 0:
-        return 1
-    return int(np.searchsorted(np.cumsum(energy) / total, share * (1 - 1e-12)) + 1)
+def harmonics_holding(amplitudes: np.ndarray, mean_square: float, share: float) -> tuple[int, float]:
+    """(k, held): the fewest leading harmonics (at least one, at most all given) whose
+    energy |X_k|^2 / 2 holds ``share`` of a signal's ``mean_square`` (its variance), and
+    the share they hold."""
+    held = 0.5 * np.cumsum(np.abs(np.asarray(amplitudes)) ** 2) / mean_square if mean_square > 0 else None
+    if held is None:
+        return 1, 1.0
+    k = min(len(held), int(np.searchsorted(held, share * (1 - 1e-12))) + 1)
+    return k, min(1.0, float(held[k - 1]))
 
 
 def pressure_signal(

@@ -17,7 +17,14 @@ from acoustics.levels import (
     energy_sum_db,
     third_octave_bands,
 )
-from acoustics.signal import harmonic_amplitudes, periodic_samples, pressure_signal, whole_periods, write_wav
+from acoustics.signal import (
+    harmonic_amplitudes,
+    harmonics_holding,
+    periodic_samples,
+    pressure_signal,
+    whole_periods,
+    write_wav,
+)
 
 #: IEC 61672-1:2013, Table 3: the A-weighting [dB] at the nominal frequencies, given to
 #: 0.1 dB (computed by the standard at the exact base-10 frequencies)
@@ -82,6 +89,11 @@ def test_harmonics_of_a_periodic_record_and_its_pressure_signal():
     samples = periodic_samples(t, x, start, end, 32 * count)
     amps = harmonic_amplitudes(samples, count, 3)
     assert np.abs(amps) == pytest.approx([0.36, 0.01, 0.0], abs=2e-6)
+    # the fundamental holds 0.36^2 / (0.36^2 + 0.01^2) = 99.92 % of the energy: one suffices for
+    # 99 %, two for 99.99 %
+    assert harmonics_holding(amps, float(np.var(samples)), 0.99)[0] == 1
+    k, held = harmonics_holding(amps, float(np.var(samples)), 0.9999)
+    assert k == 2 and held == pytest.approx(1.0, abs=1e-6)
     y = pressure_signal(np.arange(len(samples)) / (32 * f0), samples, f0, {1: 2.0, 2: -1j}, periodic=True)
     out = harmonic_amplitudes(y, count, 2)
     assert np.abs(out) == pytest.approx([0.72, 0.01], rel=1e-4)

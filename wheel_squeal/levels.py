@@ -91,10 +91,7 @@ def harmonic_velocities(simulation: Simulation, f0_hz: float, mode_frequency_hz:
     samples = periodic_samples(h.t, h.v, start, end, count * SAMPLES_PER_PERIOD)
     k_max = max(1, min(MAX_HARMONICS, int(MAX_HARMONIC_HZ / mode_frequency_hz)))
     amps = harmonic_amplitudes(samples, count, k_max)
-    mean_square = float(np.var(samples))
-    held = 0.5 * np.cumsum(np.abs(amps) ** 2) / mean_square if mean_square > 0 else np.ones(k_max)
-    k = min(k_max, harmonics_holding(amps, HARMONIC_ENERGY_SHARE / max(float(held[-1]), 1e-300)))
-    share = min(1.0, float(held[k - 1]))
+    k, share = harmonics_holding(amps, float(np.var(samples)), HARMONIC_ENERGY_SHARE)
     return tuple(range(1, k + 1)), amps[:k], share, (start, end, count), samples
 
 
