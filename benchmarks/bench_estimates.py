@@ -58,11 +58,11 @@ def designs(fidelity: str, quick: bool) -> list[bool]:
         d = ws.load_design(path)
         ms = ws.compute_modes(d, fidelity, cache=ws.StageCache())
         contact, op = ws.contact_law(d), ws.operating_point(d)
-        n = len(excitable(ms))
+        n = len(excitable(ms, contact))
         for rotation in (False, True):
             t, _ = timed(partial(stability_table, d, ms, contact, op, rotation, bounds="all"))
             label = f"{d.name}, {n} modes" + (", rotation" if rotation else "")
-            oks.append(row("stability bounds", label, stability_seconds(d, ms, rotation, n), t))
+            oks.append(row("stability bounds", label, stability_seconds(d, ms, contact, rotation, n), t))
         if not (quick and d.name == "railway_920"):
             t = sum(
                 timed(partial(fn, d, ms, contact, vcs, rpms, rotation))[0]
@@ -70,7 +70,12 @@ def designs(fidelity: str, quick: bool) -> list[bool]:
                 for fn in (envelope, mitigation)
             )
             oks.append(
-                row("envelope + mitigation", f"{d.name}, {n} modes", envelope_seconds(d, ms, num, 3), t)
+                row(
+                    "envelope + mitigation",
+                    f"{d.name}, {n} modes",
+                    envelope_seconds(d, ms, contact, num, 3),
+                    t,
+                )
             )
         mode, _, _ = choose_mode(d, ms, "auto", contact, op)
         surface = mode_surface(ms, mode, mode.frequency_hz)

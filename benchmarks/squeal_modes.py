@@ -44,8 +44,9 @@ def which_mode(fidelity: str) -> None:
         cells = []
         s30 = []
         for rotation in (False, True):
-            rows, result = stability_table(design, ms, contact, op, rotation)
-            w = rows[result.winner]
+            table = stability_table(design, ms, contact, op, rotation)
+            rows = table.rows
+            w = rows[table.fastest]
             cells += [
                 f"{w.mode.index} {w.mode.label()} {w.mode.frequency_hz:.0f} Hz",
                 f"{w.stability.growth_rate_1_s:.2f}",
