@@ -87,9 +87,9 @@ def harmonics_holding(amplitudes: np.ndarray, mean_square: float, share: float) 
     """(k, held): the fewest leading harmonics (at least one, at most all given) whose
     energy |X_k|^2 / 2 holds ``share`` of a signal's ``mean_square`` (its variance), and
     the share they hold."""
-    held = 0.5 * np.cumsum(np.abs(np.asarray(amplitudes)) ** 2) / mean_square if mean_square > 0 else None
-    if held is None:
+    if mean_square <= 0:
         return 1, 1.0
+    held = 0.5 * np.cumsum(np.abs(np.asarray(amplitudes)) ** 2) / mean_square
     k = min(len(held), int(np.searchsorted(held, share * (1 - 1e-12))) + 1)
     return k, min(1.0, float(held[k - 1]))
 
