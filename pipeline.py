@@ -2,16 +2,33 @@
 """Wheel-squeal pipeline: design -> mesh -> modes -> contact modal parameters -> squeal.
 
 The entry point of the command line (``python pipeline.py --help``; installed as
-``wheel-squeal``). The code is the ``wheel_squeal`` package; ``import pipeline`` gives
-its notebook API too::
-
-    python pipeline.py run                      # Table 1 wheel, 800 RPM, Vc 0.39 m/s
-    python pipeline.py run --design designs/thin_web.toml --rpm 600
-    python pipeline.py sweep --crab-velocity 0:0.5:26 --rpm 400,600,800
+``wheel-squeal``); ``import pipeline`` gives the notebook API of ``wheel_squeal``.
 """
 
-from wheel_squeal import *  # noqa: F403  (the notebook API: ``import pipeline as wp``)
-from wheel_squeal.cli import main, run  # noqa: F401
+import os
+import signal
+import sys
+import time
+
+_STARTED_S = time.monotonic()  # a request's time budget counts from here
+
+
+def _stopped_early(signum: int, frame: object) -> None:
+    # a stop before the command's own handlers (the imports): nothing is written yet
+    print("terminated" if signum == signal.SIGTERM else "interrupted", file=sys.stderr, flush=True)
+    os._exit(143 if signum == signal.SIGTERM else 130)
+
+
+def run(prog: str = "wheel-squeal") -> None:
+    """The command line, stoppable by SIGTERM or Ctrl-C with one line from its start."""
+    for signum in (signal.SIGTERM, signal.SIGINT):
+        signal.signal(signum, _stopped_early)
+    from wheel_squeal.cli import run as run_command_line
+
+    run_command_line(prog, started_s=_STARTED_S)
+
 
 if __name__ == "__main__":
     run(prog="pipeline.py")
+else:
+    from wheel_squeal import *  # noqa: F403  (the notebook API: ``import pipeline as wp``)

@@ -19,11 +19,11 @@ import dataclasses
 import hashlib
 import json
 import math
-import re
 from dataclasses import dataclass, fields
 from pathlib import Path
 from typing import Any
 
+from .files import check_label
 from .outline import Outline, OutlineError, outline_from_mapping
 from .parametric import parametric_outline
 
@@ -355,9 +355,6 @@ def tread_radius(design: WheelDesign, z: float) -> float:
     return design.rolling_radius - R + math.sqrt(R * R - z * z)
 
 
-NAME_PATTERN = re.compile(r"[A-Za-z0-9][A-Za-z0-9_.+-]{0,63}")
-NAME_RULE = "letters, digits, '_', '.', '+', '-'; a letter or digit first; at most 64"
-
 #: Plausible ranges of a wheel's material and size, in SI units: outside them a value is
 #: almost certainly typed in another unit (GPa, mm, g/cm^3), and would mesh or solve for
 #: minutes or fail deep inside the eigen-solver. (low, high, unit guesses as
@@ -391,8 +388,8 @@ def validate(d: WheelDesign) -> None:
         if f.name in ("name", "description"):
             if not isinstance(v, str):
                 raise DesignError(f"{f.name} must be a string")
-            if f.name == "name" and not NAME_PATTERN.fullmatch(v):
-                raise DesignError(f"design name {v!r} is not a safe file-name stem ({NAME_RULE})")
+            if f.name == "name":
+                check_label(v, "design name", DesignError)
             continue
         if f.name == "profile" or (f.name in OPTIONAL_FIELDS and v is None):
             continue
@@ -487,8 +484,6 @@ def _validate_parametric(d: WheelDesign) -> None:
 __all__ = [
     "DesignError",
     "MAX_LENGTH_M",
-    "NAME_PATTERN",
-    "NAME_RULE",
     "WheelDesign",
     "SECTIONS",
     "OPTIONAL_FIELDS",

@@ -1,5 +1,5 @@
-"""Files: reading a user's text file (a design, an outline CSV, a study spec) and
-writing any file atomically.
+"""Files: reading a user's text file (a design, an outline CSV, a study spec), writing
+any file atomically, and the one rule for a name that becomes a file or folder name.
 
 A text file is read from regular files only, of a bounded size, in UTF-8, each
 failure one line naming the file.
@@ -12,12 +12,32 @@ from __future__ import annotations
 
 import contextlib
 import os
+import re
 import stat
 import tempfile
 import tomllib
+from collections.abc import Iterator
 from pathlib import Path
+from typing import BinaryIO
 
-__all__ = ["MAX_TEXT_BYTES", "read_text", "read_toml", "umask", "write_atomic"]
+__all__ = [
+    "LABEL_PATTERN",
+    "LABEL_RULE",
+    "MAX_TEXT_BYTES",
+    "atomic_file",
+    "check_label",
+    "read_text",
+    "read_toml",
+    "umask",
+    "write_atomic",
+]
+
+#: A label: the name of a design, a study, a curve... anything that becomes the name of a
+#: file or a result folder. One path component, never empty, "." or "..", no separator,
+#: no leading dot (hidden) or dash (an option), printable ASCII only (no terminal control
+#: characters), short enough for every file system.
+LABEL_PATTERN = re.compile(r"[A-Za-z0-9][A-Za-z0-9_.+-]{0,63}")
+LABEL_RULE = "letters, digits, '_', '.', '+', '-'; a letter or digit first; at most 64"
 
 #: The largest input file read [bytes]: a 100,000-point outline CSV is about 4 MB.
 MAX_TEXT_BYTES = 64 * 2**20
@@ -67,6 +87,15 @@ def read_toml(path: str | Path, what: str, error: type[Exception] = ValueError) 
         raise error(f"{path}: not valid TOML ({exc})") from None
 
 
+def check_label(name: object, what: str, error: type[Exception] = ValueError) -> str:
+    """``name`` if it is a label (:data:`LABEL_PATTERN`), else ``error(message)`` naming
+    ``what`` and the rule: a name that becomes a folder is never a path."""
+    if not isinstance(name, str) or not LABEL_PATTERN.fullmatch(name):
+        shown = name if isinstance(name, str) and name.isprintable() else ascii(name)
+        raise error(f"{what} {shown!r} is not a usable name ({LABEL_RULE})")
+    return name
+
+
 def umask() -> int:
     """The process's file-creation mask (read without changing it for long)."""
     mask = os.umask(0)
@@ -74,19 +103,27 @@ def umask() -> int:
     return mask
 
 
-def write_atomic(path: str | Path, data: bytes | str) -> Path:
-    """Write ``data`` to ``path`` through a temporary file beside it and a rename: a
-    reader (or a run killed meanwhile) sees the old file or the new one, never half of
-    one. The file gets the usual permissions (``mkstemp`` would leave it 0600)."""
+@contextlib.contextmanager
+def atomic_file(path: str | Path) -> Iterator[BinaryIO]:
+    """``with atomic_file(path) as f:`` write ``f`` (binary); on leaving the block it
+    becomes ``path`` in one rename, so a reader (or a run killed meanwhile) sees the old
+    file or the new one, never half of one; on an error it is removed. The file gets the
+    usual permissions (``mkstemp`` would leave it 0600)."""
     path = Path(path)
     fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
     try:
         with os.fdopen(fd, "wb") as f:
-            f.write(data.encode() if isinstance(data, str) else data)
+            yield f
         os.chmod(tmp, 0o666 & ~umask())
         os.replace(tmp, path)
     except BaseException:
         with contextlib.suppress(OSError):
             os.unlink(tmp)
         raise
-    return path
+
+
+def write_atomic(path: str | Path, data: bytes | str) -> Path:
+    """Write ``data`` to ``path`` atomically (:func:`atomic_file`)."""
+    with atomic_file(path) as f:
+        f.write(data.encode() if isinstance(data, str) else data)
+    return Path(path)

@@ -83,12 +83,14 @@ def gmsh_session(verbose: bool) -> Iterator[Any]:
         current = None
         if owner:
             interruptible = threading.current_thread() is threading.main_thread()
-            handler = signal.getsignal(signal.SIGTERM) if interruptible else None
+            stops = (signal.SIGTERM, signal.SIGINT)
+            handlers = {s: signal.getsignal(s) for s in stops} if interruptible else {}
             gmsh.initialize(readConfigFiles=False, interruptible=interruptible)
-            if handler is not None:
-                # gmsh installs its own SIGTERM handler, which exits at once: give the
-                # process's back, so that a terminated run still cleans up
-                signal.signal(signal.SIGTERM, handler)
+            for signum, handler in handlers.items():
+                # gmsh sets SIGINT to its default (the process dies at once) and its own
+                # SIGTERM handler: give the process's back, so that a stopped run cleans up
+                if handler is not None:
+                    signal.signal(signum, handler)
         else:
             current = gmsh.model.getCurrent()
             for name in _OPTIONS_TOUCHED:

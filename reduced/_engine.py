@@ -67,7 +67,8 @@ def compiled() -> types.SimpleNamespace:
         twin = types.FunctionType(kernel.__code__, namespace, kernel.__name__, kernel.__defaults__)
         twin.__qualname__, twin.__module__ = kernel.__qualname__, kernel.__module__
         twin.__doc__ = kernel.__doc__
-        namespace[name] = numba.njit(cache=True, parallel=parallel)(twin)
+        # nogil: a stop signal's watcher thread can run while a long kernel does
+        namespace[name] = numba.njit(cache=True, parallel=parallel, nogil=True)(twin)
     return types.SimpleNamespace(**{name: namespace[name] for name in _KERNELS})
 
 

@@ -1,4 +1,5 @@
-"""Two scalar numerical kernels of the reduced model, written out rather than imported.
+"""Two scalar numerical kernels of the reduced model, written out rather than imported,
+and the thread rule of its dense linear algebra.
 
 SciPy's ``scipy.optimize`` and ``scipy.special`` cost about half a second to import,
 more than a whole squeal simulation; the model needs only a bracketed root and the
@@ -10,14 +11,37 @@ complete elliptic integrals, which take a few lines each:
   Stegun 17.6), m = k^2 the parameter as in ``scipy.special.ellipk``.
 
 Both are tested against SciPy to round-off (tests/test_reduced_contact_creep.py).
+
+:func:`one_blas_thread`: the model's eigen-solves are many small dense problems
+(``numpy.linalg.eig``, LAPACK's geev, which is mostly serial). Left to a multi-threaded
+BLAS they gain nothing alone and lose up to ten times on a busy machine, where the BLAS
+threads of several processes fight for the same cores; on one thread each solve costs
+what its estimate says whatever else runs.
 """
 
 from __future__ import annotations
 
+import contextlib
+import functools
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
+from typing import Any
 
-__all__ = ["elliptic_ke", "find_root"]
+__all__ = ["elliptic_ke", "find_root", "one_blas_thread"]
+
+
+@functools.cache
+def _threadpools() -> Any:
+    from threadpoolctl import ThreadpoolController
+
+    return ThreadpoolController()  # made once: it inspects the loaded libraries
+
+
+@contextlib.contextmanager
+def one_blas_thread() -> Iterator[None]:
+    """Run the block with BLAS and LAPACK on one thread (about 10 us to enter)."""
+    with _threadpools().limit(limits=1, user_api="blas"):
+        yield
 
 
 def elliptic_ke(m: float) -> tuple[float, float]:

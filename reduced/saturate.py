@@ -12,7 +12,9 @@ default step), so a stiff contact that shortens the step does not lengthen the r
 from __future__ import annotations
 
 import math
+import time
 import warnings
+from collections.abc import Callable
 
 from .creep import ContactLaw
 from .limit_cycle import LimitCycle, limit_cycle
@@ -57,11 +59,14 @@ def simulate_to_limit_cycle(
     max_duration: float = MAX_DURATION_S,
     samples_per_period: int = RECORD_SAMPLES_PER_PERIOD,
     wheel_speed_rad_s: float = 0.0,
+    may_extend: Callable[[float], bool] | None = None,
 ) -> tuple[TimeHistory, LimitCycle]:
     """Integrate from rest; returns the history and its limit-cycle metrics.
 
     ``duration`` [s]: a fixed length; None chooses it as the module docstring says.
     ``wheel_speed_rad_s``: the wheel's rotation (:func:`reduced.model.simulate`).
+    ``may_extend``: asked before each longer run with its estimated time [s] (twice the
+    last run's); False keeps the last record (a caller's time budget).
     Raises ValueError for a ``duration`` that is not positive or whose record would not
     fit (:func:`longest_record_s`).
     """
@@ -82,12 +87,15 @@ def simulate_to_limit_cycle(
     else:
         t = duration
     while True:
+        started = time.perf_counter()
         history = simulate(
             modes, contact, op, t, samples_per_period=samples_per_period, wheel_speed_rad_s=wheel_speed_rad_s
         )
         lc = limit_cycle(history)
         settled = lc.saturated or (not lc.squeal and lc.growth_rate_analytic_1_s <= 0)
         if duration is not None or settled or t * 2 > max_duration:
+            return history, lc
+        if may_extend is not None and not may_extend(2.0 * (time.perf_counter() - started)):
             return history, lc
         t *= 2
 

@@ -41,7 +41,7 @@ from typing import Literal
 
 import numpy as np
 
-from ._numerics import find_root
+from ._numerics import find_root, one_blas_thread
 from .creep import ContactLaw, adhesion_ratio, adhesion_ratio_slope
 from .model import ModalDOF, OperatingPoint, as_modes
 
@@ -248,16 +248,23 @@ def _state_matrix(
     return A
 
 
-def _eigen(A: np.ndarray, relaxation_time_s: float) -> tuple[np.ndarray, np.ndarray]:
-    """The eigenvalues with Im >= 0 and their eigenvectors (columns); with transient
-    creep the lag's own real eigenvalue (the one nearest -1/tau) is left out."""
-    lam, vec = np.linalg.eig(A)
+def _eigen(
+    A: np.ndarray, relaxation_time_s: float, vectors: bool = True
+) -> tuple[np.ndarray, np.ndarray | None]:
+    """The eigenvalues with Im >= 0 and their eigenvectors (columns; None unless
+    ``vectors``); with transient creep the lag's own real eigenvalue (the one nearest
+    -1/tau) is left out. LAPACK runs on one thread (``_numerics.one_blas_thread``)."""
+    with one_blas_thread():
+        if vectors:
+            lam, vec = np.linalg.eig(A)
+        else:
+            lam, vec = np.linalg.eigvals(A), None
     keep = lam.imag >= 0.0
     if relaxation_time_s > 0.0:
         real = np.flatnonzero(lam.imag == 0.0)
         if len(real):
             keep[real[np.argmin(np.abs(lam[real].real + 1.0 / relaxation_time_s))]] = False
-    return lam[keep], vec[:, keep]
+    return lam[keep], (vec[:, keep] if vec is not None else None)
 
 
 def _mode_eigenvalues(modes, damping, linear, wheel_speed_rad_s, blocks):
@@ -272,6 +279,7 @@ def _eigen_shares(modes, damping, linear, wheel_speed_rad_s, blocks):
     linear = LinearContact.of(linear)
     A = _state_matrix(modes, damping, linear, wheel_speed_rad_s, blocks)
     lam, vec = _eigen(A, linear.relaxation_time_s)
+    assert vec is not None
     nq = sum(size for _, size in blocks)
     q = vec[:nq]
     k = np.concatenate([[md.stiffness_n_m] * size for md, (_, size) in zip(modes, blocks)])
@@ -282,11 +290,15 @@ def _eigen_shares(modes, damping, linear, wheel_speed_rad_s, blocks):
     capacity = [size for _, size in blocks]
     assigned: list[list[int]] = [[] for _ in modes]
     taken = np.zeros(len(lam), dtype=bool)
+    left = min(sum(capacity), len(lam))
     for flat in np.argsort(-share, axis=None):
-        i, j = np.unravel_index(flat, share.shape)
+        i, j = divmod(int(flat), share.shape[1])
         if not taken[j] and len(assigned[i]) < capacity[i]:
-            assigned[i].append(int(j))
+            assigned[i].append(j)
             taken[j] = True
+            left -= 1
+            if left == 0:
+                break
     return lam, assigned, share
 
 
@@ -310,7 +322,7 @@ def _mechanisms(
     alone: list[tuple[Mechanism, np.ndarray]] = []
     for name, lin in limits:
         A = _state_matrix(modes, damping, lin, wheel_speed_rad_s, blocks)
-        alone.append((name, _eigen(A, lin.relaxation_time_s)[0]))
+        alone.append((name, _eigen(A, lin.relaxation_time_s, vectors=False)[0]))
     out: list[Mechanism | None] = []
     for x, up in zip(lam, grows):
         if not up:

@@ -642,7 +642,7 @@ def test_the_cache_keeps_under_its_limit_evicting_the_least_recently_used(tmp_pa
 
     cache = StageCache(tmp_path / "c")
     cache.set_limit(2_000_000)
-    blob = {"a": np.zeros(250_000)}  # 2 MB uncompressed: about 2 MB on disk
+    blob = {"a": np.zeros(100_000)}  # 0.8 MB uncompressed: about 0.8 MB on disk
     now = time.time()
     for k in range(3):
         cache.store("modes", {"k": k}, {"a": np.full(62_500, k, dtype=float)})  # 0.5 MB each
@@ -655,6 +655,21 @@ def test_the_cache_keeps_under_its_limit_evicting_the_least_recently_used(tmp_pa
     assert 9 in kept and 0 in kept and 1 not in kept  # the least recently used went first
     monkeypatch.setattr(cache_module, "IN_USE_S", 0.0)
     assert cache.evict() >= 0 and cache.info()[1] <= 2_000_000
+
+
+def test_an_entry_larger_than_half_the_cache_is_not_stored_and_evicts_nothing(tmp_path, capsys):
+    from wheel_squeal.cache import StageCache
+
+    cache = StageCache(tmp_path / "c")
+    cache.set_limit(2_000_000)
+    for k in range(3):
+        cache.store("modes", {"k": k}, {"a": np.full(25_000, k, dtype=float)})  # 0.2 MB each
+    before = cache.info()
+    cache.store("modes", {"k": 9}, {"a": np.zeros(150_000)})  # 1.2 MB: over half the limit
+    cache.store("modes", {"k": 10}, {"a": np.zeros(150_000)})
+    assert not cache.path("modes", {"k": 9}).exists() and cache.info() == before
+    err = capsys.readouterr().err
+    assert err.count("warning:") == 1 and "not stored" in err  # one warning per run
 
 
 @pytest.mark.slow

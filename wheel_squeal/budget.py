@@ -23,10 +23,11 @@ import contextlib
 import math
 import os
 import resource
-from dataclasses import dataclass
+import time
+from dataclasses import dataclass, field
 from pathlib import Path
 
-from .errors import BudgetError, RequestError
+from .errors import BudgetError, BudgetExhausted, RequestError
 
 __all__ = ["Budget", "DEFAULT_MAX_DOFS", "DEFAULT_MAX_SECONDS", "MEMORY_FRACTION"]
 
@@ -101,11 +102,31 @@ def _human_bytes(n: float) -> str:
 
 @dataclass(frozen=True)
 class Budget:
-    """Limits on one request (see the module docstring)."""
+    """Limits on one request (see the module docstring); ``started_s``: when the request
+    began (``time.monotonic``), from which its time is counted."""
 
     max_dofs: float = DEFAULT_MAX_DOFS
     max_seconds: float = DEFAULT_MAX_SECONDS
     max_memory_bytes: float = math.inf
+    started_s: float = field(default_factory=time.monotonic, compare=False)
+
+    def elapsed_s(self) -> float:
+        """Seconds since the request began."""
+        return time.monotonic() - self.started_s
+
+    def seconds_left(self) -> float:
+        """Seconds the request may still run."""
+        return self.max_seconds - self.elapsed_s()
+
+    def checkpoint(self, what: str) -> None:
+        """Stop the request (:class:`BudgetExhausted`) if it has run past its time
+        budget; ``what``: the work under way, in words."""
+        if self.seconds_left() < 0.0:
+            raise BudgetExhausted(
+                f"the request ran past its time budget of {_human_time(self.max_seconds)} "
+                f"({_human_time(self.elapsed_s())}, during {what}); raise it with --max-seconds S "
+                f"({ENV_MAX_SECONDS}) or ask for less"
+            )
 
     @classmethod
     def from_environment(cls, max_dofs: float | None = None, max_seconds: float | None = None) -> Budget:
@@ -172,8 +193,13 @@ class Budget:
             )
 
     def _check_time(self, cost: str, seconds: float, remedy: str) -> None:
-        if seconds > self.max_seconds:
+        left = self.seconds_left()
+        if seconds > left:
+            spent = self.max_seconds - left
+            limit = _human_time(self.max_seconds) + (
+                f", {_human_time(max(left, 0.0))} of it left" if spent > 1.0 else ""
+            )
             raise BudgetError(
-                f"{cost} (limit {_human_time(self.max_seconds)}); {remedy}, or raise "
+                f"{cost} (limit {limit}); {remedy}, or raise "
                 f"the limit with --max-seconds S ({ENV_MAX_SECONDS})"
             )

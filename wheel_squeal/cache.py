@@ -21,7 +21,9 @@ Size: the entries are kept under a limit (:data:`DEFAULT_MAX_BYTES`, or the cach
 own setting, ``cache limit SIZE``, or ``$WHEEL_SQUEAL_CACHE_SIZE``); after a store
 beyond it the least recently used entries are removed (a load refreshes an entry's
 time), except those used in the last :data:`IN_USE_S` seconds, which a running process
-may still read back.
+may still read back. An entry larger than :data:`MAX_ENTRY_FRACTION` of the limit is
+not stored at all (one warning): it would evict everything else and be evicted next. An
+entry is written straight from its arrays to the file (no copy of it in memory).
 """
 
 from __future__ import annotations
@@ -31,7 +33,6 @@ import functools
 import hashlib
 import importlib.metadata
 import importlib.util
-import io
 import json
 import os
 import re
@@ -44,7 +45,7 @@ from typing import Any
 
 import numpy as np
 
-from geometry.files import write_atomic
+from geometry.files import atomic_file, write_atomic
 
 from .errors import RequestError
 
@@ -68,6 +69,8 @@ ENV_SIZE = "WHEEL_SQUEAL_CACHE_SIZE"
 DEFAULT_MAX_BYTES = 2 * 10**9
 #: Entries used this recently [s] are never evicted: a running process may read them.
 IN_USE_S = 600.0
+#: The largest entry stored, as a fraction of the cache's size limit.
+MAX_ENTRY_FRACTION = 0.5
 _UNITS = {
     "": 1,
     "B": 1,
@@ -155,8 +158,13 @@ def _checksum(arrays: dict[str, np.ndarray]) -> str:
         h.update(k.encode())
         h.update(str(a.dtype).encode())
         h.update(str(a.shape).encode())
-        h.update(a.tobytes())
+        h.update(a.reshape(-1).view(np.uint8).data if a.size else b"")  # the buffer itself, no copy
     return h.hexdigest()
+
+
+def entry_bytes(arrays: dict[str, np.ndarray]) -> int:
+    """The size an entry of ``arrays`` takes on disk, near enough [bytes]."""
+    return sum(int(np.asarray(a).nbytes) + 256 for a in arrays.values()) + 4096
 
 
 class StageCache:
@@ -176,8 +184,10 @@ class StageCache:
         self.hits: list[str] = []
         self.misses: list[str] = []
         self.writable = True
+        self._too_large_warned = False
         if enabled:
             self._check_root()
+            self.max_bytes  # noqa: B018 (a bad $WHEEL_SQUEAL_CACHE_SIZE is refused before any work)
 
     # -- the root -----------------------------------------------------------------------
     def _check_root(self) -> None:
@@ -254,16 +264,27 @@ class StageCache:
 
     def store(self, stage: str, key: dict, arrays: dict[str, np.ndarray]) -> None:
         """Store an entry atomically; a cache that cannot be written is warned about once."""
-        if not (self.enabled and self.writable and self._ensure_root()):
+        if not (self.enabled and self.writable):
+            return
+        size, limit = entry_bytes(arrays), self.max_bytes
+        if size > MAX_ENTRY_FRACTION * limit:
+            if not self._too_large_warned:
+                self.warn(
+                    f"the {stage} entry ({size / 1e9:.3g} GB) is more than {MAX_ENTRY_FRACTION:.0%} of the "
+                    f"cache's limit ({limit / 1e9:.3g} GB): not stored (raise the limit with "
+                    f"'cache limit SIZE' or {ENV_SIZE})"
+                )
+                self._too_large_warned = True
+            return
+        if not self._ensure_root():
             return
         p = self.path(stage, key)
         meta = json.dumps({"tool": ENTRY_TOOL, "key": key, "checksum": _checksum(arrays)})
-        buf = io.BytesIO()
         payload: dict[str, Any] = {"__meta__": np.array(meta), **arrays}
-        np.savez(buf, **payload)
         try:
             p.parent.mkdir(exist_ok=True)
-            write_atomic(p, buf.getvalue())
+            with atomic_file(p) as f:
+                np.savez(f, **payload)
         except OSError as exc:
             self._cannot_store(exc)
             return

@@ -27,8 +27,8 @@ from typing import TYPE_CHECKING, Any
 
 from geometry import SECTIONS, DesignError, WheelDesign
 from geometry.contact import ContactFrame, ContactPointError, contact_frame
-from geometry.design import NAME_PATTERN, NAME_RULE, toml_float
-from geometry.files import read_toml
+from geometry.design import toml_float
+from geometry.files import LABEL_PATTERN, LABEL_RULE, read_toml
 
 from .errors import RequestError
 from .sections import (
@@ -221,9 +221,9 @@ class Design:
         """Read and check a design file; missing keys take the Table 1 values."""
         path = Path(path)
         _, data = read_toml(path, "design file", DesignError)
-        if "name" not in data and not NAME_PATTERN.fullmatch(path.stem):
+        if "name" not in data and not LABEL_PATTERN.fullmatch(path.stem):
             raise DesignError(
-                f"{path}: the file name {path.stem!r} is not a usable design name ({NAME_RULE}); "
+                f"{path}: the file name {path.stem!r} is not a usable design name ({LABEL_RULE}); "
                 'set name = "..." in the file'
             )
         design = cls.from_mapping(data, default_name=path.stem, source=str(path), base=path.parent)

@@ -6,12 +6,14 @@ its flags first) and its subclass :class:`BudgetError` (a request beyond the res
 budget, with its cost and how to proceed). With ``geometry.DesignError`` they are the
 only exceptions the CLI turns into one line and exit status 2; the anticipated failures
 of a computation (``geometry.MeshError``, ``fem.EigenError``, ``reduced.IntegrationError``)
-are one line and exit status 1; anything else is a bug and shows its traceback.
+and :class:`BudgetExhausted` (a request that ran past its time budget although its
+estimate fitted) are one line and exit status 1; anything else is a bug and shows its
+traceback.
 """
 
 from __future__ import annotations
 
-__all__ = ["BudgetError", "RequestError"]
+__all__ = ["BudgetError", "BudgetExhausted", "RequestError"]
 
 
 class RequestError(ValueError):
@@ -23,3 +25,9 @@ class BudgetError(RequestError):
     """A request whose estimated memory, size or run time exceeds the budget; the
     message states the estimate and how to proceed (a coarser preset, or a limit to
     lift)."""
+
+
+class BudgetExhausted(RuntimeError):
+    """A request that ran past its time budget while working (its estimate fitted, the
+    machine was slower): it stops where it is, nothing half-written. The message says
+    how long it ran, at which stage, and how to proceed."""

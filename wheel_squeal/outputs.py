@@ -41,7 +41,7 @@ import socket
 import time
 from collections.abc import Iterator, Sequence
 from pathlib import Path
-from typing import Any
+from typing import Any, ClassVar
 
 from geometry.files import umask
 
@@ -133,9 +133,35 @@ class ResultFolder:
     into ``.staging``; then ``publish(command)`` or ``discard()``.
     """
 
+    #: The staging folders this process has open (a command killed past its grace
+    #: period removes them before it ends: :meth:`discard_all`).
+    live: ClassVar[set[Path]] = set()
+
     def __init__(self, out: str | os.PathLike):
         self.out = Path(out)
-        self.staging: Path | None = None
+        self._staging: Path | None = None
+
+    @property
+    def staging(self) -> Path | None:
+        """The staging folder while the result is being written (None before
+        :meth:`open` and after :meth:`publish` or :meth:`discard`)."""
+        return self._staging
+
+    @staging.setter
+    def staging(self, path: Path | None) -> None:
+        if self._staging is not None:
+            ResultFolder.live.discard(self._staging)
+        if path is not None:
+            ResultFolder.live.add(path)
+        self._staging = path
+
+    @classmethod
+    def discard_all(cls) -> None:
+        """Remove every staging folder this process has open (its results stay as they
+        were): the last thing a command ended by a signal does."""
+        for path in list(cls.live):
+            _remove(path)
+        cls.live.clear()
 
     # -- checks ---------------------------------------------------------------------
     def check(self) -> None:
@@ -152,6 +178,12 @@ class ResultFolder:
             )
         if out.is_symlink() and not out.exists():
             raise RequestError(f"--out {out} is a broken symbolic link")
+        for parent in resolved.parents:
+            if (parent / MARKER).is_file():
+                raise RequestError(
+                    f"--out {out} lies inside the result folder {parent}: results are never nested "
+                    "(a run that replaces the outer one would delete it); choose a folder outside it"
+                )
         if out.exists():
             if not out.is_dir():
                 raise RequestError(f"--out {out} exists and is not a folder")
@@ -159,6 +191,12 @@ class ResultFolder:
                 raise RequestError(
                     f"--out {out} is a folder with other files in it, not a result of this tool "
                     f"(no {MARKER}): choose a new or empty folder (nothing was written)"
+                )
+            inner = next((p.parent for p in out.glob(f"*/**/{MARKER}")), None)
+            if inner is not None:
+                raise RequestError(
+                    f"--out {out} holds another result ({inner}) that replacing it would delete; "
+                    "choose another folder (nothing was written)"
                 )
 
     def open(self) -> Path:

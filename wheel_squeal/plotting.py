@@ -16,6 +16,7 @@ import contextlib
 import importlib
 import multiprocessing
 import os
+import signal
 import threading
 import time
 from collections.abc import Callable, Iterator, Sequence
@@ -50,6 +51,11 @@ def _follow_parent() -> None:
 
 
 def _start_plot_process(modules: Sequence[str]) -> None:
+    # a process group of its own, which its drawing children share: the parent stops
+    # them all at once (:func:`_stop_plot_processes`), and a stop signal sent to the
+    # parent's group (Ctrl-C, ``timeout``) is the parent's alone to handle
+    with contextlib.suppress(OSError):
+        os.setpgid(0, 0)
     _follow_parent()
     for name in modules:
         importlib.import_module(name)
@@ -94,7 +100,23 @@ class PlotWorkers:
             # one message: objects that several writers share are pickled once
             future: Future = self.executor.submit(_write_all, jobs, self.processes)
             self.drawn = True
-            future.result()
+            try:
+                future.result()
+            except BaseException:
+                # stopped (or failed) while drawing: no process may go on writing into a
+                # result folder that is being removed
+                _stop_plot_processes()
+                raise
+
+
+def _stop_plot_processes() -> None:
+    """Kill the plot process and its drawing children (their own process group) and wait
+    for them."""
+    for child in multiprocessing.active_children():
+        with contextlib.suppress(OSError):
+            if child.pid is not None and os.getpgid(child.pid) == child.pid:
+                os.killpg(child.pid, signal.SIGKILL)
+                child.join(5.0)
 
 
 def _cores() -> int:

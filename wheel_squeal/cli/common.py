@@ -3,8 +3,10 @@
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
+
+from geometry.files import check_label
 
 from .. import api, writers
 from ..budget import Budget
@@ -59,11 +61,33 @@ def modal_model_of(args):
 
 
 def cache_of(args) -> StageCache:
-    return StageCache(args.cache_dir, enabled=not getattr(args, "no_cache", False))
+    """The request's stage cache (one per command: its hits and misses are the run's)."""
+    cache = vars(args).get("_cache")
+    if cache is None:
+        cache = args._cache = StageCache(args.cache_dir, enabled=not getattr(args, "no_cache", False))
+    return cache
 
 
 def budget_of(args) -> Budget:
-    return Budget.from_environment(getattr(args, "max_dofs", None), getattr(args, "max_seconds", None))
+    """The request's one budget, its time counted from the first call."""
+    budget = vars(args).get("_budget")
+    if budget is None:
+        budget = Budget.from_environment(getattr(args, "max_dofs", None), getattr(args, "max_seconds", None))
+        started = vars(args).get("_started_s")
+        if started is not None:  # the process's own start: its imports count too
+            budget = replace(budget, started_s=started)
+        args._budget = budget
+    return budget
+
+
+def settings_of(args) -> Budget:
+    """The request's budget and, for a command that has one, its cache: every limit and
+    folder from the flags and the environment, checked before any work (a bad
+    ``WHEEL_SQUEAL_CACHE_SIZE`` is one line at once, not after the modes)."""
+    budget = budget_of(args)
+    if hasattr(args, "cache_dir"):
+        cache_of(args)
+    return budget
 
 
 def write_files(directory: Path, files: dict[str, bytes]) -> None:
@@ -130,8 +154,11 @@ def squeal_mode(args, design: Design, progress: Progress, cache: StageCache, con
 
 def out_of(args, name: str) -> Path:
     """The command's result folder: ``--out``, else ``results/COMMAND/NAME`` below the
-    working folder (NAME: the design's, the study's, or the compared designs')."""
-    return args.out if args.out is not None else Path("results") / args.command / name
+    working folder (NAME: the design's, the study's, or the compared designs'; a label,
+    never a path: ``geometry.files.check_label``)."""
+    if args.out is not None:
+        return args.out
+    return Path("results") / args.command / check_label(name, "a result's name", RequestError)
 
 
 def analysis_of(args, design: Design, progress: Progress, cache: StageCache, listener=None, modes=None):

@@ -195,7 +195,7 @@ def cmd_compare(args) -> int:
             raise RequestError(f"design {path}: {exc}") from None
     if len({d.name for d in designs}) != len(designs):
         raise RequestError("two designs have the same name; give each a distinct name")
-    out = out_of(args, "+".join(d.name for d in designs)[:80])
+    out = out_of(args, "+".join(d.name for d in designs)[:64])
     with result_folder(out, "compare") as tmp:
         cache = cache_of(args)
         analyses = []

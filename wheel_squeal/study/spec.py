@@ -42,7 +42,7 @@ from typing import Any
 import numpy as np
 
 from geometry import SECTIONS, DesignError
-from geometry.files import read_toml
+from geometry.files import check_label, read_toml
 
 from ..design import FIELDS, Design
 from ..errors import RequestError
@@ -348,9 +348,9 @@ def load_spec(path: str | Path) -> StudySpec:
             f"{src}: {len(vcs):,} x {len(rpms):,} operating points is more than a study takes "
             f"({MAX_OPERATING_POINTS:,} per design)"
         )
-    name = data.get("name", path.stem)
+    name = check_label(data.get("name", path.stem), f"{src}: the study's name", RequestError)
     return StudySpec(
-        name=str(name),
+        name=name,
         description=str(data.get("description", "")),
         base=base,
         fidelity=fidelity,
