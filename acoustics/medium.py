@@ -89,6 +89,20 @@ def mean_square_spl_db(mean_square_pa2) -> np.ndarray:
         return 10.0 * np.log10(np.asarray(mean_square_pa2, dtype=float) / P_REF_PA**2)
 
 
+#: Below this sound pressure level [dB re 20 uPa] a microphone hears silence: 2 uPa, a
+#: tenth of the threshold of hearing where the ear is most sensitive (a node of the
+#: radiation, such as the axis of a mode with nodal diameters, gives round-off near
+#: -260 dB, which is no level at all).
+SILENT_SPL_DB = -20.0
+
+
+def audible_spl_db(level_db: float | None) -> float | None:
+    """``level_db`` [dB re 20 uPa], or None where it is silence (:data:`SILENT_SPL_DB`)."""
+    if level_db is None or not level_db >= SILENT_SPL_DB:
+        return None
+    return float(level_db)
+
+
 def sound_power_level_db(power_w) -> np.ndarray:
     """Sound power level [dB re 1 pW] of a time-averaged power [W]."""
     with np.errstate(divide="ignore"):

@@ -41,6 +41,7 @@ _EXPORTS = {
     "render_modes": "render",
     "to_pyvista": "render",
     "write_modes_vtu": "render",
+    "modes_vtu_bytes": "render",
 }
 
 

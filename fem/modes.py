@@ -247,6 +247,11 @@ def select_mode(modes: Sequence[Mode], selection: ModeSelection | None = None) -
         axial = [m for m in modes if m.family == "axial"] or list(modes)
         near = sel.near_hz
         m = min(axial, key=lambda m: abs(m.frequency_hz - near))
+        if abs(m.frequency_hz - near) > NEAREST_MODE_RTOL * near:
+            raise LookupError(
+                f"no mode near {near:g} Hz: the nearest is {m.label()} at {m.frequency_hz:.1f} Hz "
+                f"(f=HZ picks a mode within {NEAREST_MODE_RTOL:.0%})"
+            )
         return SelectedMode(m, f"axial mode nearest to {near:g} Hz")
     cands = [
         m
@@ -269,6 +274,10 @@ def select_mode(modes: Sequence[Mode], selection: ModeSelection | None = None) -
         f"lowest {m.family} mode with {m.nodal_diameters} nodal diameters and {m.nodal_circles} nodal circles"
     )
     return SelectedMode(m, why)
+
+
+#: ``f=HZ`` picks the axial mode nearest HZ if it lies within this fraction of it.
+NEAREST_MODE_RTOL = 0.25
 
 
 @dataclass

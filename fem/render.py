@@ -67,6 +67,7 @@ __all__ = [
     "render_mode",
     "render_modes",
     "to_pyvista",
+    "modes_vtu_bytes",
     "write_modes_vtu",
 ]
 
@@ -182,9 +183,11 @@ def _vtk_cells(modeset: ModeSet) -> dict[int, np.ndarray]:
     return out
 
 
-def _point_arrays(modeset: ModeSet, magnitudes: bool) -> dict[str, np.ndarray]:
+def _point_arrays(
+    modeset: ModeSet, magnitudes: bool, indices: Sequence[int] | None = None
+) -> dict[str, np.ndarray]:
     out: dict[str, np.ndarray] = {}
-    for i in range(len(modeset.modes)):
+    for i in range(len(modeset.modes)) if indices is None else indices:
         name = mode_array_name(modeset, i)
         a, b = _pair_basis(modeset, i)
         out[name] = a
@@ -232,20 +235,35 @@ def to_pyvista(modeset: ModeSet):
     return grid
 
 
-def write_modes_vtu(modeset: ModeSet, path: str | os.PathLike) -> Path:
-    """Write the mode shapes to a VTK XML ``.vtu`` (readable by meshio and ParaView).
+def modes_vtu_bytes(modeset: ModeSet, indices: Sequence[int] | None = None) -> float:
+    """The size of :func:`write_modes_vtu`'s file [bytes], near enough: the points, the
+    cells and 3 doubles per point for each member of each mode written."""
+    members = sum(
+        min(2, np.asarray(modeset.shapes[i]).shape[0] if np.asarray(modeset.shapes[i]).ndim == 3 else 1)
+        for i in (range(len(modeset.modes)) if indices is None else indices)
+    )
+    cells = sum(np.asarray(c).size * 8 + len(c) * 9 for c in modeset.cells.values())
+    return 24.0 * len(modeset.points) * (1 + members) + cells + 1e4
+
+
+def write_modes_vtu(modeset: ModeSet, path: str | os.PathLike, indices: Sequence[int] | None = None) -> Path:
+    """Write the mode shapes (``indices``: those modes only, default all) to a VTK XML
+    ``.vtu`` (readable by meshio and ParaView).
 
     Point data as in :func:`to_pyvista` without the magnitudes (ParaView computes
     them); field data with the frequencies and labels (written by VTK's XML writer:
     meshio reads field data back but does not write it). The file is written to a
     temporary name in the same folder and renamed, so a reader never sees half a file.
     """
+    import pyvista as pv
+
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
-    grid = to_pyvista(modeset)
-    for name in list(grid.point_data.keys()):
-        if name.endswith("_mag"):
-            del grid.point_data[name]
+    grid = pv.UnstructuredGrid(_vtk_cells(modeset), np.asarray(modeset.points, dtype=float))
+    for name, arr in _point_arrays(modeset, magnitudes=False, indices=indices).items():
+        grid.point_data[name] = arr
+    for name, arr in _field_arrays(modeset).items():
+        grid.field_data[name] = arr
     with tempfile.TemporaryDirectory() as scratch:  # VTK writes to a path
         tmp = Path(scratch) / path.name
         grid.save(tmp, binary=True)

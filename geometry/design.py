@@ -367,6 +367,10 @@ _UNIT_RANGES: dict[str, tuple[float, float, tuple[tuple[float, str], ...]]] = {
 #: are curvatures, not sizes: a nearly flat tread has a very large one).
 MAX_LENGTH_M = 10.0
 _SIZES = tuple(k for k in SECTIONS["wheel"] if k != "crown_radius")
+#: The smallest size of any part of a wheel [m] (a fillet or a hub may be 0: none).
+MIN_LENGTH_M = 1e-4
+#: Lengths that are positions, not sizes: any small value is a small offset.
+_OFFSETS = ("web_offset", "web_offset_rim")
 
 
 def _unit_hint(
@@ -390,6 +394,10 @@ def validate(d: WheelDesign) -> None:
                 raise DesignError(f"{f.name} must be a string")
             if f.name == "name":
                 check_label(v, "design name", DesignError)
+            elif not v.replace("\n", " ").replace("\t", " ").isprintable():
+                raise DesignError(
+                    "description must be plain text: no control characters (they would reach the terminal)"
+                )
             continue
         if f.name == "profile" or (f.name in OPTIONAL_FIELDS and v is None):
             continue
@@ -422,6 +430,11 @@ def validate(d: WheelDesign) -> None:
             raise DesignError(
                 f"{key} = {v:g} m is longer than any wheel ({MAX_LENGTH_M:g} m): "
                 f"it looks like millimetres; write {v / 1000:g}"
+            )
+        if v is not None and 0.0 < abs(v) < MIN_LENGTH_M and key not in _OFFSETS:
+            raise DesignError(
+                f"{key} = {v:g} m is shorter than any part of a wheel ({MIN_LENGTH_M:g} m): "
+                "it would need a mesh finer than any machine holds"
             )
     if d.profile is None:
         _validate_parametric(d)

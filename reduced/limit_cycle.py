@@ -21,8 +21,18 @@ Definitions (all on the contact-point lateral velocity v = sum_i y_i'):
   oscillation has died out (no zero crossing of v over the last 3 periods of the
   record: decayed to round-off, or a non-oscillating creep/stick state), it is 0.
 * **squeal**: the final amplitude exceeds ``squeal_threshold`` * max(|Vc|, 1 mm/s)
-  (default 1e-3) and the oscillation is self-sustained: saturated, or its envelope
-  still grows over the final window.
+  (default 1e-3) and the oscillation is self-sustained: saturated, its envelope still
+  grows over the final window, or steady sliding is linearly unstable (analytic growth
+  rate > 0): the motion cannot come back to rest then, so an oscillation that has not
+  settled into a clean limit cycle (two modes beating, a light counter-body mode
+  chattering) is still a squeal, never "quiet".
+* **state**: "limit cycle" (saturated), "still growing" (the envelope's log-slope over the
+  final window is above ``LINEAR_RATE_FRACTION`` of |sigma|), "not settled" (a squeal
+  neither: its amplitude and frequency are then the record's, see below) or "quiet".
+* **amplitude and frequency of a record that has not settled**: sqrt(2) times the rms of
+  the contact velocity (about its mean) over the last quarter of the record, and the
+  frequency of its largest spectral line there (:func:`limit_cycle` only; a sweep keeps
+  no record and reports its cycles' mean).
 * **time to saturation**: start of the first cycle after which every envelope value
   stays within ``saturation_tolerance`` of the final amplitude (NaN if not saturated).
 * **growth rate (fitted)**: least-squares slope of ln(envelope) against time over
@@ -39,7 +49,8 @@ Definitions (all on the contact-point lateral velocity v = sum_i y_i'):
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
+from typing import Literal
 
 import numpy as np
 
@@ -48,7 +59,18 @@ from .creep import ContactLaw
 from .model import OperatingPoint, TimeHistory, as_modes
 from .stability import LinearContact, growth_rates
 
-__all__ = ["Cycles", "LimitCycle", "cycles", "limit_cycle", "analytic_growth_rate"]
+__all__ = [
+    "Cycles",
+    "LimitCycle",
+    "State",
+    "analytic_growth_rate",
+    "cycles",
+    "limit_cycle",
+    "record_tail_level",
+]
+
+#: What a record shows at its end (see the module docstring).
+State = Literal["limit cycle", "still growing", "not settled", "quiet"]
 
 WINDOW_CYCLES = 50
 SATURATION_TOLERANCE = 0.01
@@ -81,7 +103,8 @@ class Cycles:
 class LimitCycle:
     """Limit-cycle metrics (see the module docstring for the definitions).
 
-    squeal : bool. saturated : bool.
+    squeal : bool. saturated : bool. state : "limit cycle", "still growing", "not
+        settled" or "quiet" (see the module docstring).
     velocity_amplitude_m_s : m/s.
     frequency_hz : mean over the final window, Hz (NaN if fewer than 2 cycles or if the
         final amplitude is below the squeal threshold).
@@ -99,6 +122,7 @@ class LimitCycle:
     growth_rate_1_s: float
     growth_rate_analytic_1_s: float
     cycles: Cycles = field(repr=False)
+    state: State = "quiet"
 
 
 def analytic_growth_rate(
@@ -177,7 +201,17 @@ def metrics_from_cycles(
     saturated = bool(
         n >= window_cycles and final > threshold and spread <= saturation_tolerance * final and flat
     )
-    squeal = bool(final > threshold and (saturated or (math.isfinite(late_slope) and late_slope > 0.0)))
+    growing = math.isfinite(late_slope) and late_slope > 0.0
+    squeal = bool(final > threshold and (saturated or growing or growth_rate_analytic_1_s > 0.0))
+    state: State = (
+        "quiet"
+        if not squeal
+        else "limit cycle"
+        if saturated
+        else "still growing"
+        if growing and not flat
+        else "not settled"
+    )
     t_sat = nan
     if saturated:
         outside = np.nonzero(np.abs(amp - final) > saturation_tolerance * final)[0]
@@ -197,7 +231,9 @@ def metrics_from_cycles(
         # decaying: fit down to DECAY_FIT_FLOOR of the largest envelope, not the round-off tail
         keep = amp >= DECAY_FIT_FLOOR * amp.max()
         growth = _fit_log_slope(cyc.start_s[keep], amp[keep])
-    return LimitCycle(squeal, saturated, final, frequency, t_sat, growth, growth_rate_analytic_1_s, cyc)
+    return LimitCycle(
+        squeal, saturated, final, frequency, t_sat, growth, growth_rate_analytic_1_s, cyc, state
+    )
 
 
 def limit_cycle(
@@ -212,7 +248,7 @@ def limit_cycle(
     sigma = analytic_growth_rate(
         history.modes, history.contact, history.operating_point, history.wheel_speed_rad_s
     )
-    return metrics_from_cycles(
+    lc = metrics_from_cycles(
         cyc,
         history.operating_point.crabbing_velocity_m_s,
         sigma,
@@ -221,3 +257,27 @@ def limit_cycle(
         squeal_threshold=squeal_threshold,
         record_end_s=float(history.t[-1]) if len(history.t) else None,
     )
+    if lc.state != "not settled":
+        return lc
+    amplitude, frequency = record_tail_level(history)
+    return replace(lc, velocity_amplitude_m_s=amplitude, frequency_hz=frequency)
+
+
+def record_tail_level(history: TimeHistory, fraction: float = 0.25) -> tuple[float, float]:
+    """(sqrt(2) x rms of the contact velocity about its mean [m/s], frequency of its
+    largest spectral line [Hz]) over the last ``fraction`` of the record: the level and
+    tone of an oscillation that is not a clean limit cycle."""
+    t, v = np.asarray(history.t, float), np.asarray(history.v, float)
+    tail = t >= t[-1] - fraction * (t[-1] - t[0])
+    x = v[tail] - v[tail].mean()
+    if len(x) < 8:
+        return float("nan"), float("nan")
+    dt = float(np.mean(np.diff(t[tail])))
+    spectrum = np.abs(np.fft.rfft(x * np.hanning(len(x))))
+    spectrum[0] = 0.0
+    k = int(np.argmax(spectrum))
+    shift = 0.0
+    if 0 < k < len(spectrum) - 1:  # the peak between bins: a parabola through log magnitudes
+        a, b, c = np.log(np.maximum(spectrum[k - 1 : k + 2], 1e-300))
+        shift = 0.5 * (a - c) / (a - 2 * b + c) if a - 2 * b + c < 0 else 0.0
+    return float(np.sqrt(2.0 * np.mean(x * x))), float((k + shift) / (len(x) * dt))

@@ -38,6 +38,7 @@ def summary_dicts(lc: LimitCycle, op: OperatingPoint, contact: ContactLaw) -> di
     return {
         "limit_cycle": {
             "squeal": bool(lc.squeal),
+            "state": lc.state,
             "velocity_amplitude_m_s": float(lc.velocity_amplitude_m_s),
             "frequency_hz": float(lc.frequency_hz),
             "time_to_saturation_s": float(lc.time_to_saturation_s),

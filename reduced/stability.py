@@ -53,6 +53,7 @@ __all__ = [
     "StabilityResult",
     "critical_damping_ratio",
     "critical_friction_slope",
+    "eigen_solve_bytes",
     "eigen_solve_seconds",
     "friction_damping_ns_m",
     "growth_rates",
@@ -475,13 +476,18 @@ def bound_solves(n_modes: int) -> float:
     return 12.0 + 0.4 * n_modes
 
 
-#: One eigen-solve of the n-state system, with the assignment of its eigenvalues to the
-#: modes, costs about EIGEN_SECONDS[0] + EIGEN_SECONDS[1] n + EIGEN_SECONDS[2] n^3 /
-#: (1 + n / EIGEN_SECONDS[3]) [s] (numpy.linalg.eig, LAPACK geev: Python's overhead, then
-#: the cubic work, which spreads over the cores as n grows; measured 0.16 ms at n = 10,
-#: 0.4 ms at 22, 0.8 ms at 42, 18 ms at 122, 0.45 s at 640 and 2.0 s at 1280 on a
-#: shared 2-core machine; benchmarks/bench_estimates.py).
-EIGEN_SECONDS = (1e-4, 1e-5, 1e-8, 250.0)
+#: One eigen-solve of the n-state system with its eigenvectors, the energy shares and the
+#: assignment of its eigenvalues to the modes, on one BLAS thread, costs about
+#: EIGEN_SECONDS[0] + EIGEN_SECONDS[1] n^2 + EIGEN_SECONDS[2] n^3 [s] (LAPACK geev:
+#: Python's overhead, the shares, then the cubic work; measured 0.2 ms at n = 20, 29 ms
+#: at 200, 0.8 s at 800, 3.7 s at 1600 and 18 s at 3200; ``benchmarks/bench_estimates.py``).
+#: Eigenvalues alone (the mechanisms' limits) take :data:`EIGENVALUES_ONLY` of it.
+EIGEN_SECONDS = (3e-4, 5e-7, 8e-10)
+EIGENVALUES_ONLY = 0.7
+#: Bytes one eigen-solve of n states holds at its peak, per n^2: the state matrix,
+#: LAPACK's copy and its real eigenvectors (8 bytes each), the complex eigenvectors and
+#: the shares (16 and 8 bytes per entry of half of them).
+EIGEN_BYTES_PER_STATE2 = 48.0
 #: Rounds of raising a damping bound the mitigation takes, per mode: 0.5 to 1.0
 #: measured on the shipped designs (rotation off and on).
 MITIGATION_ROUNDS_PER_MODE = 0.8
@@ -495,13 +501,26 @@ def _states(modes: Sequence[ModalDOF], rotation: bool) -> int:
 def eigen_solve_seconds(modes: Sequence[ModalDOF], rotation: bool = False) -> float:
     """The estimated time of one eigen-solve of the coupled system of ``modes`` [s]."""
     n = _states(modes, rotation)
-    fixed, linear, cubic, spread = EIGEN_SECONDS
-    return fixed + linear * n + cubic * n**3 / (1 + n / spread)
+    fixed, square, cubic = EIGEN_SECONDS
+    return fixed + square * n**2 + cubic * n**3
 
 
-def stability_seconds(modes: Sequence[ModalDOF], rotation: bool = False, bounds: int = 0) -> float:
-    """The estimated time of :func:`linear_stability` with ``bounds`` modes' bounds [s]."""
-    return eigen_solve_seconds(modes, rotation) * (1 + bound_solves(len(modes)) * bounds)
+def eigen_solve_bytes(modes: Sequence[ModalDOF], rotation: bool = False) -> float:
+    """The estimated peak memory of one eigen-solve of the coupled system of ``modes``
+    [bytes] (:data:`EIGEN_BYTES_PER_STATE2`)."""
+    return EIGEN_BYTES_PER_STATE2 * _states(modes, rotation) ** 2
+
+
+def stability_seconds(
+    modes: Sequence[ModalDOF], rotation: bool = False, bounds: int = 0, coupled: bool = True
+) -> float:
+    """The estimated time of :func:`linear_stability` with ``bounds`` modes' bounds [s]:
+    one eigen-solve, the two limits that name the mechanisms where the contact can couple
+    modes (``coupled``: some mode moves it normally under a Hertz spring), and
+    :func:`bound_solves` per bound."""
+    one = eigen_solve_seconds(modes, rotation)
+    limits = 2 * EIGENVALUES_ONLY * one if coupled else 0.0
+    return one + limits + one * bound_solves(len(modes)) * bounds
 
 
 # --------------------------------------------------------------------------------------

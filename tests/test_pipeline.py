@@ -219,12 +219,14 @@ def test_simulate_with_explicit_modal_parameters_builds_no_mesh(tmp_path, monkey
     s = json.loads((out / "summary.json").read_text())
     assert set(s["limit_cycle"]) == {
         "squeal",
+        "state",
         "velocity_amplitude_m_s",
         "frequency_hz",
         "time_to_saturation_s",
         "growth_rate_1_s",
         "contact_lost_fraction",
     }
+    assert s["limit_cycle"]["state"] == "limit cycle"
     assert s["limit_cycle"]["contact_lost_fraction"] == 0.0  # no normal motion: never apart
     assert set(s["operating_point"]) == {"rolling_speed_m_s", "crabbing_velocity_m_s", "creepage"}
     assert set(s["contact"]) == {

@@ -101,6 +101,7 @@ def test_report_files_and_json(tmp_path, law, grid):
     assert set(back) == {"limit_cycle", "operating_point", "contact"}
     assert set(back["limit_cycle"]) == {
         "squeal",
+        "state",
         "velocity_amplitude_m_s",
         "frequency_hz",
         "time_to_saturation_s",

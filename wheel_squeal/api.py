@@ -40,6 +40,7 @@ from .presets import (
     rpm_to_speed,
 )
 from .progress import Progress
+from .sections import C22_RANGE
 
 __all__ = [
     "Simulation",
@@ -58,6 +59,9 @@ __all__ = [
     "operating_point",
     "pick_mode",
     "simulate",
+    "simulation_seconds",
+    "simulation_steps",
+    "SIMULATION_HINT",
     "shipped_designs",
     "sweep",
 ]
@@ -180,8 +184,11 @@ def contact_law(design: Design, c22: float | str | None = None, friction_law: st
         if c22.lower() != "kalker":
             raise RequestError(f"c22 must be a number or 'kalker', got {c22!r}")
         c22 = "kalker"
-    elif c22 is not None and not (math.isfinite(c22) and c22 > 0):
-        raise RequestError(f"c22 must be a positive number or 'kalker', got {c22}")
+    elif c22 is not None and not (math.isfinite(c22) and C22_RANGE[0] <= c22 <= C22_RANGE[1]):
+        raise RequestError(
+            f"c22 must be 'kalker' or a creep coefficient from {C22_RANGE[0]:g} to {C22_RANGE[1]:g} "
+            f"(Kalker's range; 3.14 in the paper), got {c22:g}"
+        )
     hertz = hertz_of(design)
     c = design.contact
     c22 = c.c22 if c22 is None else c22
@@ -303,7 +310,7 @@ def simulate(
         steps,
         len(dofs),
         1,
-        "a higher rolling speed (the contact stiffens as it falls) or a shorter duration",
+        SIMULATION_HINT,
         stored_steps=MAX_STORED_SAMPLES,
     )
 
@@ -323,6 +330,27 @@ def simulate(
 
 #: The fewest RK4 steps a simulated record may have (its analysis needs samples).
 MIN_RECORD_STEPS = 16
+
+
+#: What makes a squeal model's run cheaper
+SIMULATION_HINT = "a higher rolling speed (the contact stiffens as it falls) or a shorter duration"
+
+
+def simulation_steps(dof, contact, op, duration: float | None = None) -> int:
+    """The RK4 steps of :func:`simulate`'s first run."""
+    from reduced.saturate import FIRST_DURATION_S
+    from reduced.sweep import sweep_steps
+
+    return sweep_steps(dof, contact, op, duration or FIRST_DURATION_S)
+
+
+def simulation_seconds(dof, contact, op, duration: float | None = None) -> float:
+    """The estimated time of :func:`simulate`'s first run [s] (a longer run follows only
+    where the time left allows it)."""
+    from .budget import SWEEP_SECONDS_PER_STEP
+
+    n = len(dof) if isinstance(dof, list | tuple) else 1
+    return simulation_steps(dof, contact, op, duration) * n * SWEEP_SECONDS_PER_STEP
 
 
 def sweep(

@@ -14,7 +14,10 @@ Limits, each from the API argument / CLI flag, else the environment, else the de
   :data:`DEFAULT_MAX_SECONDS`;
 - memory: :data:`MEMORY_FRACTION` of the memory available when the budget is made
   (:func:`available_memory`: the system's, the cgroup's and ``ulimit -v``); not a
-  setting: beyond it the machine swaps or kills the run.
+  setting: beyond it the machine swaps or kills the run;
+- the size of each file written: :data:`MAX_FILE_BYTES` (a mode-shape VTU of every mode
+  becomes one of the verdict's mode alone beyond it; a sound file is cut to its last
+  seconds).
 """
 
 from __future__ import annotations
@@ -29,10 +32,19 @@ from pathlib import Path
 
 from .errors import BudgetError, BudgetExhausted, RequestError
 
-__all__ = ["Budget", "DEFAULT_MAX_DOFS", "DEFAULT_MAX_SECONDS", "MEMORY_FRACTION"]
+__all__ = [
+    "Budget",
+    "CostPlan",
+    "DEFAULT_MAX_DOFS",
+    "DEFAULT_MAX_SECONDS",
+    "MAX_FILE_BYTES",
+    "MEMORY_FRACTION",
+]
 
 DEFAULT_MAX_DOFS = 2_000_000
 DEFAULT_MAX_SECONDS = 1800.0
+#: The largest file a command writes [bytes].
+MAX_FILE_BYTES = 200e6
 MEMORY_FRACTION = 0.75
 ENV_MAX_DOFS = "WHEEL_SQUEAL_MAX_DOFS"
 ENV_MAX_SECONDS = "WHEEL_SQUEAL_MAX_SECONDS"
@@ -109,6 +121,7 @@ class Budget:
     max_seconds: float = DEFAULT_MAX_SECONDS
     max_memory_bytes: float = math.inf
     started_s: float = field(default_factory=time.monotonic, compare=False)
+    max_file_bytes: float = MAX_FILE_BYTES
 
     def elapsed_s(self) -> float:
         """Seconds since the request began."""
@@ -203,3 +216,35 @@ class Budget:
                 f"{cost} (limit {limit}); {remedy}, or raise "
                 f"the limit with --max-seconds S ({ENV_MAX_SECONDS})"
             )
+
+
+@dataclass
+class CostPlan:
+    """The estimated parts of one request (``add(what, seconds, memory_bytes, remedy)``),
+    checked against a :class:`Budget` as a whole: the one line names the total, its
+    largest parts and what would make the largest one cheaper."""
+
+    parts: list[tuple[str, float, float, str]] = field(default_factory=list)
+
+    def add(self, what: str, seconds: float, memory_bytes: float = 0.0, remedy: str = "") -> None:
+        self.parts.append((what, float(seconds), float(memory_bytes), remedy))
+
+    @property
+    def seconds(self) -> float:
+        return sum(p[1] for p in self.parts)
+
+    @property
+    def memory_bytes(self) -> float:
+        return max((p[2] for p in self.parts), default=0.0)
+
+    def check(self, budget: Budget, what: str, remedy: str) -> float:
+        """Refuse the plan beyond ``budget`` (``what``: the request, in words; ``remedy``:
+        how to ask for less, after the largest part's own); returns its estimated time [s]."""
+        if not self.parts:
+            return 0.0
+        ranked = sorted(self.parts, key=lambda p: -p[1])
+        named = "; ".join(f"{w} {_human_time(t)}" for w, t, _, _ in ranked[:3] if t >= 0.01 * self.seconds)
+        own = ranked[0][3]
+        return budget.check_work(
+            f"{what} ({named})", self.seconds, f"{own}; or {remedy}" if own else remedy, self.memory_bytes
+        )

@@ -10,26 +10,30 @@ take their answer from it; :meth:`Analysis.to_dict` is ``summary.json``.
 
 from __future__ import annotations
 
+import contextlib
 import math
 import time
 from dataclasses import dataclass, field, fields, replace
 from typing import TYPE_CHECKING, Any
 
 from .api import contact_law, modal_dof, operating_point, simulate
+from .budget import Budget
 from .design import Design
 from .errors import RequestError
 from .levels import squeal_sound
 from .modes import compute_modes
+from .plan import NO_REMEDY_HINT, stability_plan, verdict_plan
 from .presets import DEFAULT_FIDELITY, DEFAULT_FMAX_HZ, Fidelity, fidelity_for
 from .progress import Progress
+from .remedy import margin_of, remedy_of
 from .sound import Listener
 from .stability import (
     ModeStabilityRow,
+    StabilityTable,
     contact_dofs,
-    margin_of,
+    excitable,
     multimode,
     named_mode,
-    remedy_of,
     stability_table,
     wheel_speed_rad_s,
 )
@@ -39,7 +43,6 @@ if TYPE_CHECKING:
     from fem.modes import Mode, ModeSet
     from reduced import ContactLaw, OperatingPoint, StabilityResult
 
-    from .budget import Budget
     from .cache import StageCache
     from .stability import MultiMode
 
@@ -171,6 +174,7 @@ def analyse(
     budget: Budget | None = None,
     progress: Progress | None = None,
     memo: dict | None = None,
+    table: StabilityTable | None = None,
     **settings: Any,
 ) -> Analysis:
     """The chain at one operating point: modes, stability of every mode, the verdict
@@ -189,6 +193,7 @@ def analyse(
     cache, budget, progress : the stage cache, the resource budget, progress on stderr.
     memo : a dict kept between calls of one process (a study's operating points): the
         radiation of each mode is computed once.
+    table : the stability table at ``op`` when already solved (with bounds or not).
 
     Returns
     -------
@@ -212,9 +217,18 @@ def analyse(
     timings["modes"] = time.perf_counter() - t0
     t0 = time.perf_counter()
     contact = contact_law(design, opts.c22, opts.friction_law)
-    rows, result = stability_table(design, modes, contact, op, opts.rotation)
+    budget = budget or Budget.from_environment()
+    if table is None:
+        stability_plan(design, modes, contact, opts.rotation, opts.margin).check(
+            budget, "the linear stability", NO_REMEDY_HINT
+        )
+        n = len(excitable(modes, contact))
+        with progress.stage(f"linear stability of {n} modes") if n > 200 else contextlib.nullcontext():
+            table = stability_table(design, modes, contact, op, opts.rotation)
+    rows, result = table
     timings["stability"] = time.perf_counter() - t0
     chain = _Chain(design, opts, fid, modes, contact, op, rows, progress, cache, budget, memo)
+    chain.check_plan()
     multi, pick = chain.model_pick()
     verdict = chain.verdict(pick)
     timings["total"] = sum(timings.values())
@@ -237,13 +251,28 @@ class _Chain:
     rows: list[ModeStabilityRow]
     progress: Progress
     cache: StageCache | None
-    budget: Budget | None
+    budget: Budget
     memo: dict | None
 
     def __post_init__(self) -> None:
         self.omega = wheel_speed_rad_s(self.design, self.op, self.opts.rotation)
         self.by_index = {r.mode.index: r for r in self.rows}
         self.growing = [r for r in self.rows if r.stability.unstable]
+
+    def check_plan(self) -> None:
+        """The rest of the request estimated before any of it runs
+        (:func:`~wheel_squeal.plan.verdict_plan`), refused in one line beyond the budget."""
+        named, _ = self.named()
+        candidates = [m for m in (named,) if m is not None]
+        if self.growing:
+            fastest = max(self.rows, key=lambda r: r.stability.growth_rate_1_s).mode
+            if fastest not in candidates:
+                candidates.append(fastest)
+        plan = verdict_plan(
+            self.design, self.modeset, self.contact, self.op, self.opts, [r.mode for r in self.rows],
+            [(m, self.together(m)) for m in candidates], bool(self.growing),
+        )  # fmt: skip
+        plan.check(self.budget, "the verdict", NO_REMEDY_HINT)
 
     def linear(self, m: Mode) -> ModeOutcome:
         """A mode's linear answer."""

@@ -172,6 +172,11 @@ FIELDS: dict[str, Field] = {
     "squeal": Field("-", "whether the limit cycle is a self-sustained oscillation"),
     "squealing_points": Field("-", "operating points that squeal"),
     "squeals": Field("-", "the verdict: whether the wheel squeals"),
+    "state": Field(
+        "-",
+        "what the record shows at its end: limit cycle, still growing, not settled (a sustained "
+        "oscillation that is not a clean limit cycle) or quiet",
+    ),
     "status": Field("-", "a study case's outcome: ok, invalid or failed"),
     "still_growing_points": Field("-", "squealing points whose run ended before saturation"),
     "stiffness_n_m": Field("N/m", "modal stiffness k at the contact"),

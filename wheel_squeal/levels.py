@@ -67,12 +67,16 @@ class MicrophoneSignal:
     window: tuple[float, float, int]
 
     def wav_samples(self) -> np.ndarray:
-        """The pressure over the run at the WAV file's sample rate [Pa]."""
+        """The pressure over the run at the WAV file's sample rate [Pa], its last
+        :data:`MAX_WAV_SECONDS` at most (a very low tone's run is long)."""
         from acoustics.signal import WAV_RATE_HZ, resample
 
-        return resample(self.t, self.p, WAV_RATE_HZ)
+        keep = self.t >= self.t[-1] - MAX_WAV_SECONDS
+        return resample(self.t[keep], self.p[keep], WAV_RATE_HZ)
 
 
+#: The longest squeal.wav [s] (0.9 MB at 44.1 kHz and 16 bit)
+MAX_WAV_SECONDS = 10.0
 #: Samples per period the limit cycle is resampled to for its spectrum (its harmonics
 #: up to the 16th, far above :data:`MAX_HARMONICS`)
 SAMPLES_PER_PERIOD = 32
@@ -239,16 +243,23 @@ class SquealSound:
             ],
             "velocity_energy_share": self.velocity_share,
         }
-        if self.signal is not None:
+        out["wav_full_scale_pa"] = None
+        if self.signal is not None and self.audible:
             out["wav_full_scale_pa"] = float(np.max(np.abs(self.signal.wav_samples())))
         return out
 
+    @property
+    def audible(self) -> bool:
+        """Whether the microphone hears it (False: silence, no sound file)."""
+        return _spl(float(self.mean_squares_pa2().sum())) is not None
+
 
 def _spl(mean_square_pa2: float) -> float | None:
-    """The SPL [dB re 20 uPa] of a mean square [Pa^2]; None where there is no pressure."""
-    from acoustics.medium import mean_square_spl_db
+    """The SPL [dB re 20 uPa] of a mean square [Pa^2]; None where it is silence
+    (``acoustics.medium.SILENT_SPL_DB``)."""
+    from acoustics.medium import audible_spl_db, mean_square_spl_db
 
-    return float(mean_square_spl_db(mean_square_pa2)) if mean_square_pa2 > 0 else None
+    return audible_spl_db(float(mean_square_spl_db(mean_square_pa2))) if mean_square_pa2 > 0 else None
 
 
 def _lw(power_w: float) -> float | None:

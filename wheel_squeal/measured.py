@@ -27,7 +27,7 @@ from .errors import RequestError
 if TYPE_CHECKING:
     from .sweeps import VerdictGrid
 
-__all__ = ["Measured", "compare_measured", "load_measured"]
+__all__ = ["MAX_POINTS", "RANGES", "Measured", "check_speeds", "compare_measured", "load_measured"]
 
 _REQUIRED = ("crab_velocity", "rpm", "spl_db")
 _OPTIONAL = ("frequency_hz",)
@@ -46,46 +46,90 @@ class Measured:
     frequency_hz: np.ndarray
 
 
+#: Plausible ranges of the measured values (low, high, unit): outside them a value is a
+#: typing error or another unit.
+RANGES = {
+    "crab_velocity": (-10.0, 10.0, "m/s"),
+    "rpm": (1e-3, 1e5, "rev/min"),
+    "spl_db": (-20.0, 200.0, "dB re 20 uPa"),
+    "frequency_hz": (1.0, 1e6, "Hz"),
+}
+#: The most measured points a file may hold (a rig's campaign is hundreds).
+MAX_POINTS = 100_000
+
+
 def load_measured(path: str | Path) -> Measured:
     """The measured points of ``path`` (module docstring); a bad file raises
-    :class:`~wheel_squeal.errors.RequestError` in one line naming the problem."""
-    text = read_text(path, "measured data", RequestError)
-    rows = list(csv.reader(io.StringIO(text)))
-    rows = [r for r in rows if r and not r[0].lstrip().startswith("#")]
-    if not rows:
+    :class:`~wheel_squeal.errors.RequestError` in one line naming the problem (with the
+    line of the file, comments counted)."""
+    text = read_text(path, "measured data", RequestError).removeprefix("\ufeff")  # a spreadsheet's BOM
+    try:
+        numbered = [
+            (line, row)
+            for line, row in enumerate(csv.reader(io.StringIO(text)), start=1)
+            if row and not row[0].lstrip().startswith("#")
+        ]
+    except csv.Error as exc:
+        raise RequestError(f"{path}: not a readable CSV file ({exc})") from None
+    if not numbered:
         raise RequestError(f"{path}: no header: give the columns {', '.join(_REQUIRED)}[, frequency_hz]")
-    header = [h.strip() for h in rows[0]]
+    header_line, header_row = numbered[0]
+    header = [h.strip() for h in header_row]
     unknown = [h for h in header if h not in _REQUIRED + _OPTIONAL]
     missing = [h for h in _REQUIRED if h not in header]
     if unknown or missing:
-        what = f"unknown column {unknown[0]!r}" if unknown else f"no column {missing[0]!r}"
+        what = f"unknown column {unknown[0][:40]!r}" if unknown else f"no column {missing[0]!r}"
         raise RequestError(
             f"{path}: {what}; the columns are {', '.join(_REQUIRED)} and optionally frequency_hz"
         )
-    if len(rows) < 2:
+    twice = sorted({h for h in header if header.count(h) > 1})
+    if twice:
+        raise RequestError(f"{path}: line {header_line}: the column {twice[0]!r} is given twice")
+    if len(numbered) < 2:
         raise RequestError(f"{path}: no measured point below the header")
+    if len(numbered) - 1 > MAX_POINTS:
+        raise RequestError(f"{path}: {len(numbered) - 1:,} measured points, more than {MAX_POINTS:,}")
     values: dict[str, list[float]] = {h: [] for h in header}
-    for line, row in enumerate(rows[1:], start=2):
+    for line, row in numbered[1:]:
         if len(row) != len(header):
             raise RequestError(f"{path}: line {line} has {len(row)} values for {len(header)} columns")
         for h, cell in zip(header, row):
-            try:
-                x = float(cell) if cell.strip() else math.nan
-            except ValueError:
-                raise RequestError(f"{path}: line {line}, {h}: {cell.strip()!r} is not a number") from None
-            if h in _REQUIRED and not math.isfinite(x):
-                raise RequestError(f"{path}: line {line}, {h}: a finite number is needed")
-            values[h].append(x)
-    rpm = np.array(values["rpm"])
-    if np.any(rpm <= 0):
-        raise RequestError(f"{path}: rpm must be positive")
-    n = len(rpm)
+            values[h].append(_value(path, line, h, cell))
+    n = len(values["rpm"])
     return Measured(
         np.array(values["crab_velocity"]),
-        rpm,
+        np.array(values["rpm"]),
         np.array(values["spl_db"]),
         np.array(values.get("frequency_hz", [math.nan] * n)),
     )
+
+
+def _value(path: str | Path, line: int, column: str, cell: str) -> float:
+    """One cell's number, checked against :data:`RANGES` (empty: NaN, for frequency_hz)."""
+    where = f"{path}: line {line}, {column}"
+    text = cell.strip()
+    if not text and column in _OPTIONAL:
+        return math.nan
+    try:
+        x = float(text)
+    except ValueError:
+        shown = text if len(text) <= 40 else text[:37] + "..."
+        raise RequestError(f"{where}: {shown!r} is not a number") from None
+    low, high, unit = RANGES[column]
+    if not (math.isfinite(x) and low <= x <= high):
+        raise RequestError(f"{where}: {x:g} {unit} is outside {low:g} to {high:g} {unit}")
+    return x
+
+
+def check_speeds(measured: Measured, rpms) -> None:
+    """Refuse (one line, before any work) measured speeds the sweep will not run."""
+    swept = np.asarray(rpms, float)
+    for rpm in np.unique(measured.rpm):
+        if not np.any(np.abs(swept - rpm) <= SPEED_RTOL * rpm):
+            listed = ", ".join(f"{r:g}" for r in swept)
+            raise RequestError(
+                f"measured speed {rpm:g} RPM is not among the sweep's ({listed}): give it with --rpm"
+            )
 
 
 def compare_measured(grid: VerdictGrid, measured: Measured) -> list[dict]:

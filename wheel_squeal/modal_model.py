@@ -18,6 +18,7 @@ replaces the design's. A modal model has no shapes, so nothing is radiated or dr
 from __future__ import annotations
 
 import math
+import warnings
 from pathlib import Path
 from typing import Any
 
@@ -34,6 +35,16 @@ __all__ = ["MODAL_MODEL_SOLVER", "load_modal_model"]
 MODAL_MODEL_SOLVER = "modal-model"
 _KEYS = {"frequency_hz", "damping_ratio", "lateral", "normal", "nodal_diameters", "label"}
 _REQUIRED = ("frequency_hz", "damping_ratio", "lateral", "normal")
+#: The plausible range of a mode's frequency [Hz] and of a mass-normalised shape's value
+#: at the contact [1/sqrt(kg)] (a modal mass from 1 mg to 1000 t): outside them a value is
+#: a typing error, and would overflow the model.
+FREQUENCY_RANGE_HZ = (0.1, 1e6)
+COMPONENT_RANGE = (1e-3 / 1000**0.5, 1e3)
+#: The longest label of a mode
+MAX_LABEL_CHARS = 80
+#: The most modes a modal model holds (its linear stability is a dense eigen-solve of
+#: twice as many states: 10,000 modes take hours and 7.7 GB).
+MAX_MODES = 10_000
 
 
 def _number(where: str, key: str, value: Any) -> float:
@@ -53,8 +64,18 @@ def _mode(i: int, table: Any, source: str) -> Mode:
     if missing:
         raise RequestError(f"{where} needs {', '.join(missing)}")
     f, zeta, t, n = (_number(where, k, table[k]) for k in _REQUIRED)
-    if f <= 0:
-        raise RequestError(f"{where}: frequency_hz must be positive, got {f:g}")
+    if not FREQUENCY_RANGE_HZ[0] <= f <= FREQUENCY_RANGE_HZ[1]:
+        raise RequestError(
+            f"{where}: frequency_hz = {f:g} is outside the range of a wheel's modes "
+            f"({FREQUENCY_RANGE_HZ[0]:g} to {FREQUENCY_RANGE_HZ[1]:g} Hz)"
+        )
+    for key, phi in (("lateral", t), ("normal", n)):
+        if phi != 0.0 and not COMPONENT_RANGE[0] <= abs(phi) <= COMPONENT_RANGE[1]:
+            raise RequestError(
+                f"{where}: {key} = {phi:g} 1/sqrt(kg) means a modal mass of {abs(phi) ** -2.0:.3g} kg at the "
+                f"contact, outside {1 / COMPONENT_RANGE[1] ** 2:g} to {1 / COMPONENT_RANGE[0] ** 2:g} kg "
+                "(give 0 for a mode that does not move the contact that way)"
+            )
     if not 0.0 <= zeta < 1.0:
         raise RequestError(f"{where}: damping_ratio = {zeta:g}: a modal damping ratio in [0, 1)")
     if t == 0.0 and n == 0.0:
@@ -65,14 +86,20 @@ def _mode(i: int, table: Any, source: str) -> Mode:
     label = table.get("label", "")
     if not isinstance(label, str):
         raise RequestError(f"{where}: label must be a string, got {label!r}")
+    if not label.isprintable() or len(label) > MAX_LABEL_CHARS:
+        raise RequestError(
+            f"{where}: label {ascii(label[:40])} must be printable text (no control characters) of at most "
+            f"{MAX_LABEL_CHARS} characters: it is printed on the terminal and in the report"
+        )
     members = 1 if nd == 0 else 2  # a pair: its second member has a node at the contact
     lateral, normal = (t,) + (0.0,) * (members - 1), (n,) + (0.0,) * (members - 1)
     return Mode(i, f, nd, 0, "measured", lateral, normal, label or f"mode {i + 1} ({f:.1f} Hz)", zeta)
 
 
-def load_modal_model(path: str | Path) -> ModeSet:
+def load_modal_model(path: str | Path, fmax_hz: float | None = None) -> ModeSet:
     """The modes of a modal-model file as a ``fem.ModeSet`` (no shapes; ``solver`` is
-    :data:`MODAL_MODEL_SOLVER`), in frequency order. A bad file raises
+    :data:`MODAL_MODEL_SOLVER`), in frequency order, those up to ``fmax_hz`` [Hz] when
+    given (the band, as for the FE modes). A bad file raises
     :class:`~wheel_squeal.errors.RequestError` in one line naming the problem."""
     source = str(path)
     _, data = read_toml(path, "modal model", RequestError)
@@ -84,7 +111,23 @@ def load_modal_model(path: str | Path) -> ModeSet:
         raise RequestError(
             f"{source}: no [[mode]] table: give one per mode (frequency_hz, damping_ratio, ...)"
         )
+    if len(tables) > MAX_MODES:
+        raise RequestError(f"{source}: {len(tables):,} modes, more than a modal model takes ({MAX_MODES:,})")
     modes = sorted((_mode(i, t, source) for i, t in enumerate(tables)), key=lambda m: m.frequency_hz)
+    if fmax_hz is not None:
+        band = [m for m in modes if m.frequency_hz <= fmax_hz]
+        if not band:
+            raise RequestError(
+                f"{source}: no mode up to fmax = {fmax_hz:g} Hz "
+                f"(the lowest is {modes[0].frequency_hz:.6g} Hz)"
+            )
+        if len(band) < len(modes):
+            warnings.warn(
+                f"{source}: {len(modes) - len(band)} of {len(modes)} modes lie above fmax = {fmax_hz:g} Hz "
+                "and are left out",
+                stacklevel=2,
+            )
+        modes = band
     modes = [
         Mode(k, m.frequency_hz, m.nodal_diameters, 0, m.family, m.contact_lateral, m.contact_normal, m.name,
              m.damping_ratio)

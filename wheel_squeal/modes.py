@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import math
 import tempfile
+import warnings
 from collections.abc import Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING
@@ -13,7 +14,7 @@ import numpy as np
 
 from geometry import WheelDesign
 
-from .budget import Budget
+from .budget import MAX_FILE_BYTES, Budget
 from .cache import CacheMiss, StageCache, code_version, library_versions
 from .design import Design, as_design
 from .errors import RequestError
@@ -225,14 +226,30 @@ def mode_views(
     modeset: ModeSet,
     indices: Sequence[int],
     cache: StageCache | None,
+    max_file_bytes: float = MAX_FILE_BYTES,
 ) -> dict[str, bytes]:
-    """``modes.vtu`` (every mode, for ParaView) and a PNG of each mode in ``indices``, as
-    {file name: bytes}. They depend on the modes only, so they are cached beside them:
-    a run that changes the operating point copies them instead of starting VTK."""
+    """``modes.vtu`` (every mode, for ParaView; only those of ``indices`` where every mode
+    would exceed ``max_file_bytes``) and a PNG of each mode in ``indices``, as {file
+    name: bytes}. They depend on the modes only, so they are cached beside them: a run
+    that changes the operating point copies them instead of starting VTK."""
+    from fem.render import modes_vtu_bytes
+
+    whole = modes_vtu_bytes(modeset)
+    written = None if whole <= max_file_bytes else list(indices)
+    if written is not None and modes_vtu_bytes(modeset, written) > max_file_bytes:
+        written = []  # not even the shown modes fit: the mesh alone is too large
+    if written is not None:
+        held = "is not written" if not written else "holds the modes drawn only"
+        warnings.warn(
+            f"modes.vtu {held}: all {len(modeset.modes)} modes would take {whole / 1e6:,.0f} MB, "
+            f"over the {max_file_bytes / 1e6:.0f} MB a file may take",
+            stacklevel=2,
+        )
     key = {
         **modes_cache_key(design, fid, fmax_hz),
         "stage": "views",
         "indices": list(indices),
+        "vtu_modes": written,
         "view_libraries": library_versions("pyvista", "vtk", "meshio"),
     }
     if cache is not None:
@@ -244,7 +261,8 @@ def mode_views(
 
     with tempfile.TemporaryDirectory() as tmp:
         scratch = Path(tmp)
-        write_modes_vtu(modeset, scratch / "modes.vtu")
+        if written != []:
+            write_modes_vtu(modeset, scratch / "modes.vtu", written)
         for i in indices:
             render_mode(modeset, i, scratch / f"{mode_file_stem(modeset, i)}.png")
         files = {f.name: f.read_bytes() for f in scratch.iterdir()}

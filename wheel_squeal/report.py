@@ -212,7 +212,9 @@ def run_report(folder: Path, a: Analysis) -> Path:
             [
                 (
                     "SPL at the microphone",
-                    f"{sound['spl_db']:.1f} dB, {sound['spl_dba']:.1f} dB(A) re 20 uPa",
+                    f"{sound['spl_db']:.1f} dB, {sound['spl_dba']:.1f} dB(A) re 20 uPa"
+                    if sound["spl_db"] is not None
+                    else "silent (below -20 dB re 20 uPa)",
                 ),
                 ("microphone (r, z, theta)", ", ".join(f"{x:g}" for x in sound["microphone_m"])),
                 (

@@ -63,6 +63,9 @@ def _positive(owner: str, name: str, value: float, *, length: bool = False) -> N
 #: The counter-body's modal degrees of freedom: per direction at the contact, its
 #: frequency [Hz], damping ratio [-] and modal mass [kg] (all three, or none: rigid).
 ROLLER_MODAL = ("frequency_hz", "damping_ratio", "modal_mass_kg")
+#: Plausible ranges (low, high, unit) of a counter-body mode's frequency and modal mass:
+#: outside them a value is a typing error (and would overflow the model).
+ROLLER_RANGES = {"frequency_hz": (0.1, 1e6, "Hz"), "modal_mass_kg": (1e-6, 1e6, "kg")}
 
 
 @dataclass(frozen=True)
@@ -99,8 +102,14 @@ class Roller:
                 if k == "damping_ratio":
                     if isinstance(value, bool) or not 0.0 <= value < 1.0:
                         raise RequestError(f"[roller] {direction}_{k} = {value!r}: a damping ratio in [0, 1)")
-                else:
-                    _positive("roller", f"{direction}_{k}", value)
+                    continue
+                _positive("roller", f"{direction}_{k}", value)
+                low, high, unit = ROLLER_RANGES[k]
+                if not low <= value <= high:
+                    raise RequestError(
+                        f"[roller] {direction}_{k} = {value:g} {unit} is outside the plausible range "
+                        f"of a counter-body's mode ({low:g} to {high:g} {unit})"
+                    )
 
     def modal(self, direction: str) -> tuple[float, float, float] | None:
         """(frequency [Hz], damping ratio, modal mass [kg]) of the roller's modal degree
@@ -116,6 +125,10 @@ DEFAULT_FRICTION_LAW = "falling"
 NORMAL_CONTACTS = ("hertz", "constant")
 #: The numeric fields of [contact] (a design parameter each, see :data:`FIELDS`)
 CONTACT_NUMBERS = ("normal_load", "c22", "friction_coefficient")
+#: The plausible range of the creep coefficient C22 (Kalker's table spans about 2 to 10
+#: for ellipses of axis ratio 0.1 to 10) and the longest relaxation length [m].
+C22_RANGE = (0.1, 100.0)
+MAX_RELAXATION_LENGTH_M = 1.0
 #: The optional numeric fields of [contact], written and hashed only when set
 CONTACT_OPTIONAL_NUMBERS = ("contact_angle", "relaxation_length")
 
@@ -143,6 +156,11 @@ class Contact:
     def __post_init__(self) -> None:
         for name in CONTACT_NUMBERS:
             _positive("contact", name, getattr(self, name))
+        if not C22_RANGE[0] <= self.c22 <= C22_RANGE[1]:
+            raise RequestError(
+                f"[contact] c22 = {self.c22:g} is outside the range of Kalker's creep coefficients "
+                f"({C22_RANGE[0]:g} to {C22_RANGE[1]:g}; 3.14 in the paper)"
+            )
         if self.friction_law not in FRICTION_LAWS:
             raise RequestError(
                 f"[contact] friction_law must be one of {', '.join(map(repr, FRICTION_LAWS))}, "
@@ -165,7 +183,12 @@ class Contact:
                 f"[contact] transient_creep must be true or false, got {self.transient_creep!r}"
             )
         if self.relaxation_length != 0.0:
-            _positive("contact", "relaxation_length", self.relaxation_length, length=True)
+            _positive("contact", "relaxation_length", self.relaxation_length)
+            if self.relaxation_length > MAX_RELAXATION_LENGTH_M:
+                raise RequestError(
+                    f"[contact] relaxation_length = {self.relaxation_length:g} m: the creep force builds up "
+                    f"over about a contact length (a few mm), at most {MAX_RELAXATION_LENGTH_M:g} m"
+                )
             if not self.transient_creep:
                 raise RequestError("[contact] relaxation_length needs transient_creep = true")
 

@@ -36,6 +36,7 @@ __all__ = [
     "check_velocity_amplitude",
     "contact_velocity_phase",
     "ring_points",
+    "sound_cost",
     "sound_of",
 ]
 
@@ -119,6 +120,22 @@ def mode_surface(modeset, mode, frequency_hz: float, contact_velocity_m_s: float
     omega = 2 * math.pi * frequency_hz
     velocity = 1j * omega * displacement * (contact_velocity_m_s / (omega * v_c))
     return Surface(points, velocity, int(mode.nodal_diameters))
+
+
+def sound_cost(design: Design, modeset, mode, listener: Listener | None = None):
+    """The estimated cost of radiating ``mode`` at its natural frequency
+    (``acoustics.RadiationCost``), None where nothing would be radiated (a modal model's
+    modes have no shapes, a mode that does not move the contact laterally does not squeal
+    through it)."""
+    from acoustics import AIR, Air, radiation_cost
+
+    from .modal_model import MODAL_MODEL_SOLVER
+
+    if modeset.solver == MODAL_MODEL_SOLVER or not abs(float(mode.contact_lateral[0])) > 0:
+        return None
+    air = listener.air if listener is not None else AIR
+    assert isinstance(air, Air)
+    return radiation_cost(mode_surface(modeset, mode, mode.frequency_hz), mode.frequency_hz, air)
 
 
 def contact_velocity_phase(mode) -> complex:
@@ -306,6 +323,7 @@ class Sound:
     def summary(self) -> dict:
         """JSON-ready levels (None where the amplitude is zero: no sound, no level)."""
         from acoustics import sound_power_level_db, spl_db
+        from acoustics.medium import audible_spl_db
 
         def level(fn, value):
             return float(fn(value)) if value > 0 else None
@@ -313,7 +331,7 @@ class Sound:
         unit = Sound(self.radiation, 1.0, self.microphone, self.travelling)
         return {
             "sound_power_level_db": level(sound_power_level_db, self.sound_power_w),
-            "spl_db": level(spl_db, self.microphone_pressure_pa),
+            "spl_db": audible_spl_db(level(spl_db, self.microphone_pressure_pa)),
             "microphone_m": list(self.microphone),
             "radiation_efficiency": self.field.radiation_efficiency,
             "frequency_hz": self.field.frequency_hz,

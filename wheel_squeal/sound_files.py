@@ -123,7 +123,8 @@ def write_spectrum_plot(path: Path, simulation, sound) -> Path:
     ax.bar(range(len(labels)), values, color="0.4")
     ax.set_xticks(range(len(labels)), [f"{x:g}" for x in labels], rotation=90, fontsize=6)
     ax.set(
-        title=f"one-third-octave bands: {s['spl_db']:.1f} dB, {s['spl_dba']:.1f} dB(A)",
+        title="one-third-octave bands: "
+        + (f"{s['spl_db']:.1f} dB, {s['spl_dba']:.1f} dB(A)" if s["spl_db"] is not None else "silent"),
         xlabel="band centre (Hz)",
         ylabel="dB re 20 uPa",
     )
@@ -143,7 +144,11 @@ SPECTRUM_RANGE_DB = 100.0
 def _lines(ax, f: np.ndarray, level: np.ndarray) -> None:
     """A line spectrum: a line from the floor up to each level, the floor
     :data:`SPECTRUM_RANGE_DB` below the largest."""
-    top = float(np.nanmax(level))
+    finite = level[np.isfinite(level)]
+    if not len(finite):
+        ax.text(0.5, 0.5, "silent", transform=ax.transAxes, ha="center", va="center")
+        return
+    top = float(finite.max())
     floor = top - SPECTRUM_RANGE_DB
     keep = level > floor
     ax.vlines(f[keep], floor, level[keep], color="C0")
@@ -194,7 +199,7 @@ def sound_text(summary: dict) -> str:
     spl = (
         f"SPL {summary['spl_db']:.1f} dB ({summary['spl_dba']:.1f} dB(A)) re 20 uPa {where}"
         if summary["spl_db"] is not None
-        else f"no pressure {where}: a pressure node of this mode (on the axis, or theta on a nodal diameter)"
+        else f"silent {where} (below -20 dB: a node of the radiation, on the axis or on a nodal diameter)"
     )
     harmonics = len(summary["harmonics"])
     far = (

@@ -45,6 +45,7 @@ __all__ = [
     "eigenvalue_list",
     "StabilityTable",
     "stability_seconds",
+    "check_stability_budget",
     "MultiMode",
     "ModeStabilityRow",
     "choose_mode",
@@ -53,7 +54,6 @@ __all__ = [
     "multimode",
     "named_mode",
     "NamedMode",
-    "remedy_of",
     "stability_table",
     "wheel_speed_rad_s",
 ]
@@ -202,90 +202,33 @@ def stability_seconds(
     """The estimated time of :func:`stability_table` with ``bounds`` modes' bounds [s]."""
     from reduced.stability import stability_seconds as seconds
 
-    return seconds(contact_dofs(excitable(modeset, contact), design), rotation, bounds)
+    dofs = contact_dofs(excitable(modeset, contact), design)
+    coupled = contact.normal_stiffness_n_m > 0 and any(d.normal != 0.0 for d in dofs)
+    return seconds(dofs, rotation, bounds, coupled)
 
 
-def _bounds(design, rows, contact, op, rotation, i):
-    """(its stability with bounds, damping ratio now, friction slope now) of row ``i``."""
-    from reduced import linear_stability
-
-    omega = wheel_speed_rad_s(design, op, rotation)
-    dofs = contact_dofs([r.mode for r in rows], design)
-    result = linear_stability(dofs, contact, op, omega, bounds=[i])
-    slope_now = result.friction_damping_ns_m * op.rolling_speed_m_s / contact.normal_load_n
-    return result.modes[i], design.damping_ratio_of(rows[i].mode), slope_now
-
-
-def margin_of(
+def check_stability_budget(
     design: Design,
-    rows: Sequence[ModeStabilityRow],
+    modeset: ModeSet,
     contact: ContactLaw,
-    op: OperatingPoint,
-    rotation: bool = False,
-) -> dict:
-    """How far from squeal a point where no mode grows is: the least stable mode, its
-    growth rate [1/s], and the damping ratio below which (or the friction slope
-    dmu/dzeta below which) it would grow, with the values now; ``words`` says it."""
-    i = max(range(len(rows)), key=lambda k: rows[k].stability.growth_rate_1_s)
-    m = rows[i].mode
-    s, zeta_now, slope_now = _bounds(design, rows, contact, op, rotation, i)
-    damping = (
-        f"a damping ratio below {s.critical_damping_ratio:.3g} (it has {zeta_now:.3g})"
-        if s.critical_damping_ratio > 0
-        else "no damping at all"
-    )
-    words = (
-        f"the least stable, {m.label()} at {s.damped_frequency_hz:.1f} Hz, decays at "
-        f"{s.growth_rate_1_s:.3g} 1/s; "
-        f"it would grow with {damping} or a creep curve falling more steeply than dmu/dzeta = "
-        f"{s.critical_friction_slope:.3g} (now {slope_now:.3g})"
-    )
-    return {
-        "mode": m.label(),
-        "mode_index": m.index,
-        "growth_rate_1_s": s.growth_rate_1_s,
-        "damping_ratio": zeta_now,
-        "grows_below_damping_ratio": s.critical_damping_ratio,
-        "friction_slope": slope_now,
-        "grows_below_friction_slope": s.critical_friction_slope,
-        "words": words,
-    }
+    rotation: bool,
+    budget: Budget,
+    bounds: int = 0,
+) -> float:
+    """Refuse :func:`stability_table` (with ``bounds`` modes' bounds) beyond ``budget``
+    in time or memory, before it starts; returns its estimated time [s]."""
+    from reduced.stability import eigen_solve_bytes
 
-
-def remedy_of(
-    design: Design,
-    rows: Sequence[ModeStabilityRow],
-    contact: ContactLaw,
-    op: OperatingPoint,
-    mode: Mode,
-    rotation: bool = False,
-) -> dict:
-    """What would stop the squealing ``mode`` here: the damping ratio above which it
-    stops growing (the other modes as they are) and the creep-curve slope dmu/dzeta
-    above which it stops, with the values now; ``words`` says it. (The mitigation of
-    ``stability --envelope`` makes every mode stable over a whole envelope.)"""
-    i = next(k for k, r in enumerate(rows) if r.mode.index == mode.index)
-    s, zeta_now, slope_now = _bounds(design, rows, contact, op, rotation, i)
-    damping = (
-        f"a damping ratio of {mode.label()} above {s.critical_damping_ratio:.3g} (now {zeta_now:.3g})"
-        if math.isfinite(s.critical_damping_ratio)
-        else f"no damping of {mode.label()} alone"
+    dofs = contact_dofs(excitable(modeset, contact), design)
+    what = f"the linear stability of {len(dofs)} degrees of freedom" + (
+        f" with the critical damping and friction slope of {bounds}" if bounds else ""
     )
-    slope = (
-        f"a creep curve falling less steeply than dmu/dzeta = {s.critical_friction_slope:.3g} at the "
-        f"quasi-static creepage (now {slope_now:.3g})"
-        if math.isfinite(s.critical_friction_slope)
-        else "no friction slope alone"
+    return budget.check_work(
+        what,
+        stability_seconds(design, modeset, contact, rotation, bounds),
+        "lower fmax" + (", or leave the bounds out" if bounds else ""),
+        eigen_solve_bytes(dofs, rotation),
     )
-    return {
-        "mode": mode.label(),
-        "mode_index": mode.index,
-        "damping_ratio": zeta_now,
-        "stops_above_damping_ratio": s.critical_damping_ratio,
-        "friction_slope": slope_now,
-        "stops_above_friction_slope": s.critical_friction_slope,
-        "words": f"it stops with {damping}, or with {slope}",
-    }
 
 
 class NamedMode(NamedTuple):

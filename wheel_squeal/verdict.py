@@ -104,6 +104,21 @@ class ModeOutcome:
         return self.simulation is not None and bool(self.simulation.limit_cycle.saturated)
 
     @property
+    def state_words(self) -> str:
+        """What its record shows, in words: a limit cycle, still growing, not settled
+        (a sustained oscillation that is not a clean limit cycle), or linear analysis only."""
+        if self.simulation is None:
+            return "linear analysis only"
+        lc = self.simulation.limit_cycle
+        end = f"after {self.duration_s:.3g} s"
+        return {
+            "limit cycle": "limit cycle",
+            "still growing": f"still growing {end}: not a limit cycle",
+            "not settled": f"not settled {end}: sustained, not a clean limit cycle",
+            "quiet": f"quiet {end}",
+        }[lc.state]
+
+    @property
     def amplitude_m_s(self) -> float | None:
         """Contact velocity amplitude [m/s] at the end of the run (None: not simulated)."""
         if self.simulation is None:
@@ -199,18 +214,14 @@ class Verdict:
         o = self.outcome
         if not self.squeals or o is None:
             return [f"VERDICT: no squeal. {self.reason}"]
-        state = (
-            "limit cycle"
-            if o.saturated
-            else f"still growing after {o.duration_s:.3g} s: not a limit cycle"
-            if o.simulation is not None
-            else "linear analysis only"
-        )
+        state = o.state_words
         levels = o.levels()
         spl, dba, power = levels["spl_db"], levels["spl_dba"], levels["sound_power_level_db"]
         level = (
             f", SPL {spl:.1f} dB ({dba:.1f} dB(A)) at the microphone, sound power {power:.1f} dB"
             if spl is not None
+            else f", silent at the microphone, sound power {power:.1f} dB"
+            if power is not None
             else ""
         )
         amplitude = (

@@ -136,7 +136,11 @@ def squeal_report(sim, dof, label: str | None = None) -> str:
         f"Vc = {op['crabbing_velocity_m_s']:.4g} m/s, creepage = {op['creepage']:.4g}",
     ]
     if lc["squeal"]:
-        state = "limit cycle" if sim.limit_cycle.saturated else "still growing at the end of the run"
+        state = {
+            "limit cycle": "limit cycle",
+            "still growing": "still growing at the end of the run",
+            "not settled": "not settled: a sustained oscillation, not a clean limit cycle",
+        }[sim.limit_cycle.state]
         tsat = lc["time_to_saturation_s"]
         lines.append(
             f"limit cycle{of}: velocity amplitude {lc['velocity_amplitude_m_s']:.4g} m/s ({state}), "

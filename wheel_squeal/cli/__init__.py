@@ -224,7 +224,7 @@ def _status_of(exc: BaseException) -> int:
             file=sys.stderr,
         )
         return 1
-    if isinstance(exc, BudgetExhausted | _computation_failures()):
+    if isinstance(exc, (BudgetExhausted, *_computation_failures())):
         print(f"error: {exc}", file=sys.stderr)
         return 1
     raise exc

@@ -6,7 +6,16 @@ from __future__ import annotations
 import argparse
 import math
 
-__all__ = ["MAX_AXIS_POINTS", "c22_value", "count", "finite", "grid_axis", "non_negative", "positive"]
+__all__ = [
+    "MAX_AXIS_POINTS",
+    "angle_deg",
+    "c22_value",
+    "count",
+    "finite",
+    "grid_axis",
+    "non_negative",
+    "positive",
+]
 
 
 #: Most points of one sweep axis (START:STOP:N): a typo like 0:1:1000000000 must not
@@ -79,3 +88,11 @@ def count(text: str) -> int:
     if n < 1:
         raise argparse.ArgumentTypeError(f"must be 1 or more, got {text}")
     return n
+
+
+def angle_deg(text: str) -> float:
+    """An angle in degrees, from -90 to 90 (``--contact-angle``)."""
+    x = finite(text)
+    if not -90.0 <= x <= 90.0:
+        raise argparse.ArgumentTypeError(f"{x:g} is not an angle in degrees from -90 to 90")
+    return x

@@ -57,7 +57,7 @@ def modal_model_of(args):
         return None
     from ..modal_model import load_modal_model
 
-    return load_modal_model(path)
+    return load_modal_model(path, getattr(args, "fmax", None))
 
 
 def cache_of(args) -> StageCache:
@@ -161,9 +161,19 @@ def out_of(args, name: str) -> Path:
     return Path("results") / args.command / check_label(name, "a result's name", RequestError)
 
 
-def analysis_of(args, design: Design, progress: Progress, cache: StageCache, listener=None, modes=None):
+def analysis_of(
+    args,
+    design: Design,
+    progress: Progress,
+    cache: StageCache,
+    listener=None,
+    modes=None,
+    table=None,
+    simulate: bool = True,
+):
     """:func:`wheel_squeal.chain.analyse` with the command's flags (a modal model's modes
-    have no shape: nothing is radiated)."""
+    have no shape: nothing is radiated); ``table``: the stability table when solved
+    already; ``simulate=False`` stops before the time domain (the linear verdict)."""
     from ..chain import analyse
 
     measured = modal_model_of(args) if modes is None else None
@@ -183,9 +193,12 @@ def analysis_of(args, design: Design, progress: Progress, cache: StageCache, lis
         multimode_count=getattr(args, "multimode", None),
         duration=getattr(args, "duration", None),
         listener=listener,
-        sound=modes is None or modes.solver != MODAL_MODEL_SOLVER,
+        sound=simulate and (modes is None or modes.solver != MODAL_MODEL_SOLVER),
+        simulate_modes=simulate,
+        table=table,
         c22=args.c22,
         friction_law=getattr(args, "friction_law", None),
+        margin=not getattr(args, "no_remedy", False),
         modes=modes,
         cache=cache,
         budget=budget_of(args),

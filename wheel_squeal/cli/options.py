@@ -20,7 +20,7 @@ from ..presets import (
     FIDELITIES,
 )
 from ..sections import NORMAL_CONTACTS
-from .arguments import c22_value, finite, grid_axis, non_negative, positive
+from .arguments import angle_deg, c22_value, finite, grid_axis, non_negative, positive
 
 __all__ = [
     "add_axis",
@@ -36,6 +36,7 @@ __all__ = [
     "add_contact",
     "add_friction_law",
     "add_modal_model",
+    "add_remedy",
 ]
 
 
@@ -153,7 +154,7 @@ def add_contact(p: argparse.ArgumentParser) -> None:
     """Where and how the wheel touches the roller (each overrides the design's [contact])."""
     p.add_argument(
         "--contact-angle",
-        type=finite,
+        type=angle_deg,
         metavar="DEG",
         help="move the contact along the tread's crown to this contact angle [deg] (the design "
         "file's contact_angle is in rad; default: the design's)",
@@ -221,4 +222,13 @@ def add_friction_law(p: argparse.ArgumentParser) -> None:
         choices=list(FRICTION_LAWS),
         help="'falling' (the paper's) or 'constant' (no falling friction: only mode coupling "
         "can drive squeal); default: the design's [contact] friction_law",
+    )
+
+
+def add_remedy(p: argparse.ArgumentParser) -> None:
+    p.add_argument(
+        "--no-remedy",
+        action="store_true",
+        help="leave out what would stop the squeal (or, with none, start it): its bounds cost "
+        "some 20 eigen-solves of all the modes",
     )

@@ -33,6 +33,7 @@ from .options import (
     add_modal_model,
     add_operating,
     add_out,
+    add_remedy,
     add_rotation,
 )
 
@@ -97,6 +98,7 @@ def _add_run_command(sub: argparse._SubParsersAction) -> None:
         help="mode-shape PNGs to draw (default: the squeal mode)",
     )
     add_rotation(p)
+    add_remedy(p)
     add_microphone(p)
     p.add_argument(
         "--multimode",
@@ -175,6 +177,7 @@ def _add_compare_command(sub: argparse._SubParsersAction) -> None:
     add_fe(p)
     add_operating(p)
     add_rotation(p)
+    add_remedy(p)
 
 
 def _add_stability_command(sub: argparse._SubParsersAction) -> None:
@@ -184,6 +187,7 @@ def _add_stability_command(sub: argparse._SubParsersAction) -> None:
     add_modal_model(p)
     add_operating(p, duration=False)
     add_rotation(p)
+    add_remedy(p)
     p.add_argument(
         "--envelope",
         action="store_true",

@@ -41,7 +41,8 @@ def write_sound_files(
         (write_pressure_vtu, "pressure.vtu", (sound,)),
     ]
     if simulation is not None and sound.signal is not None:
-        write_squeal_wav(directory / "squeal.wav", sound)
+        if sound.audible:  # silence is no sound file
+            write_squeal_wav(directory / "squeal.wav", sound)
         jobs.append((write_spectrum_plot, "spectrum.png", (simulation, sound)))
     for fn, name, args in jobs:
         if plots is not None:

@@ -17,7 +17,13 @@ from ..presets import DEFAULT_ENVELOPE_CRAB_VELOCITIES, DEFAULT_SPEEDS_RPM
 from ..progress import Progress
 from ..report import compare_report, run_report
 from ..sound_files import sound_text
-from ..stability import eigenvalue_list, excitable, stability_seconds, stability_table, wheel_speed_rad_s
+from ..stability import (
+    check_stability_budget,
+    eigenvalue_list,
+    excitable,
+    stability_table,
+    wheel_speed_rad_s,
+)
 from .arguments import grid_axis
 from .common import (
     analysis_of,
@@ -134,6 +140,11 @@ def cmd_sweep(args) -> int:
         if not args.sound:
             raise RequestError("--measured compares levels: give --sound too")
         measured = load_measured(args.measured)
+    vcs, rpms = args.crab_velocity, speeds_or_rpm(args, design)
+    if measured is not None:
+        from ..measured import check_speeds
+
+        check_speeds(measured, rpms)  # before any work
     explicit = (args.mass, args.stiffness, args.damping)
     out = out_of(args, design.name)
     with result_folder(out, "sweep") as tmp:
@@ -146,7 +157,6 @@ def cmd_sweep(args) -> int:
             dof = api.explicit_dof(*explicit)
         else:
             _, ms = modes_of(args, design, progress, cache)
-        vcs, rpms = args.crab_velocity, speeds_or_rpm(args, design)
         with progress.stage(f"sweep {len(vcs)} x {len(rpms)} points, {args.duration:g} s each"):
             grid = sweep_verdicts(
                 design, vcs, rpms, args.duration, modeset=ms, dof=dof, contact=contact, mode=args.mode,
@@ -255,10 +265,8 @@ def cmd_stability(args) -> int:
         fid, ms = modes_of(args, design, progress, cache)
         n = len(excitable(ms, contact))
         bounds = None if args.no_bounds else "all"
-        seconds = budget.check_work(
-            f"the critical damping and friction slope of {n} modes",
-            stability_seconds(design, ms, contact, args.rotation, 0 if bounds is None else n),
-            "lower --fmax, or give --no-bounds for the growth rates alone",
+        seconds = check_stability_budget(
+            design, ms, contact, args.rotation, budget, 0 if bounds is None else n
         )
         if axes is not None:
             budget.check_work(
@@ -274,7 +282,8 @@ def cmd_stability(args) -> int:
         rows, result = stab
         table = [r.to_dict(design) for r in rows]
         with progress.stage("verdict"):
-            a = analysis_of(args, design, progress, cache, modes=ms)
+            # the table solved once; the verdict stops before the time domain
+            a = analysis_of(args, design, progress, cache, modes=ms, table=stab, simulate=False)
         summary = {
             "verdict": a.verdict.to_dict(),
             "design": design.name,

@@ -48,14 +48,23 @@ WORKER_BYTES = 400e6
 SCHEDULER_TIMEOUT_S = 5.0
 
 
-def _case_key(spec: StudySpec, changes) -> dict:
+def _key_base(spec: StudySpec) -> dict:
+    """What every case key of ``spec`` holds (computed once per study)."""
     return {
-        "stage": "study-case",
         "spec": spec.digest(),
-        "changes": [[k, repr(float(v))] for k, v in changes],
         "code": code_version(*CODE_PACKAGES),
         "libraries": library_versions("numpy", "scipy", "scikit-fem", "gmsh", "numba"),
     }
+
+
+def _case_key(base: dict, changes) -> dict:
+    return {"stage": "study-case", **base, "changes": [[k, repr(float(v))] for k, v in changes]}
+
+
+def _started_key(base: dict) -> dict:
+    """The key of the mark a study leaves in the cache when it starts computing: without
+    it no case of the study is stored, and its estimate needs no look at its cases."""
+    return {"stage": "study-started", **base}
 
 
 def case_results(
@@ -91,24 +100,29 @@ def case_results(
         "use fewer designs or operating points",
         cost.memory_bytes,
     )
-    cases = spec.cases()
-    keys = [_case_key(spec, c.changes) for c in cases]
-    results = _stored_results(keys, cache)
-    todo = [i for i, r in enumerate(results) if r is None]
-    jobs = {i: _job(spec, cases[i].changes, _worker_cache(spec, cache, scheduler), budget) for i in todo}
     n_local = 1 if scheduler else local_workers(workers, progress)
     where = f"dask scheduler {scheduler}" if scheduler else f"{n_local} local process(es)"
+    base = _key_base(spec)
 
-    def check_time(parallel: int) -> None:
+    def check_time(parallel: int, count: int) -> None:
         budget.check_work(
-            f"the study ({len(todo):,} designs x {spec.n_points:,} operating points, about "
+            f"the study ({count:,} designs x {spec.n_points:,} operating points, about "
             f"{cost.case_seconds:.2g} s each, on {parallel} worker(s))",
-            cost.seconds(len(todo), parallel),
+            cost.seconds(count, parallel),
             "use fewer designs or operating points, a faster fidelity, or more workers (a cluster)",
         )
 
+    if not scheduler and not _started(base, cache):
+        check_time(n_local, spec.n_cases)  # nothing stored: refused before its cases are made
+    cases = spec.cases()
+    keys = [_case_key(base, c.changes) for c in cases]
+    results = _stored_results(keys, cache)
+    todo = [i for i, r in enumerate(results) if r is None]
     if not scheduler:
-        check_time(n_local)
+        check_time(n_local, len(todo))
+    if cache is not None and todo:
+        cache.store("study", _started_key(base), {"started": np.array(True)})
+    jobs = {i: _job(spec, cases[i].changes, _worker_cache(spec, cache, scheduler), budget) for i in todo}
     progress.say(
         f"study {spec.name}: {len(cases)} cases, {len(cases) - len(todo)} from an earlier run, "
         f"{len(todo)} to compute on {where}"
@@ -131,7 +145,7 @@ def case_results(
     if not todo:
         pass
     elif scheduler:
-        _on_dask(scheduler, jobs, done, check_time)
+        _on_dask(scheduler, jobs, done, lambda parallel: check_time(parallel, len(todo)))
     elif n_local == 1:
         for i, job in jobs.items():
             done(i, run_case(job))
@@ -167,6 +181,17 @@ def _job(spec: StudySpec, changes: tuple, worker_cache: str | None, budget: Budg
         spec.base, changes, spec.fidelity, spec.fmax_hz, spec.compute, spec.crabbing_velocities_m_s,
         spec.rpm, worker_cache, budget.max_dofs,
     )  # fmt: skip
+
+
+def _started(base: dict, cache: StageCache | None) -> bool:
+    """Whether a run of this study has stored its mark (:func:`_started_key`)."""
+    if cache is None:
+        return False
+    try:
+        cache.load("study", _started_key(base))
+    except CacheMiss:
+        return False
+    return True
 
 
 def _transient(reason: str) -> dict:
@@ -245,7 +270,14 @@ def _connect(client_type, address: str):
     thread.join(SCHEDULER_TIMEOUT_S + 3.0)
     if "client" in outcome:
         return outcome["client"]
-    why = type(outcome["error"]).__name__ if "error" in outcome else "no answer"
+    error = outcome.get("error")
+    why = (
+        "no answer"
+        if error is None or isinstance(error, TimeoutError)
+        else f"the connection failed: {error.strerror}"
+        if isinstance(error, OSError) and error.strerror
+        else "something answers there, but not as a dask scheduler"
+    )
     raise RequestError(f"no dask scheduler answers at {address} within {SCHEDULER_TIMEOUT_S:g} s ({why})")
 
 

@@ -1,0 +1,80 @@
+"""The cost plan of a verdict: every part of the request estimated before any of it
+runs (``budget.CostPlan``), in two steps, since which modes squeal is known only once the
+stability is solved: the stability and the remedy's bounds (:func:`stability_plan`), then
+the time domain of the modes the verdict simulates and their sound (:func:`verdict_plan`).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from typing import TYPE_CHECKING
+
+from .api import SIMULATION_HINT, simulation_seconds, simulation_steps
+from .budget import CostPlan
+from .design import Design
+from .remedy import bounds_seconds
+from .sound import sound_cost
+from .stability import contact_dofs, excitable, stability_seconds
+
+if TYPE_CHECKING:
+    from fem.modes import Mode, ModeSet
+    from reduced import ContactLaw, OperatingPoint
+
+__all__ = ["NO_REMEDY_HINT", "stability_plan", "verdict_plan"]
+
+#: How a user asks for less when a verdict's parts exceed the budget.
+NO_REMEDY_HINT = "lower fmax, or leave out the remedy (no_remedy / --no-remedy) or the sound"
+
+
+def stability_plan(
+    design: Design, modeset: ModeSet, contact: ContactLaw, rotation: bool, remedy: bool
+) -> CostPlan:
+    """The linear stability of every excitable mode (time and memory) and, when asked
+    for (``remedy``), one mode's bounds among them."""
+    from reduced.stability import eigen_solve_bytes
+
+    plan = CostPlan()
+    dofs = contact_dofs(excitable(modeset, contact), design)
+    plan.add(
+        f"stability of {len(dofs)} degrees of freedom",
+        stability_seconds(design, modeset, contact, rotation),
+        eigen_solve_bytes(dofs, rotation),
+    )
+    if remedy:
+        plan.add("remedy or margin", bounds_seconds(dofs, rotation))
+    return plan
+
+
+def verdict_plan(
+    design: Design,
+    modeset: ModeSet,
+    contact: ContactLaw,
+    op: OperatingPoint,
+    opts,
+    rows: Sequence[Mode],
+    simulated: Sequence[tuple[Mode, Sequence[Mode]]],
+    growing: bool,
+) -> CostPlan:
+    """The verdict's parts after the stability: the time domain of each simulated mode
+    with the modes it shares its eigenvalue with (``simulated``: (mode, together)), the
+    remedy's or margin's bounds among ``rows`` and each simulated mode's sound, as the
+    chain's options (``opts``: ``ChainOptions``) ask for them."""
+    plan = CostPlan()
+    if opts.simulate_modes:
+        for m, together in simulated:
+            dofs = contact_dofs(together, design)
+            steps = simulation_steps(dofs, contact, op)
+            plan.add(
+                f"squeal model of {m.label()} ({steps:,} RK4 steps)",
+                simulation_seconds(dofs, contact, op),
+                remedy=SIMULATION_HINT,
+            )
+    if opts.margin:
+        dofs = contact_dofs(rows, design)
+        plan.add("remedy" if growing else "margin", bounds_seconds(dofs, opts.rotation))
+    if opts.sound and opts.simulate_modes:
+        for m, _ in simulated:
+            cost = sound_cost(design, modeset, m, opts.listener)
+            if cost is not None:
+                plan.add(f"sound of {m.label()}", cost.seconds, cost.memory_bytes)
+    return plan
