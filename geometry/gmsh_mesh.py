@@ -71,6 +71,24 @@ def _check_count(design: WheelDesign, h: float, dim: int) -> None:
         )
 
 
+def _python_handlers() -> dict[int, Any]:
+    """The signal dispositions Python keeps that gmsh changes at the C level: SIGINT (set
+    to its default: the process would die at once), SIGTERM (its own handler, which exits
+    at once) and SIGPIPE (Python ignores it; at its default a write to a closed pipe,
+    such as a dead worker's, would kill the process). Main thread only."""
+    if threading.current_thread() is not threading.main_thread():
+        return {}
+    return {s: signal.getsignal(s) for s in (signal.SIGINT, signal.SIGTERM, signal.SIGPIPE)}
+
+
+def _restore(handlers: dict[int, Any]) -> None:
+    """Give the process its own signal dispositions back, so that a stopped run cleans
+    up and a broken pipe is an error, not a death."""
+    for signum, handler in handlers.items():
+        if handler is not None:
+            signal.signal(signum, handler)
+
+
 @contextmanager
 def gmsh_session(verbose: bool) -> Iterator[Any]:
     """An initialised gmsh with one fresh model; finalised (or, if someone else had
@@ -81,16 +99,12 @@ def gmsh_session(verbose: bool) -> Iterator[Any]:
         owner = not gmsh.isInitialized()
         saved: dict[str, float] = {}
         current = None
+        handlers: dict[int, Any] = {}
         if owner:
             interruptible = threading.current_thread() is threading.main_thread()
-            stops = (signal.SIGTERM, signal.SIGINT)
-            handlers = {s: signal.getsignal(s) for s in stops} if interruptible else {}
+            handlers = _python_handlers() if interruptible else {}
             gmsh.initialize(readConfigFiles=False, interruptible=interruptible)
-            for signum, handler in handlers.items():
-                # gmsh sets SIGINT to its default (the process dies at once) and its own
-                # SIGTERM handler: give the process's back, so that a stopped run cleans up
-                if handler is not None:
-                    signal.signal(signum, handler)
+            _restore(handlers)
         else:
             current = gmsh.model.getCurrent()
             for name in _OPTIONS_TOUCHED:
@@ -102,6 +116,7 @@ def gmsh_session(verbose: bool) -> Iterator[Any]:
         finally:
             if owner:
                 gmsh.finalize()
+                _restore(handlers)
             else:
                 try:
                     gmsh.model.remove()

@@ -71,16 +71,8 @@ DEFAULT_MAX_BYTES = 2 * 10**9
 IN_USE_S = 600.0
 #: The largest entry stored, as a fraction of the cache's size limit.
 MAX_ENTRY_FRACTION = 0.5
-_UNITS = {
-    "": 1,
-    "B": 1,
-    "K": 10**3,
-    "KB": 10**3,
-    "M": 10**6,
-    "MB": 10**6,
-    "G": 10**9,
-    "GB": 10**9,
-    "T": 10**12,
+_UNITS = {"": 1, "B": 1} | {
+    u + b: 10**e for e, u in ((3, "K"), (6, "M"), (9, "G"), (12, "T")) for b in ("", "B")
 }
 #: The file that marks a folder as a stage cache of this tool.
 MARKER = ".wheel-squeal-cache"
@@ -315,7 +307,10 @@ class StageCache:
         (:meth:`set_limit`), else :data:`DEFAULT_MAX_BYTES`."""
         env = os.environ.get(ENV_SIZE, "").strip()
         if env:
-            return parse_size(env)
+            try:
+                return parse_size(env)
+            except RequestError as exc:
+                raise RequestError(f"{ENV_SIZE}={env!r}: {exc}") from None
         try:
             own = json.loads((self.root / MARKER).read_text()).get("max_bytes")
         except (OSError, ValueError, AttributeError):

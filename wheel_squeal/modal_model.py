@@ -53,6 +53,11 @@ def _number(where: str, key: str, value: Any) -> float:
     return float(value)
 
 
+def _mass(component: float) -> float:
+    """The modal mass 1/phi^2 [kg] of a mass-normalised shape's value phi [1/sqrt(kg)]."""
+    return math.inf if abs(component) < 1e-150 else component**-2
+
+
 def _mode(i: int, table: Any, source: str) -> Mode:
     where = f"{source}: [[mode]] {i + 1}"
     if not isinstance(table, dict):
@@ -72,7 +77,7 @@ def _mode(i: int, table: Any, source: str) -> Mode:
     for key, phi in (("lateral", t), ("normal", n)):
         if phi != 0.0 and not COMPONENT_RANGE[0] <= abs(phi) <= COMPONENT_RANGE[1]:
             raise RequestError(
-                f"{where}: {key} = {phi:g} 1/sqrt(kg) means a modal mass of {abs(phi) ** -2.0:.3g} kg at the "
+                f"{where}: {key} = {phi:g} 1/sqrt(kg) means a modal mass of {_mass(phi):.3g} kg at the "
                 f"contact, outside {1 / COMPONENT_RANGE[1] ** 2:g} to {1 / COMPONENT_RANGE[0] ** 2:g} kg "
                 "(give 0 for a mode that does not move the contact that way)"
             )

@@ -145,7 +145,7 @@ def squeal_report(sim, dof, label: str | None = None) -> str:
         lines.append(
             f"limit cycle{of}: velocity amplitude {lc['velocity_amplitude_m_s']:.4g} m/s ({state}), "
             f"{lc['frequency_hz']:.1f} Hz, growth rate {lc['growth_rate_1_s']:.3g} 1/s"
-            + (f", saturated after {tsat:.3f} s" if tsat is not None else "")
+            + (f", saturated after {tsat:.3f} s" if tsat is not None and math.isfinite(tsat) else "")
             + (
                 f"; wheel and roller apart over {lc['contact_lost_fraction']:.0%} of the last quarter"
                 if lc["contact_lost_fraction"] > 0

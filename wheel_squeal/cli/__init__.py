@@ -14,19 +14,17 @@ import errno
 import os
 import signal
 import sys
-import threading
-import time
 import warnings
 from collections.abc import Sequence
-from dataclasses import dataclass, field
 
 from geometry import DesignError
 
 from ..errors import BudgetExhausted, RequestError
 from ..plotting import plot_workers
 from .parser import DRAWING_COMMANDS, build_parser
+from .stops import STATE, STOPS, Terminated, install_stop_handlers, stop_line, uninterrupted
 
-__all__ = ["main", "run"]
+__all__ = ["main", "run", "uninterrupted"]
 
 #: The anticipated failures of a computation: (module, exception name).
 _COMPUTATION_FAILURES = (
@@ -44,104 +42,6 @@ def _computation_failures() -> tuple[type, ...]:
 
 def _one_line_warning(message, category, filename, lineno, file=None, line=None) -> None:
     print(f"warning: {str(message).splitlines()[0]}", file=sys.stderr)
-
-
-class Terminated(KeyboardInterrupt):
-    """SIGTERM (sent by timeout, batch schedulers, systemd): stop as on Ctrl-C, so that
-    the same clean-up runs (staging folders removed, worker processes stopped)."""
-
-
-class OutOfTime(KeyboardInterrupt):
-    """The request's time budget ran out while it worked (SIGALRM, armed by :func:`run`
-    for the time left): stop as on Ctrl-C, then report the budget."""
-
-
-#: The signals that stop a command, the exception each raises in the main thread, the
-#: exit status and the line printed.
-_STOPS: dict[int, tuple[type[KeyboardInterrupt], int]] = {
-    signal.SIGTERM: (Terminated, 143),
-    signal.SIGINT: (KeyboardInterrupt, 130),
-    signal.SIGALRM: (OutOfTime, 1),
-}
-
-
-@dataclass
-class _StopState:
-    """This process's stop signals: those received, in order (a library that turns the
-    exception a signal raised into another one, as some do during an import, cannot hide
-    it), and the time budget the alarm was armed with [s]."""
-
-    received: list[int] = field(default_factory=list)
-    budget_s: float | None = None
-
-
-_STATE = _StopState()
-
-
-def _on_signal(signum, frame) -> None:
-    _STATE.received.append(signum)
-    raise _STOPS[signum][0]
-
-
-#: Seconds a stopped command has to clean up before it ends regardless (it may be inside
-#: a long native computation, where no Python code runs until it returns).
-TERMINATE_GRACE_S = 5.0
-
-
-def _stop_line(signum: int, budget_s: float | None) -> str:
-    if signum == signal.SIGALRM:
-        return (
-            f"error: the request ran past its time budget of {budget_s:g} s and was stopped; "
-            "raise it with --max-seconds S (WHEEL_SQUEAL_MAX_SECONDS) or ask for less"
-        )
-    return "terminated" if signum == signal.SIGTERM else "interrupted"
-
-
-def _leave_stops_to_the_parent() -> None:
-    """In a process forked from the command's (the plot process, a study's workers), at
-    once: Ctrl-C and the time budget are the parent's to handle, SIGTERM ends it silently,
-    and its signals do not wake the parent's watcher."""
-    signal.signal(signal.SIGINT, signal.SIG_IGN)
-    signal.signal(signal.SIGTERM, signal.SIG_DFL)
-    signal.signal(signal.SIGALRM, signal.SIG_DFL)
-    with contextlib.suppress(ValueError):
-        signal.set_wakeup_fd(-1)
-
-
-def _grace_s() -> float:
-    """Seconds a stopped command has to end by itself: :data:`TERMINATE_GRACE_S`, and for
-    the time budget at most 5 % of it (a budget is kept within 10 %)."""
-    if _STATE.received and _STATE.received[0] == signal.SIGALRM and _STATE.budget_s is not None:
-        return min(TERMINATE_GRACE_S, max(0.2, 0.05 * _STATE.budget_s))
-    return TERMINATE_GRACE_S
-
-
-def _install_stop_handlers() -> None:
-    """SIGTERM, SIGINT and SIGALRM raise their exception in the main thread; if that has
-    not ended the process within :func:`_grace_s` (a LAPACK or numba call does not return
-    to Python until done), a watcher thread ends it with the same line and exit status,
-    after removing the staging folders: the earlier result stays as it was."""
-    r, w = os.pipe()
-    os.set_blocking(w, False)
-    signal.set_wakeup_fd(w)  # written by the C-level handler at once, even mid-computation
-    for signum in _STOPS:
-        signal.signal(signum, _on_signal)
-    os.register_at_fork(after_in_child=_leave_stops_to_the_parent)
-
-    def watch() -> None:
-        while True:
-            got = [b for b in os.read(r, 64) if b in _STOPS]
-            if got:
-                break
-        time.sleep(_grace_s())
-        from ..outputs import ResultFolder
-
-        ResultFolder.discard_all()
-        with contextlib.suppress(OSError, ValueError):
-            print(_stop_line(got[0], _STATE.budget_s), file=sys.stderr, flush=True)
-        os._exit(_STOPS[got[0]][1])
-
-    threading.Thread(target=watch, name="stop-watch", daemon=True).start()
 
 
 #: Errors of the file system that end a command in one line (exit status 1): the disk or
@@ -171,31 +71,32 @@ def main(
         # go straight to EGL (off-screen) so the terminal stays clean.
         os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkEGLRenderWindow")
     draws = args.command in DRAWING_COMMANDS
-    with warnings.catch_warnings(), plot_workers() if draws else contextlib.nullcontext() as plots:
-        warnings.showwarning = _one_line_warning
-        try:
+    try:  # around the plot process too: a stop may land while it shuts down
+        with warnings.catch_warnings(), plot_workers() if draws else contextlib.nullcontext() as plots:
+            warnings.showwarning = _one_line_warning
             from .commands import COMMANDS  # after the plot process started: it imports meanwhile
             from .common import settings_of
 
             budget = settings_of(args)  # the flags and environment, checked before any work
             if alarm and budget is not None:
-                _STATE.budget_s = budget.max_seconds
+                STATE.budget_s = budget.max_seconds
                 signal.setitimer(signal.ITIMER_REAL, max(budget.seconds_left(), 1e-3))
             command = COMMANDS[args.command]
-            return command(args, plots) if draws else command(args)
-        except BaseException as exc:
-            return _status_of(exc)
-        finally:
-            if alarm:
-                signal.setitimer(signal.ITIMER_REAL, 0.0)
+            status = command(args, plots) if draws else command(args)
+    except BaseException as exc:
+        status = _status_of(exc)
+    finally:
+        if alarm:
+            signal.setitimer(signal.ITIMER_REAL, 0.0)
+    return status
 
 
 def _status_of(exc: BaseException) -> int:
     """The exit status of a command that raised ``exc``, with its one line on stderr
     (a bug's traceback is re-raised)."""
-    if _STATE.received:  # a signal stopped it, whatever the exception became on the way
-        print(_stop_line(_STATE.received[0], _STATE.budget_s), file=sys.stderr)
-        return _STOPS[_STATE.received[0]][1]
+    if STATE.received:  # a signal stopped it, whatever the exception became on the way
+        print(stop_line(STATE.received[0], STATE.budget_s), file=sys.stderr)
+        return STOPS[STATE.received[0]][1]
     if isinstance(exc, RequestError | DesignError):
         print(f"error: {exc}", file=sys.stderr)
         return 2
@@ -238,8 +139,11 @@ def run(prog: str | None = None, started_s: float | None = None) -> None:
     modules) takes about 0.3 s, a fifth of a typical command; the streams are flushed
     and the process ends without it.
     """
-    _install_stop_handlers()
-    status = main(prog=prog, alarm=True, started_s=started_s)
-    sys.stdout.flush()
-    sys.stderr.flush()
+    install_stop_handlers()
+    try:
+        status = main(prog=prog, alarm=True, started_s=started_s)
+        sys.stdout.flush()
+        sys.stderr.flush()
+    except KeyboardInterrupt:  # a stop after the command ended (its result is written)
+        status = _status_of(KeyboardInterrupt())
     os._exit(status)

@@ -10,6 +10,7 @@ from ..outputs import result_folder, write_json
 from ..progress import Progress
 from ..stability import choose_mode
 from .common import budget_of, cache_of, design_of, modes_of, out_of, write_files
+from .stops import uninterrupted
 
 __all__ = ["cmd_mesh", "cmd_modes", "cmd_render"]
 
@@ -91,7 +92,9 @@ def cmd_modes(args) -> int:
             raise RequestError(f"no modes below {args.fmax:g} Hz for {design.name}")
         op = api.operating_point(design)
         selected, why, _ = choose_mode(design, ms, args.mode, api.contact_law(design), op)
-        write_files(tmp, api.mode_views(design, fid, args.fmax, ms, [], cache))
+        with uninterrupted():
+            views = api.mode_views(design, fid, args.fmax, ms, [], cache)
+        write_files(tmp, views)
         write_json(tmp / "summary.json", writers.modes_summary(design, ms, selected, fid, why))
     print(writers.modes_table(ms.modes, design, selected))
     print(
@@ -120,6 +123,7 @@ def cmd_render(args) -> int:
             if bad:
                 raise RequestError(f"mode index {bad[0]} out of range 0..{len(ms.modes) - 1}")
         with progress.stage("render"):
-            paths = render_modes(ms, tmp, indices=indices, gif=args.gif)
+            with uninterrupted():
+                paths = render_modes(ms, tmp, indices=indices, gif=args.gif)
     print(f"{len(paths)} files -> {out}")
     return 0

@@ -38,6 +38,7 @@ from .common import (
     write_files,
 )
 from .sound import listener_of, write_sound_files
+from .stops import uninterrupted
 
 
 def files_in(folder) -> str:
@@ -72,7 +73,9 @@ def cmd_run(args, plots: PlotWorkers) -> int:
         indices = {"selected": shown, "none": [], "all": list(range(len(ms.modes)))}[args.render]
         if ms.solver != MODAL_MODEL_SOLVER:  # a modal model has no shapes to draw
             with progress.stage("mode views"):
-                write_files(tmp, api.mode_views(design, a.fidelity, args.fmax, ms, indices, cache))
+                with uninterrupted():
+                    views = api.mode_views(design, a.fidelity, args.fmax, ms, indices, cache)
+                write_files(tmp, views)
         plots.submit(stability_files.write_mode_growth_plot, tmp / "growth.png", a.rows,
                      o.mode.index if o is not None else None)  # fmt: skip
         with progress.stage("plots"):

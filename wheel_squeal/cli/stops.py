@@ -1,0 +1,148 @@
+"""How a command stops: SIGTERM (``timeout``, batch schedulers, systemd), SIGINT
+(Ctrl-C) and SIGALRM (the request's time budget, armed by ``cli.main``) raise their
+exception in the main thread, so that the usual clean-up runs (staging folders removed,
+worker processes stopped), and a watcher thread ends a command that cannot return to
+Python within a grace period (a long LAPACK call) with the same line and exit status.
+Processes forked from the command leave stops to it. :func:`uninterrupted` holds a stop
+back over native work that does not survive an exception between its calls.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import os
+import signal
+import sys
+import threading
+import time
+from collections.abc import Iterator
+from dataclasses import dataclass, field
+
+__all__ = [
+    "STATE",
+    "STOPS",
+    "TERMINATE_GRACE_S",
+    "OutOfTime",
+    "StopState",
+    "Terminated",
+    "grace_s",
+    "install_stop_handlers",
+    "stop_line",
+    "uninterrupted",
+]
+
+
+class Terminated(KeyboardInterrupt):
+    """SIGTERM (sent by timeout, batch schedulers, systemd): stop as on Ctrl-C, so that
+    the same clean-up runs (staging folders removed, worker processes stopped)."""
+
+
+class OutOfTime(KeyboardInterrupt):
+    """The request's time budget ran out while it worked (SIGALRM, armed by :func:`run`
+    for the time left): stop as on Ctrl-C, then report the budget."""
+
+
+#: The signals that stop a command, the exception each raises in the main thread, the
+#: exit status and the line printed.
+STOPS: dict[int, tuple[type[KeyboardInterrupt], int]] = {
+    signal.SIGTERM: (Terminated, 143),
+    signal.SIGINT: (KeyboardInterrupt, 130),
+    signal.SIGALRM: (OutOfTime, 1),
+}
+
+
+@dataclass
+class StopState:
+    """This process's stop signals: those received, in order (a library that turns the
+    exception a signal raised into another one, as some do during an import, cannot hide
+    it), the time budget the alarm was armed with [s], and whether a stop is held back
+    until the work under way ends (:func:`uninterrupted`)."""
+
+    received: list[int] = field(default_factory=list)
+    budget_s: float | None = None
+    holding: bool = False
+
+
+STATE = StopState()
+
+
+def _on_signal(signum, frame) -> None:
+    STATE.received.append(signum)
+    if not STATE.holding:
+        raise STOPS[signum][0]
+
+
+@contextlib.contextmanager
+def uninterrupted() -> Iterator[None]:
+    """Hold a stop signal back until the block ends, then stop: for native libraries that
+    do not survive an exception raised between their calls (VTK's off-screen rendering
+    crashes as it unwinds). The watcher still ends the process after its grace period."""
+    STATE.holding = True
+    try:
+        yield
+    finally:
+        STATE.holding = False
+    if STATE.received:
+        raise STOPS[STATE.received[0]][0]
+
+
+#: Seconds a stopped command has to clean up before it ends regardless (it may be inside
+#: a long native computation, where no Python code runs until it returns).
+TERMINATE_GRACE_S = 5.0
+
+
+def stop_line(signum: int, budget_s: float | None) -> str:
+    if signum == signal.SIGALRM:
+        return (
+            f"error: the request ran past its time budget of {budget_s:g} s and was stopped; "
+            "raise it with --max-seconds S (WHEEL_SQUEAL_MAX_SECONDS) or ask for less"
+        )
+    return "terminated" if signum == signal.SIGTERM else "interrupted"
+
+
+def _leave_stops_to_the_parent() -> None:
+    """In a process forked from the command's (the plot process, a study's workers), at
+    once: Ctrl-C and the time budget are the parent's to handle, SIGTERM ends it silently,
+    and its signals do not wake the parent's watcher."""
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    signal.signal(signal.SIGTERM, signal.SIG_DFL)
+    signal.signal(signal.SIGALRM, signal.SIG_DFL)
+    with contextlib.suppress(ValueError):
+        signal.set_wakeup_fd(-1)
+
+
+def grace_s(signum: int) -> float:
+    """Seconds a command stopped by ``signum`` has to end by itself:
+    :data:`TERMINATE_GRACE_S`, and for the time budget at most 5 % of it (a budget is kept
+    within 10 %)."""
+    if signum == signal.SIGALRM and STATE.budget_s is not None:
+        return min(TERMINATE_GRACE_S, max(0.2, 0.05 * STATE.budget_s))
+    return TERMINATE_GRACE_S
+
+
+def install_stop_handlers() -> None:
+    """SIGTERM, SIGINT and SIGALRM raise their exception in the main thread; if that has
+    not ended the process within :func:`grace_s` (a LAPACK or numba call does not return
+    to Python until done), a watcher thread ends it with the same line and exit status,
+    after removing the staging folders: the earlier result stays as it was."""
+    r, w = os.pipe()
+    os.set_blocking(w, False)
+    signal.set_wakeup_fd(w)  # written by the C-level handler at once, even mid-computation
+    for signum in STOPS:
+        signal.signal(signum, _on_signal)
+    os.register_at_fork(after_in_child=_leave_stops_to_the_parent)
+
+    def watch() -> None:
+        while True:
+            got = [b for b in os.read(r, 64) if b in STOPS]
+            if got:
+                break
+        time.sleep(grace_s(got[0]))
+        from ..outputs import ResultFolder
+
+        ResultFolder.discard_all()
+        with contextlib.suppress(OSError, ValueError):
+            print(stop_line(got[0], STATE.budget_s), file=sys.stderr, flush=True)
+        os._exit(STOPS[got[0]][1])
+
+    threading.Thread(target=watch, name="stop-watch", daemon=True).start()
