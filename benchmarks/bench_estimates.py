@@ -1,7 +1,8 @@
 """The budget's estimates against what the work then takes, on every shipped design
 and study spec: the stability bounds of every mode, the envelope map with its
 mitigation (rotation off and on, as ``stability --envelope`` runs them), the sound of
-the squeal mode (air unknowns and time), and whole studies on one worker.
+the squeal mode (air unknowns and time), the dense eigen-solve of large modal models,
+and whole studies on one worker.
 
     .venv/bin/python benchmarks/bench_estimates.py [--fidelity balanced] [--quick]
 
@@ -87,6 +88,24 @@ def designs(fidelity: str, quick: bool) -> list[bool]:
     return oks
 
 
+def large_models(sizes=(50, 200, 600, 1200)) -> list[bool]:
+    """The dense eigen-solve of modal models of many modes (with a normal component, so
+    the mechanisms' two limits are solved too), growth rates only, against the model's
+    single-thread estimate."""
+    from reduced import ModalDOF, linear_stability
+    from reduced.stability import stability_seconds
+
+    d = ws.load_design()
+    contact, op = ws.contact_law(d), ws.operating_point(d)
+    rng = np.random.default_rng(1)
+    oks = []
+    for n in sizes:
+        dofs = [ModalDOF.from_components(f, 1e-3, 0.5, 0.1, 0) for f in rng.uniform(200.0, 5000.0, n)]
+        t, _ = timed(partial(linear_stability, dofs, contact, op))
+        oks.append(row("stability of a modal model", f"{n} modes", stability_seconds(dofs), t))
+    return oks
+
+
 def _warm_modes(fidelity: str):
     ms = ws.compute_modes(ws.load_design(), fidelity, cache=ws.StageCache())
     mode, _ = ws.pick_mode(ms, "n=3,c=0")
@@ -118,6 +137,7 @@ def main() -> int:
     print("| work | case | estimate | measured | ratio | within 2x |")
     print("|---|---|---|---|---|---|")
     oks = designs(args.fidelity, args.quick)
+    oks += large_models((50, 200, 600) if args.quick else (50, 200, 600, 1200))
     if not args.quick:
         oks += studies()
     print(f"\n{sum(oks)} of {len(oks)} estimates within a factor 2 of the measurement")

@@ -350,7 +350,7 @@ def test_cache_entry_taken_by_a_folder_is_recomputed(tmp_path, capsys):
 # runaway requests
 # --------------------------------------------------------------------------------------
 RUNAWAY = [
-    ("[wheel]\nbore_radius = 1e-6\n", "DOFs"),
+    ("[wheel]\nbore_radius = 1e-6\n", "shorter than any part"),
     ("[wheel]\nweb_thickness = 1e-4\n", "memory"),
     ("[wheel]\nweb_thickness = 5e-4\n", "DOFs"),
     ("[wheel]\nrolling_radius = 213\nrim_depth = 33.5\n", "millimetres"),

@@ -133,6 +133,8 @@ def test_every_command_gives_the_same_verdict(cases, name):
     }
     for where, v in got.items():
         assert v["mode"] == want["mode"], where
+        if where == "stability":  # it stops before the time domain: the linear verdict
+            continue
         assert v["saturated"] == want["saturated"], where
         if want["mode"] is None:
             assert v["spl_db"] is None and v["tone_hz"] in (None, pytest.approx(v["tone_hz"])), where

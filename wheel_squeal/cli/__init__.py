@@ -78,9 +78,10 @@ def main(
             from .common import settings_of
 
             budget = settings_of(args)  # the flags and environment, checked before any work
-            if alarm and budget is not None:
+            if alarm and budget is not None and budget.seconds_left() > 0:
+                # (a budget spent before any work is refused by the first estimate instead)
                 STATE.budget_s = budget.max_seconds
-                signal.setitimer(signal.ITIMER_REAL, max(budget.seconds_left(), 1e-3))
+                signal.setitimer(signal.ITIMER_REAL, budget.seconds_left())
             command = COMMANDS[args.command]
             status = command(args, plots) if draws else command(args)
     except BaseException as exc:
