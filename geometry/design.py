@@ -23,14 +23,10 @@ from dataclasses import dataclass, fields
 from pathlib import Path
 from typing import Any
 
+from .errors import DesignError
 from .files import check_label
 from .outline import Outline, OutlineError, outline_from_mapping
 from .parametric import parametric_outline
-
-
-class DesignError(ValueError):
-    """An invalid wheel design. The message names the parameter and the allowed range."""
-
 
 #: TOML section of every field (``name`` and ``description`` live at the top level).
 SECTIONS: dict[str, tuple[str, ...]] = {

@@ -231,6 +231,10 @@ class OperatingPoint:
         _finite_positive("OperatingPoint", "rolling_radius_m", rolling_radius_m)
         return self.rolling_speed_m_s / rolling_radius_m
 
+    def rpm(self, rolling_radius_m: float) -> float:
+        """The wheel speed [rev/min] of a wheel of rolling radius R [m] rolling at V0."""
+        return self.wheel_speed_rad_s(rolling_radius_m) * 60.0 / (2.0 * math.pi)
+
 
 class IntegrationError(RuntimeError):
     """The time integration became unstable or inaccurate and could not be refined."""

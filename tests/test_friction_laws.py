@@ -10,6 +10,7 @@ import pytest
 
 import reduced as r
 import wheel_squeal as ws
+from geometry import DesignError
 
 TABLE1_HERTZ = dict(r1=0.213, r1t=0.300, r2=0.085, r2t=0.040, e=175e9, nu=0.28, w=1000.0)
 
@@ -81,6 +82,6 @@ def test_a_design_file_names_its_friction_law(tmp_path):
     assert 'friction_law = "constant"' in path.read_text()
     assert ws.load_design(path).contact.friction_law == "constant"
     path.write_text(d.to_toml().replace('"constant"', '"sticky"'))
-    with pytest.raises(ws.RequestError, match="friction_law must be one of"):
+    with pytest.raises(DesignError, match="friction_law must be one of"):
         ws.load_design(path)
     assert math.isinf(ws.contact_law(ws.load_design("table1"), friction_law="constant").decay_speed_1_m_s)

@@ -117,7 +117,7 @@ def test_the_wav_file_holds_the_tone(tmp_path):
 def table1_run():
     import wheel_squeal as ws
 
-    return ws.analyse(ws.load_design(), fidelity="fast", margin=False)
+    return ws.analyse(ws.load_design(), fidelity="fast", remedy=False)
 
 
 def test_the_far_field_power_is_the_intensity_over_a_sphere(table1_run):
@@ -157,7 +157,7 @@ def test_the_squeals_levels_agree_with_each_other(table1_run):
 
 
 def test_the_microphone_signals_tone_is_the_verdicts(table1_run, tmp_path):
-    from wheel_squeal.sound_files import write_squeal_wav
+    from wheel_squeal.present.files import write_squeal_wav
 
     o = table1_run.verdict.outcome
     peak = write_squeal_wav(tmp_path / "squeal.wav", o.sound)

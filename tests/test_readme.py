@@ -17,10 +17,11 @@ def _quoted_block() -> list[str]:
 
 def test_the_readmes_first_result_is_what_the_default_run_computes():
     import wheel_squeal as ws
+    from wheel_squeal.present.text import verdict_lines
 
-    a = ws.analyse(ws.load_design(), margin=False)
+    a = ws.analyse(ws.load_design(), remedy=False)
     quoted = _quoted_block()
     verdict = next(line for line in quoted if line.startswith("VERDICT:"))
-    assert a.verdict.lines()[0] == verdict
+    assert verdict_lines(a.verdict)[0] == verdict
     why = next(line for line in quoted if line.strip().startswith("why:"))
-    assert why.strip() in [line.strip() for line in a.verdict.lines()]
+    assert why.strip() in [line.strip() for line in verdict_lines(a.verdict)]

@@ -588,11 +588,11 @@ _DECADE = st.dictionaries(st.sampled_from(sorted(_NUMERIC)), st.floats(-1.0, 1.0
 def _design_error(path: Path) -> str | None:
     """The one-line refusal of a design file in-process (None: a valid design)."""
     import wheel_squeal as ws
-    from wheel_squeal.errors import RequestError
+    from geometry import DesignError
 
     try:
         ws.load_design(path)
-    except RequestError as exc:
+    except DesignError as exc:
         return str(exc)
     return None
 

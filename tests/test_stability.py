@@ -20,8 +20,9 @@ from conftest import DESIGNS, run_cli
 import reduced as r
 import wheel_squeal as ws
 from reduced.stability import friction_damping_ns_m, growth_rates
+from wheel_squeal.decision import decide
 from wheel_squeal.envelope import envelope, mitigation
-from wheel_squeal.stability import choose_mode, mode_dofs, multimode, stability_table
+from wheel_squeal.stability import mode_dofs, named_mode, stability_table
 
 TABLE1 = r.ModalDOF(3.1, 1.6e8, 42.0, nodal_diameters=3)
 KICK_M_S = 1e-8
@@ -217,42 +218,47 @@ def table1_fe():
     return design, ms, ws.contact_law(design), ws.operating_point(design)
 
 
-def test_multimode_with_one_mode_is_the_single_mode_run(table1_fe):
+def test_the_model_with_one_mode_is_that_mode_run_alone(table1_fe):
+    """At most one mode together: the model's outcome is the fastest-growing mode's run,
+    bit for bit the one ``simulate`` gives it."""
     design, ms, contact, op = table1_fe
-    rows, res = stability_table(design, ms, contact, op)
-    multi = multimode(design, rows, contact, op, count=1)
-    alone = ws.simulate(ws.modal_dof(rows[res.winner].mode, design), contact, op)
-    assert multi.modes == [rows[res.winner].mode]
-    np.testing.assert_array_equal(multi.simulation.history.v, alone.history.v)
-    assert multi.simulation.summary() == alone.summary()
-    assert multi.content.energy_share.tolist() == [1.0]
+    free = design.replace(squeal_mode="")
+    a = ws.analyse(free, op=op, modes=ms, max_modes=1, stop_after="limit_cycle", remedy=False)
+    rows = a.rows
+    fastest = rows[a.stability.winner].mode
+    alone = ws.simulate(ws.modal_dof(fastest, design), contact, op)
+    assert a.verdict.pick.group == (fastest,) and a.verdict.pick.shares is None
+    np.testing.assert_array_equal(a.verdict.pick.simulation.history.v, alone.history.v)
+    assert a.verdict.pick.simulation.summary() == alone.summary()
 
 
-def test_fe_multimode_winner_is_the_linear_winner(table1_fe):
+def test_the_modes_that_grow_together_give_the_limit_cycle_to_the_fastest(table1_fe):
     """Every unstable FE mode of designs/table1.toml at the Fig. 6 point, from rest: the
     fastest-growing mode, (1,0) at 261 Hz, takes the limit cycle (winner takes all: it
     saturates the contact first, and the falling friction it leaves behind no longer
     feeds the others)."""
     design, ms, contact, op = table1_fe
-    rows, res = stability_table(design, ms, contact, op)
-    unstable = [row for row in rows if row.stability.unstable]
+    a = ws.analyse(design.replace(squeal_mode=""), op=op, modes=ms, stop_after="limit_cycle", remedy=False)
+    unstable = [row for row in a.rows if row.stability.unstable]
     assert len(unstable) >= 4
-    multi = multimode(design, rows, contact, op)
-    assert len(multi.modes) == len(unstable)
-    assert multi.agrees and multi.carrier.label() == "(1,0) axial"
-    assert multi.content.energy_share.max() > 0.95
-    assert multi.content.peak_frequency_hz == pytest.approx(multi.carrier.frequency_hz, rel=0.005)
-    assert multi.simulation.limit_cycle.saturated
+    pick = a.verdict.pick
+    assert len(pick.group) == len(unstable) and a.verdict.outcome is pick
+    assert pick.label == "(1,0) axial" == a.decision.fastest.label()
+    assert pick.energy_share > 0.95 and sum(pick.shares.values()) == pytest.approx(1.0)
+    assert pick.tone_hz == pytest.approx(pick.mode.frequency_hz, rel=0.005)
+    assert pick.saturated
 
 
-def test_auto_takes_the_named_mode_else_the_fastest(table1_fe):
+def test_the_decision_takes_the_named_mode_else_the_model(table1_fe):
     design, ms, contact, op = table1_fe
-    named, why, _ = choose_mode(design, ms, "auto", contact, op)
-    assert named.label() == "(3,0) axial" and "names" in why
-    fastest, why, rows = choose_mode(design.replace(squeal_mode=""), ms, "auto", contact, op)
-    growth = {row.mode.index: row.stability.growth_rate_1_s for row in rows}
-    assert fastest.index == max(growth, key=growth.get) and "growth rate" in why
-    assert choose_mode(design, ms, "n=2", contact, op)[0].label() == "(2,0) axial"
+    table = stability_table(design, ms, contact, op)
+    d = decide(table, named_mode(design, ms))
+    assert d.named.label() == "(3,0) axial" and "names" in d.named_by and d.named_group[0] == d.named
+    free = decide(table, named_mode(design.replace(squeal_mode=""), ms))
+    growth = {row.mode.index: row.stability.growth_rate_1_s for row in table.rows}
+    assert free.named is None and free.fastest.index == max(growth, key=growth.get)
+    assert {m.index for m in free.growing} == {i for i, g in growth.items() if g > 0}
+    assert decide(table, named_mode(design, ms, "n=2")).named.label() == "(2,0) axial"
 
 
 def test_measured_damping_moves_the_winner(table1_fe):
@@ -397,7 +403,7 @@ def test_run_with_rotation_and_multimode_reports_both(tmp_path):
     )
     assert r_.returncode == 0, r_.stderr
     s = json.loads((out / "summary.json").read_text())
-    assert s["rotation"] is True and len(s["multimode"]["mode_indices"]) <= 3
+    assert s["rotation"] is True and len(s["decision"]["growing_modes"]) <= 3
     assert s["winner"] == max(s["stability"], key=lambda m: m["growth_rate_1_s"])
-    assert s["selected_mode"]["index"] == s["winner"]["index"]  # thin_web names no mode: auto
-    assert "multi-mode" in r_.stdout
+    assert s["verdict"]["mode"] in s["decision"]["growing_modes"]  # thin_web names no mode
+    assert "grow together" in r_.stdout

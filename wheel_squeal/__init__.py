@@ -8,7 +8,7 @@ objects, :mod:`wheel_squeal.api`)::
 
     import wheel_squeal as ws
     a = ws.analyse(ws.load_design("thin_web"), rpm=800, crab_velocity=0.39)
-    print(a.verdict.lines()[0])                     # does it squeal, in which mode, how loud
+    print(ws.verdict_lines(a.verdict)[0])           # does it squeal, in which mode, how loud
     modes = a.modeset                               # fem.ModeSet; a.rows: every mode's stability
     sim = a.outcome.simulation                      # the limit cycle the verdict rests on
 
@@ -18,73 +18,77 @@ The command line: ``wheel-squeal --help`` (:mod:`wheel_squeal.cli`).
 from .api import (
     Simulation,
     build_mesh,
-    check_modes_budget,
     compute_modes,
     contact_law,
-    explicit_dof,
     load_design,
     modal_dof,
     mode_views,
-    modes_cache_key,
     operating_point,
     pick_mode,
     shipped_designs,
     simulate,
-    sweep,
 )
 from .budget import Budget
 from .cache import CacheMiss, StageCache
-from .chain import Analysis, analyse
+from .chain import Analysis, ChainOptions, analyse
+from .context import RunContext
+from .decision import Decision, decide
 from .design import Design
 from .envelope import envelope, mitigation
-from .errors import BudgetError, RequestError
+from .errors import BudgetError, BudgetExhausted, RequestError
+from .modal_model import explicit_modes, load_modal_model
+from .present.text import analysis_text, verdict_lines
 from .presets import DEFAULT_DESIGN, DEFAULT_FIDELITY, FIDELITIES, Fidelity, fidelity_for
 from .progress import Progress
 from .sound import Listener, Sound, mode_sound
-from .stability import choose_mode, multimode, stability_table
+from .stability import StabilityTable, stability_table
 from .sweeps import VerdictGrid, sweep_verdicts
 from .verdict import ModeOutcome, Verdict
 
 __all__ = [
     "Analysis",
     "Budget",
+    "BudgetError",
+    "BudgetExhausted",
+    "CacheMiss",
+    "ChainOptions",
+    "DEFAULT_DESIGN",
+    "DEFAULT_FIDELITY",
+    "Decision",
     "Design",
+    "FIDELITIES",
+    "Fidelity",
     "Listener",
     "ModeOutcome",
+    "Progress",
+    "RequestError",
+    "RunContext",
+    "Simulation",
     "Sound",
+    "StabilityTable",
+    "StageCache",
     "Verdict",
     "VerdictGrid",
     "analyse",
-    "mode_sound",
-    "shipped_designs",
-    "sweep_verdicts",
-    "BudgetError",
-    "CacheMiss",
-    "DEFAULT_DESIGN",
-    "DEFAULT_FIDELITY",
-    "FIDELITIES",
-    "Fidelity",
-    "Progress",
-    "RequestError",
-    "Simulation",
-    "StageCache",
+    "analysis_text",
     "build_mesh",
-    "check_modes_budget",
-    "choose_mode",
     "compute_modes",
     "contact_law",
+    "decide",
     "envelope",
-    "explicit_dof",
+    "explicit_modes",
     "fidelity_for",
     "load_design",
+    "load_modal_model",
     "mitigation",
     "modal_dof",
+    "mode_sound",
     "mode_views",
-    "modes_cache_key",
-    "multimode",
     "operating_point",
     "pick_mode",
+    "shipped_designs",
     "simulate",
     "stability_table",
-    "sweep",
+    "sweep_verdicts",
+    "verdict_lines",
 ]

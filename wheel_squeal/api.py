@@ -17,8 +17,6 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-import numpy as np
-
 from .budget import Budget
 from .design import Design
 from .errors import RequestError
@@ -35,11 +33,9 @@ from .presets import (
     DEFAULT_CRAB_VELOCITY_M_S,
     DEFAULT_DESIGN,
     DEFAULT_RPM,
-    DEFAULT_SWEEP_DURATION_S,
     designs_folder,
     rpm_to_speed,
 )
-from .progress import Progress
 from .sections import C22_RANGE
 
 __all__ = [
@@ -51,7 +47,6 @@ __all__ = [
     "contact_law",
     "counter_body_dofs",
     "hertz_of",
-    "explicit_dof",
     "load_design",
     "modal_dof",
     "mode_views",
@@ -63,15 +58,13 @@ __all__ = [
     "simulation_steps",
     "SIMULATION_HINT",
     "shipped_designs",
-    "sweep",
 ]
 
 
 def load_design(path: str | Path | None = None) -> Design:
     """A wheel design from TOML: a file, or the name of a design shipped with the tool
     (``"thin_web"``, from any folder; :func:`shipped_designs`); None gives the default,
-    ``table1``. A bad design raises :class:`RequestError` naming the problem."""
-    from geometry import DesignError
+    ``table1``. A bad design raises ``geometry.DesignError`` naming the problem."""
 
     if path is None:
         path = DEFAULT_DESIGN
@@ -83,10 +76,7 @@ def load_design(path: str | Path | None = None) -> Design:
         else:
             names = ", ".join(shipped_designs())
             raise RequestError(f"design {str(path)!r} is neither a file nor a shipped design ({names})")
-    try:
-        return Design.from_toml(p)
-    except DesignError as exc:
-        raise RequestError(str(exc)) from None
+    return Design.from_toml(p)
 
 
 def shipped_designs() -> dict[str, str]:
@@ -128,43 +118,26 @@ def modal_dof(mode, design: Design):
 
 
 def counter_body_dofs(design: Design) -> list:
-    """The roller's modal degrees of freedom at the contact (``reduced.ModalDOF``, seen
-    with gain -1: the contact feels the wheel's motion relative to the roller's), none
-    where it is rigid ([roller] in :class:`~wheel_squeal.sections.Roller`)."""
-    from reduced import counter_body
-
-    return counter_body(design.roller.modal("normal"), design.roller.modal("lateral"))
-
-
-def explicit_dof(mass_kg: float, stiffness_n_m: float, damping_ns_m: float, nodal_diameters: int = 0):
-    """A mode given directly by its modal mass [kg], stiffness [N/m], damping [N s/m]
-    and nodal diameters (needed on a turning wheel only)."""
-    from reduced import ModalDOF
-
-    for name, v, zero_ok in (
-        ("mass_kg", mass_kg, False),
-        ("stiffness_n_m", stiffness_n_m, False),
-        ("damping_ns_m", damping_ns_m, True),
-    ):
-        if not (math.isfinite(v) and (v > 0 or (zero_ok and v == 0))):
-            raise RequestError(f"{name} must be {'non-negative' if zero_ok else 'positive'}, got {v:g}")
-    if nodal_diameters < 0:
-        raise RequestError(f"nodal diameters must be 0 or more, got {nodal_diameters}")
-    return ModalDOF(mass_kg, stiffness_n_m, damping_ns_m, int(nodal_diameters))
+    """The counter-body's degrees of freedom at the contact (``reduced.ModalDOF``, seen
+    with gain -1: the contact feels the wheel's motion relative to the counter-body's),
+    none where it is rigid (the design's [counter_body] section)."""
+    return design.counter_body.dofs()
 
 
 def hertz_of(design: Design):
-    """The Hertz contact (``reduced.HertzContact``) of the design's wheel on its roller at
-    its contact point: the wheel's radius of curvature along rolling is r / cos(angle) there
-    (``geometry.contact.ContactFrame``), across it the tread's crown."""
+    """The Hertz contact (``reduced.HertzContact``) of the design's wheel on its
+    counter-body at its contact point: the wheel's radius of curvature along rolling is
+    r / cos(angle) there (``geometry.contact.ContactFrame``), across it the tread's crown;
+    the counter-body's are its section's ``contact_radii``."""
     from reduced import hertz_contact
 
     frame = design.contact_frame
+    along, across = design.counter_body.contact_radii()
     return hertz_contact(
         frame.rolling_curvature_radius_m,
         frame.crown_radius_m,
-        design.roller.rolling_radius,
-        design.roller.crown_radius,
+        along,
+        across,
         design.wheel.youngs_modulus,
         design.wheel.poissons_ratio,
         design.contact.normal_load,
@@ -351,39 +324,3 @@ def simulation_seconds(dof, contact, op, duration: float | None = None) -> float
 
     n = len(dof) if isinstance(dof, list | tuple) else 1
     return simulation_steps(dof, contact, op, duration) * n * SWEEP_SECONDS_PER_STEP
-
-
-def sweep(
-    dof,
-    contact,
-    crab_velocities,
-    rolling_speeds,
-    duration: float = DEFAULT_SWEEP_DURATION_S,
-    budget: Budget | None = None,
-    progress: Progress | None = None,
-):
-    """Limit cycles over a grid of crabbing velocities x rolling speeds [m/s] from rest,
-    each run ``duration`` [s]; estimated first and refused beyond the ``budget``
-    (default: this machine's). Long sweeps report progress."""
-    from reduced import OperatingPoint
-    from reduced import sweep as run_sweep
-    from reduced.sweep import MAX_SWEEP_STEPS, numba_threads, sweep_steps
-
-    if not (math.isfinite(duration) and duration > 0):
-        raise RequestError(f"duration must be positive, got {duration:g}")
-    vcs = np.atleast_1d(np.asarray(crab_velocities, dtype=float))
-    speeds = np.atleast_1d(np.asarray(rolling_speeds, dtype=float))
-    if not (np.all(np.isfinite(vcs)) and np.all(np.isfinite(speeds)) and np.all(speeds > 0)):
-        raise RequestError("crabbing velocities must be finite and rolling speeds positive")
-    steps = max(sweep_steps(dof, contact, OperatingPoint(float(v0), 0.0), duration) for v0 in speeds)
-    if steps > MAX_SWEEP_STEPS:
-        raise RequestError(
-            f"a sweep case needs {steps:,} RK4 steps (limit {MAX_SWEEP_STEPS:,}): a very "
-            "stiff or light mode or a very low rolling speed; shorten the duration"
-        )
-    n_modes = len(dof) if isinstance(dof, (list, tuple)) else 1
-    seconds = (budget or Budget.from_environment()).check_sweep(
-        len(vcs) * len(speeds), steps, n_modes, numba_threads(), "use fewer points or a shorter duration"
-    )
-    report = progress.counter("sweep", "cases") if progress is not None and seconds > 2.0 else None
-    return run_sweep(dof, contact, vcs, speeds, duration, progress=report)

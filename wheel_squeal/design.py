@@ -1,17 +1,20 @@
-"""A design file: the wheel (``geometry.WheelDesign``, its cross-section and material)
-and what the squeal model needs beyond it, each section a small dataclass of its own:
+"""A design file: the wheel (``geometry.WheelDesign``, which owns the wheel's shape and
+material) and the squeal model's sections (:mod:`wheel_squeal.sections`), each a
+section of the one schema (``geometry.schema``):
 
     name = "table1"
     [wheel] or [profile], [material]   the wheel            (geometry.WheelDesign)
-    [roller]                          the counter-body      (:class:`Roller`)
-    [contact]                         load and friction     (:class:`Contact`)
-    [damping]                         every mode's ratio    (:class:`Damping`)
-    [squeal]                          what the rig showed   (:class:`Squeal`: ``mode``,
-    [squeal.damping]                  and measured ratios by mode, in :class:`Damping`)
+    [counter_body]  kind = "roller"   what it rolls on     (a class per kind; older files: [roller])
+    [contact]                         load and friction     (Contact)
+    [damping]                         every mode's ratio    (Damping)
+    [squeal]                          what the rig showed   (Squeal: ``mode``,
+    [squeal.damping]                  and measured ratios by mode, in Damping)
 
-Every key is checked and missing ones take the Table 1 values. A field is also known by
-one flat name (:data:`FIELDS`: ``rim_depth``, ``roller_rolling_radius``,
-``normal_load``...), which studies and calibration vary.
+Every key is checked and missing ones take the Table 1 values; a mistake is one
+``geometry.DesignError``. A number is also known by one flat name (:data:`FIELDS`:
+``rim_depth``, ``roller_rolling_radius``, ``normal_load``...), which studies and
+calibration vary. :class:`Design` reads, writes, hashes, changes and scales by asking
+each section in turn: a new section (or counter-body kind) needs nothing here.
 """
 
 from __future__ import annotations
@@ -21,24 +24,23 @@ import functools
 import hashlib
 import json
 import warnings
-from dataclasses import dataclass, field, fields
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from geometry import SECTIONS, DesignError, WheelDesign
 from geometry.contact import ContactFrame, ContactPointError, contact_frame
-from geometry.design import toml_float
 from geometry.files import LABEL_PATTERN, LABEL_RULE, read_toml
+from geometry.schema import Fields, toml_value
 
-from .errors import RequestError
 from .sections import (
-    CONTACT_NUMBERS,
-    CONTACT_OPTIONAL_NUMBERS,
-    ROLLER_MODAL,
+    COUNTER_BODIES,
     Contact,
+    CounterBodySection,
     Damping,
     Roller,
     Squeal,
+    counter_body_from_file,
     mode_key,
 )
 
@@ -57,42 +59,42 @@ __all__ = [
     "mode_key",
 ]
 
-
-#: Fields hashed and written only when they differ from their default (added after the
-#: first designs: those keep their hashes and files).
-_HASHED_WHEN_SET = {
-    "friction_law",
-    "contact_angle",
-    "normal_contact",
-    "transient_creep",
-    "relaxation_length",
-    *(f"{d}_{k}" for d in ("normal", "lateral") for k in ROLLER_MODAL),
-}
+#: The sections after the wheel, in file order: (attribute, class).
+_PARTS: tuple[tuple[str, type[Fields]], ...] = (
+    ("contact", Contact),
+    ("damping", Damping),
+    ("squeal", Squeal),
+)
 
 #: Every numeric field of a design by its flat name: (section attribute, field name).
 FIELDS: dict[str, tuple[str, str]] = {
     **{k: ("wheel", k) for keys in SECTIONS.values() for k in keys},
-    "roller_rolling_radius": ("roller", "rolling_radius"),
-    "roller_crown_radius": ("roller", "crown_radius"),
-    **{name: ("contact", name) for name in CONTACT_NUMBERS + CONTACT_OPTIONAL_NUMBERS},
-    "modal_damping_ratio": ("damping", "modal_damping_ratio"),
+    **{
+        flat: ("counter_body", name)
+        for kind in COUNTER_BODIES.values()
+        for flat, (name, _) in kind.flat_fields().items()
+    },
+    **{flat: (attr, name) for attr, cls in _PARTS for flat, (name, _) in cls.flat_fields().items()},
 }
-#: The unit of every numeric design field by its flat name ("" dimensionless): lengths
-#: in m unless said otherwise.
+#: The unit of every numeric design field by its flat name ("" dimensionless).
 FIELD_UNITS: dict[str, str] = {
-    **dict.fromkeys(FIELDS, "m"),
+    **dict.fromkeys(SECTIONS["wheel"], "m"),
     "youngs_modulus": "Pa",
     "poissons_ratio": "",
     "density": "kg/m^3",
-    "normal_load": "N",
-    "c22": "",
-    "friction_coefficient": "",
-    "contact_angle": "rad",
-    "modal_damping_ratio": "",
+    **{flat: unit for kind in COUNTER_BODIES.values() for flat, (_, unit) in kind.flat_fields().items()},
+    **{flat: unit for _, cls in _PARTS for flat, (_, unit) in cls.flat_fields().items()},
 }
-
-#: The sections of the file after the wheel's, and the dataclass each is read into.
-_PARTS = {"roller": Roller, "contact": Contact, "damping": Damping}
+#: The names :meth:`Design.replace` takes beyond :data:`FIELDS`: (section, field).
+_WORDS = {
+    "name": ("wheel", "name"),
+    "description": ("wheel", "description"),
+    "friction_law": ("contact", "friction_law"),
+    "normal_contact": ("contact", "normal_contact"),
+    "transient_creep": ("contact", "transient_creep"),
+    "squeal_mode": ("squeal", "mode"),
+    "mode_damping": ("damping", "by_mode"),
+}
 
 
 @dataclass(frozen=True)
@@ -100,7 +102,7 @@ class Design:
     """A design: the wheel and the squeal model's inputs (see the module docstring)."""
 
     wheel: WheelDesign = field(default_factory=WheelDesign)
-    roller: Roller = field(default_factory=Roller)
+    counter_body: CounterBodySection = field(default_factory=Roller)
     contact: Contact = field(default_factory=Contact)
     damping: Damping = field(default_factory=Damping)
     squeal: Squeal = field(default_factory=Squeal)
@@ -114,13 +116,13 @@ class Design:
 
     @functools.cached_property
     def contact_frame(self) -> ContactFrame:
-        """Where the wheel touches the roller and the contact's frame there
+        """Where the wheel touches its counter-body and the contact's frame there
         (``geometry.contact``: the tread apex unless [contact] contact_angle moves it;
         an outline's contact point sets its own)."""
         try:
             return contact_frame(self.wheel, self.contact.contact_angle)
         except ContactPointError as exc:
-            raise RequestError(f"{self.name}: {exc}") from None
+            raise DesignError(f"{self.name}: {exc}") from None
 
     def damping_ratio_of(self, mode: Mode) -> float:
         """A mode's modal damping ratio: its own (a modal test's), else the design's for its
@@ -138,79 +140,84 @@ class Design:
     def description(self) -> str:
         return self.wheel.description
 
+    def _sections(self) -> dict[str, Fields]:
+        return {"counter_body": self.counter_body, **{attr: getattr(self, attr) for attr, _ in _PARTS}}
+
     def get(self, name: str) -> Any:
         """A field by its flat name (:data:`FIELDS`)."""
         part, attr = _field(name)
-        return getattr(getattr(self, part), attr)
+        owner = getattr(self, part)
+        if not hasattr(owner, attr):
+            raise DesignError(
+                f"{name!r} is not a field of {self.name}'s counter-body ({self.counter_body.KIND})"
+            )
+        return getattr(owner, attr)
 
     def replace(self, **changes: Any) -> Design:
         """A validated copy with fields changed, by their flat names (:data:`FIELDS`), or
-        ``name``, ``description``, ``squeal_mode``, ``mode_damping`` and the [contact] and
-        [roller] fields that are not numbers (``friction_law``, ``normal_contact``,
-        ``transient_creep``, the roller's modal degrees of freedom)."""
+        ``name``, ``description``, ``squeal_mode``, ``mode_damping``, the [contact] words
+        and switches, the counter-body's other fields by their own names (its flat names,
+        ``roller_rolling_radius``, where they clash with the wheel's), or ``counter_body``
+        (a whole section)."""
         parts: dict[str, dict[str, Any]] = {}
+        body_fields = {f.name for f in self.counter_body.specs()}
+        new_body = changes.pop("counter_body", None)
         for name, value in changes.items():
-            if name in ("name", "description"):
-                parts.setdefault("wheel", {})[name] = value
-            elif name in ("friction_law", "normal_contact", "transient_creep"):
-                parts.setdefault("contact", {})[name] = value
-            elif name.startswith(("normal_", "lateral_")) and name.split("_", 1)[1] in ROLLER_MODAL:
-                parts.setdefault("roller", {})[name] = value
-            elif name == "squeal_mode":
-                parts.setdefault("squeal", {})["mode"] = value
-            elif name == "mode_damping":
-                parts.setdefault("damping", {})["by_mode"] = value
-            else:
+            if name in _WORDS:
+                part, attr = _WORDS[name]
+            elif name in FIELDS or name not in body_fields:  # flat names first: the wheel's radii
                 part, attr = _field(name)
-                parts.setdefault(part, {})[attr] = value
-        new = {
-            p: getattr(self, p).replace(**v) if p == "wheel" else dataclasses.replace(getattr(self, p), **v)
-            for p, v in parts.items()
-        }
+            else:
+                part, attr = "counter_body", name
+            parts.setdefault(part, {})[attr] = value
+        new: dict[str, Any] = {"counter_body": new_body} if new_body is not None else {}
+        for part, values in parts.items():
+            owner = new.get(part, getattr(self, part))
+            if part == "counter_body" and not set(values) <= body_fields:
+                bad = sorted(set(values) - body_fields)[0]
+                raise DesignError(f"{bad!r} is not a field of {self.name}'s counter-body ({owner.KIND})")
+            new[part] = owner.replace(**values)
         return dataclasses.replace(self, **new)
 
     def scaled(self, factor: float) -> Design:
-        """The same design with every length of the wheel and the roller times ``factor``."""
-        roller = dataclasses.replace(
-            self.roller,
-            rolling_radius=self.roller.rolling_radius * factor,
-            crown_radius=self.roller.crown_radius * factor,
+        """The same design with every length of the wheel and its counter-body times
+        ``factor``."""
+        return dataclasses.replace(
+            self, wheel=self.wheel.scaled(factor), counter_body=self.counter_body.scaled(factor)
         )
-        return dataclasses.replace(self, wheel=self.wheel.scaled(factor), roller=roller)
 
     def content_hash(self) -> str:
         """Stable SHA-256 (16 hex) of every value but the name and the description (the
         wheel's modes depend on ``wheel.content_hash("structure")`` alone)."""
-
-        def values(part: str) -> dict[str, str]:
-            # a field added later is hashed only when it differs from its default, so the
-            # designs before it keep their hashes
-            obj = getattr(self, part)
-            defaults = {f.name: f.default for f in fields(obj)}
-            return {
-                k: repr(v)
-                for k, v in dataclasses.asdict(obj).items()
-                if not (k in _HASHED_WHEN_SET and v == defaults[k])
-            }
-
-        payload = {"wheel": self.wheel.content_hash("all"),
-                   **{p: values(p) for p in ("roller", "contact", "damping", "squeal")}}  # fmt: skip
+        payload: dict[str, Any] = {"wheel": self.wheel.content_hash("all")}
+        body = self.counter_body
+        payload[body.HASH_KEY] = body.hash_payload() | (
+            {} if body.HASH_KEY == "roller" else {"kind": body.KIND}
+        )
+        payload |= {
+            attr: section.hash_payload()
+            for attr, section in self._sections().items()
+            if attr != "counter_body"
+        }
         return hashlib.sha256(json.dumps(payload, sort_keys=True).encode()).hexdigest()[:16]
 
     def to_dict(self) -> dict[str, Any]:
-        """Every value, flat (:data:`FIELDS` names; the outline as its mapping)."""
+        """Every value, flat (:data:`FIELDS` names; the outline as its mapping; the
+        counter-body's other fields as ``counter_body_NAME``)."""
+        body = self.counter_body
+        flat_of = {name: flat for flat, (name, _) in body.flat_fields().items()}
         return {
             **self.wheel.to_dict(),
-            **{n: self.get(n) for n, (part, _) in FIELDS.items() if part != "wheel"},
+            "counter_body_kind": body.KIND,
+            **{flat_of.get(k, f"counter_body_{k}"): v for k, v in body.to_mapping().items()},
+            **{
+                flat: self.get(flat)
+                for flat, (part, _) in FIELDS.items()
+                if part not in ("wheel", "counter_body")
+            },
             "friction_law": self.contact.friction_law,
             "normal_contact": self.contact.normal_contact,
             "transient_creep": self.contact.transient_creep,
-            **{
-                f"roller_{d}_{k}": getattr(self.roller, f"{d}_{k}")
-                for d in ("normal", "lateral")
-                if self.roller.modal(d)
-                for k in ROLLER_MODAL
-            },  # fmt: skip
             "squeal_mode": self.squeal.mode,
             "mode_damping": [list(x) for x in self.damping.by_mode],
         }
@@ -229,7 +236,7 @@ class Design:
         design = cls.from_mapping(data, default_name=path.stem, source=str(path), base=path.parent)
         if not set(data) - {"name", "description"}:
             warnings.warn(
-                f"design file {path} gives no [wheel], [profile], [material], [roller], [contact], "
+                f"design file {path} gives no [wheel], [profile], [material], [counter_body], [contact], "
                 "[damping] or [squeal] values: it is the default Table 1 wheel",
                 stacklevel=2,
             )
@@ -246,99 +253,67 @@ class Design:
         """A design from a mapping shaped like the file (``base``: the folder a
         [profile] file name is relative to)."""
         wheel_keys = {"name", "description", "profile", *SECTIONS}
-        known = wheel_keys | set(_PARTS) | {"squeal"}
+        known = wheel_keys | {"roller", "counter_body", "contact", "damping", "squeal"}
         for key in data:
             if key not in known:
-                raise RequestError(
+                raise DesignError(
                     f"{source}: unknown key or section '{key}'; allowed: name, description, [wheel], "
-                    "[profile], [material], [roller], [contact], [damping], [squeal]"
+                    "[profile], [material], [counter_body], [contact], [damping], [squeal]"
                 )
         wheel = WheelDesign.from_mapping(
             {k: v for k, v in data.items() if k in wheel_keys}, default_name, source, base
         )
-        parts: dict[str, Any] = {"wheel": wheel}
-        for section, cls_ in _PARTS.items():
-            parts[section] = cls_(**_section(data.get(section, {}), section, cls_, source))
         squeal = data.get("squeal", {})
         if not isinstance(squeal, dict):
-            raise RequestError(f"{source}: [squeal] must be a table")
+            raise DesignError(f"{source}: [squeal] must be a table")
         for sub in squeal:
             if sub not in ("mode", "damping"):
-                raise RequestError(f"{source}: unknown key '{sub}' in [squeal]; allowed: damping, mode")
+                raise DesignError(f"{source}: unknown key '{sub}' in [squeal]; allowed: damping, mode")
         mode = squeal.get("mode", "")
-        parts["squeal"] = Squeal(mode.replace(" ", "") if isinstance(mode, str) else mode)
-        measured = _measured_damping(squeal.get("damping", {}), source)
-        parts["damping"] = dataclasses.replace(parts["damping"], by_mode=measured)
-        return cls(**parts)
+        damping = Damping.from_mapping(data.get("damping", {}), source)
+        return cls(
+            wheel=wheel,
+            counter_body=counter_body_from_file(data, source),
+            contact=Contact.from_mapping(data.get("contact", {}), source),
+            damping=damping.replace(by_mode=_measured_damping(squeal.get("damping", {}), source)),
+            squeal=Squeal(mode.replace(" ", "") if isinstance(mode, str) else mode),
+        )
 
     def to_toml(self) -> str:
         """The design file's text (round-trips through :meth:`from_toml`)."""
-        lines = [self.wheel.to_toml().rstrip()]
-        lines.append("\n[roller]")
-        lines += [_toml_line(self.roller, f) for f in fields(self.roller) if _written(self.roller, f)]
-        lines.append("\n[contact]")
-        lines += [_toml_line(self.contact, f) for f in fields(self.contact) if _written(self.contact, f)]
-        lines.append(f"\n[damping]\nmodal_damping_ratio = {toml_float(self.damping.modal_damping_ratio)}")
+        body = self.counter_body
+        lines = [self.wheel.to_toml().rstrip(), "", "[counter_body]", f"kind = {toml_value(body.KIND)}"]
+        lines += body.toml_lines()
+        lines += ["", "[contact]", *self.contact.toml_lines(), "", "[damping]", *self.damping.toml_lines()]
         if self.squeal.mode or self.damping.by_mode:
-            lines.append("\n[squeal]")
-            if self.squeal.mode:
-                lines.append(f"mode = {json.dumps(self.squeal.mode)}")
+            lines += ["", "[squeal]", *self.squeal.toml_lines()] if self.squeal.mode else ["", "[squeal]"]
             if self.damping.by_mode:
-                lines.append("\n[squeal.damping]")
-                lines += [f"{json.dumps(k)} = {toml_float(v)}" for k, v in self.damping.by_mode]
+                lines += [
+                    "",
+                    "[squeal.damping]",
+                    *(f"{json.dumps(k)} = {toml_value(v)}" for k, v in self.damping.by_mode),
+                ]
         return "\n".join(lines) + "\n"
-
-
-def _written(obj: Any, f: dataclasses.Field) -> bool:
-    return not (f.name in _HASHED_WHEN_SET and getattr(obj, f.name) == f.default)
-
-
-def _toml_line(obj: Any, f: dataclasses.Field) -> str:
-    value = getattr(obj, f.name)
-    if isinstance(value, bool):
-        return f"{f.name} = {'true' if value else 'false'}"
-    if isinstance(value, str):
-        return f"{f.name} = {json.dumps(value)}"
-    return f"{f.name} = {toml_float(value)}"
 
 
 def _field(name: str) -> tuple[str, str]:
     try:
         return FIELDS[name]
     except KeyError:
-        raise RequestError(f"{name!r} is not a design parameter; choose from {', '.join(FIELDS)}") from None
-
-
-def _section(table: Any, section: str, cls_: type, source: str) -> dict[str, Any]:
-    if not isinstance(table, dict):
-        raise RequestError(f"{source}: [{section}] must be a table")
-    allowed = {f.name for f in fields(cls_) if f.name != "by_mode"}
-    out = {}
-    for key, value in table.items():
-        if key not in allowed:
-            raise RequestError(
-                f"{source}: unknown key '{key}' in [{section}]; allowed: {', '.join(sorted(allowed))}"
-            )
-        if cls_ is Contact and key in ("friction_law", "normal_contact", "transient_creep"):
-            out[key] = value  # a name or a switch, checked by Contact
-            continue
-        if isinstance(value, bool) or not isinstance(value, int | float):
-            raise RequestError(f"{source}: [{section}] {key} must be a number, got {value!r}")
-        out[key] = float(value)
-    return out
+        raise DesignError(f"{name!r} is not a design parameter; choose from {', '.join(FIELDS)}") from None
 
 
 def _measured_damping(table: Any, source: str) -> tuple[tuple[str, float], ...]:
     if not isinstance(table, dict):
-        raise RequestError(f'{source}: [squeal.damping] must be a table of "n=N,c=C" = ratio')
+        raise DesignError(f'{source}: [squeal.damping] must be a table of "n=N,c=C" = ratio')
     items: dict[str, tuple[str, float]] = {}
     for label, ratio in table.items():
         if isinstance(ratio, bool) or not isinstance(ratio, int | float):
-            raise RequestError(f"{source}: [squeal.damping] {label!r} must be a number")
+            raise DesignError(f"{source}: [squeal.damping] {label!r} must be a number")
         key = mode_key(label, source)
         if key in items:
             first = items[key][0]
-            raise RequestError(
+            raise DesignError(
                 f"{source}: [squeal.damping] {first!r} and {label!r} name the same mode ({key})"
             )
         items[key] = (label, float(ratio))

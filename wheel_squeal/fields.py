@@ -260,7 +260,7 @@ _SWEEP_POINT = ("crabbing_velocity_m_s", "rpm", "rolling_speed_m_s", "verdict_mo
 RESULT_FIELDS = ("tone_hz", "growth_rate_1_s", "amplitude_m_s", "spl_db", "spl_dba", "sound_power_level_db",
                  "model_pick_growth_rate_1_s", "override_growth_rate_1_s")  # fmt: skip
 FLAG_FIELDS = ("squeals", "saturated")
-LABEL_FIELDS = ("verdict_mode", "model_pick")
+LABEL_FIELDS = ("verdict_mode", "mechanism", "model_pick")
 
 FILES: dict[str, OutputFile] = {
     "summary.json": OutputFile(

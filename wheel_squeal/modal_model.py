@@ -29,7 +29,7 @@ from geometry.files import read_toml
 
 from .errors import RequestError
 
-__all__ = ["MODAL_MODEL_SOLVER", "load_modal_model"]
+__all__ = ["MODAL_MODEL_SOLVER", "explicit_modes", "load_modal_model", "modal_modes"]
 
 #: The ``solver`` of a mode set read from a modal model
 MODAL_MODEL_SOLVER = "modal-model"
@@ -101,6 +101,42 @@ def _mode(i: int, table: Any, source: str) -> Mode:
     return Mode(i, f, nd, 0, "measured", lateral, normal, label or f"mode {i + 1} ({f:.1f} Hz)", zeta)
 
 
+def modal_modes(modes: list[Mode]) -> ModeSet:
+    """Measured or given modes (no shapes) as a ``fem.ModeSet`` of solver
+    :data:`MODAL_MODEL_SOLVER`, in the order given."""
+    return ModeSet(modes, np.zeros((0, 3)), {}, [np.zeros((m.multiplicity, 0, 3)) for m in modes],
+                   MODAL_MODEL_SOLVER, 0)  # fmt: skip
+
+
+def explicit_modes(
+    mass_kg: float, stiffness_n_m: float, damping_ns_m: float, nodal_diameters: int = 0
+) -> ModeSet:
+    """One mode given by its modal mass [kg], stiffness [N/m] and damping [N s/m] at the
+    contact (lateral), and its nodal diameters (a pair on a turning wheel), as a mode set
+    the chain takes like any other. Bad values raise :class:`RequestError`."""
+    for name, v, zero_ok in (
+        ("mass_kg", mass_kg, False),
+        ("stiffness_n_m", stiffness_n_m, False),
+        ("damping_ns_m", damping_ns_m, True),
+    ):
+        if not (math.isfinite(v) and (v > 0 or (zero_ok and v == 0))):
+            raise RequestError(f"{name} must be {'non-negative' if zero_ok else 'positive'}, got {v:g}")
+    if nodal_diameters < 0:
+        raise RequestError(f"nodal diameters must be 0 or more, got {nodal_diameters}")
+    f = math.sqrt(stiffness_n_m / mass_kg) / (2 * math.pi)
+    zeta = damping_ns_m / (2 * math.sqrt(stiffness_n_m * mass_kg))
+    if not zeta < 1.0:
+        raise RequestError(
+            f"damping_ns_m = {damping_ns_m:g} is over critical damping "
+            f"({2 * math.sqrt(stiffness_n_m * mass_kg):.4g} N s/m)"
+        )
+    members = 1 if nodal_diameters == 0 else 2
+    phi = (1.0 / math.sqrt(mass_kg),) + (0.0,) * (members - 1)
+    zero = (0.0,) * members
+    label = f"the given mode ({f:.1f} Hz)"
+    return modal_modes([Mode(0, f, int(nodal_diameters), 0, "measured", phi, zero, label, zeta)])
+
+
 def load_modal_model(path: str | Path, fmax_hz: float | None = None) -> ModeSet:
     """The modes of a modal-model file as a ``fem.ModeSet`` (no shapes; ``solver`` is
     :data:`MODAL_MODEL_SOLVER`), in frequency order, those up to ``fmax_hz`` [Hz] when
@@ -141,5 +177,4 @@ def load_modal_model(path: str | Path, fmax_hz: float | None = None) -> ModeSet:
     labels = [m.name for m in modes]
     if len(set(labels)) != len(labels):
         raise RequestError(f"{source}: two modes have the same label; give each its own")
-    return ModeSet(modes, np.zeros((0, 3)), {}, [np.zeros((m.multiplicity, 0, 3)) for m in modes],
-                   MODAL_MODEL_SOLVER, 0)  # fmt: skip
+    return modal_modes(modes)

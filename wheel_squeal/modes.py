@@ -210,7 +210,7 @@ def check_named_modes(design: Design, modeset: ModeSet, fmax_hz: float) -> None:
 def pick_mode(modeset: ModeSet, mode: str = "default") -> SelectedMode:
     """A mode by its description, and why it was picked: ``mode`` is default (the (3, 0)
     axial mode) | INDEX | n=3[,c=0] | f=HZ. (The fastest-growing mode, ``auto``, needs
-    an operating point: :func:`wheel_squeal.stability.choose_mode`.)"""
+    an operating point: the chain's decision, :mod:`wheel_squeal.decision`.)"""
     from fem.modes import ModeSelection, select_mode
 
     try:

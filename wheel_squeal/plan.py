@@ -7,7 +7,7 @@ the time domain of the modes the verdict simulates and their sound (:func:`verdi
 from __future__ import annotations
 
 from collections.abc import Sequence
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 from .api import SIMULATION_HINT, simulation_seconds, simulation_steps
 from .budget import CostPlan
@@ -50,29 +50,29 @@ def verdict_plan(
     modeset: ModeSet,
     contact: ContactLaw,
     op: OperatingPoint,
-    opts,
+    opts: Any,
     rows: Sequence[Mode],
     simulated: Sequence[tuple[Mode, Sequence[Mode]]],
     growing: bool,
+    sound: bool,
 ) -> CostPlan:
-    """The verdict's parts after the stability: the time domain of each simulated mode
-    with the modes it shares its eigenvalue with (``simulated``: (mode, together)), the
-    remedy's or margin's bounds among ``rows`` and each simulated mode's sound, as the
-    chain's options (``opts``: ``ChainOptions``) ask for them."""
+    """The verdict's parts after the stability: the time domain of each group the
+    decision integrates (``simulated``: (the mode named for it, the modes integrated
+    together)), the remedy's or margin's bounds among ``rows`` (``opts.remedy``) and,
+    with ``sound``, each named mode's radiation."""
     plan = CostPlan()
-    if opts.simulate_modes:
-        for m, together in simulated:
-            dofs = contact_dofs(together, design)
-            steps = simulation_steps(dofs, contact, op)
-            plan.add(
-                f"squeal model of {m.label()} ({steps:,} RK4 steps)",
-                simulation_seconds(dofs, contact, op),
-                remedy=SIMULATION_HINT,
-            )
-    if opts.margin:
+    for m, together in simulated:
+        dofs = contact_dofs(together, design)
+        steps = simulation_steps(dofs, contact, op)
+        plan.add(
+            f"squeal model of {m.label()} ({steps:,} RK4 steps)",
+            simulation_seconds(dofs, contact, op),
+            remedy=SIMULATION_HINT,
+        )
+    if opts.remedy:
         dofs = contact_dofs(rows, design)
         plan.add("remedy" if growing else "margin", bounds_seconds(dofs, opts.rotation))
-    if opts.sound and opts.simulate_modes:
+    if sound:
         for m, _ in simulated:
             cost = sound_cost(design, modeset, m, opts.listener)
             if cost is not None:

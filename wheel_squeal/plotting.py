@@ -31,7 +31,8 @@ PLOT_MODULES = (
     "matplotlib.backends.backend_agg",
     "matplotlib.tri",
     "reduced.report",
-    "wheel_squeal.sound_files",
+    "wheel_squeal.present.figures",
+    "wheel_squeal.present.sound_figures",
 )
 
 _Job = tuple[Callable, tuple, dict]

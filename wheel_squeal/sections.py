@@ -1,30 +1,46 @@
-"""The squeal model's sections of a design file, each a small dataclass of its own:
-[roller] (the counter-body, :class:`Roller`), [contact] (load, friction, where and how
-the wheel touches it, :class:`Contact`), [damping] (:class:`Damping`) and [squeal] (what
-the rig showed, :class:`Squeal`). Every value is checked on construction, with a
-one-line :class:`~wheel_squeal.errors.RequestError` naming it.
+"""The squeal model's sections of a design file, each a section of the one schema
+(``geometry.schema.Fields``: fields with unit, default and check, the same mapping in and
+out, TOML lines and hash): [counter_body] (what the wheel rolls on, one class per kind:
+:data:`COUNTER_BODIES`), [contact] (load, friction, where and how the wheel touches it,
+:class:`Contact`), [damping] (:class:`Damping`) and [squeal] (what the rig showed,
+:class:`Squeal`). Every value is checked on construction, with a one-line
+``geometry.DesignError`` naming it.
+
+A counter-body kind is one class here (its fields, the radii of its surface at the
+contact for Hertz, and the physics object of ``reduced.counter_body`` that gives its
+degrees of freedom) registered in :data:`COUNTER_BODIES`; the rest of the tool reaches
+it through :class:`CounterBodySection` only. Files before the tagged section said
+``[roller]``: it is read as ``[counter_body] kind = "roller"``.
 """
 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Any, ClassVar
 
+from geometry import DesignError
 from geometry.design import MAX_LENGTH_M
+from geometry.schema import Fields, spec
 from reduced.creep import FRICTION_LAWS, TABLE1_C22
 
-from .errors import RequestError
+if TYPE_CHECKING:
+    from reduced import CounterBody, ModalDOF
 
 __all__ = [
-    "CONTACT_NUMBERS",
-    "CONTACT_OPTIONAL_NUMBERS",
+    "C22_RANGE",
+    "COUNTER_BODIES",
+    "CounterBodySection",
     "DEFAULT_FRICTION_LAW",
+    "MAX_RELAXATION_LENGTH_M",
     "NORMAL_CONTACTS",
     "ROLLER_MODAL",
+    "ROLLER_RANGES",
     "Contact",
     "Damping",
     "Roller",
     "Squeal",
+    "counter_body_from_file",
     "mode_key",
 ]
 
@@ -39,7 +55,7 @@ def mode_key(label: str, source: str = "design") -> str:
     except ValueError:
         sel = None
     if sel is None or sel.nodal_diameters is None or "c" not in str(label).replace(" ", ""):
-        raise RequestError(
+        raise DesignError(
             f'{source}: [squeal.damping] key {label!r}: use "n=N,c=C" (nodal diameters, circles)'
         )
     return f"n={sel.nodal_diameters},c={sel.nodal_circles}"
@@ -52,12 +68,45 @@ def _positive(owner: str, name: str, value: float, *, length: bool = False) -> N
         or not math.isfinite(value)
         or value <= 0
     ):
-        raise RequestError(f"[{owner}] {name} must be a positive number, got {value!r}")
+        raise DesignError(f"[{owner}] {name} must be a positive number, got {value!r}")
     if length and value > MAX_LENGTH_M:
-        raise RequestError(
+        raise DesignError(
             f"[{owner}] {name} = {value:g} m is longer than any wheel ({MAX_LENGTH_M:g} m): "
             f"it looks like millimetres; write {value / 1000:g}"
         )
+
+
+# --------------------------------------------------------------------------------------
+# the counter-body: one section class per kind
+# --------------------------------------------------------------------------------------
+class CounterBodySection(Fields):
+    """What the wheel rolls on, as a design file gives it: ``KIND`` names it in
+    ``[counter_body] kind = ...``; :meth:`contact_radii` are its surface's radii at the
+    contact (Hertz); :meth:`body` is its physics (``reduced.CounterBody``: degrees of
+    freedom in series with the contact); :meth:`dof_labels` name those degrees of
+    freedom. ``HASH_KEY``: the key of its values in a design's content hash."""
+
+    TABLE: ClassVar[str] = "counter_body"
+    KIND: ClassVar[str] = ""
+    HASH_KEY: ClassVar[str] = "counter_body"
+
+    def contact_radii(self) -> tuple[float, float]:
+        """(radius along rolling, radius across) of its surface at the contact [m]."""
+        raise NotImplementedError
+
+    def body(self) -> CounterBody:
+        raise NotImplementedError
+
+    def dofs(self) -> list[ModalDOF]:
+        """Its degrees of freedom at the contact (``reduced.ModalDOF``, gains -1)."""
+        return self.body().dofs()
+
+    def dof_labels(self) -> list[str]:
+        raise NotImplementedError
+
+    def summary(self) -> dict[str, Any]:
+        """JSON-ready: its kind and values."""
+        return {"kind": self.KIND, **self.to_mapping()}
 
 
 #: The counter-body's modal degrees of freedom: per direction at the contact, its
@@ -68,149 +117,213 @@ ROLLER_MODAL = ("frequency_hz", "damping_ratio", "modal_mass_kg")
 ROLLER_RANGES = {"frequency_hz": (0.1, 1e6, "Hz"), "modal_mass_kg": (1e-6, 1e6, "kg")}
 
 
-@dataclass(frozen=True)
-class Roller:
-    """The counter-body: the upper wheel of the rig. rolling_radius: R2 [m];
-    crown_radius: its transverse radius R2t [m]. Rigid and fixed unless a direction
-    gives its modal degree of freedom at the contact: ``normal_frequency_hz``,
-    ``normal_damping_ratio``, ``normal_modal_mass_kg`` (along the contact normal) and
-    the same three ``lateral_`` ones (along the lateral tangent), in series with the
-    contact."""
+def _modal(direction: str, key: str) -> Any:
+    unit = {"frequency_hz": "Hz", "damping_ratio": "", "modal_mass_kg": "kg"}[key]
+    what = {"frequency_hz": "frequency", "damping_ratio": "damping ratio", "modal_mass_kg": "modal mass"}[key]
+    along = "the contact normal" if direction == "normal" else "the lateral tangent"
+    return spec(None, unit, f"the {what} of the roller's mode along {along} (none: rigid)", when_set=True)
 
-    rolling_radius: float = 0.085
-    crown_radius: float = 0.040
-    normal_frequency_hz: float | None = None
-    normal_damping_ratio: float | None = None
-    normal_modal_mass_kg: float | None = None
-    lateral_frequency_hz: float | None = None
-    lateral_damping_ratio: float | None = None
-    lateral_modal_mass_kg: float | None = None
+
+@dataclass(frozen=True)
+class Roller(CounterBodySection):
+    """The rig's upper wheel: rolling_radius R2 [m], crown_radius R2t [m]. Rigid and fixed
+    unless a direction gives its modal degree of freedom at the contact (frequency,
+    damping ratio and modal mass along the contact normal and/or the lateral tangent, in
+    series with the contact)."""
+
+    KIND: ClassVar[str] = "roller"
+    HASH_KEY: ClassVar[str] = "roller"
+
+    rolling_radius: float = spec(
+        0.085, "m", "R2, the roller's rolling radius", flat="roller_rolling_radius", length=True
+    )
+    crown_radius: float = spec(
+        0.040, "m", "R2t, the roller's transverse (crown) radius", flat="roller_crown_radius", length=True
+    )
+    normal_frequency_hz: float | None = _modal("normal", "frequency_hz")
+    normal_damping_ratio: float | None = _modal("normal", "damping_ratio")
+    normal_modal_mass_kg: float | None = _modal("normal", "modal_mass_kg")
+    lateral_frequency_hz: float | None = _modal("lateral", "frequency_hz")
+    lateral_damping_ratio: float | None = _modal("lateral", "damping_ratio")
+    lateral_modal_mass_kg: float | None = _modal("lateral", "modal_mass_kg")
 
     def __post_init__(self) -> None:
-        _positive("roller", "rolling_radius", self.rolling_radius, length=True)
-        _positive("roller", "crown_radius", self.crown_radius)
+        _positive("counter_body", "rolling_radius", self.rolling_radius, length=True)
+        _positive("counter_body", "crown_radius", self.crown_radius)
         for direction in ("normal", "lateral"):
             given = [k for k in ROLLER_MODAL if getattr(self, f"{direction}_{k}") is not None]
             if given and len(given) < len(ROLLER_MODAL):
                 missing = [f"{direction}_{k}" for k in ROLLER_MODAL if k not in given]
-                raise RequestError(
-                    f"[roller] a {direction} modal degree of freedom needs {', '.join(missing)} too "
+                raise DesignError(
+                    f"[counter_body] a {direction} modal degree of freedom needs {', '.join(missing)} too "
                     "(frequency, damping ratio and modal mass; none of them: rigid)"
                 )
             for k in given:
                 value = getattr(self, f"{direction}_{k}")
                 if k == "damping_ratio":
                     if isinstance(value, bool) or not 0.0 <= value < 1.0:
-                        raise RequestError(f"[roller] {direction}_{k} = {value!r}: a damping ratio in [0, 1)")
+                        raise DesignError(
+                            f"[counter_body] {direction}_{k} = {value!r}: a damping ratio in [0, 1)"
+                        )
                     continue
-                _positive("roller", f"{direction}_{k}", value)
+                _positive("counter_body", f"{direction}_{k}", value)
                 low, high, unit = ROLLER_RANGES[k]
                 if not low <= value <= high:
-                    raise RequestError(
-                        f"[roller] {direction}_{k} = {value:g} {unit} is outside the plausible range "
+                    raise DesignError(
+                        f"[counter_body] {direction}_{k} = {value:g} {unit} is outside the plausible range "
                         f"of a counter-body's mode ({low:g} to {high:g} {unit})"
                     )
 
     def modal(self, direction: str) -> tuple[float, float, float] | None:
-        """(frequency [Hz], damping ratio, modal mass [kg]) of the roller's modal degree
-        of freedom along ``direction`` ("normal" or "lateral"), None where it is rigid."""
+        """(frequency [Hz], damping ratio, modal mass [kg]) of its modal degree of freedom
+        along ``direction`` ("normal" or "lateral"), None where it is rigid."""
         values = tuple(getattr(self, f"{direction}_{k}") for k in ROLLER_MODAL)
         return None if values[0] is None else values
 
+    def contact_radii(self) -> tuple[float, float]:
+        return self.rolling_radius, self.crown_radius
 
+    def body(self) -> CounterBody:
+        from reduced import ModalRoller, RigidCounterBody
+
+        normal, lateral = self.modal("normal"), self.modal("lateral")
+        return RigidCounterBody() if normal is None and lateral is None else ModalRoller(normal, lateral)
+
+    def dof_labels(self) -> list[str]:
+        return [f"roller {d}" for d in ("normal", "lateral") if self.modal(d) is not None]
+
+
+#: Every counter-body kind a design file may give, by its ``kind``.
+COUNTER_BODIES: dict[str, type[CounterBodySection]] = {"roller": Roller}
+
+
+def counter_body_from_file(data: dict[str, Any], source: str) -> CounterBodySection:
+    """The counter-body of a design file's mapping: ``[counter_body]`` with its ``kind``
+    (default "roller"), or an older file's ``[roller]``."""
+    if "roller" in data and "counter_body" in data:
+        raise DesignError(f"{source}: give [counter_body] or the older [roller], not both")
+    if "roller" in data:
+        return Roller.from_mapping(data["roller"], source)
+    table = data.get("counter_body", {})
+    if not isinstance(table, dict):
+        raise DesignError(f"{source}: [counter_body] must be a table")
+    kind = table.get("kind", "roller")
+    if kind not in COUNTER_BODIES:
+        raise DesignError(
+            f"{source}: [counter_body] kind = {kind!r}: the kinds are {', '.join(map(repr, COUNTER_BODIES))}"
+        )
+    return COUNTER_BODIES[kind].from_mapping({k: v for k, v in table.items() if k != "kind"}, source)
+
+
+# --------------------------------------------------------------------------------------
+# the contact, the damping, what the rig showed
+# --------------------------------------------------------------------------------------
 #: The paper's friction law, the default of every design
 DEFAULT_FRICTION_LAW = "falling"
 #: How the normal force follows the contact's normal motion: "hertz" (the nonlinear
 #: Hertz spring, the default) or "constant" (the paper's fixed normal load)
 NORMAL_CONTACTS = ("hertz", "constant")
-#: The numeric fields of [contact] (a design parameter each, see :data:`FIELDS`)
-CONTACT_NUMBERS = ("normal_load", "c22", "friction_coefficient")
 #: The plausible range of the creep coefficient C22 (Kalker's table spans about 2 to 10
 #: for ellipses of axis ratio 0.1 to 10) and the longest relaxation length [m].
 C22_RANGE = (0.1, 100.0)
 MAX_RELAXATION_LENGTH_M = 1.0
-#: The optional numeric fields of [contact], written and hashed only when set
-CONTACT_OPTIONAL_NUMBERS = ("contact_angle", "relaxation_length")
 
 
 @dataclass(frozen=True)
-class Contact:
-    """The contact of the wheel on the roller. normal_load: W [N]; c22: Kalker's creep
-    coefficient C22 [-] (the paper's 3.14); friction_coefficient: mu_s = mu_0 [-];
-    friction_law: a name of ``reduced.FRICTION_LAWS`` ("falling", the paper's, or
-    "constant": no falling friction); contact_angle: where on the tread the contact
-    lies [rad] (``geometry.contact``: 0 the apex); normal_contact: "hertz" or
-    "constant" (:data:`NORMAL_CONTACTS`); transient_creep: the creep force lags its
-    steady value by L / V0 (False: the paper's steady law), with the relaxation length
-    L = relaxation_length [m] (0: the Hertz semi-axis a along rolling)."""
+class Contact(Fields):
+    """The contact of the wheel on its counter-body (module docstring; each field's
+    meaning is its ``spec``)."""
 
-    normal_load: float = 1000.0
-    c22: float = TABLE1_C22
-    friction_coefficient: float = 0.3
-    friction_law: str = DEFAULT_FRICTION_LAW
-    contact_angle: float = 0.0
-    normal_contact: str = "hertz"
-    transient_creep: bool = False
-    relaxation_length: float = 0.0
+    TABLE: ClassVar[str] = "contact"
+
+    normal_load: float = spec(1000.0, "N", "the normal load W", flat="normal_load")
+    c22: float = spec(TABLE1_C22, "", "Kalker's lateral creep coefficient C22 (the paper's 3.14)", flat="c22")
+    friction_coefficient: float = spec(
+        0.3, "", "the friction coefficient mu_s = mu_0", flat="friction_coefficient"
+    )
+    friction_law: str = spec(
+        DEFAULT_FRICTION_LAW, "-", "a name of reduced.FRICTION_LAWS: falling (the paper's) or constant",
+        when_set=True,
+    )  # fmt: skip
+    contact_angle: float = spec(
+        0.0, "rad", "where on the tread the contact lies (0: the apex)", flat="contact_angle", when_set=True
+    )
+    normal_contact: str = spec(
+        "hertz", "-", "hertz (the normal force follows the normal motion) or constant (fixed load)",
+        when_set=True,
+    )  # fmt: skip
+    transient_creep: bool = spec(False, "-", "the creep force lags its steady value by L / V0", when_set=True)
+    relaxation_length: float = spec(
+        0.0, "m", "L of the transient creep (0: the Hertz semi-axis a along rolling)",
+        flat="relaxation_length", when_set=True,
+    )  # fmt: skip
 
     def __post_init__(self) -> None:
-        for name in CONTACT_NUMBERS:
+        for name in ("normal_load", "c22", "friction_coefficient"):
             _positive("contact", name, getattr(self, name))
         if not C22_RANGE[0] <= self.c22 <= C22_RANGE[1]:
-            raise RequestError(
+            raise DesignError(
                 f"[contact] c22 = {self.c22:g} is outside the range of Kalker's creep coefficients "
                 f"({C22_RANGE[0]:g} to {C22_RANGE[1]:g}; 3.14 in the paper)"
             )
         if self.friction_law not in FRICTION_LAWS:
-            raise RequestError(
+            raise DesignError(
                 f"[contact] friction_law must be one of {', '.join(map(repr, FRICTION_LAWS))}, "
                 f"got {self.friction_law!r}"
             )
         if self.normal_contact not in NORMAL_CONTACTS:
-            raise RequestError(
+            raise DesignError(
                 f"[contact] normal_contact must be one of {', '.join(map(repr, NORMAL_CONTACTS))}, "
                 f"got {self.normal_contact!r}"
             )
         if isinstance(self.contact_angle, bool) or not math.isfinite(self.contact_angle):
-            raise RequestError(f"[contact] contact_angle must be an angle in rad, got {self.contact_angle!r}")
+            raise DesignError(f"[contact] contact_angle must be an angle in rad, got {self.contact_angle!r}")
         if abs(self.contact_angle) > 0.5 * math.pi:
-            raise RequestError(
+            raise DesignError(
                 f"[contact] contact_angle = {self.contact_angle:g} is over pi/2: it is in rad "
                 f"(write {math.radians(self.contact_angle):.4g} for {self.contact_angle:g} deg)"
             )
         if not isinstance(self.transient_creep, bool):
-            raise RequestError(
+            raise DesignError(
                 f"[contact] transient_creep must be true or false, got {self.transient_creep!r}"
             )
         if self.relaxation_length != 0.0:
             _positive("contact", "relaxation_length", self.relaxation_length)
             if self.relaxation_length > MAX_RELAXATION_LENGTH_M:
-                raise RequestError(
+                raise DesignError(
                     f"[contact] relaxation_length = {self.relaxation_length:g} m: the creep force builds up "
                     f"over about a contact length (a few mm), at most {MAX_RELAXATION_LENGTH_M:g} m"
                 )
             if not self.transient_creep:
-                raise RequestError("[contact] relaxation_length needs transient_creep = true")
+                raise DesignError("[contact] relaxation_length needs transient_creep = true")
 
 
 @dataclass(frozen=True)
-class Damping:
+class Damping(Fields):
     """The modes' viscous damping: ``modal_damping_ratio`` [-] for every mode without a
-    measured one, ``by_mode`` the measured ratios (("n=N,c=C", ratio), ...), sorted."""
+    measured one; ``by_mode`` the measured ratios (("n=N,c=C", ratio), ...), sorted (the
+    file's ``[squeal.damping]``)."""
 
-    modal_damping_ratio: float = 9.4e-4
-    by_mode: tuple[tuple[str, float], ...] = ()
+    TABLE: ClassVar[str] = "damping"
+
+    modal_damping_ratio: float = spec(
+        9.4e-4, "", "the modal damping ratio of every mode without its own", flat="modal_damping_ratio"
+    )
+    by_mode: tuple[tuple[str, float], ...] = field(default=())
 
     def __post_init__(self) -> None:
         for name, ratio in (("modal_damping_ratio", self.modal_damping_ratio), *self.by_mode):
             if isinstance(ratio, bool) or not isinstance(ratio, int | float) or not 0.0 <= ratio < 1.0:
-                raise RequestError(f"damping ratio {name} = {ratio!r}: a modal damping ratio in [0, 1)")
+                raise DesignError(f"damping ratio {name} = {ratio!r}: a modal damping ratio in [0, 1)")
         keys = [k for k, _ in self.by_mode]
         for k in keys:
             if mode_key(k) != k:
-                raise RequestError(f'[squeal.damping] key {k!r}: use "n=N,c=C" (nodal diameters, circles)')
+                raise DesignError(f'[squeal.damping] key {k!r}: use "n=N,c=C" (nodal diameters, circles)')
         if len(set(keys)) != len(keys):
-            raise RequestError("[squeal.damping] names a mode twice")
+            raise DesignError("[squeal.damping] names a mode twice")
+
+    def hash_payload(self) -> dict[str, str]:
+        return {**super().hash_payload(), "by_mode": repr(self.by_mode)}
 
     def ratio(self, nodal_diameters: int, nodal_circles: int) -> float:
         """The (n, c) mode's damping ratio: its measured one, else the common one."""
@@ -218,19 +331,21 @@ class Damping:
 
 
 @dataclass(frozen=True)
-class Squeal:
+class Squeal(Fields):
     """What the rig showed: ``mode``, the mode seen to squeal (``n=3,c=0``, an index or
     ``f=HZ``; "" for none). A named mode is an override (:mod:`wheel_squeal.verdict`)."""
 
-    mode: str = ""
+    TABLE: ClassVar[str] = "squeal"
+
+    mode: str = spec("", "-", "the mode the rig was seen to squeal in (an override of the model's pick)")
 
     def __post_init__(self) -> None:
         if not isinstance(self.mode, str):
-            raise RequestError(f'[squeal] mode must be a string like "n=3,c=0", got {self.mode!r}')
+            raise DesignError(f'[squeal] mode must be a string like "n=3,c=0", got {self.mode!r}')
         if self.mode:
             from fem.modes import ModeSelection
 
             try:
                 ModeSelection.parse(self.mode)
             except ValueError:
-                raise RequestError(f"[squeal] mode {self.mode!r}: use n=N[,c=C], an index or f=HZ") from None
+                raise DesignError(f"[squeal] mode {self.mode!r}: use n=N[,c=C], an index or f=HZ") from None

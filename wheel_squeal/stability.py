@@ -1,12 +1,13 @@
-"""Which mode squeals: the linear stability of every FE mode at the contact, the mode a
-run simulates (the operating envelope and what stops the squeal over it:
+"""The linear stability of every mode the contact sees, and every degree of freedom
+named (the modes, then the counter-body's); which of them the verdict integrates is
+:mod:`wheel_squeal.decision`'s (the operating envelope and what stops the squeal over it:
 :mod:`wheel_squeal.envelope`).
 
 Every mode below ``fmax`` that the contact can excite (lateral motion at the contact,
 or normal motion where the Hertz spring makes the normal force follow it) enters the
 coupled linear model of ``reduced.stability`` with its own damping (the design's
-``[squeal.damping]`` where it gives one), beside the roller's own modes when [roller]
-gives them. On a turning wheel (``rotation``) each pair with n nodal diameters becomes
+``[squeal.damping]`` where it gives one), beside the counter-body's degrees of freedom
+([counter_body]). On a turning wheel (``rotation``) each pair with n nodal diameters becomes
 two travelling waves at f0 -/+ n Omega / 2 pi, Omega = V0 / R. Every growing
 eigenvalue is named by its mechanism (falling friction or mode coupling) and its
 participating modes.
@@ -15,45 +16,33 @@ participating modes.
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Iterator, Sequence
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, NamedTuple
+from typing import TYPE_CHECKING, Any, NamedTuple
 
 import numpy as np
 
 from .design import Design
 from .errors import RequestError
-from .presets import MAX_MULTIMODE
 
 if TYPE_CHECKING:
     from fem.modes import Mode, ModeSet
-    from reduced import (
-        ContactLaw,
-        ModalContent,
-        ModalDOF,
-        ModeStability,
-        OperatingPoint,
-        StabilityResult,
-    )
+    from reduced import ContactLaw, ModalDOF, ModeStability, OperatingPoint, StabilityResult
 
-    from .api import Simulation
     from .budget import Budget
 
 __all__ = [
-    "ModeChoice",
-    "contact_dofs",
-    "eigenvalue_list",
-    "StabilityTable",
-    "stability_seconds",
-    "check_stability_budget",
-    "MultiMode",
     "ModeStabilityRow",
-    "choose_mode",
+    "NamedMode",
+    "StabilityTable",
+    "check_stability_budget",
+    "contact_dofs",
+    "dof_labels",
+    "eigenvalue_list",
     "excitable",
     "mode_dofs",
-    "multimode",
     "named_mode",
-    "NamedMode",
+    "stability_seconds",
     "stability_table",
     "wheel_speed_rad_s",
 ]
@@ -91,11 +80,10 @@ def contact_dofs(modes: Sequence[Mode], design: Design) -> list[ModalDOF]:
     return mode_dofs(modes, design) + counter_body_dofs(design)
 
 
-def _dof_label(modes: Sequence[Mode], dofs: Sequence[ModalDOF], i: int) -> str:
-    """An FE mode's label, or the roller's degree of freedom (after the modes) by its gains."""
-    if i < len(modes):
-        return modes[i].label()
-    return "roller normal" if dofs[i].normal != 0.0 else "roller lateral"
+def dof_labels(modes: Sequence[Mode], design: Design) -> list[str]:
+    """The label of every degree of freedom :func:`contact_dofs` gives: the modes', then
+    the counter-body's."""
+    return [m.label() for m in modes] + design.counter_body.dof_labels()
 
 
 @dataclass(frozen=True)
@@ -124,18 +112,39 @@ class ModeStabilityRow:
         }
 
 
-class StabilityTable(NamedTuple):
-    """Every excitable mode's linear stability: ``rows`` (a :class:`ModeStabilityRow`
-    each, in frequency order) and ``result`` (the ``reduced.StabilityResult`` of the
-    modes and, after them, the roller's degrees of freedom)."""
+@dataclass(frozen=True)
+class StabilityTable:
+    """Every excitable mode's linear stability at one operating point.
+
+    Attributes
+    ----------
+    rows : list of ModeStabilityRow
+        One per mode the contact sees, in frequency order.
+    result : reduced.StabilityResult
+        The coupled system's: the modes, then the counter-body's degrees of freedom.
+    labels : tuple of str
+        Every degree of freedom's label, in the order of ``result`` (:func:`dof_labels`).
+    wheel_speed_rad_s : float
+        Omega, the wheel's rotation modelled (0: off) [rad/s].
+    """
 
     rows: list[ModeStabilityRow]
     result: StabilityResult
+    labels: tuple[str, ...]
+    wheel_speed_rad_s: float = 0.0
+
+    def __iter__(self) -> Iterator[Any]:  # (rows, result) = table
+        return iter((self.rows, self.result))
 
     @property
     def fastest(self) -> int:
         """The index of the row that grows fastest."""
         return max(range(len(self.rows)), key=lambda i: self.rows[i].stability.growth_rate_1_s)
+
+    @property
+    def growing(self) -> list[ModeStabilityRow]:
+        """The rows whose mode grows."""
+        return [r for r in self.rows if r.stability.unstable]
 
 
 def stability_table(
@@ -161,24 +170,20 @@ def stability_table(
     if bounds == "all":
         bounds = range(len(modes))
     result = linear_stability(dofs, contact, op, omega, bounds=bounds)
-    rows = [
-        ModeStabilityRow(m, s, tuple(_dof_label(modes, dofs, k) for k in s.partners))
-        for m, s in zip(modes, result.modes)
-    ]
-    return StabilityTable(rows, result)
+    labels = tuple(dof_labels(modes, design))
+    rows = [ModeStabilityRow(m, s, tuple(labels[k] for k in s.partners)) for m, s in zip(modes, result.modes)]
+    return StabilityTable(rows, result, labels, omega)
 
 
-def eigenvalue_list(table: StabilityTable, design: Design) -> list[dict]:
+def eigenvalue_list(table: StabilityTable) -> list[dict]:
     """Every eigenvalue of the table's system, fastest-growing first: its growth rate
     [1/s], damped frequency [Hz], mechanism (None: it decays) and participating modes
     with their shares of its vibration energy (those of at least
     ``reduced.stability.PARTNER_SHARE``)."""
     from reduced.stability import PARTNER_SHARE
 
-    rows, result = table
+    result = table.result
     assert result.shares is not None  # linear_stability gives them
-    modes = [r.mode for r in rows]
-    dofs = contact_dofs(modes, design)
     out = []
     for j in result.ranked():
         lam, share = result.eigenvalues[j], result.shares[:, j]
@@ -188,9 +193,7 @@ def eigenvalue_list(table: StabilityTable, design: Design) -> list[dict]:
                 "growth_rate_1_s": float(lam.real),
                 "damped_frequency_hz": float(abs(lam.imag)) / (2 * math.pi),
                 "mechanism": result.mechanisms[j],
-                "participants": [
-                    {"mode": _dof_label(modes, dofs, k), "share": float(share[k])} for k in order
-                ],
+                "participants": [{"mode": table.labels[k], "share": float(share[k])} for k in order],
             }
         )
     return out
@@ -247,117 +250,10 @@ def named_mode(design: Design, modeset: ModeSet, mode: str = "auto") -> NamedMod
     from .api import modal_dof, pick_mode
 
     if mode != "auto":
-        found, source = pick_mode(modeset, mode), f"--mode {mode} asks for"
+        found, source = pick_mode(modeset, mode), f"the request ({mode}) names"
     elif design.squeal.mode:
         found, source = pick_mode(modeset, design.squeal.mode), f"the design {design.name} names"
     else:
         return NamedMode(None, "", "")
     modal_dof(found.mode, design)  # a node at the contact: its one-line refusal
     return NamedMode(found.mode, source, found.reason)
-
-
-class ModeChoice(NamedTuple):
-    """The mode a run simulates, the sentence that says why, and the stability rows."""
-
-    mode: Mode
-    reason: str
-    rows: list[ModeStabilityRow]
-
-
-def choose_mode(
-    design: Design,
-    modeset: ModeSet,
-    mode: str,
-    contact: ContactLaw,
-    op: OperatingPoint,
-    rotation: bool = False,
-) -> ModeChoice:
-    """The mode a run simulates, why, and the stability table.
-
-    ``mode``: "auto" takes the mode the design names (``[squeal] mode``), else the one
-    with the largest linear growth rate at ``op``; anything else selects as
-    :func:`wheel_squeal.api.pick_mode` does.
-    """
-    table = stability_table(design, modeset, contact, op, rotation)
-    rows = table.rows
-    named = named_mode(design, modeset, mode)
-    if named.mode is not None and mode != "auto":
-        chosen, why = named.mode, named.reason
-    elif named.mode is not None:
-        chosen = named.mode
-        why = f"the mode {design.name} names as its squeal mode ({design.squeal.mode}): {named.reason}"
-    else:
-        row = rows[table.fastest]
-        chosen = row.mode
-        why = (
-            f"largest linear growth rate at this operating point, {row.stability.growth_rate_1_s:.3g} 1/s"
-            + (" (wheel rotation on)" if rotation else "")
-        )
-    return ModeChoice(chosen, why, rows)
-
-
-@dataclass(frozen=True)
-class MultiMode:
-    """Several modes integrated together from rest (``reduced.simulate`` with N modes).
-
-    modes : the FE modes integrated (the most unstable first); simulation : the
-    ``api.Simulation``; content : ``reduced.ModalContent`` (energy share per mode, the
-    carrier, the contact velocity's peak frequency); linear_winner : the FE mode with the
-    largest linear growth rate."""
-
-    modes: list[Mode]
-    simulation: Simulation
-    content: ModalContent
-    linear_winner: Mode
-
-    @property
-    def carrier(self) -> Mode:
-        """The FE mode that carries the limit cycle (most of the vibration energy; the
-        roller's degrees of freedom, after the modes, are not candidates)."""
-        return self.modes[int(np.argmax(self.content.energy_share[: len(self.modes)]))]
-
-    @property
-    def agrees(self) -> bool:
-        """Whether the nonlinear winner (the carrier) is the linear winner."""
-        return self.carrier.index == self.linear_winner.index
-
-    def summary(self) -> dict:
-        c = self.content
-        return {
-            "mode_indices": [m.index for m in self.modes],
-            "energy_share": {m.label(): float(s) for m, s in zip(self.modes, c.energy_share)}
-            | {f"roller {i}": float(s) for i, s in enumerate(c.energy_share[len(self.modes) :])},
-            "carrier_mode": self.carrier.index,
-            "carrier": self.carrier.label(),
-            "peak_frequency_hz": c.peak_frequency_hz,
-            "window_s": list(c.window_s),
-            "linear_winner_mode": self.linear_winner.index,
-            "agrees_with_linear_winner": self.agrees,
-            **self.simulation.summary(),
-        }
-
-
-def multimode(
-    design: Design,
-    rows: Sequence[ModeStabilityRow],
-    contact: ContactLaw,
-    op: OperatingPoint,
-    rotation: bool = False,
-    count: int = MAX_MULTIMODE,
-    duration: float | None = None,
-    budget: Budget | None = None,
-) -> MultiMode:
-    """The ``count`` most unstable modes of ``rows`` (:func:`stability_table`) integrated
-    together from rest; with none unstable, the least stable one alone."""
-    from reduced import modal_content
-
-    from .api import simulate
-
-    if count < 1:
-        raise RequestError(f"--multimode takes 1 or more modes, got {count}")
-    ranked = sorted(rows, key=lambda r: -r.stability.growth_rate_1_s)
-    chosen = [r.mode for r in ranked if r.stability.unstable][:count] or [ranked[0].mode]
-    sim = simulate(
-        contact_dofs(chosen, design), contact, op, duration, wheel_speed_rad_s(design, op, rotation), budget
-    )
-    return MultiMode(chosen, sim, modal_content(sim.history), ranked[0].mode)

@@ -27,6 +27,7 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 from .outputs import finite_or_none
+from .types import Mechanism, Wave
 
 if TYPE_CHECKING:
     from fem.modes import Mode
@@ -34,14 +35,10 @@ if TYPE_CHECKING:
     from .api import Simulation
     from .levels import SquealSound
 
-__all__ = ["LEVELS", "ModeOutcome", "Verdict", "Wave", "wave_of"]
+__all__ = ["LEVELS", "ModeOutcome", "Verdict", "wave_frequency_hz", "wave_of"]
 
 #: The levels a verdict gives (summary.json's ``sound`` has more)
 LEVELS = ("spl_db", "spl_dba", "sound_power_level_db")
-
-#: How a mode is seen from the (fixed) contact: standing (the paper's model), or on a
-#: turning wheel, the backward or forward travelling wave of a pair.
-Wave = str
 
 
 def wave_of(mode: Mode, frequency_hz: float, wheel_speed_rad_s: float) -> Wave:
@@ -66,9 +63,11 @@ class ModeOutcome:
 
     growth_rate_1_s : the linear growth rate, 1/s. damped_frequency_hz : the linear
     frequency at the contact, Hz. wave : see :func:`wave_of`. energy_share : its share of
-    a multi-mode limit cycle's vibration energy (None: simulated alone). mechanism : what
-    makes its eigenvalue grow ("falling friction", "mode coupling", "both"; None while
-    it decays).
+    the limit cycle's vibration energy (None: integrated alone). mechanism : what makes
+    its eigenvalue grow ("falling friction", "mode coupling", "both"; None while it
+    decays). group : the modes integrated together (it among them; empty: not
+    integrated). shares : every degree of freedom's share of the limit cycle's vibration
+    energy, by label (the counter-body's too; None: one alone).
     """
 
     mode: Mode
@@ -78,7 +77,9 @@ class ModeOutcome:
     simulation: Simulation | None = None
     sound: SquealSound | None = None
     energy_share: float | None = None
-    mechanism: str | None = None
+    mechanism: Mechanism | None = None
+    group: tuple[Mode, ...] = ()
+    shares: dict[str, float] | None = None
 
     @property
     def label(self) -> str:
@@ -158,6 +159,7 @@ class ModeOutcome:
             "saturated": self.saturated,
             **self.levels(),
             **({"energy_share": self.energy_share} if self.energy_share is not None else {}),
+            **({"energy_shares": self.shares} if self.shares is not None else {}),
         }
 
 
@@ -200,6 +202,9 @@ class Verdict:
             **(o.levels() if o else dict.fromkeys(LEVELS)),
             "reason": self.reason,
         }
+        if o is not None and o.shares is not None:
+            out["energy_share"] = o.energy_share
+            out["energy_shares"] = o.shares
         if self.named is not None:
             out["override"] = self.named.to_dict()
             out["model_pick"] = self.pick.to_dict() if self.pick is not None else None
@@ -208,29 +213,3 @@ class Verdict:
         if self.remedy is not None:
             out["remedy"] = self.remedy
         return out
-
-    def lines(self) -> list[str]:
-        """The verdict as the last lines a command prints."""
-        o = self.outcome
-        if not self.squeals or o is None:
-            return [f"VERDICT: no squeal. {self.reason}"]
-        state = o.state_words
-        levels = o.levels()
-        spl, dba, power = levels["spl_db"], levels["spl_dba"], levels["sound_power_level_db"]
-        level = (
-            f", SPL {spl:.1f} dB ({dba:.1f} dB(A)) at the microphone, sound power {power:.1f} dB"
-            if spl is not None
-            else f", silent at the microphone, sound power {power:.1f} dB"
-            if power is not None
-            else ""
-        )
-        amplitude = (
-            f", {o.amplitude_m_s:.4g} m/s at the contact ({state})" if o.amplitude_m_s is not None else ""
-        )
-        wave = f", its {o.wave} wave" if o.wave != "standing" else ""
-        by = f" by {o.mechanism}" if o.mechanism else ""
-        return [
-            f"VERDICT: squeals in {o.label}{by} at {o.tone_hz:.1f} Hz{wave}{amplitude}{level}",
-            f"  why: {self.reason}",
-            *([f"  remedy: {self.remedy['words']}"] if self.remedy is not None else []),
-        ]

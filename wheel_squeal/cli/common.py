@@ -1,66 +1,91 @@
-"""What the commands share: reading their common flags, and choosing the squeal mode."""
+"""What the commands share: reading their common flags into the request's design,
+context (:class:`~wheel_squeal.context.RunContext`), chain options and modes."""
 
 from __future__ import annotations
 
+import argparse
 import math
-from dataclasses import dataclass, replace
+from dataclasses import replace
 from pathlib import Path
+from typing import Any
 
 from geometry.files import check_label
 
-from .. import api, writers
+from .. import api
 from ..budget import Budget
 from ..cache import StageCache
+from ..chain import Analysis, ChainOptions, analyse
+from ..context import RunContext
 from ..design import Design
 from ..errors import RequestError
-from ..modal_model import MODAL_MODEL_SOLVER
-from ..presets import DEFAULT_SPEEDS_RPM, fidelity_for, rpm_to_speed
+from ..presets import DEFAULT_SPEEDS_RPM, MAX_MULTIMODE, fidelity_for, rpm_to_speed
 from ..progress import Progress
-from ..stability import choose_mode
+from ..sound import Listener, air_for, microphone_for
+from ..types import Stage
 
 __all__ = [
-    "Squeal",
-    "speeds_or_rpm",
     "analysis_of",
-    "out_of",
     "budget_of",
     "cache_of",
+    "context_of",
     "design_of",
-    "modal_model_of",
+    "given_modes",
+    "listener_of",
     "modes_of",
     "operating_point_of",
-    "squeal_mode",
+    "options_of",
+    "out_of",
+    "settings_of",
+    "speeds_or_rpm",
     "write_files",
 ]
 
 
-def design_of(args, path=None) -> Design:
+def design_of(args: argparse.Namespace, path: Path | str | None = None) -> Design:
     """The design of ``--design`` (or ``path``) with the command's [contact] overrides
     (``--contact-angle`` in degrees, ``--normal-contact``, ``--transient-creep``)."""
     design = api.load_design(args.design if path is None else path)
-    changes: dict = {}
+    changes: dict[str, Any] = {}
     if getattr(args, "contact_angle", None) is not None:
         changes["contact_angle"] = math.radians(args.contact_angle)
     if getattr(args, "normal_contact", None) is not None:
         changes["normal_contact"] = args.normal_contact
     if getattr(args, "transient_creep", False):
         changes["transient_creep"] = True
-    if modal_model_of(args) is not None:  # the design's [squeal] names FE modes
+    if given_modes(args) is not None:  # the design's [squeal] names FE modes
         changes |= {"squeal_mode": "", "mode_damping": ()}
     return design.replace(**changes) if changes else design
 
 
-def modal_model_of(args):
-    """The ``--modal-model`` file's modes (``fem.ModeSet``), None without one."""
+def given_modes(args: argparse.Namespace) -> Any:
+    """The modes the command line gives instead of the FE (a ``fem.ModeSet``): the
+    ``--modal-model`` file's, or the one mode of ``--mass/--stiffness/--damping``; None
+    without."""
+    cached = vars(args).get("_given")
+    if cached is not None:
+        return cached or None
     path = getattr(args, "modal_model", None)
-    if path is None:
-        return None
-    from ..modal_model import load_modal_model
+    explicit = [getattr(args, k, None) for k in ("mass", "stiffness", "damping")]
+    given = None
+    if path is not None:
+        from ..modal_model import load_modal_model
 
-    return load_modal_model(path, getattr(args, "fmax", None))
+        given = load_modal_model(path, getattr(args, "fmax", None))
+    elif any(v is not None for v in explicit):
+        if any(v is None for v in explicit):
+            raise RequestError("--mass, --stiffness and --damping go together: give all three")
+        n = getattr(args, "nodal_diameters", 0)
+        if getattr(args, "rotation", False) and n < 1:
+            raise RequestError("--rotation needs the mode's --nodal-diameters (1 or more) with --mass")
+        from ..modal_model import explicit_modes
+
+        mass, stiffness, damping = (float(v) for v in explicit if v is not None)
+        given = explicit_modes(mass, stiffness, damping, nodal_diameters=n)
+    args._given = given if given is not None else False
+    return given
 
 
-def cache_of(args) -> StageCache:
+def cache_of(args: argparse.Namespace) -> StageCache:
     """The request's stage cache (one per command: its hits and misses are the run's)."""
     cache = vars(args).get("_cache")
     if cache is None:
@@ -68,8 +93,8 @@ def cache_of(args) -> StageCache:
     return cache
 
 
-def budget_of(args) -> Budget:
-    """The request's one budget, its time counted from the first call."""
+def budget_of(args: argparse.Namespace) -> Budget:
+    """The request's one budget, its time counted from the process's start."""
     budget = vars(args).get("_budget")
     if budget is None:
         budget = Budget.from_environment(getattr(args, "max_dofs", None), getattr(args, "max_seconds", None))
@@ -80,7 +105,7 @@ def budget_of(args) -> Budget:
     return budget
 
 
-def settings_of(args) -> Budget:
+def settings_of(args: argparse.Namespace) -> Budget:
     """The request's budget and, for a command that has one, its cache: every limit and
     folder from the flags and the environment, checked before any work (a bad
     ``WHEEL_SQUEAL_CACHE_SIZE`` is one line at once, not after the modes)."""
@@ -90,123 +115,102 @@ def settings_of(args) -> Budget:
     return budget
 
 
+def context_of(args: argparse.Namespace) -> RunContext:
+    """The request's context: ``--fidelity``, ``--solver``, ``--fmax``, the cache, the
+    budget and progress (``--quiet``)."""
+    ctx = vars(args).get("_context")
+    if ctx is None:
+        fid = fidelity_for(getattr(args, "fidelity", "balanced"), getattr(args, "solver", None))
+        cache = cache_of(args) if hasattr(args, "cache_dir") else None
+        ctx = args._context = RunContext(
+            fid,
+            getattr(args, "fmax", 5000.0),
+            cache,
+            budget_of(args),
+            Progress(getattr(args, "quiet", False)),
+        )
+    return ctx
+
+
+def listener_of(args: argparse.Namespace, design: Design) -> Listener:
+    """The command's ``--microphone``, ``--air-density`` and ``--sound-speed``, checked
+    before any work (:func:`wheel_squeal.sound.microphone_for`, ``air_for``)."""
+    return Listener(microphone_for(design, args.microphone), air_for(args.air_density, args.sound_speed))
+
+
+def options_of(
+    args: argparse.Namespace, design: Design, stop_after: Stage = "sound", **changes: Any
+) -> ChainOptions:
+    """The chain's options from the command's flags (``changes`` replace them)."""
+    listener = listener_of(args, design) if stop_after == "sound" and hasattr(args, "microphone") else None
+    options = ChainOptions(
+        mode=getattr(args, "mode", "auto") or "auto",
+        rotation=getattr(args, "rotation", False),
+        max_modes=getattr(args, "multimode", None) or MAX_MULTIMODE,
+        duration=getattr(args, "duration", None),
+        stop_after=stop_after,
+        listener=listener,
+        c22=getattr(args, "c22", None),
+        friction_law=getattr(args, "friction_law", None),
+        remedy=not getattr(args, "no_remedy", False),
+    )
+    return replace(options, **changes)
+
+
+def modes_of(args: argparse.Namespace, design: Design) -> Any:
+    """The design's modes: the command line's own (:func:`given_modes`), else the FE's
+    through the request's context."""
+    given = given_modes(args)
+    ctx = context_of(args)
+    if given is not None:
+        ctx.progress.say(f"modes: {len(given.modes)} given (no FE)")
+        return given
+    return api.compute_modes(
+        design, ctx.fidelity, fmax_hz=ctx.fmax_hz, cache=ctx.cache, progress=ctx.progress, budget=ctx.budget
+    )
+
+
+def operating_point_of(args: argparse.Namespace, design: Design) -> Any:
+    return api.operating_point(
+        design,
+        rpm=getattr(args, "rpm", None),
+        speed=getattr(args, "speed", None),
+        crab_velocity=getattr(args, "crab_velocity", None),
+        angle_of_attack=getattr(args, "angle_of_attack", None),
+    )
+
+
+def analysis_of(
+    args: argparse.Namespace, design: Design, stop_after: Stage = "sound", **changes: Any
+) -> Analysis:
+    """The chain (:func:`wheel_squeal.chain.analyse`) with the command's flags, stopping
+    after ``stop_after``; ``changes``: its options or ``modes``/``table`` when known."""
+    known = {k: changes.pop(k) for k in ("modes", "table") if k in changes}
+    op = operating_point_of(args, design)
+    options = options_of(args, design, stop_after, **changes)  # a bad microphone: before any work
+    modes = known.get("modes")
+    if modes is None:
+        modes = modes_of(args, design)
+    return analyse(
+        design, op=op, options=options, context=context_of(args), modes=modes, table=known.get("table")
+    )
+
+
+def out_of(args: argparse.Namespace, name: str) -> Path:
+    """The command's result folder: ``--out``, else ``results/COMMAND/NAME`` below the
+    working folder (NAME: the design's, the study's, or the compared designs'; a label,
+    never a path: ``geometry.files.check_label``)."""
+    if args.out is not None:
+        return Path(args.out)
+    return Path("results") / args.command / check_label(name, "a result's name", RequestError)
+
+
 def write_files(directory: Path, files: dict[str, bytes]) -> None:
     for name, data in files.items():
         (directory / name).write_bytes(data)
 
 
-def modes_of(args, design: Design, progress: Progress, cache: StageCache | None = None):
-    """(fidelity, mode set): the design's FE modes with the command's ``--fidelity``,
-    ``--solver``, ``--fmax``, cache and budget flags."""
-    fid = fidelity_for(args.fidelity, args.solver)
-    measured = modal_model_of(args)
-    if measured is not None:
-        progress.say(f"modes: {len(measured.modes)} from the modal model {args.modal_model} (no FE)")
-        return fid, measured
-    cache = cache_of(args) if cache is None else cache
-    budget = budget_of(args)
-    return fid, api.compute_modes(
-        design, fid, fmax_hz=args.fmax, cache=cache, progress=progress, budget=budget
-    )
-
-
-def operating_point_of(args, design: Design):
-    return api.operating_point(
-        design,
-        rpm=args.rpm,
-        speed=getattr(args, "speed", None),
-        crab_velocity=args.crab_velocity,
-        angle_of_attack=args.angle_of_attack,
-    )
-
-
-@dataclass
-class Squeal:
-    """The mode a command simulates: its (m, k, c), and, from the FE, the mode set, the
-    mode, the modes' summary (with why it was chosen) and every mode's stability."""
-
-    dof: object
-    modeset: object = None
-    mode: object = None
-    summary: dict | None = None
-    stability: list | None = None
-
-
-def squeal_mode(args, design: Design, progress: Progress, cache: StageCache, contact, op) -> Squeal:
-    """From ``--mass/--stiffness/--damping`` when given (no FE at all), else the design's
-    FE modes and ``--mode`` (auto: the design's named mode, else the fastest-growing)."""
-    mass, stiffness, damping = (getattr(args, k, None) for k in ("mass", "stiffness", "damping"))
-    rotation = getattr(args, "rotation", False)
-    if mass is not None or stiffness is not None or damping is not None:
-        if mass is None or stiffness is None or damping is None:
-            raise RequestError("--mass, --stiffness and --damping go together: give all three")
-        n = getattr(args, "nodal_diameters", 0)
-        if rotation and n < 1:
-            raise RequestError("--rotation needs the mode's --nodal-diameters (1 or more) with --mass")
-        progress.say("modal parameters given: no mesh, no FE")
-        return Squeal(api.explicit_dof(mass, stiffness, damping, nodal_diameters=n))
-    fid, ms = modes_of(args, design, progress, cache)
-    mode, why, rows = choose_mode(design, ms, args.mode, contact, op, rotation)
-    progress.say(f"squeal mode: {mode.index} ({why}), {mode.frequency_hz:.1f} Hz")
-    summary = writers.modes_summary(design, ms, mode, fid, why)
-    return Squeal(api.modal_dof(mode, design), ms, mode, summary, rows)
-
-
-def out_of(args, name: str) -> Path:
-    """The command's result folder: ``--out``, else ``results/COMMAND/NAME`` below the
-    working folder (NAME: the design's, the study's, or the compared designs'; a label,
-    never a path: ``geometry.files.check_label``)."""
-    if args.out is not None:
-        return args.out
-    return Path("results") / args.command / check_label(name, "a result's name", RequestError)
-
-
-def analysis_of(
-    args,
-    design: Design,
-    progress: Progress,
-    cache: StageCache,
-    listener=None,
-    modes=None,
-    table=None,
-    simulate: bool = True,
-):
-    """:func:`wheel_squeal.chain.analyse` with the command's flags (a modal model's modes
-    have no shape: nothing is radiated); ``table``: the stability table when solved
-    already; ``simulate=False`` stops before the time domain (the linear verdict)."""
-    from ..chain import analyse
-
-    measured = modal_model_of(args) if modes is None else None
-    modes = measured if measured is not None else modes
-
-    return analyse(
-        design,
-        rpm=args.rpm,
-        speed=getattr(args, "speed", None),
-        crab_velocity=args.crab_velocity,
-        angle_of_attack=args.angle_of_attack,
-        fidelity=args.fidelity,
-        solver=args.solver,
-        fmax_hz=args.fmax,
-        mode=getattr(args, "mode", "auto") or "auto",
-        rotation=getattr(args, "rotation", False),
-        multimode_count=getattr(args, "multimode", None),
-        duration=getattr(args, "duration", None),
-        listener=listener,
-        sound=simulate and (modes is None or modes.solver != MODAL_MODEL_SOLVER),
-        simulate_modes=simulate,
-        table=table,
-        c22=args.c22,
-        friction_law=getattr(args, "friction_law", None),
-        margin=not getattr(args, "no_remedy", False),
-        modes=modes,
-        cache=cache,
-        budget=budget_of(args),
-        progress=progress,
-    )
-
-
-def speeds_or_rpm(args, design: Design) -> list[float]:
+def speeds_or_rpm(args: argparse.Namespace, design: Design) -> list[float]:
     """A sweep's wheel speeds [rev/min]: ``--rpm``, or ``--speed`` (m/s at the contact)
     converted with the design's rolling radius."""
     if args.speed is not None:

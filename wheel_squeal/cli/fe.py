@@ -2,14 +2,16 @@
 
 from __future__ import annotations
 
+import argparse
 import time
 
-from .. import api, writers
+from .. import api
 from ..errors import RequestError
 from ..outputs import result_folder, write_json
+from ..present.summary import modes_summary
+from ..present.text import modes_table
 from ..progress import Progress
-from ..stability import choose_mode
-from .common import budget_of, cache_of, design_of, modes_of, out_of, write_files
+from .common import analysis_of, budget_of, context_of, design_of, modes_of, out_of, write_files
 from .stops import uninterrupted
 
 __all__ = ["cmd_mesh", "cmd_modes", "cmd_render"]
@@ -19,7 +21,7 @@ MESH_SECONDS_PER_ELEMENT = 7e-5
 MESH_BYTES_PER_ELEMENT = 3e3
 
 
-def cmd_mesh(args) -> int:
+def cmd_mesh(args: argparse.Namespace) -> int:
     from geometry import estimate_element_count, profile_area, revolved_volume
     from geometry.mesh import mesh_size
 
@@ -81,38 +83,41 @@ def cmd_mesh(args) -> int:
     return 0
 
 
-def cmd_modes(args) -> int:
+def cmd_modes(args: argparse.Namespace) -> int:
     design = design_of(args)
-    progress = Progress(args.quiet)
     out = out_of(args, design.name)
+    ctx = context_of(args)
     with result_folder(out, "modes") as tmp:
-        cache = cache_of(args)
-        fid, ms = modes_of(args, design, progress, cache)
+        ms = modes_of(args, design)
         if not ms.modes:
-            raise RequestError(f"no modes below {args.fmax:g} Hz for {design.name}")
-        op = api.operating_point(design)
-        selected, why, _ = choose_mode(design, ms, args.mode, api.contact_law(design), op)
+            raise RequestError(f"no modes below {ctx.fmax_hz:g} Hz for {design.name}")
+        a = analysis_of(args, design, stop_after="stability", remedy=False, modes=ms)
+        chosen = a.verdict.outcome or a.verdict.named or a.verdict.pick
+        selected, why = (chosen.mode, a.verdict.reason) if chosen is not None else (None, a.verdict.reason)
         with uninterrupted():
-            views = api.mode_views(design, fid, args.fmax, ms, [], cache)
+            views = api.mode_views(
+                design, ctx.fidelity, ctx.fmax_hz, ms, [], ctx.cache, ctx.budget.max_file_bytes
+            )
         write_files(tmp, views)
-        write_json(tmp / "summary.json", writers.modes_summary(design, ms, selected, fid, why))
-    print(writers.modes_table(ms.modes, design, selected))
-    print(
-        f"selected: mode {selected.index} ({why}), {selected.frequency_hz:.1f} Hz, "
-        f"m = {selected.modal_mass:.3f} kg"
-    )
-    print(f"{ms.solver}, {ms.dofs} DOFs, {fid.name} -> {out}")
+        write_json(tmp / "summary.json", modes_summary(design, ms, selected, ctx.fidelity, why))
+    print(modes_table(ms.modes, design, selected))
+    if selected is not None:
+        print(
+            f"selected: mode {selected.index} ({why}), {selected.frequency_hz:.1f} Hz, "
+            f"m = {selected.modal_mass:.3f} kg"
+        )
+    print(f"{ms.solver}, {ms.dofs} DOFs, {ctx.fidelity.name} -> {out}")
     return 0
 
 
-def cmd_render(args) -> int:
+def cmd_render(args: argparse.Namespace) -> int:
     from fem.render import render_modes
 
     design = design_of(args)
-    progress = Progress(args.quiet)
     out = out_of(args, design.name)
+    progress = context_of(args).progress
     with result_folder(out, "render") as tmp:
-        _, ms = modes_of(args, design, progress)
+        ms = modes_of(args, design)
         indices = None
         if args.modes:
             try:

@@ -15,7 +15,6 @@ from ..presets import (
     DEFAULT_ENVELOPE_CRAB_VELOCITIES,
     DEFAULT_SPEEDS_RPM,
     DEFAULT_SWEEP_CRAB_VELOCITIES,
-    DEFAULT_SWEEP_DURATION_S,
     FIDELITIES,
     MAX_MULTIMODE,
 )
@@ -150,8 +149,7 @@ def _add_sweep_command(sub: argparse._SubParsersAction) -> None:
     p.add_argument(
         "--duration",
         type=positive,
-        default=DEFAULT_SWEEP_DURATION_S,
-        help="simulated time per case [s] (default %(default)g)",
+        help="simulated time per point [s] (default: each until its outcome is known, as run)",
     )
     p.add_argument("--c22", type=c22_value, help="C22 or 'kalker'")
     add_friction_law(p)

@@ -115,7 +115,7 @@ def study_dataset(spec: StudySpec, results: list[dict]):
 def write_study_files(ds, spec: StudySpec, folder: Path) -> list[str]:
     """``study.nc`` (NetCDF), ``study.csv`` (one row per design and operating point), the
     spec (``study.toml``), plots and ``report.html``; returns the file names."""
-    from ..report import REPORT_NAME, study_report
+    from ..present.html import REPORT_NAME, study_report
 
     ds.to_netcdf(folder / "study.nc", engine="scipy")
     ds.to_dataframe().reset_index().to_csv(folder / "study.csv", index=False, float_format="%.10g")

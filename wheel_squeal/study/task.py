@@ -18,7 +18,7 @@ from geometry import DesignError, MeshError
 from ..design import Design
 from ..errors import BudgetError, RequestError
 from ..fields import FLAG_FIELDS, LABEL_FIELDS, RESULT_FIELDS
-from ..verdict import LEVELS
+from ..types import Stage
 
 __all__ = ["CODE_PACKAGES", "FLAG_FIELDS", "LABEL_FIELDS", "CaseJob", "RESULT_FIELDS", "run_case"]
 
@@ -75,12 +75,14 @@ def run_case(job: CaseJob) -> dict:
 
 def _run(design: Design, job: CaseJob) -> dict:
     from geometry import wheel_mass
-    from reduced import load_compiled_kernels
+    from reduced import OperatingPoint, load_compiled_kernels
 
     from .. import api
     from ..budget import Budget
     from ..cache import StageCache
-    from ..chain import analyse
+    from ..chain import ChainOptions, analyse
+    from ..context import RunContext
+    from ..presets import fidelity_for
 
     cache = None if job.cache_dir is None else StageCache(job.cache_dir or None)
     simulate = "limit_cycle" in job.compute
@@ -93,27 +95,19 @@ def _run(design: Design, job: CaseJob) -> dict:
     numbers = {k: np.full(shape, np.nan) for k in RESULT_FIELDS}
     flags = {k: np.zeros(shape, dtype=bool) for k in FLAG_FIELDS}
     labels = {k: np.full(shape, "", dtype=object) for k in LABEL_FIELDS}
-    memo: dict = {}  # each mode radiates once per design
     if "stability" in job.compute:
+        stop: Stage = "sound" if "sound" in job.compute else "limit_cycle" if simulate else "stability"
+        options = ChainOptions(stop_after=stop, remedy=False, simulate_stable=False, beside=False)
+        ctx = RunContext(fidelity_for(job.fidelity), job.fmax_hz, cache, budget)  # one memo per design
         for (i, j), _ in np.ndenumerate(numbers["tone_hz"]):
-            a = analyse(
-                design, rpm=job.rpm[j], crab_velocity=job.crabbing_velocities_m_s[i], fidelity=job.fidelity,
-                fmax_hz=job.fmax_hz, modes=modes, simulate_modes=simulate, sound="sound" in job.compute,
-                cache=cache, budget=budget, memo=memo, margin=False, simulate_stable=False,
-            )  # fmt: skip
-            v = a.verdict.to_dict()
-            for k in ("tone_hz", "growth_rate_1_s", "amplitude_m_s", *LEVELS):
-                numbers[k][i, j] = np.nan if v[k] is None else v[k]
-            if not v["squeals"]:  # how far from squeal: the largest growth rate (<= 0)
-                numbers["growth_rate_1_s"][i, j] = a.stability.growth_rate_1_s
-            flags["squeals"][i, j], flags["saturated"][i, j] = v["squeals"], v["saturated"]
-            labels["verdict_mode"][i, j] = v["mode"] or ""
-            pick, named = a.verdict.pick, a.verdict.named
-            if pick is not None:
-                labels["model_pick"][i, j] = pick.label
-                numbers["model_pick_growth_rate_1_s"][i, j] = pick.growth_rate_1_s
-            if named is not None:
-                numbers["override_growth_rate_1_s"][i, j] = named.growth_rate_1_s
+            op = OperatingPoint.from_rpm(job.rpm[j], design.rolling_radius, job.crabbing_velocities_m_s[i])
+            record = analyse(design, op=op, options=options, context=ctx, modes=modes).to_record()
+            for k in numbers:
+                numbers[k][i, j] = np.nan if record[k] is None else record[k]
+            for k in flags:
+                flags[k][i, j] = record[k]
+            for k in labels:
+                labels[k][i, j] = record[k]
     out |= {k: v.tolist() for k, v in numbers.items()}
     out |= {k: v.tolist() for k, v in flags.items()}
     out |= {k: v.tolist() for k, v in labels.items()}

@@ -1,6 +1,6 @@
-"""The sound's files: the near-field SPL map and the far-field directivity (PNG), the
-pressure field (VTU, for ParaView), the spectra and band levels of the limit cycle
-(PNG), and the squeal as a WAV file."""
+"""The PNG figures of a squeal's sound: the sound field with its far-field directivity
+(sound_field.png) and the line spectra and band levels of the limit cycle (spectrum.png).
+"""
 
 from __future__ import annotations
 
@@ -11,11 +11,19 @@ import numpy as np
 
 from reduced.report import PLOT_DPI
 
-__all__ = ["sound_text", "write_pressure_vtu", "write_sound_plot", "write_spectrum_plot", "write_squeal_wav"]
+__all__ = [
+    "DIRECTIVITY_RANGE_DB",
+    "NEAR_FIELD_RADII",
+    "SPECTRUM_RANGE_DB",
+    "write_sound_plot",
+    "write_spectrum_plot",
+]
 
 
 #: The near-field map spans this many wheel radii around the wheel centre
 NEAR_FIELD_RADII = 1.6
+
+
 #: The directivity's dynamic range drawn [dB below its maximum]
 DIRECTIVITY_RANGE_DB = 40.0
 
@@ -155,61 +163,3 @@ def _lines(ax, f: np.ndarray, level: np.ndarray) -> None:
     ax.plot(f[keep], level[keep], "o", color="C0", ms=4)
     ax.set_ylim(floor, top + 5)
     ax.grid(alpha=0.3)
-
-
-def write_squeal_wav(path: Path, sound) -> float:
-    """squeal.wav: the microphone pressure over the run at 44.1 kHz, 16 bit, peak-normalised;
-    returns the peak [Pa] the samples were divided by (summary.json has the levels)."""
-    from acoustics.signal import WAV_RATE_HZ, write_wav
-
-    return write_wav(path, sound.signal.wav_samples(), WAV_RATE_HZ)
-
-
-def write_pressure_vtu(path: Path, sound) -> Path:
-    """pressure.vtu: the pressure field on the (r, z) plane (x = r, y = z) for ParaView:
-    real and imaginary parts, amplitude [Pa] and SPL [dB]."""
-    import meshio
-
-    from acoustics import spl_db
-
-    field = sound.field
-    p = field.vertex_pressure() * sound.velocity_amplitude_m_s
-    pts = np.column_stack([field.mesh.points, np.zeros(len(field.mesh.points))])
-    mesh = meshio.Mesh(
-        pts,
-        [("triangle", field.mesh.triangles)],
-        point_data={
-            "pressure_real_pa": p.real,
-            "pressure_imag_pa": p.imag,
-            "pressure_amplitude_pa": np.abs(p),
-            "spl_db": np.nan_to_num(spl_db(p), neginf=-100.0),
-        },
-    )
-    mesh.write(path)
-    return Path(path)
-
-
-def sound_text(summary: dict) -> str:
-    """The levels, at which contact velocity and where they were taken (two lines)."""
-    r, z, theta = summary["microphone_m"]
-    where = f"at the microphone (r {r:g} m, z {z:g} m, theta {theta:g})"
-    v = summary["velocity_amplitude_m_s"]
-    if summary["sound_power_level_db"] is None:
-        return f"sound: none (contact velocity amplitude {v:g} m/s)"
-    spl = (
-        f"SPL {summary['spl_db']:.1f} dB ({summary['spl_dba']:.1f} dB(A)) re 20 uPa {where}"
-        if summary["spl_db"] is not None
-        else f"silent {where} (below -20 dB: a node of the radiation, on the axis or on a nodal diameter)"
-    )
-    harmonics = len(summary["harmonics"])
-    far = (
-        f"{summary['spl_1m_db']:.1f} dB at 1 m and {summary['spl_7_5m_db']:.1f} dB at 7.5 m from the wheel "
-        f"centre, {summary['loudest_angle_deg']:.0f} deg from its axis (the loudest direction)"
-    )
-    return (
-        f"sound: sound power level {summary['sound_power_level_db']:.1f} dB re 1 pW "
-        f"({summary['sound_power_level_dba']:.1f} dB(A)), {spl}, radiation efficiency "
-        f"{summary['radiation_efficiency']:.3g}, {summary['frequency_hz']:.1f} Hz"
-        + (f" and {harmonics - 1} harmonics" if harmonics > 1 else "")
-        + f", contact velocity {v:.4g} m/s (wheel alone, free field)\n       {far}"
-    )

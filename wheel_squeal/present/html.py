@@ -19,10 +19,12 @@ from typing import TYPE_CHECKING
 
 from geometry.files import write_atomic
 
-from .cache import code_version
+from ..cache import code_version
+from .summary import operating_point_summary
+from .text import verdict_lines
 
 if TYPE_CHECKING:
-    from .chain import Analysis
+    from ..chain import Analysis
 
 __all__ = ["ASSUMPTIONS", "REPORT_NAME", "compare_report", "run_report", "study_report"]
 
@@ -161,9 +163,8 @@ def _write(folder: Path, text: str) -> Path:
 # -- the reports -------------------------------------------------------------------------------
 def run_report(folder: Path, a: Analysis) -> Path:
     """The report of ``run``: the analysis ``a`` and the files in ``folder``."""
-    from . import writers
 
-    d, op = a.design, writers.operating_point_summary(a.operating_point, a.design)
+    d, op = a.design, operating_point_summary(a.operating_point, a.design)
     frame = d.contact_frame
     inputs = [
         ("design", f"{d.name}: {d.description}"),
@@ -246,7 +247,7 @@ def run_report(folder: Path, a: Analysis) -> Path:
         else ""
     )
     body = [
-        _verdict_block(a.verdict.lines(), a.verdict.squeals),
+        _verdict_block(verdict_lines(a.verdict), a.verdict.squeals),
         _section("How loud", levels) if levels else "",
         listen,
         _section("Which mode squeals", mode_table, image(folder / "growth.png", "growth rate of every mode")),
@@ -272,7 +273,7 @@ def run_report(folder: Path, a: Analysis) -> Path:
 def compare_report(folder: Path, rows: Sequence[dict], analyses: Sequence[Analysis]) -> Path:
     """The report of ``compare``: one verdict per design."""
     verdicts = "".join(
-        f"<h3>{_e(a.design.name)}</h3>" + _verdict_block(a.verdict.lines(), a.verdict.squeals)
+        f"<h3>{_e(a.design.name)}</h3>" + _verdict_block(verdict_lines(a.verdict), a.verdict.squeals)
         for a in analyses
     )
     columns = [("design", "design"), ("verdict_mode", "verdict"), ("tone_hz", "tone (Hz)"),

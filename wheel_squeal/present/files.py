@@ -1,0 +1,41 @@
+"""The sound's files for other tools: pressure.vtu (ParaView) and squeal.wav."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+__all__ = ["write_pressure_vtu", "write_squeal_wav"]
+
+
+def write_squeal_wav(path: Path, sound) -> float:
+    """squeal.wav: the microphone pressure over the run at 44.1 kHz, 16 bit, peak-normalised;
+    returns the peak [Pa] the samples were divided by (summary.json has the levels)."""
+    from acoustics.signal import WAV_RATE_HZ, write_wav
+
+    return write_wav(path, sound.signal.wav_samples(), WAV_RATE_HZ)
+
+
+def write_pressure_vtu(path: Path, sound) -> Path:
+    """pressure.vtu: the pressure field on the (r, z) plane (x = r, y = z) for ParaView:
+    real and imaginary parts, amplitude [Pa] and SPL [dB]."""
+    import meshio
+
+    from acoustics import spl_db
+
+    field = sound.field
+    p = field.vertex_pressure() * sound.velocity_amplitude_m_s
+    pts = np.column_stack([field.mesh.points, np.zeros(len(field.mesh.points))])
+    mesh = meshio.Mesh(
+        pts,
+        [("triangle", field.mesh.triangles)],
+        point_data={
+            "pressure_real_pa": p.real,
+            "pressure_imag_pa": p.imag,
+            "pressure_amplitude_pa": np.abs(p),
+            "spl_db": np.nan_to_num(spl_db(p), neginf=-100.0),
+        },
+    )
+    mesh.write(path)
+    return Path(path)
