@@ -50,7 +50,7 @@ from .stability import (
     mitigation,
     stability_map,
 )
-from .sweep import SquealPoints, SweepResult, squeal_points, sweep
+from .sweep import SweepResult, sweep
 
 __all__ = [
     "HertzContact",
@@ -87,8 +87,6 @@ __all__ = [
     "predict_limit_cycle",
     "SweepResult",
     "sweep",
-    "SquealPoints",
-    "squeal_points",
     "longest_record_s",
     "simulate_to_limit_cycle",
     "ModalContent",

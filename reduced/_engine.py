@@ -18,6 +18,7 @@ from __future__ import annotations
 import dataclasses
 import functools
 import types
+from typing import Any
 
 from . import _kernels
 
@@ -91,7 +92,7 @@ def interprets(steps: int, scalar: bool, loaded: bool, interpreted_so_far: int) 
     return scalar and not loaded and interpreted_so_far + steps <= INTERPRETED_MAX_STEPS
 
 
-def integration_kernels(steps: int, *, scalar: bool = True):
+def integration_kernels(steps: int, *, scalar: bool = True) -> Any:
     """The kernels for an integration of ``steps`` RK4 steps (:func:`interprets`)."""
     if interprets(steps, scalar, is_compiled_loaded(), _INTERPRETED.steps):
         _INTERPRETED.steps += steps
@@ -99,7 +100,7 @@ def integration_kernels(steps: int, *, scalar: bool = True):
     return compiled()
 
 
-def cycle_kernels(samples: int):
+def cycle_kernels(samples: int) -> Any:
     """The kernels to split a record of ``samples`` samples into cycles: interpreted while
     the compiled kernels are not loaded, up to 4 x :data:`INTERPRETED_MAX_STEPS` samples
     (a sample costs under a quarter of a scalar RK4 step interpreted)."""

@@ -20,6 +20,7 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from .contact import HertzContact, kalker_c22
 
@@ -188,7 +189,7 @@ class ContactLaw:
         return 3.0 / self.normalised_creepage_per_creepage
 
 
-def falling_friction_factor(sliding_speed_m_s, law: ContactLaw):
+def falling_friction_factor(sliding_speed_m_s: ArrayLike, law: ContactLaw) -> np.ndarray:
     """F(s) = 1 - 0.5 exp(-s1/s) - 0.5 exp(-s2/s) for sliding speed s >= 0 (m/s).
 
     Finite and equal to 1 at s = 0 (the limit), without warnings: below
@@ -230,7 +231,7 @@ def _creep_polynomial(zp: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return poly, dpoly
 
 
-def adhesion_ratio(creepage, law: ContactLaw, rolling_speed_m_s: float):
+def adhesion_ratio(creepage: ArrayLike, law: ContactLaw, rolling_speed_m_s: float) -> np.ndarray:
     """Lateral adhesion ratio mu(zeta) of Eq. 3 (dimensionless, odd in zeta).
 
     Parameters
@@ -248,7 +249,7 @@ def adhesion_ratio(creepage, law: ContactLaw, rolling_speed_m_s: float):
     return np.sign(zeta) * law.friction_coefficient * poly * f
 
 
-def adhesion_ratio_slope(creepage, law: ContactLaw, rolling_speed_m_s: float):
+def adhesion_ratio_slope(creepage: ArrayLike, law: ContactLaw, rolling_speed_m_s: float) -> np.ndarray:
     """Analytic derivative d mu / d zeta of Eq. 3 (dimensionless), even in zeta.
 
     d mu/d zeta = mu_s [ P'(z') K F(s) + P(z') F'(s) V0 ] with K = dz'/d|zeta|,

@@ -56,7 +56,7 @@ import numpy as np
 
 from . import _engine
 from .creep import ContactLaw
-from .model import OperatingPoint, TimeHistory, as_modes
+from .model import Modes, OperatingPoint, TimeHistory, as_modes
 from .stability import LinearContact, growth_rates
 
 __all__ = [
@@ -126,7 +126,7 @@ class LimitCycle:
 
 
 def analytic_growth_rate(
-    modes, contact: ContactLaw, op: OperatingPoint, wheel_speed_rad_s: float = 0.0
+    modes: Modes, contact: ContactLaw, op: OperatingPoint, wheel_speed_rad_s: float = 0.0
 ) -> float:
     """Linear growth rate of steady sliding at the quasi-static creepage, 1/s: the
     largest real part of the coupled eigenvalues (:mod:`reduced.stability`); for one

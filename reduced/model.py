@@ -12,9 +12,12 @@ P = Q v - sum_i c_i y_i'^2.
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass, field, replace
+from typing import Any
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from . import _engine, _kernels
 from .creep import ContactLaw, adhesion_ratio
@@ -183,6 +186,10 @@ def rpm_to_speed(rpm: float, rolling_radius_m: float) -> float:
     return rpm * 2.0 * math.pi / 60.0 * rolling_radius_m
 
 
+#: One mode or several seen at the same contact point (the modal model's input).
+Modes = ModalDOF | Sequence[ModalDOF]
+
+
 @dataclass(frozen=True)
 class OperatingPoint:
     """Rolling speed V0 and crabbing (lateral sliding) velocity Vc.
@@ -256,7 +263,7 @@ def _check_storage(
     duration: float,
     store_every: int,
     f_max: float,
-    error=ValueError,
+    error: type[Exception] = ValueError,
 ) -> None:
     if n_out <= MAX_STORED_SAMPLES:
         return
@@ -358,7 +365,7 @@ class Coordinates:
         return np.cos(np.outer(t, self.w) + self.phase[None, :])
 
 
-def coordinates(modes, wheel_speed_rad_s: float = 0.0) -> Coordinates:
+def coordinates(modes: Modes, wheel_speed_rad_s: float = 0.0) -> Coordinates:
     """The modal coordinates of ``modes``: one per mode, two (a and b, docs/theory.md,
     rotation) per pair with nodal diameters when the wheel turns at ``wheel_speed_rad_s``."""
     modes = as_modes(modes)
@@ -375,7 +382,7 @@ def coordinates(modes, wheel_speed_rad_s: float = 0.0) -> Coordinates:
     return Coordinates(np.array(cols[0], dtype=np.int64), *(np.array(col, dtype=float) for col in cols[1:]))
 
 
-def static_normal_approach_m(modes, contact: ContactLaw, op: OperatingPoint) -> float:
+def static_normal_approach_m(modes: Modes, contact: ContactLaw, op: OperatingPoint) -> float:
     """The normal approach [m] by which the steady creep force Q0 = -mu0 W deflects the
     modes statically, sum_i b_i a_i Q0 / k_i (0 when no mode moves the contact
     normally). The rig's load (a dead weight or a soft spring) keeps the mean normal
@@ -389,7 +396,7 @@ def static_normal_approach_m(modes, contact: ContactLaw, op: OperatingPoint) -> 
     return float(sum(md.normal * md.lateral * q0 / md.stiffness_n_m for md in modes))
 
 
-def law_vector(contact: ContactLaw, op: OperatingPoint, modes=None) -> np.ndarray:
+def law_vector(contact: ContactLaw, op: OperatingPoint, modes: Modes | None = None) -> np.ndarray:
     """Pack the contact and operating point for the RK4 kernels (:mod:`reduced._kernels`);
     with ``modes``, the static normal approach they take (:func:`static_normal_approach_m`),
     and where none of them moves the contact normally no Hertz spring at all (the normal
@@ -412,7 +419,7 @@ def law_vector(contact: ContactLaw, op: OperatingPoint, modes=None) -> np.ndarra
     )
 
 
-def as_modes(modes) -> tuple:
+def as_modes(modes: Modes) -> tuple[ModalDOF, ...]:
     """A ModalDOF or a sequence of them as a non-empty tuple (TypeError otherwise)."""
     if isinstance(modes, ModalDOF):
         return (modes,)
@@ -422,7 +429,7 @@ def as_modes(modes) -> tuple:
     return modes
 
 
-def mode_arrays(modes: tuple):
+def mode_arrays(modes: tuple[ModalDOF, ...]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """(m, c, k) of the modes as float arrays [kg, N s/m, N/m]."""
     m = np.array([md.mass_kg for md in modes], dtype=float)
     c = np.array([md.damping_ns_m for md in modes], dtype=float)
@@ -444,7 +451,9 @@ def max_contact_damping_ns_m(contact: ContactLaw, op: OperatingPoint) -> float:
     return contact.normal_load_n / op.rolling_speed_m_s * dmu
 
 
-def highest_frequency_hz(modes, wheel_speed_rad_s: float = 0.0, normal_stiffness_n_m: float = 0.0) -> float:
+def highest_frequency_hz(
+    modes: Modes, wheel_speed_rad_s: float = 0.0, normal_stiffness_n_m: float = 0.0
+) -> float:
     """The highest frequency [Hz] the contact sees: a mode's natural frequency, plus
     n Omega / 2 pi for a rotating pair (its forward travelling wave), raised by the
     normal contact spring ``normal_stiffness_n_m`` [N/m] where modes move the contact
@@ -460,7 +469,7 @@ def highest_frequency_hz(modes, wheel_speed_rad_s: float = 0.0, normal_stiffness
 
 
 def choose_time_step(
-    modes,
+    modes: Modes,
     contact: ContactLaw,
     op: OperatingPoint,
     steps_per_period: int = STEPS_PER_PERIOD,
@@ -484,7 +493,9 @@ def choose_time_step(
     return min(h_acc, h_stab, tau if tau > 0.0 else math.inf)
 
 
-def _initial_state(initial_state, n_modes: int):
+def _initial_state(
+    initial_state: tuple[ArrayLike, ArrayLike] | None, n_modes: int
+) -> tuple[np.ndarray, np.ndarray]:
     if initial_state is None:
         return np.zeros(n_modes), np.zeros(n_modes)
     y0, v0 = initial_state
@@ -496,18 +507,18 @@ def _initial_state(initial_state, n_modes: int):
 
 
 def _history(
-    t,
-    y_modes,
-    v_modes,
-    modes,
-    contact,
-    op,
-    step,
-    method,
+    t: np.ndarray,
+    y_modes: np.ndarray,
+    v_modes: np.ndarray,
+    modes: tuple[ModalDOF, ...],
+    contact: ContactLaw,
+    op: OperatingPoint,
+    step: float,
+    method: str,
     coords: Coordinates,
     wheel_speed_rad_s: float,
-    mismatch=float("nan"),
-    lagged_force=None,
+    mismatch: float = float("nan"),
+    lagged_force: np.ndarray | None = None,
 ) -> TimeHistory:
     p = coords.participation(t)
     pa = p * coords.a[None, :]
@@ -623,15 +634,15 @@ def _integrate(
 
 
 def simulate(
-    modes,
+    modes: Modes,
     contact: ContactLaw,
     operating_point: OperatingPoint,
     duration: float,
-    initial_state=None,
+    initial_state: tuple[ArrayLike, ArrayLike] | None = None,
     *,
     wheel_speed_rad_s: float = 0.0,
     integration: Integration | None = None,
-    **changes,
+    **changes: Any,
 ) -> TimeHistory:
     """Integrate the modal squeal model with fixed-step RK4 (production path; see
     :mod:`reduced._engine` for when it runs compiled).
@@ -735,11 +746,11 @@ def simulate(
 
 
 def simulate_reference(
-    modes,
+    modes: Modes,
     contact: ContactLaw,
     operating_point: OperatingPoint,
     duration: float,
-    initial_state=None,
+    initial_state: tuple[ArrayLike, ArrayLike] | None = None,
     *,
     method: str = "DOP853",
     rtol: float = 1e-8,
@@ -773,7 +784,7 @@ def simulate_reference(
         normal = load * x**1.5 if x > 0.0 else 0.0
         return p, normal, -mu(float((p * a) @ u), law) * normal
 
-    def rhs(t, s):
+    def rhs(t: float, s: np.ndarray) -> np.ndarray:
         y, u = s[:n], s[n : 2 * n]
         p, normal, q = forces(t, y, u)
         lag = [] if tau == 0.0 else [(q - s[2 * n]) / tau]

@@ -28,6 +28,7 @@ import warnings
 from dataclasses import dataclass
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from ._numerics import find_root
 from .creep import ContactLaw, adhesion_ratio
@@ -84,8 +85,8 @@ class LimitCyclePrediction:
 
 
 def mean_power_per_cycle(
-    amplitude_m_s, mode: ModalDOF, contact: ContactLaw, op: OperatingPoint, n_phase: int = 1024
-):
+    amplitude_m_s: ArrayLike, mode: ModalDOF, contact: ContactLaw, op: OperatingPoint, n_phase: int = 1024
+) -> np.ndarray:
     """Pbar(V) in W for velocity amplitude(s) V in m/s (array-broadcast)."""
     V = np.asarray(amplitude_m_s, dtype=float)
     th = 2.0 * np.pi * (np.arange(n_phase) + 0.5) / n_phase

@@ -10,6 +10,7 @@ picture from a few thousand points instead of hundreds of thousands.
 from __future__ import annotations
 
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -78,7 +79,7 @@ def write_timeseries_csv(history: TimeHistory, directory: Path, name: str = "tim
     return path
 
 
-def _figure(width_in: float, height_in: float, rows: int = 1, cols: int = 1, **kwargs):
+def _figure(width_in: float, height_in: float, rows: int = 1, cols: int = 1, **kwargs: Any) -> Any:
     """A new Agg figure and its axes (object API: nothing global), with fixed margins
     for tick labels, axis labels and a title (tight_layout would draw every figure twice)."""
     from matplotlib.figure import Figure
@@ -116,7 +117,7 @@ def decimate(x: np.ndarray, y: np.ndarray, columns: int = DECIMATE_COLUMNS) -> t
     return np.concatenate([xs, x[m:]]), np.concatenate([ys, y[m:]])
 
 
-def _window(history: TimeHistory, centre_s: float, n_cycles: float = 6.0):
+def _window(history: TimeHistory, centre_s: float, n_cycles: float = 6.0) -> tuple[np.ndarray, float]:
     """Samples of ``n_cycles`` periods of the highest mode around ``centre_s``, kept
     inside the record (a record shorter than the window is shown whole)."""
     f = max(md.frequency_hz for md in history.modes)
@@ -213,6 +214,6 @@ def _power(history: TimeHistory, directory: Path, t0: float) -> Path:
     return _save(fig, directory / f"power_{centre:.2f}s.png")
 
 
-def _save(fig, path: Path) -> Path:
+def _save(fig: Any, path: Path) -> Path:
     fig.savefig(path, dpi=PLOT_DPI)
     return path

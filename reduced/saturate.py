@@ -21,6 +21,7 @@ from .limit_cycle import LimitCycle, limit_cycle
 from .model import (
     MAX_STORED_SAMPLES,
     ModalDOF,
+    Modes,
     OperatingPoint,
     TimeHistory,
     as_modes,
@@ -45,14 +46,14 @@ MAX_DURATION_S = 4.8
 
 
 def longest_record_s(
-    modes, samples_per_period: int = RECORD_SAMPLES_PER_PERIOD, wheel_speed_rad_s: float = 0.0
+    modes: Modes, samples_per_period: int = RECORD_SAMPLES_PER_PERIOD, wheel_speed_rad_s: float = 0.0
 ) -> float:
     """The longest duration [s] whose record fits ``MAX_STORED_SAMPLES`` samples."""
     return MAX_STORED_SAMPLES / (samples_per_period * highest_frequency_hz(modes, wheel_speed_rad_s))
 
 
 def simulate_to_limit_cycle(
-    modes: ModalDOF | list[ModalDOF],
+    modes: Modes,
     contact: ContactLaw,
     op: OperatingPoint,
     duration: float | None = None,
@@ -100,7 +101,9 @@ def simulate_to_limit_cycle(
         t *= 2
 
 
-def _first_duration(modes, contact: ContactLaw, op: OperatingPoint, wheel_speed_rad_s: float = 0.0) -> float:
+def _first_duration(
+    modes: Modes, contact: ContactLaw, op: OperatingPoint, wheel_speed_rad_s: float = 0.0
+) -> float:
     """The paper's 0.6 s, or the predicted time to saturate with margin (one mode; a
     rotating pair as the travelling wave it becomes: twice the mass, stiffness and
     damping at the contact)."""

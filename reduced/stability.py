@@ -35,15 +35,16 @@ exact values are found by root finding on the coupled eigenvalues.
 from __future__ import annotations
 
 import math
-from collections.abc import Iterable, Sequence
+from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass, replace
 from typing import Literal
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from ._numerics import find_root, one_blas_thread
 from .creep import ContactLaw, adhesion_ratio, adhesion_ratio_slope
-from .model import ModalDOF, OperatingPoint, as_modes
+from .model import ModalDOF, Modes, OperatingPoint, as_modes
 
 __all__ = [
     "bound_solves",
@@ -268,13 +269,25 @@ def _eigen(
     return lam[keep], (vec[:, keep] if vec is not None else None)
 
 
-def _mode_eigenvalues(modes, damping, linear, wheel_speed_rad_s, blocks):
+def _mode_eigenvalues(
+    modes: Sequence[ModalDOF],
+    damping: np.ndarray,
+    linear: LinearContact | float,
+    wheel_speed_rad_s: float,
+    blocks: list[tuple[int, int]],
+) -> tuple[np.ndarray, list[list[int]]]:
     """Eigenvalues with Im >= 0, and for each mode the ones assigned to it."""
     lam, assigned, _ = _eigen_shares(modes, damping, linear, wheel_speed_rad_s, blocks)
     return lam, assigned
 
 
-def _eigen_shares(modes, damping, linear, wheel_speed_rad_s, blocks):
+def _eigen_shares(
+    modes: Sequence[ModalDOF],
+    damping: np.ndarray,
+    linear: LinearContact | float,
+    wheel_speed_rad_s: float,
+    blocks: list[tuple[int, int]],
+) -> tuple[np.ndarray, list[list[int]], np.ndarray]:
     """:func:`_mode_eigenvalues` and each mode's share of each eigenvalue's vibration
     energy, shape (modes, eigenvalues)."""
     linear = LinearContact.of(linear)
@@ -304,7 +317,12 @@ def _eigen_shares(modes, damping, linear, wheel_speed_rad_s, blocks):
 
 
 def _mechanisms(
-    modes, damping, linear: LinearContact, wheel_speed_rad_s, blocks, lam
+    modes: Sequence[ModalDOF],
+    damping: np.ndarray,
+    linear: LinearContact,
+    wheel_speed_rad_s: float,
+    blocks: list[tuple[int, int]],
+    lam: np.ndarray,
 ) -> list[Mechanism | None]:
     """What makes each eigenvalue of ``lam`` grow, decided by the limits: the same
     eigenvalue (the nearest) of the system without the friction's stiffness coupling
@@ -334,7 +352,9 @@ def _mechanisms(
     return out
 
 
-def growth_rates(modes, damping, linear: LinearContact | float, wheel_speed_rad_s: float = 0.0) -> np.ndarray:
+def growth_rates(
+    modes: Modes, damping: ArrayLike, linear: LinearContact | float, wheel_speed_rad_s: float = 0.0
+) -> np.ndarray:
     """sigma [1/s] of each mode for dampings ``damping`` [N s/m] and the linearised
     contact ``linear`` (a :class:`LinearContact`, or the friction damping g [N s/m] of
     the paper's lateral contact)."""
@@ -344,7 +364,7 @@ def growth_rates(modes, damping, linear: LinearContact | float, wheel_speed_rad_
     return np.array([max((lam[j].real for j in js), default=-math.inf) for js in assigned])
 
 
-def _decreasing_root(fn, lo: float, hi: float, floor: float = -math.inf) -> float:
+def _decreasing_root(fn: Callable[[float], float], lo: float, hi: float, floor: float = -math.inf) -> float:
     """The root of a decreasing ``fn``: the bracket [lo, hi] is widened (never below
     ``floor``) until fn(lo) > 0 > fn(hi), then refined by Brent's method; ``floor`` if
     fn is already <= 0 there."""
@@ -381,7 +401,7 @@ def _bound_indices(bounds: Bounds, n: int) -> set[int]:
 
 
 def critical_damping_ratio(
-    modes, contact: ContactLaw, op: OperatingPoint, i: int, wheel_speed_rad_s: float = 0.0
+    modes: Modes, contact: ContactLaw, op: OperatingPoint, i: int, wheel_speed_rad_s: float = 0.0
 ) -> float:
     """The modal damping ratio of mode ``i`` above which it is stable at ``op``, the
     other modes at their damping (0 if it is stable without damping): a root of its
@@ -403,7 +423,7 @@ def critical_damping_ratio(
 
 
 def critical_friction_slope(
-    modes, contact: ContactLaw, op: OperatingPoint, i: int, wheel_speed_rad_s: float = 0.0
+    modes: Modes, contact: ContactLaw, op: OperatingPoint, i: int, wheel_speed_rad_s: float = 0.0
 ) -> float:
     """The friction slope dmu/dzeta at the quasi-static creepage above which mode ``i``
     is stable at ``op`` (a root of its growth rate, as :func:`critical_damping_ratio`)."""
@@ -422,7 +442,7 @@ def critical_friction_slope(
 
 
 def linear_stability(
-    modes,
+    modes: Modes,
     contact: ContactLaw,
     op: OperatingPoint,
     wheel_speed_rad_s: float = 0.0,
@@ -550,10 +570,10 @@ class StabilityMap:
 
 
 def stability_map(
-    modes,
+    modes: Modes,
     contact: ContactLaw,
-    crabbing_velocities_m_s,
-    rolling_speeds_m_s,
+    crabbing_velocities_m_s: ArrayLike,
+    rolling_speeds_m_s: ArrayLike,
     rolling_radius_m: float | None = None,
     candidates: int | None = None,
 ) -> StabilityMap:
@@ -622,7 +642,9 @@ MAX_DAMPING_RATIO = 1.0
 PARTICIPATION = 0.1
 
 
-def _damping_to_stop(modes, linear: LinearContact, omega: float, i: int, zeta_now: float) -> float:
+def _damping_to_stop(
+    modes: Sequence[ModalDOF], linear: LinearContact, omega: float, i: int, zeta_now: float
+) -> float:
     """The damping ratio of mode ``i`` (above ``zeta_now``) at which no eigenvalue in
     whose motion it takes part (:data:`PARTICIPATION`) grows: bisection on their largest
     growth rate, after doubling to bracket it (:data:`MAX_DAMPING_RATIO` if even that
@@ -655,7 +677,7 @@ def mitigation_rounds(n_modes: int) -> int:
     return 4 * n_modes + 4
 
 
-def mitigation_seconds(modes, n_crab_velocities: int, n_speeds: int, rotation: bool = False) -> float:
+def mitigation_seconds(modes: Modes, n_crab_velocities: int, n_speeds: int, rotation: bool = False) -> float:
     """The estimated time of :func:`mitigation` [s]: a damping bound per mode at the
     worst point and a friction-slope bound per mode and speed, then rounds of one map of
     the envelope and one bound each (:data:`MITIGATION_ROUNDS_PER_MODE` per mode, as
@@ -668,10 +690,10 @@ def mitigation_seconds(modes, n_crab_velocities: int, n_speeds: int, rotation: b
 
 
 def mitigation(
-    modes,
+    modes: Modes,
     contact: ContactLaw,
-    crabbing_velocities_m_s,
-    rolling_speeds_m_s,
+    crabbing_velocities_m_s: ArrayLike,
+    rolling_speeds_m_s: ArrayLike,
     rolling_radius_m: float | None = None,
     max_rounds: int | None = None,
 ) -> Mitigation:

@@ -15,12 +15,14 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from . import _engine
 from .creep import ContactLaw
 from .limit_cycle import Cycles, analytic_growth_rate, limit_cycle, metrics_from_cycles
 from .model import (
     STEPS_PER_PERIOD,
+    Modes,
     OperatingPoint,
     as_modes,
     choose_time_step,
@@ -71,17 +73,21 @@ class SweepResult:
 
 
 def sweep_steps(
-    modes, contact: ContactLaw, op: OperatingPoint, duration: float, steps_per_period: int = STEPS_PER_PERIOD
+    modes: Modes,
+    contact: ContactLaw,
+    op: OperatingPoint,
+    duration: float,
+    steps_per_period: int = STEPS_PER_PERIOD,
 ) -> int:
     """RK4 steps one sweep case at ``op`` takes over ``duration`` s."""
     return int(math.ceil(duration / choose_time_step(modes, contact, op, steps_per_period) - 1e-9))
 
 
 def sweep(
-    modes,
+    modes: Modes,
     contact: ContactLaw,
-    crabbing_velocities,
-    rolling_speeds,
+    crabbing_velocities: ArrayLike,
+    rolling_speeds: ArrayLike,
     duration: float,
     *,
     steps_per_period: int = STEPS_PER_PERIOD,
@@ -122,7 +128,7 @@ def sweep(
 
 
 def sweep_points(
-    modes,
+    modes: Modes,
     contact: ContactLaw,
     ops: Sequence[OperatingPoint],
     duration: float,
@@ -202,87 +208,3 @@ def sweep_points(
         if progress is not None:
             progress(hi, n_cases)
     return out
-
-
-@dataclass(frozen=True)
-class SquealPoints:
-    """Which mode squeals at each of several operating points (:func:`squeal_points`).
-
-    mode (n,) : index into the modes of the one that squeals, -1 where none does;
-    amplitude_m_s, frequency_hz, time_to_saturation_s (n,) : its limit cycle (NaN where
-    none); squeals, saturated (n,) bool; growth_rate_1_s (n,) : the linear growth rate
-    of that mode, or of the fastest-growing one where none squeals; growth_rates (n,
-    n_modes) : every mode's.
-    """
-
-    mode: np.ndarray
-    amplitude_m_s: np.ndarray
-    frequency_hz: np.ndarray
-    time_to_saturation_s: np.ndarray
-    squeals: np.ndarray
-    saturated: np.ndarray
-    growth_rate_1_s: np.ndarray
-    growth_rates: np.ndarray
-
-
-def squeal_points(
-    modes,
-    contact: ContactLaw,
-    ops: Sequence[OperatingPoint],
-    duration: float,
-    *,
-    first: int | None = None,
-    fastest: bool = True,
-    candidates: int | None = None,
-    progress: Callable[[int, int], None] | None = None,
-) -> SquealPoints:
-    """Each candidate mode run from rest for ``duration`` [s] where it is the candidate:
-    mode ``first`` at every point, then (``fastest``) where it does not squeal, the
-    fastest-growing mode where one grows. A mode runs with the modes that take part in
-    its fastest eigenvalue (alone when it is isolated; its partner for mode coupling).
-    The first ``candidates`` modes (default all) can squeal; the ones after them (the
-    counter-body's) run with every candidate. The growth rates and partners come from
-    one linear analysis per point (:func:`reduced.stability.linear_stability`)."""
-    from .stability import linear_stability
-
-    modes = as_modes(modes)
-    k = len(modes) if candidates is None else int(candidates)
-    extra = tuple(range(k, len(modes)))
-    n = len(ops)
-    results = [linear_stability(modes, contact, op) for op in ops]
-    sigma = np.array([[m.growth_rate_1_s for m in r.modes[:k]] for r in results]).reshape(n, k)
-    out = {name: np.full(n, np.nan) for name in ("amp", "freq", "tsat")}
-    squeals, saturated = np.zeros(n, bool), np.zeros(n, bool)
-    chosen = np.full(n, -1)
-
-    def group(i_mode: int, point: int) -> tuple[int, ...]:
-        partners = tuple(j for j in results[point].modes[i_mode].partners if j < k)
-        return (partners or (i_mode,)) + extra
-
-    def run(i_mode: int, where: np.ndarray) -> np.ndarray:
-        done = []
-        for together in sorted({group(i_mode, int(p)) for p in where}):
-            at = np.array([p for p in where if group(i_mode, int(p)) == together], dtype=int)
-            res = sweep_points(
-                [modes[j] for j in together], contact, [ops[p] for p in at], duration, progress=progress
-            )
-            keep = res["squeal"]
-            for name in ("amp", "freq", "tsat"):
-                out[name][at[keep]] = res[name][keep]
-            squeals[at[keep]] = True
-            saturated[at[keep]] = res["saturated"][keep]
-            chosen[at[keep]] = i_mode
-            done.append(at[keep])
-        return np.concatenate(done) if done else np.array([], dtype=int)
-
-    remaining = np.arange(n)
-    if first is not None:
-        remaining = np.setdiff1d(remaining, run(first, remaining))
-    if fastest and n:
-        best = np.argmax(sigma, axis=1)
-        grows = remaining[(sigma[remaining, best[remaining]] > 0) & (best[remaining] != first)]
-        for i_mode in np.unique(best[grows]):
-            run(int(i_mode), grows[best[grows] == i_mode])
-    rows = np.arange(n)
-    growth = np.where(chosen >= 0, sigma[rows, np.maximum(chosen, 0)], sigma.max(axis=1) if n else 0.0)
-    return SquealPoints(chosen, out["amp"], out["freq"], out["tsat"], squeals, saturated, growth, sigma)

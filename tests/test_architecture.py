@@ -161,7 +161,7 @@ def test_help_imports_no_heavy_library():
 SOLVERS = {
     "linear_stability", "growth_rates", "critical_damping_ratio", "critical_friction_slope",
     "stability_map", "mitigation", "simulate", "simulate_to_limit_cycle", "sweep", "sweep_points",
-    "squeal_points", "limit_cycle", "predict_limit_cycle", "modal_content", "solve_modes",
+    "limit_cycle", "predict_limit_cycle", "modal_content", "solve_modes",
     "solve_axisymmetric", "radiate", "kirchhoff_pressure",
 }  # fmt: skip
 #: numpy's numerical analysis (linear algebra, transforms, fits, quadrature, interpolation)

@@ -15,7 +15,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from .budget import Budget
 from .design import Design
@@ -37,6 +37,11 @@ from .presets import (
     rpm_to_speed,
 )
 from .sections import C22_RANGE
+
+if TYPE_CHECKING:
+    from fem.modes import Mode
+    from reduced import ContactLaw, HertzContact, ModalDOF, OperatingPoint
+    from reduced.model import Modes
 
 __all__ = [
     "Simulation",
@@ -95,7 +100,7 @@ def shipped_designs() -> dict[str, str]:
 # --------------------------------------------------------------------------------------
 # the reduced model: modal parameters, contact, operating point, simulation
 # --------------------------------------------------------------------------------------
-def modal_dof(mode, design: Design):
+def modal_dof(mode: Mode, design: Design) -> ModalDOF:
     """The FE mode as the reduced model's degree of freedom at the contact point: its
     lateral modal mass, stiffness and damping (m, k, c) with its damping ratio (the
     design's ``[squeal.damping]`` for it, else ``modal_damping_ratio``), its nodal
@@ -124,7 +129,7 @@ def counter_body_dofs(design: Design) -> list:
     return design.counter_body.dofs()
 
 
-def hertz_of(design: Design):
+def hertz_of(design: Design) -> HertzContact:
     """The Hertz contact (``reduced.HertzContact``) of the design's wheel on its
     counter-body at its contact point: the wheel's radius of curvature along rolling is
     r / cos(angle) there (``geometry.contact.ContactFrame``), across it the tread's crown;
@@ -144,7 +149,9 @@ def hertz_of(design: Design):
     )
 
 
-def contact_law(design: Design, c22: float | str | None = None, friction_law: str | None = None):
+def contact_law(
+    design: Design, c22: float | str | None = None, friction_law: str | None = None
+) -> ContactLaw:
     """Creep-law parameters of the design's wheel on its roller (Hertz + Eq. 3, 6).
 
     ``c22``: None for the design's value (Table 1: 3.14), a number, or ``"kalker"``.
@@ -186,7 +193,7 @@ def operating_point(
     speed: float | None = None,
     crab_velocity: float | None = None,
     angle_of_attack: float | None = None,
-):
+) -> OperatingPoint:
     """Rolling speed (``rpm`` of the wheel or ``speed`` [m/s]; default 800 RPM) and
     crabbing velocity (``crab_velocity`` [m/s] or ``angle_of_attack`` [rad]; default
     0.39 m/s) as a ``reduced.OperatingPoint``."""
@@ -234,9 +241,9 @@ class Simulation:
 
 
 def simulate(
-    dof,
-    contact,
-    op,
+    dof: Modes,
+    contact: ContactLaw,
+    op: OperatingPoint,
     duration: float | None = None,
     wheel_speed_rad_s: float = 0.0,
     budget: Budget | None = None,
@@ -252,7 +259,7 @@ def simulate(
     from reduced.saturate import FIRST_DURATION_S
     from reduced.sweep import sweep_steps
 
-    dofs = list(dof) if isinstance(dof, list | tuple) else [dof]
+    dofs: list[ModalDOF] = list(dof) if isinstance(dof, list | tuple) else [dof]  # type: ignore[list-item]
     for d in dofs:
         split = d.nodal_diameters * abs(wheel_speed_rad_s)
         if split >= d.angular_frequency_rad_s:
@@ -309,7 +316,9 @@ MIN_RECORD_STEPS = 16
 SIMULATION_HINT = "a higher rolling speed (the contact stiffens as it falls) or a shorter duration"
 
 
-def simulation_steps(dof, contact, op, duration: float | None = None) -> int:
+def simulation_steps(
+    dof: Modes, contact: ContactLaw, op: OperatingPoint, duration: float | None = None
+) -> int:
     """The RK4 steps of :func:`simulate`'s first run."""
     from reduced.saturate import FIRST_DURATION_S
     from reduced.sweep import sweep_steps
@@ -317,7 +326,9 @@ def simulation_steps(dof, contact, op, duration: float | None = None) -> int:
     return sweep_steps(dof, contact, op, duration or FIRST_DURATION_S)
 
 
-def simulation_seconds(dof, contact, op, duration: float | None = None) -> float:
+def simulation_seconds(
+    dof: Modes, contact: ContactLaw, op: OperatingPoint, duration: float | None = None
+) -> float:
     """The estimated time of :func:`simulate`'s first run [s] (a longer run follows only
     where the time left allows it)."""
     from .budget import SWEEP_SECONDS_PER_STEP

@@ -7,6 +7,7 @@ import tempfile
 from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -76,7 +77,7 @@ def calibrate(
     scale = np.where(x0 != 0, np.abs(x0), design.wheel.web_thickness)
     evaluations = 0
 
-    def evaluate(x: np.ndarray):
+    def evaluate(x: np.ndarray) -> Any:
         d = design.replace(**dict(zip(free, map(float, x))))
         ms = compute_modes(d, fid)
         m, _ = pick_mode(ms, mode)

@@ -17,12 +17,15 @@ from __future__ import annotations
 import functools
 import math
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 if TYPE_CHECKING:
+    from fem.modes import Mode, ModeSet
+
     from .api import Simulation
+    from .design import Design
     from .sound import Sound
 
 __all__ = [
@@ -82,7 +85,9 @@ MAX_WAV_SECONDS = 10.0
 SAMPLES_PER_PERIOD = 32
 
 
-def harmonic_velocities(simulation: Simulation, f0_hz: float, mode_frequency_hz: float):
+def harmonic_velocities(
+    simulation: Simulation, f0_hz: float, mode_frequency_hz: float
+) -> tuple[tuple[int, ...], np.ndarray, float, tuple[float, float, int], np.ndarray]:
     """(orders, complex amplitudes [m/s], the share of the velocity's energy they hold,
     the window (start, end [s], whole periods), the velocity's samples over it, at
     :data:`SAMPLES_PER_PERIOD` per period): the contact velocity's harmonics over the
@@ -124,11 +129,11 @@ class SquealSound:
         return self.harmonics[0]
 
     @property
-    def field(self):
+    def field(self) -> Any:
         return self.fundamental.field
 
     @property
-    def radiation(self):
+    def radiation(self) -> Any:
         return self.fundamental.radiation
 
     @property
@@ -175,7 +180,7 @@ class SquealSound:
         directivities = [s.radiation.directivity_pa_m for s in self.harmonics]
         return loudest_angle_rad(directivities, [s.velocity_amplitude_m_s for s in self.harmonics])
 
-    def bands(self):
+    def bands(self) -> tuple[list[Any], np.ndarray, float | None]:
         """(bands, band levels [dB re 20 uPa], overall [dB re 20 uPa]) of the microphone
         pressure: of its record over the limit cycle (Parseval), or of the harmonics'
         line spectrum without a record."""
@@ -274,13 +279,13 @@ def _finite(x: float) -> float | None:
 
 
 def squeal_sound(
-    design,
-    modeset,
-    mode,
+    design: Design,
+    modeset: ModeSet,
+    mode: Mode,
     mode_frequency_hz: float,
     simulation: Simulation,
     tone_hz: float,
-    **radiation,
+    **radiation: Any,
 ) -> SquealSound:
     """The :class:`SquealSound` of ``mode`` squealing as ``simulation`` says, heard at
     ``tone_hz`` [Hz]: its harmonics radiated at k times ``mode_frequency_hz`` through

@@ -14,6 +14,7 @@ from __future__ import annotations
 import csv
 import io
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING
@@ -121,7 +122,7 @@ def _value(path: str | Path, line: int, column: str, cell: str) -> float:
     return x
 
 
-def check_speeds(measured: Measured, rpms) -> None:
+def check_speeds(measured: Measured, rpms: Sequence[float]) -> None:
     """Refuse (one line, before any work) measured speeds the sweep will not run."""
     swept = np.asarray(rpms, float)
     for rpm in np.unique(measured.rpm):

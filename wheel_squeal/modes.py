@@ -8,7 +8,7 @@ import tempfile
 import warnings
 from collections.abc import Sequence
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -22,6 +22,7 @@ from .presets import DEFAULT_FIDELITY, DEFAULT_FMAX_HZ, FIDELITIES, Fidelity, fi
 from .progress import Progress
 
 if TYPE_CHECKING:
+    from fem.cost import SolveCost
     from fem.modes import ModeSet, SelectedMode
 
 __all__ = [
@@ -58,7 +59,7 @@ def build_mesh(
     size: float | None = None,
     elements_through_web: int | None = None,
     cache: StageCache | None = None,
-):
+) -> Any:
     """Mesh the design: the 2-D half-profile (``dim=2``) or the revolved solid (``dim=3``);
     ``size`` [m] or ``elements_through_web`` (default ``geometry.mesh.mesh_size``)."""
     from geometry import gmsh_mesh
@@ -104,7 +105,9 @@ def modes_cache_key(design: Design | WheelDesign, fid: Fidelity, fmax_hz: float)
 DENSE_OUTLINE_SEGMENTS = 100
 
 
-def check_modes_budget(design: Design | WheelDesign, fid: Fidelity, fmax_hz: float, budget: Budget):
+def check_modes_budget(
+    design: Design | WheelDesign, fid: Fidelity, fmax_hz: float, budget: Budget
+) -> SolveCost:
     """Estimate the modal solve (``fem.cost``) and refuse it beyond ``budget``."""
     from fem.cost import estimate_cost
     from geometry.mesh import mesh_size, short_segment_lengths

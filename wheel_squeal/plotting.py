@@ -21,6 +21,7 @@ import threading
 import time
 from collections.abc import Callable, Iterator, Sequence
 from concurrent.futures import Future, ProcessPoolExecutor
+from typing import Any
 
 __all__ = ["PLOT_MODULES", "PlotWorkers", "plot_workers"]
 
@@ -90,7 +91,7 @@ class PlotWorkers:
         self.jobs: list[_Job] = []
         self.drawn = False
 
-    def submit(self, fn: Callable, *args, **kwargs) -> None:
+    def submit(self, fn: Callable[..., Any], *args: Any, **kwargs: Any) -> None:
         self.jobs.append((fn, args, kwargs))
 
     def draw(self) -> None:

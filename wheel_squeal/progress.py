@@ -6,6 +6,7 @@ import contextlib
 import sys
 import time
 from collections.abc import Callable, Iterator
+from typing import TextIO
 
 __all__ = ["Progress"]
 
@@ -13,7 +14,7 @@ __all__ = ["Progress"]
 class Progress:
     """Stage progress on stderr: ``[  3.2 s] modes: done (1.9 s)``. Silent if quiet."""
 
-    def __init__(self, quiet: bool = False, stream=None) -> None:
+    def __init__(self, quiet: bool = False, stream: TextIO | None = None) -> None:
         self.quiet = quiet
         self.stream = stream or sys.stderr
         self.t0 = time.perf_counter()

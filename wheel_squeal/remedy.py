@@ -14,7 +14,7 @@ from .stability import ModeStabilityRow, contact_dofs, wheel_speed_rad_s
 
 if TYPE_CHECKING:
     from fem.modes import Mode
-    from reduced import ContactLaw, ModalDOF, OperatingPoint
+    from reduced import ContactLaw, ModalDOF, ModeStability, OperatingPoint
 
 __all__ = ["bounds_seconds", "margin_of", "remedy_of"]
 
@@ -27,7 +27,14 @@ def bounds_seconds(dofs: Sequence[ModalDOF], rotation: bool = False) -> float:
     return bound_solves(len(dofs)) * eigen_solve_seconds(dofs, rotation)
 
 
-def _bounds(design, rows, contact, op, rotation, i):
+def _bounds(
+    design: Design,
+    rows: Sequence[ModeStabilityRow],
+    contact: ContactLaw,
+    op: OperatingPoint,
+    rotation: bool,
+    i: int,
+) -> tuple[ModeStability, float, float]:
     """(its stability with bounds, damping ratio now, friction slope now) of row ``i``
     (the row's own bounds where the table has them)."""
     from reduced import friction_damping_ns_m, linear_stability

@@ -11,7 +11,9 @@ re 1 pW.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -19,6 +21,12 @@ from .cache import CacheMiss, StageCache, code_version
 from .design import Design
 from .errors import RequestError
 from .presets import DEFAULT_FIDELITY, DEFAULT_FMAX_HZ, fidelity_for
+
+if TYPE_CHECKING:
+    from acoustics import Air, RadiationCost, SoundField, Surface
+    from fem.modes import Mode, ModeSet
+
+    from .budget import Budget
 
 __all__ = [
     "MICROPHONE_DISTANCE_M",
@@ -92,10 +100,10 @@ class Listener:
     rad] and the air (``acoustics.Air``)."""
 
     microphone: tuple[float, float, float]
-    air: object
+    air: Air
 
 
-def air_for(density_kg_m3: float, sound_speed_m_s: float):
+def air_for(density_kg_m3: float, sound_speed_m_s: float) -> Air:
     """``acoustics.Air`` of the given density and sound speed, refused
     (:class:`RequestError`) outside the plausible ranges (``acoustics.implausible_air``)."""
     from acoustics import Air
@@ -107,7 +115,9 @@ def air_for(density_kg_m3: float, sound_speed_m_s: float):
     return Air(density_kg_m3, sound_speed_m_s)
 
 
-def mode_surface(modeset, mode, frequency_hz: float, contact_velocity_m_s: float = 1.0):
+def mode_surface(
+    modeset: ModeSet, mode: Mode, frequency_hz: float, contact_velocity_m_s: float = 1.0
+) -> Surface:
     """The mode's outline and surface velocity (``acoustics.Surface``), scaled so that
     the axial velocity amplitude at the contact is ``contact_velocity_m_s`` [m/s]."""
     from acoustics import Surface
@@ -122,23 +132,24 @@ def mode_surface(modeset, mode, frequency_hz: float, contact_velocity_m_s: float
     return Surface(points, velocity, int(mode.nodal_diameters))
 
 
-def sound_cost(design: Design, modeset, mode, listener: Listener | None = None):
+def sound_cost(
+    design: Design, modeset: ModeSet, mode: Mode, listener: Listener | None = None
+) -> RadiationCost | None:
     """The estimated cost of radiating ``mode`` at its natural frequency
     (``acoustics.RadiationCost``), None where nothing would be radiated (a modal model's
     modes have no shapes, a mode that does not move the contact laterally does not squeal
     through it)."""
-    from acoustics import AIR, Air, radiation_cost
+    from acoustics import AIR, radiation_cost
 
     from .modal_model import MODAL_MODEL_SOLVER
 
     if modeset.solver == MODAL_MODEL_SOLVER or not abs(float(mode.contact_lateral[0])) > 0:
         return None
     air = listener.air if listener is not None else AIR
-    assert isinstance(air, Air)
     return radiation_cost(mode_surface(modeset, mode, mode.frequency_hz), mode.frequency_hz, air)
 
 
-def contact_velocity_phase(mode) -> complex:
+def contact_velocity_phase(mode: Mode) -> complex:
     """The complex contact velocity of :func:`mode_surface`'s surface per unit amplitude:
     j sign(phi_c) (the pressure's phase against the contact velocity divides by it)."""
     return 1j * math.copysign(1.0, float(mode.contact_lateral[0]))
@@ -163,13 +174,13 @@ class Radiation:
     amplitude of cos(n theta)) at the microphone's (r, z) and on :func:`ring_points`,
     and its far-field directivity |D| [Pa m] on ``acoustics.farfield.DIRECTIVITY_ANGLES``."""
 
-    field: object
+    field: SoundField
     microphone_pressure_pa: complex
     ring_pressure_pa: np.ndarray
     directivity_pa_m: np.ndarray
 
     @classmethod
-    def of(cls, field, microphone) -> Radiation:
+    def of(cls, field: SoundField, microphone: tuple[float, float, float]) -> Radiation:
         """The radiation of ``field`` (``acoustics.SoundField`` at 1 m/s) seen from a
         microphone (r, z[, theta])."""
         from acoustics.farfield import directivity
@@ -179,7 +190,7 @@ class Radiation:
         return cls(field, at_microphone, ring, directivity(field))
 
 
-def radiation_key(modes_key: dict, mode, frequency_hz: float, air) -> dict:
+def radiation_key(modes_key: dict[str, Any], mode: Mode, frequency_hz: float, air: Air) -> dict[str, Any]:
     """The cache key of a mode's radiation (its field at 1 m/s): the modes', the mode,
     the frequency, the air, the settings and the acoustics code."""
     from acoustics import RadiationSettings
@@ -199,14 +210,14 @@ def radiation_key(modes_key: dict, mode, frequency_hz: float, air) -> dict:
 
 def mode_radiation(
     design: Design,
-    modeset,
-    mode,
+    modeset: ModeSet,
+    mode: Mode,
     frequency_hz: float,
     microphone: tuple[float, float, float],
     cache: StageCache | None = None,
-    modes_key: dict | None = None,
-    air=None,
-    budget=None,
+    modes_key: dict[str, Any] | None = None,
+    air: Air | None = None,
+    budget: Budget | None = None,
 ) -> Radiation:
     """The :class:`Radiation` of ``mode`` at 1 m/s contact velocity seen from the
     microphone; the field is cached beside the modes when ``modes_key``
@@ -280,7 +291,7 @@ class Sound:
     travelling: bool = False
 
     @property
-    def field(self):
+    def field(self) -> SoundField:
         """The sound field at 1 m/s (``acoustics.SoundField``)."""
         return self.radiation.field
 
@@ -325,7 +336,7 @@ class Sound:
         from acoustics import sound_power_level_db, spl_db
         from acoustics.medium import audible_spl_db
 
-        def level(fn, value):
+        def level(fn: Callable[[float], Any], value: float) -> float | None:
             return float(fn(value)) if value > 0 else None
 
         unit = Sound(self.radiation, 1.0, self.microphone, self.travelling)
@@ -363,18 +374,22 @@ def check_velocity_amplitude(velocity_amplitude_m_s: float) -> None:
 
 
 def sound_of(
-    radiation: Radiation, velocity_amplitude_m_s: float, microphone, travelling: bool = False
+    radiation: Radiation,
+    velocity_amplitude_m_s: float,
+    microphone: tuple[float, float, float],
+    travelling: bool = False,
 ) -> Sound:
     """The levels of ``radiation`` (at 1 m/s) for a contact velocity amplitude [m/s] at a
     microphone (r, z, theta)."""
     check_velocity_amplitude(velocity_amplitude_m_s)
-    return Sound(radiation, float(velocity_amplitude_m_s), tuple(microphone), travelling)
+    r, z, theta = microphone
+    return Sound(radiation, float(velocity_amplitude_m_s), (float(r), float(z), float(theta)), travelling)
 
 
 def mode_sound(
     design: Design,
-    modeset,
-    mode,
+    modeset: ModeSet,
+    mode: Mode,
     frequency_hz: float,
     velocity_amplitude_m_s: float = 1.0,
     *,
@@ -383,8 +398,8 @@ def mode_sound(
     fidelity: str = DEFAULT_FIDELITY,
     fmax_hz: float = DEFAULT_FMAX_HZ,
     cache: StageCache | None = None,
-    budget=None,
-    memo: dict | None = None,
+    budget: Budget | None = None,
+    memo: dict[Any, Any] | None = None,
 ) -> Sound:
     """The sound of ``mode`` (of ``modeset``, solved with ``fidelity`` up to ``fmax_hz``)
     vibrating at ``frequency_hz`` [Hz] with a contact velocity amplitude [m/s]:

@@ -24,7 +24,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 from .outputs import finite_or_none
 from .types import Mechanism, Wave
@@ -182,7 +182,7 @@ class Verdict:
     margin: dict | None = None
     remedy: dict | None = None
 
-    def get(self, key: str):
+    def get(self, key: str) -> Any:
         """A field of the verdict's outcome (None without squeal)."""
         return None if self.outcome is None else self.outcome.to_dict().get(key)
 

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import argparse
 from pathlib import Path
+from typing import Any
 
 from acoustics.medium import AIR
 from fem.solvers import SOLVERS
@@ -41,7 +42,12 @@ __all__ = [
 
 
 def add_axis(
-    p: argparse.ArgumentParser, flag: str, default, what: str, span: bool = False, filled: bool = True
+    p: argparse.ArgumentParser,
+    flag: str,
+    default: Any,
+    what: str,
+    span: bool = False,
+    filled: bool = True,
 ) -> None:
     """A sweep axis flag (:func:`grid_axis`); ``default``: (start, stop, points) when
     ``span``, else the values; ``filled=False`` leaves it None when not given (the

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import argparse
 from pathlib import Path
+from typing import NoReturn
 
 from ..presets import (
     DEFAULT_ENVELOPE_CRAB_VELOCITIES,
@@ -45,7 +46,7 @@ class CommandParser(argparse.ArgumentParser):
 
     subcommands: dict[str, CommandParser]
 
-    def error(self, message: str):
+    def error(self, message: str) -> NoReturn:
         self.exit(2, f"error: {message} (see {self.prog} --help)\n")
 
 

@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import argparse
 import time
+from pathlib import Path
 
 import numpy as np
 
@@ -51,7 +52,7 @@ from .stops import uninterrupted
 __all__ = ["cmd_compare", "cmd_run", "cmd_simulate", "cmd_stability", "cmd_sweep"]
 
 
-def files_in(folder) -> str:
+def files_in(folder: Path) -> str:
     """The result folder's files, the PNGs as one pattern."""
     names = sorted(p.name for p in folder.iterdir() if p.is_file() and not p.name.startswith("."))
     pngs = [n for n in names if n.endswith(".png")]

@@ -66,7 +66,7 @@ class StopState:
 STATE = StopState()
 
 
-def _on_signal(signum, frame) -> None:
+def _on_signal(signum: int, frame: object) -> None:
     STATE.received.append(signum)
     if not STATE.holding:
         raise STOPS[signum][0]

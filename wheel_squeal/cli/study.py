@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import argparse
+
 from ..errors import RequestError
 from ..outputs import result_folder
 from ..progress import Progress
@@ -10,7 +12,7 @@ from .common import budget_of, cache_of, out_of
 __all__ = ["cmd_study"]
 
 
-def cmd_study(args) -> int:
+def cmd_study(args: argparse.Namespace) -> int:
     from ..study.runner import missing_dependencies
 
     missing = missing_dependencies()

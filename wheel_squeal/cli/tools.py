@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import argparse
 import os
 from pathlib import Path
 
@@ -16,7 +17,7 @@ from .common import design_of, out_of
 __all__ = ["cmd_cache", "cmd_calibrate", "cmd_converge", "cmd_designs"]
 
 
-def cmd_calibrate(args) -> int:
+def cmd_calibrate(args: argparse.Namespace) -> int:
     from ..calibration import CALIBRATED_MARK, calibrate, calibrated_design_path, check_request
 
     design = design_of(args)
@@ -57,7 +58,7 @@ def cmd_calibrate(args) -> int:
     return 0
 
 
-def cmd_converge(args) -> int:
+def cmd_converge(args: argparse.Namespace) -> int:
     from ..convergence import run_convergence
 
     design = design_of(args)
@@ -68,7 +69,7 @@ def cmd_converge(args) -> int:
     return 0
 
 
-def cmd_designs(args) -> int:
+def cmd_designs(args: argparse.Namespace) -> int:
     from ..api import shipped_designs
 
     for name, description in shipped_designs().items():
@@ -78,7 +79,7 @@ def cmd_designs(args) -> int:
     return 0
 
 
-def cmd_cache(args) -> int:
+def cmd_cache(args: argparse.Namespace) -> int:
     cache = StageCache(args.cache_dir)
     if args.action == "clear":
         print(f"removed {cache.clear()} cache entries from {cache.root}")

@@ -37,7 +37,7 @@ TIME_TIE_S = 0.1
 ERROR_KEYS = ("frequency", "modal_mass", "amplitude", "time_to_saturation")
 
 
-def as_number(x) -> float:
+def as_number(x: Any) -> float:
     """``float(x)``, or NaN for None and text that is not a number (empty CSV cells)."""
     try:
         v = float(x)
@@ -210,7 +210,7 @@ def choose_presets(rows: list[dict]) -> dict:
     return out
 
 
-def percent(x) -> str:
+def percent(x: Any) -> str:
     """A relative error as a signed percentage (``+0.135 %``), ``n/a`` when missing."""
     v = as_number(x)
     if not math.isfinite(v):

@@ -21,6 +21,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from .. import api
+from ..design import Design
 from ..presets import DEFAULT_CRAB_VELOCITY_M_S, DEFAULT_FMAX_HZ, DEFAULT_RPM
 from .measure import REPEAT_BELOW_S, REPEATS, measure, measure_repeated
 
@@ -112,7 +113,7 @@ class FERung:
     etw: int
     reference: bool = False
 
-    def solve(self, design):
+    def solve(self, design: Design) -> Any:
         """The ModeSet of this rung (meshes the design itself)."""
         from fem.solvers import SOLVERS, parse_method, solve_modes
         from geometry import mesh_profile, mesh_wheel
@@ -125,7 +126,7 @@ class FERung:
         )
 
 
-def _fe_job(design, rung: FERung, mode: str) -> Callable[[], dict]:
+def _fe_job(design: Design, rung: FERung, mode: str) -> Callable[[], dict]:
     def job() -> dict:
         ms = rung.solve(design)
         m, why = api.pick_mode(ms, mode)
@@ -134,7 +135,7 @@ def _fe_job(design, rung: FERung, mode: str) -> Callable[[], dict]:
     return job
 
 
-def _simulate_row(row: dict, mode, design, contact, op) -> None:
+def _simulate_row(row: dict, mode: Any, design: Design, contact: Any, op: Any) -> None:
     """Fill the limit-cycle columns of an FE row from the production simulation."""
     dof = api.modal_dof(mode, design)
     sim = api.simulate(dof, contact, op)
@@ -153,7 +154,7 @@ def _simulate_row(row: dict, mode, design, contact, op) -> None:
         row["note"] = (row.get("note", "") + "; " if row.get("note") else "") + "limit cycle not saturated"
 
 
-def _blank_row(study: str, method: str, parameter_name: str, parameter) -> dict:
+def _blank_row(study: str, method: str, parameter_name: str, parameter: Any) -> dict:
     row: dict[str, Any] = dict.fromkeys(COLUMNS)
     row.update(
         study=study,
@@ -167,7 +168,7 @@ def _blank_row(study: str, method: str, parameter_name: str, parameter) -> dict:
 
 
 def fe_ladder(
-    design,
+    design: Design,
     rungs: Sequence[FERung],
     *,
     mode: str = "default",
@@ -221,10 +222,12 @@ def fe_ladder(
     return rows, modes
 
 
-def _integrator_job(dof, contact, op, duration: float, method: str, parameter) -> Callable[[], Any]:
+def _integrator_job(
+    dof: Any, contact: Any, op: Any, duration: float, method: str, parameter: Any
+) -> Callable[[], Any]:
     import reduced
 
-    def job():
+    def job() -> Any:
         t = time.perf_counter()
         if method == "rk4":
             # raw fixed-step RK4: no step cap, no energy-balance refinement (the
@@ -264,13 +267,13 @@ def _integrator_job(dof, contact, op, duration: float, method: str, parameter) -
 
 
 def integrator_ladder(
-    dof,
-    contact,
-    op,
+    dof: Any,
+    contact: Any,
+    op: Any,
     duration: float,
     *,
-    rk4=RK4_LADDER,
-    rtols=IVP_RTOLS,
+    rk4: Sequence[float] = RK4_LADDER,
+    rtols: Sequence[float] = IVP_RTOLS,
     reference_rtol: float = REFERENCE_RTOL,
     crosscheck_steps: int | None = CROSSCHECK_STEPS_PER_PERIOD,
     isolate: bool = True,

@@ -110,7 +110,7 @@ def measure_repeated(
     isolate: bool = True,
     repeat_below_s: float = REPEAT_BELOW_S,
     repeats: int = REPEATS,
-):
+) -> Any:
     """:func:`measure` once, and ``repeats`` times in all if the first run was quick.
 
     Returns ``(result of the first run, median seconds, max peak memory MB, runs)``.

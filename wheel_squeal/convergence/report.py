@@ -44,7 +44,7 @@ def read_csv(path: Path) -> list[dict]:
 ERROR_FLOOR = 1e-9  # plotted in place of an exact zero (log axis)
 
 
-def _plot_panel(ax, rows: list[dict], key: str, title: str) -> None:
+def _plot_panel(ax: Any, rows: list[dict], key: str, title: str) -> None:
     methods = [m for m in dict.fromkeys(r["method"] for r in rows)]
     pts_all, rows_all = [], []
     for method in methods:

@@ -31,7 +31,7 @@ from typing import TYPE_CHECKING
 from reduced.model import STEPS_PER_PERIOD as PRODUCTION_STEPS_PER_PERIOD
 
 from .. import api
-from ..design import as_design
+from ..design import Design, as_design
 from ..outputs import write_json
 from ..presets import DEFAULT_CRAB_VELOCITY_M_S, DEFAULT_FMAX_HZ, DEFAULT_RPM
 from .choice import (
@@ -66,7 +66,7 @@ class ConvergenceError(RuntimeError):
     """The study could not produce its reference (nothing to compare against)."""
 
 
-def _warm_up(design) -> None:
+def _warm_up(design: Design) -> None:
     """Import and exercise the code paths once in this process so each child starts
     warm (imports, numba caches, lazily loaded libraries are not timed)."""
     import reduced
@@ -88,8 +88,8 @@ def _warm_up(design) -> None:
 
 
 def run_convergence(
-    design,
-    out_dir,
+    design: Design,
+    out_dir: Path,
     *,
     quick: bool = False,
     progress: Callable[[str], None] | None = None,

@@ -6,7 +6,7 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -15,6 +15,9 @@ from reduced.report import PLOT_DPI
 from ..sweeps import VerdictGrid
 
 if TYPE_CHECKING:
+    from ..api import Simulation
+    from ..envelope import Envelope
+    from ..measured import Measured
     from ..verdict import ModeOutcome
 
 __all__ = [
@@ -28,7 +31,7 @@ __all__ = [
 ]
 
 
-def plot_times(sim) -> tuple[float, float]:
+def plot_times(sim: Simulation) -> tuple[float, float]:
     """Windows [s] for the paper's Fig. 7-10: while growing (0.2 s) and at the limit
     cycle (0.4 s in the paper; later when this mode saturates later), inside the record."""
     lc = sim.limit_cycle
@@ -138,7 +141,7 @@ def write_mode_growth_plot(path: Path, rows: Sequence, chosen: int | None = None
     return Path(path)
 
 
-def write_envelope_plot(path: Path, env, mitigation: dict | None = None) -> Path:
+def write_envelope_plot(path: Path, env: Envelope, mitigation: dict[str, Any] | None = None) -> Path:
     """stability.png: the largest growth rate against the crabbing velocity, one curve
     per speed (its marker in the legend), each point coloured by the mode that grows
     fastest there; with ``mitigation`` (summary.json's), a second panel: each mode's
@@ -183,7 +186,7 @@ def write_envelope_plot(path: Path, env, mitigation: dict | None = None) -> Path
     return path
 
 
-def _mitigation_panel(ax, mitigation: dict) -> None:
+def _mitigation_panel(ax: Any, mitigation: dict[str, Any]) -> None:
     """Each mode's damping ratio now and required over the envelope (log scale)."""
     off, on = mitigation["rotation_off"], mitigation["rotation_on"]
     names = [d["label"] for d in off["damping"]]
@@ -251,7 +254,7 @@ def curve(grid: VerdictGrid, values: np.ndarray, j: int) -> tuple[np.ndarray, np
     return x, np.where(cycle, y, np.nan), hollow
 
 
-def write_sweep_plot(path: Path, grid: VerdictGrid, measured=None) -> Path:
+def write_sweep_plot(path: Path, grid: VerdictGrid, measured: Measured | None = None) -> Path:
     """sweep.png: the amplitude (top) and the SPL (bottom, with sound; else the velocity
     level re 5e-8 m/s) against the crabbing velocity, one curve per speed; hollow: still
     growing at the end of the run; each filled point labelled by nothing, the modes in

@@ -3,21 +3,26 @@
 from __future__ import annotations
 
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
+
+if TYPE_CHECKING:
+    from ..levels import SquealSound
 
 __all__ = ["write_pressure_vtu", "write_squeal_wav"]
 
 
-def write_squeal_wav(path: Path, sound) -> float:
+def write_squeal_wav(path: Path, sound: SquealSound) -> float:
     """squeal.wav: the microphone pressure over the run at 44.1 kHz, 16 bit, peak-normalised;
     returns the peak [Pa] the samples were divided by (summary.json has the levels)."""
     from acoustics.signal import WAV_RATE_HZ, write_wav
 
+    assert sound.signal is not None  # a squeal's sound keeps its record
     return write_wav(path, sound.signal.wav_samples(), WAV_RATE_HZ)
 
 
-def write_pressure_vtu(path: Path, sound) -> Path:
+def write_pressure_vtu(path: Path, sound: SquealSound) -> Path:
     """pressure.vtu: the pressure field on the (r, z) plane (x = r, y = z) for ParaView:
     real and imaginary parts, amplitude [Pa] and SPL [dB]."""
     import meshio

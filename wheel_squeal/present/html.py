@@ -60,7 +60,7 @@ img { max-width: 100%; border: 1px solid #eee; margin: 0.4em 0; }
 
 
 # -- pieces ----------------------------------------------------------------------------------
-def _e(x) -> str:
+def _e(x: object) -> str:
     return html.escape(str(x))
 
 
@@ -80,7 +80,7 @@ def audio(path: Path) -> str:
     return f'<audio controls preload="auto" src="data:audio/wav;base64,{data}"></audio>'
 
 
-def _cell(x) -> str:
+def _cell(x: object) -> str:
     if x is None:
         return "-"
     if isinstance(x, bool):

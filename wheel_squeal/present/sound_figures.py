@@ -5,11 +5,15 @@
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from reduced.report import PLOT_DPI
+
+if TYPE_CHECKING:
+    from ..api import Simulation
+    from ..levels import SquealSound
 
 __all__ = [
     "DIRECTIVITY_RANGE_DB",
@@ -28,7 +32,7 @@ NEAR_FIELD_RADII = 1.6
 DIRECTIVITY_RANGE_DB = 40.0
 
 
-def write_sound_plot(path: Path, sound) -> Path:
+def write_sound_plot(path: Path, sound: SquealSound) -> Path:
     """sound_field.png: the SPL in the (r, z) plane around the wheel, framed on its near
     field (both sides of the axis, theta = 0 and pi), with the microphone; and the
     far-field directivity in the meridian plane as a polar plot (dB re its maximum, all
@@ -86,12 +90,12 @@ def write_sound_plot(path: Path, sound) -> Path:
     return Path(path)
 
 
-def _harmonics(sound):
+def _harmonics(sound: SquealSound) -> tuple[Any, ...]:
     """The harmonics of a squeal's sound (a bare tone: itself)."""
     return getattr(sound, "harmonics", (sound,))
 
 
-def write_spectrum_plot(path: Path, simulation, sound) -> Path:
+def write_spectrum_plot(path: Path, simulation: Simulation, sound: SquealSound) -> Path:
     """spectrum.png: the line spectra of the contact velocity, the lateral contact force
     and the microphone pressure over whole periods of the limit cycle, and the
     microphone's one-third-octave band levels with their A-weighted sum."""
@@ -100,6 +104,7 @@ def write_spectrum_plot(path: Path, simulation, sound) -> Path:
     from acoustics.signal import line_spectrum, periodic_samples
 
     h, signal = simulation.history, sound.signal
+    assert signal is not None  # a squeal's sound keeps its record
     start, end, count = signal.window
     n = len(signal.cycle_pa)
     rows = [
@@ -149,7 +154,7 @@ def write_spectrum_plot(path: Path, simulation, sound) -> Path:
 SPECTRUM_RANGE_DB = 100.0
 
 
-def _lines(ax, f: np.ndarray, level: np.ndarray) -> None:
+def _lines(ax: Any, f: np.ndarray, level: np.ndarray) -> None:
     """A line spectrum: a line from the floor up to each level, the floor
     :data:`SPECTRUM_RANGE_DB` below the largest."""
     finite = level[np.isfinite(level)]

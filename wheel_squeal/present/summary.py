@@ -10,12 +10,15 @@ from ..outputs import finite_or_none
 from ..presets import Fidelity, rpm_to_speed
 
 if TYPE_CHECKING:
+    from fem.modes import Mode, ModeSet
+    from reduced import ContactLaw, ModalDOF, OperatingPoint
+
     from ..chain import Analysis
 
 __all__ = ["analysis_summary", "contact_summary", "dof_summary", "modes_summary", "operating_point_summary"]
 
 
-def dof_summary(dof) -> dict:
+def dof_summary(dof: ModalDOF) -> dict[str, float]:
     """The modal parameters of a ``reduced.ModalDOF`` (SI units)."""
     return {
         "mass_kg": dof.mass_kg,
@@ -25,11 +28,13 @@ def dof_summary(dof) -> dict:
     }
 
 
-def modes_summary(design: Design, modeset, selected, fid: Fidelity, why: str | None = None) -> dict:
+def modes_summary(
+    design: Design, modeset: ModeSet, selected: Mode | None, fid: Fidelity, why: str | None = None
+) -> dict[str, Any]:
     """``summary.json``'s modal part: every mode with its labels and contact m, k, c, the
     selected mode (and why; None when no mode was selected), the solver, DOFs and timings."""
 
-    def zeta(m) -> float:
+    def zeta(m: Mode) -> float:
         return design.damping_ratio_of(m)
 
     sel = selected.to_dict(zeta(selected)) if selected is not None else None
@@ -46,7 +51,7 @@ def modes_summary(design: Design, modeset, selected, fid: Fidelity, why: str | N
     }
 
 
-def operating_point_summary(op, design: Design) -> dict:
+def operating_point_summary(op: OperatingPoint, design: Design) -> dict[str, float]:
     """The operating point (SI units, and the wheel speed in rev/min)."""
     return {
         "rolling_speed_m_s": op.rolling_speed_m_s,
@@ -57,7 +62,7 @@ def operating_point_summary(op, design: Design) -> dict:
     }
 
 
-def contact_summary(design: Design, contact, op) -> dict:
+def contact_summary(design: Design, contact: ContactLaw, op: OperatingPoint) -> dict[str, Any]:
     """The contact as the stability sees it: its point and angle, the friction law, the
     normal spring, transient creep and the counter-body (SI units)."""
     frame = design.contact_frame

@@ -4,6 +4,7 @@ measured.csv), their columns from :mod:`wheel_squeal.fields`."""
 from __future__ import annotations
 
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -11,10 +12,13 @@ from ..fields import columns_of
 from ..outputs import write_csv
 from ..sweeps import VerdictGrid
 
+if TYPE_CHECKING:
+    from ..envelope import Envelope
+
 __all__ = ["write_envelope_csv", "write_measured_csv", "write_sweep_csv", "write_sweep_spl"]
 
 
-def write_envelope_csv(path: Path, env) -> Path:
+def write_envelope_csv(path: Path, env: Envelope) -> Path:
     """stability.csv: one row per (crabbing velocity, speed) with the fastest mode."""
     rows = []
     for i, vc in enumerate(env.crabbing_velocities_m_s):

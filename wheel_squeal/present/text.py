@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -14,6 +14,10 @@ from ..presets import rpm_to_speed
 from ..sweeps import VerdictGrid
 
 if TYPE_CHECKING:
+    from fem.modes import Mode
+    from reduced import ModalDOF
+
+    from ..api import Simulation
     from ..chain import Analysis
     from ..verdict import ModeOutcome, Verdict
 
@@ -34,7 +38,7 @@ __all__ = [
 ]
 
 
-def modes_table(modes, design: Design, selected=None) -> str:
+def modes_table(modes: Sequence[Mode], design: Design, selected: Mode | None = None) -> str:
     """The modes as a text table (damping c from each mode's ratio), the selected one marked."""
     lines = [
         f"{'#':>3} {'f [Hz]':>9} {'n':>2} {'c':>2} {'family':<15} {'m [kg]':>10} "
@@ -53,7 +57,7 @@ def modes_table(modes, design: Design, selected=None) -> str:
     return "\n".join(lines)
 
 
-def analysis_header(a) -> str:
+def analysis_header(a: Analysis) -> str:
     """One line: the design, the preset, how many modes grow at the operating point."""
     op = a.operating_point
     rpm = op.rolling_speed_m_s / rpm_to_speed(1.0, a.design.rolling_radius)
@@ -65,7 +69,7 @@ def analysis_header(a) -> str:
     )
 
 
-def squeal_report(sim, dof, label: str | None = None) -> str:
+def squeal_report(sim: Simulation, dof: ModalDOF, label: str | None = None) -> str:
     """The simulated mode's modal parameters, the contact ellipse, the operating point and
     its limit cycle, as text (the verdict is :func:`verdict_lines`)."""
     s = sim.summary()
@@ -109,7 +113,7 @@ def squeal_report(sim, dof, label: str | None = None) -> str:
 def compare_table(rows: Sequence[dict]) -> str:
     """The designs side by side, as text."""
 
-    def num(v, fmt: str, width: int) -> str:
+    def num(v: Any, fmt: str, width: int) -> str:
         return f"{v:{width}{fmt}}" if v is not None else f"{'-':>{width}}"
 
     lines = [
@@ -253,7 +257,7 @@ def measured_table(comparison: list[dict]) -> str:
     """The comparison as text: prediction minus measurement per point, and its mean and
     spread over the points with a prediction."""
 
-    def num(x, fmt: str) -> str:
+    def num(x: Any, fmt: str) -> str:
         return "-" if x is None else format(x, fmt)
 
     lines = [f"{'Vc [m/s]':>9} {'rpm':>6} {'measured':>9} {'predicted':>9} {'pred-meas':>9}  dB"]

@@ -35,7 +35,7 @@ __all__ = ["loudest", "study_dataset", "study_summary", "write_study_files"]
 _UNITS = {k: unit_of(k) for k in (*RESULT_FIELDS, "mass_kg")}
 
 
-def study_dataset(spec: StudySpec, results: list[dict]):
+def study_dataset(spec: StudySpec, results: list[dict]) -> Any:
     """The Dataset of ``results`` (one per case of ``spec``, in case order)."""
     import xarray as xr
 
@@ -112,7 +112,7 @@ def study_dataset(spec: StudySpec, results: list[dict]):
     return ds
 
 
-def write_study_files(ds, spec: StudySpec, folder: Path) -> list[str]:
+def write_study_files(ds: Any, spec: StudySpec, folder: Path) -> list[str]:
     """``study.nc`` (NetCDF), ``study.csv`` (one row per design and operating point), the
     spec (``study.toml``), plots and ``report.html``; returns the file names."""
     from ..present.html import REPORT_NAME, study_report
@@ -134,13 +134,13 @@ def write_study_files(ds, spec: StudySpec, folder: Path) -> list[str]:
 MIN_SPAN = {"tone_hz": 5.0, "spl_dba": 2.0, "spl_db": 2.0, "amplitude_m_s": 0.01}
 
 
-def _level_var(ds, spec: StudySpec) -> str:
+def _level_var(ds: Any, spec: StudySpec) -> str:
     """The level the plots show: the A-weighted SPL where sound is computed, else the
     contact velocity amplitude."""
     return "spl_dba" if "sound" in spec.compute else "amplitude_m_s"
 
 
-def loudest(ds, spec: StudySpec):
+def loudest(ds: Any, spec: StudySpec) -> Any:
     """Per design (an xarray Dataset over the design dimensions): its ``level`` at its
     loudest operating point (NaN: no squeal anywhere), the ``tone_hz`` there, and the
     share of its operating grid where it squeals (``squealing_share``)."""
@@ -157,7 +157,7 @@ def loudest(ds, spec: StudySpec):
     return xr.Dataset({"level": loud, "tone_hz": tone, "squealing_share": share})
 
 
-def _span(values, name: str) -> tuple[float, float]:
+def _span(values: Any, name: str) -> tuple[float, float]:
     """Axis or colour limits of ``values``: their range, widened about its middle to
     :data:`MIN_SPAN`."""
     v = np.asarray(values, float)
@@ -170,7 +170,7 @@ def _span(values, name: str) -> tuple[float, float]:
     return mid - span / 2, mid + span / 2
 
 
-def _label(ds, name: str) -> str:
+def _label(ds: Any, name: str) -> str:
     from ..design import FIELD_UNITS
 
     unit = ds[name].attrs.get("units") if name in ds else None
@@ -178,7 +178,7 @@ def _label(ds, name: str) -> str:
     return f"{name.replace('_', ' ')} ({unit})" if unit else name.replace("_", " ")
 
 
-def study_summary(ds, spec: StudySpec) -> list[str]:
+def study_summary(ds: Any, spec: StudySpec) -> list[str]:
     """The study in a few lines: the designs, how many squeal, the spread of their tone
     and level (P5, P50, P95 over the designs' loudest points), and the worst design."""
     per = loudest(ds, spec)
@@ -212,7 +212,7 @@ def study_summary(ds, spec: StudySpec) -> list[str]:
     return lines
 
 
-def _plots(ds, spec: StudySpec, folder: Path) -> list[str]:
+def _plots(ds: Any, spec: StudySpec, folder: Path) -> list[str]:
     """study_tone_level.png: tone and level at each design's loudest point against the
     varied parameters (grids: lines or maps with units; samples: histograms with P5, P50,
     P95 and the loudest design, and the level against each sampled parameter)."""

@@ -13,7 +13,8 @@ from __future__ import annotations
 
 import json
 import os
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
+from typing import Any
 
 import numpy as np
 
@@ -57,7 +58,7 @@ def _key_base(spec: StudySpec) -> dict:
     }
 
 
-def _case_key(base: dict, changes) -> dict:
+def _case_key(base: dict, changes: Sequence[tuple[str, float]]) -> dict:
     return {"stage": "study-case", **base, "changes": [[k, repr(float(v))] for k, v in changes]}
 
 
@@ -250,7 +251,7 @@ def _reachable(address: str) -> None:
         raise RequestError(f"cannot reach the dask scheduler at {address}: {reason}") from None
 
 
-def _connect(client_type, address: str):
+def _connect(client_type: Any, address: str) -> Any:
     """A dask Client of the scheduler at ``address``, or RequestError within a few
     seconds: the handshake runs in a thread given :data:`SCHEDULER_TIMEOUT_S` plus a
     margin, because a server that is not a scheduler (a web server on the port) can keep
