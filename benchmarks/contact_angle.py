@@ -24,7 +24,7 @@ ANGLES_DEG = {"table1": [0.0, 1.0, 2.0, 2.4, -2.4], "table1_crowned": [0.0, 5.0,
 
 def growing(design, modes, law: str, rotation: bool, rpm: float = 800.0) -> list[dict]:
     contact = ws.contact_law(design, friction_law=law)
-    op = ws.operating_point(design, rpm=rpm, crab_velocity=0.39)
+    op = ws.operating_point(design, rpm=rpm, crabbing_velocity_m_s=0.39)
     table = stability_table(design, modes, contact, op, rotation)
     return [e for e in eigenvalue_list(table, design) if e["mechanism"] is not None]
 
@@ -82,7 +82,7 @@ def transient_creep_table(fidelity: str) -> None:
         for transient in (False, True):
             d = ws.load_design("table1").replace(transient_creep=transient)
             modes = ws.compute_modes(d, fidelity)
-            op = ws.operating_point(d, rpm=rpm, crab_velocity=0.39)
+            op = ws.operating_point(d, rpm=rpm, crabbing_velocity_m_s=0.39)
             rows, _ = stability_table(d, modes, ws.contact_law(d), op)
             for row in rows:
                 if (

@@ -267,7 +267,7 @@ def test_the_rig_wheel_squeals_by_falling_friction_only_at_contact_angle_zero():
 
     design = ws.load_design("table1")
     modes = ws.compute_modes(design, "fast")
-    op = ws.operating_point(design, rpm=800, crab_velocity=0.39)
+    op = ws.operating_point(design, rpm=800, crabbing_velocity_m_s=0.39)
     contact = ws.contact_law(design)
     assert contact.normal_stiffness_n_m == pytest.approx(1.36e8, abs=0.005e8)
     table = stability_table(design, modes, contact, op)

@@ -126,7 +126,7 @@ def test_changing_only_the_operating_point_reuses_mesh_and_modes(tmp_path, monke
     dof = ws.modal_dof(mode2, other)
     contact = ws.contact_law(other)
     for vc in (0.2, 0.39):
-        sim = ws.simulate(dof, contact, ws.operating_point(other, crab_velocity=vc), 0.3)
+        sim = ws.simulate(dof, contact, ws.operating_point(other, crabbing_velocity_m_s=vc), 0.3)
         assert np.all(np.isfinite(sim.history.v))
 
 
@@ -230,7 +230,9 @@ def test_simulate_with_explicit_modal_parameters_builds_no_mesh(tmp_path, monkey
     assert s["limit_cycle"]["state"] == "limit cycle"
     assert s["limit_cycle"]["contact_lost_fraction"] == 0.0  # no normal motion: never apart
     assert {"rolling_speed_m_s", "crabbing_velocity_m_s", "creepage", "rpm"} <= set(s["operating_point"])
-    assert {"semi_axis_a_m", "semi_axis_b_m", "c22", "friction_coefficient", "friction_law"} <= set(s["contact"])
+    assert {"semi_axis_a_m", "semi_axis_b_m", "c22", "friction_coefficient", "friction_law"} <= set(
+        s["contact"]
+    )
     assert s["contact"]["friction_law"] == "falling"  # the paper's law by default
     # the paper's case: limit cycle marginally below Vc (docs/validation.md: ~0.367 m/s)
     assert s["limit_cycle"]["squeal"] is True

@@ -59,7 +59,7 @@ def test_every_command_gives_the_same_verdict(cases, name):
     api = ws.analyse(
         ws.load_design(design),
         rpm=800,
-        crab_velocity=0.39,
+        crabbing_velocity_m_s=0.39,
         fidelity="fast",
         cache=ws.StageCache(tmp / "cache"),
     )

@@ -30,7 +30,7 @@ STAGES: tuple[Stage, ...] = ("stability", "limit_cycle", "sound")
 
 @dataclass(frozen=True)
 class ChainOptions:
-    """What :func:`analyse` computes (every field a keyword of :func:`analyse` too).
+    """What :func:`~wheel_squeal.chain.analyse` computes (every field a keyword of it too).
 
     Attributes
     ----------
@@ -43,8 +43,8 @@ class ChainOptions:
         The most modes the model's own outcome integrates together.
     duration : float or None
         Simulated time [s] (None: until the outcome is known).
-    stop_after : Stage
-        "stability" (the linear verdict), "limit_cycle" (no sound) or "sound".
+    stop_after : {"stability", "limit_cycle", "sound"}
+        The last stage: the linear verdict, the limit cycle, or its sound too.
     listener : Listener or None
         Microphone and air (default: 0.05 m off the rim face, air at 20 degC).
     c22 : float, "kalker" or None
@@ -55,11 +55,17 @@ class ChainOptions:
         What would stop the squeal (or, with none, how far it is from growing): some 20
         eigen-solves; False leaves it out (studies).
     simulate_stable : bool
-        Integrate a named mode even where it is linearly stable (from rest it decays: the
-        run shows how); False takes the linear answer for it.
+        Integrate a named mode even where it is linearly stable (from rest it decays);
+        False takes the linear answer for it.
     beside : bool
         Beside a named mode that squeals, the model's own outcome integrated too (False:
-        its linear pick; sweeps and studies, where the verdict is what counts).
+        its linear pick; sweeps and studies).
+
+    Examples
+    --------
+    >>> from wheel_squeal import ChainOptions
+    >>> ChainOptions(stop_after="stability").reaches("limit_cycle")
+    False
     """
 
     mode: str = "auto"
@@ -81,16 +87,21 @@ class ChainOptions:
 
 @dataclass
 class Analysis:
-    """The chain's result at one operating point.
+    """The chain's result at one operating point: the verdict and what it rests on.
 
     Attributes
     ----------
     design : Design
     options : ChainOptions
+        What was computed (the stage it stopped after, the mode named, ...).
     fidelity : Fidelity
+        The FE preset of the modes.
     modeset : fem.ModeSet
+        The modes (a modal model's, or the FE's up to the band).
     operating_point : reduced.OperatingPoint
+        Rolling speed [m/s] and crabbing velocity [m/s].
     contact : reduced.ContactLaw
+        The creep law at the contact.
     table : StabilityTable
         Every mode's linear stability (solved once).
     decision : Decision
@@ -98,9 +109,17 @@ class Analysis:
     verdict : Verdict
         The answer.
     wheel_speed_rad_s : float
-        Omega, the rotation modelled (0: off) [rad/s].
+        Omega, the rotation modelled [rad/s] (0: off).
     timings_s : dict
         Seconds per stage.
+
+    Examples
+    --------
+    >>> import wheel_squeal as ws
+    >>> a = ws.analyse(ws.load_design(), modes=ws.explicit_modes(3.1, 1.6e8, 42), stop_after="limit_cycle")
+    >>> record = a.to_record()
+    >>> record["squeals"], round(record["amplitude_m_s"], 3), record["mechanism"]
+    (True, 0.367, 'falling friction')
     """
 
     design: Design

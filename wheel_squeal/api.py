@@ -67,9 +67,30 @@ __all__ = [
 
 
 def load_design(path: str | Path | None = None) -> Design:
-    """A wheel design from TOML: a file, or the name of a design shipped with the tool
-    (``"thin_web"``, from any folder; :func:`shipped_designs`); None gives the default,
-    ``table1``. A bad design raises ``geometry.DesignError`` naming the problem."""
+    """A wheel design from TOML.
+
+    Parameters
+    ----------
+    path : str, Path or None
+        A design file, or the name of a design shipped with the tool (``"thin_web"``,
+        from any folder; :func:`shipped_designs`); None gives the default, ``table1``.
+
+    Returns
+    -------
+    Design
+
+    Raises
+    ------
+    geometry.DesignError
+        A bad design, in one line naming the problem.
+
+    Examples
+    --------
+    >>> import wheel_squeal as ws
+    >>> d = ws.load_design("thin_web")
+    >>> d.name, d.wheel.web_thickness
+    ('thin_web', 0.01)
+    """
 
     if path is None:
         path = DEFAULT_DESIGN
@@ -85,7 +106,19 @@ def load_design(path: str | Path | None = None) -> Design:
 
 
 def shipped_designs() -> dict[str, str]:
-    """The designs shipped with the tool: {name: description}."""
+    """The designs shipped with the tool.
+
+    Returns
+    -------
+    dict
+        {name: description}; give a name to :func:`load_design` or ``--design``.
+
+    Examples
+    --------
+    >>> import wheel_squeal as ws
+    >>> "table1" in ws.shipped_designs()
+    True
+    """
     from geometry import DesignError
 
     out = {}
@@ -190,33 +223,60 @@ def operating_point(
     design: Design,
     *,
     rpm: float | None = None,
-    speed: float | None = None,
-    crab_velocity: float | None = None,
-    angle_of_attack: float | None = None,
+    rolling_speed_m_s: float | None = None,
+    crabbing_velocity_m_s: float | None = None,
+    angle_of_attack_rad: float | None = None,
 ) -> OperatingPoint:
-    """Rolling speed (``rpm`` of the wheel or ``speed`` [m/s]; default 800 RPM) and
-    crabbing velocity (``crab_velocity`` [m/s] or ``angle_of_attack`` [rad]; default
-    0.39 m/s) as a ``reduced.OperatingPoint``."""
+    """The operating point of ``design``'s wheel.
+
+    Parameters
+    ----------
+    design : Design
+        Its contact radius turns a wheel speed into the rolling speed.
+    rpm : float, optional
+        The wheel speed [rev/min] (default 800, the paper's Fig. 6).
+    rolling_speed_m_s : float, optional
+        The rolling speed V0 at the contact [m/s], instead of ``rpm``.
+    crabbing_velocity_m_s : float, optional
+        The crabbing velocity Vc [m/s] (default 0.39).
+    angle_of_attack_rad : float, optional
+        The angle of attack [rad], instead of the crabbing velocity (Vc = angle V0).
+
+    Returns
+    -------
+    reduced.OperatingPoint
+
+    Examples
+    --------
+    >>> import wheel_squeal as ws
+    >>> op = ws.operating_point(ws.load_design(), rpm=800, crabbing_velocity_m_s=0.39)
+    >>> round(op.rolling_speed_m_s, 2), round(op.creepage, 4)
+    (17.84, 0.0219)
+    """
     from reduced import OperatingPoint
 
-    if rpm is not None and speed is not None:
-        raise RequestError("give rpm or speed, not both")
-    if crab_velocity is not None and angle_of_attack is not None:
-        raise RequestError("give crab_velocity or angle_of_attack, not both")
-    for name, v in (("rpm", rpm), ("speed", speed)):
+    if rpm is not None and rolling_speed_m_s is not None:
+        raise RequestError("give rpm or rolling_speed_m_s, not both")
+    if crabbing_velocity_m_s is not None and angle_of_attack_rad is not None:
+        raise RequestError("give crabbing_velocity_m_s or angle_of_attack_rad, not both")
+    for name, v in (("rpm", rpm), ("rolling_speed_m_s", rolling_speed_m_s)):
         if v is not None and not (math.isfinite(v) and v > 0):
             raise RequestError(f"{name} must be positive, got {v:g}")
-    for name, v in (("crab_velocity", crab_velocity), ("angle_of_attack", angle_of_attack)):
+    for name, v in (
+        ("crabbing_velocity_m_s", crabbing_velocity_m_s),
+        ("angle_of_attack_rad", angle_of_attack_rad),
+    ):
         if v is not None and not math.isfinite(v):
             raise RequestError(f"{name} must be finite, got {v}")
     v0 = (
-        speed
-        if speed is not None
+        rolling_speed_m_s
+        if rolling_speed_m_s is not None
         else rpm_to_speed(DEFAULT_RPM if rpm is None else rpm, design.rolling_radius)
     )
-    if angle_of_attack is not None:
-        return OperatingPoint.from_angle_of_attack(v0, angle_of_attack)
-    return OperatingPoint(v0, DEFAULT_CRAB_VELOCITY_M_S if crab_velocity is None else crab_velocity)
+    if angle_of_attack_rad is not None:
+        return OperatingPoint.from_angle_of_attack(v0, angle_of_attack_rad)
+    vc = DEFAULT_CRAB_VELOCITY_M_S if crabbing_velocity_m_s is None else crabbing_velocity_m_s
+    return OperatingPoint(v0, vc)
 
 
 @dataclass

@@ -8,7 +8,7 @@ the stage it needs (:data:`wheel_squeal.types.Stage`):
     -> the sound of the verdict's mode -> "sound": the verdict with its levels
 
     import wheel_squeal as ws
-    a = ws.analyse(ws.load_design(), rpm=800, crab_velocity=0.39)
+    a = ws.analyse(ws.load_design(), rpm=800, crabbing_velocity_m_s=0.39)
     print(a.verdict.squeals, a.verdict.get("mode"))
 """
 
@@ -49,7 +49,7 @@ if TYPE_CHECKING:
 __all__ = ["Analysis", "ChainOptions", "analyse"]  # the record and options: .analysis
 
 #: The keywords of :func:`analyse` that make its operating point
-_OPERATING_POINT_KEYS = ("rpm", "speed", "crab_velocity", "angle_of_attack")
+_OPERATING_POINT_KEYS = ("rpm", "rolling_speed_m_s", "crabbing_velocity_m_s", "angle_of_attack_rad")
 #: The keywords of :func:`analyse` that make its context
 _CONTEXT_KEYS = ("fidelity", "solver", "fmax_hz", "cache", "budget", "progress")
 
@@ -71,9 +71,10 @@ def analyse(
     design : Design
         The wheel and its counter-body, contact and damping.
     op : reduced.OperatingPoint, optional
-        The operating point; or, among ``settings``, ``rpm`` or ``speed`` (wheel speed
-        [rev/min] or rolling speed [m/s]) and ``crab_velocity`` [m/s] or
-        ``angle_of_attack`` [rad]; defaults 800 RPM and 0.39 m/s.
+        The operating point; or, among ``settings``, those of
+        :func:`~wheel_squeal.api.operating_point` (``rpm`` or ``rolling_speed_m_s``,
+        ``crabbing_velocity_m_s`` or ``angle_of_attack_rad``); defaults 800 RPM and
+        0.39 m/s.
     options : ChainOptions, optional
         What it computes; the other ``settings`` replace its fields, as in
         ``analyse(d, rpm=600, stop_after="limit_cycle")``.

@@ -40,20 +40,27 @@ class Decision:
 
     Attributes
     ----------
-    named : Mode or None
+    named : fem.Mode or None
         The override (None: nothing named).
     named_by : str
         Who names it, in words ("the design table1 names").
-    named_group : tuple of Mode
+    named_group : tuple of fem.Mode
         The override and the modes that share its fastest eigenvalue, it first.
-    growing : tuple of Mode
+    growing : tuple of fem.Mode
         The modes of every growing eigenvalue, fastest first, at most ``max_modes``: the
         model's own outcome integrates them together (empty: nothing grows).
-    fastest : Mode or None
+    fastest : fem.Mode or None
         The model's linear pick: the mode holding most of the fastest-growing eigenvalue
-        that a mode of the wheel holds (None: nothing grows).
+        a mode of the wheel takes part in (None: nothing grows).
     left_out : int
         Modes of growing eigenvalues beyond ``max_modes``, not integrated.
+
+    Examples
+    --------
+    >>> import wheel_squeal as ws
+    >>> a = ws.analyse(ws.load_design(), modes=ws.explicit_modes(3.1, 1.6e8, 42), stop_after="stability")
+    >>> a.decision.fastest.label(), a.decision.named is None
+    ('the given mode (1143.4 Hz)', True)
     """
 
     named: Mode | None
@@ -97,8 +104,31 @@ def _together(table: StabilityTable, row: int) -> tuple[Mode, ...]:
 
 
 def decide(table: StabilityTable, named: NamedMode, max_modes: int = MAX_MULTIMODE) -> Decision:
-    """The rule of the module docstring on ``table`` (``named``: who names which mode,
-    ``stability.named_mode``)."""
+    """The rule of the module docstring on ``table``.
+
+    Parameters
+    ----------
+    table : StabilityTable
+        The linear stability at the operating point.
+    named : stability.NamedMode
+        Who names which mode (``stability.named_mode``).
+    max_modes : int
+        The most modes the model's outcome integrates together.
+
+    Returns
+    -------
+    Decision
+
+    Examples
+    --------
+    >>> import wheel_squeal as ws
+    >>> from wheel_squeal.stability import named_mode
+    >>> d = ws.load_design()
+    >>> modes = ws.explicit_modes(3.1, 1.6e8, 42)
+    >>> t = ws.stability_table(d, modes, ws.contact_law(d), ws.operating_point(d))
+    >>> len(ws.decide(t, named_mode(d.replace(squeal_mode=""), modes)).growing)
+    1
+    """
     row_of = {r.mode.index: k for k, r in enumerate(table.rows)}
     named_group: tuple[Mode, ...] = ()
     if named.mode is not None:

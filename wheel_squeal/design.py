@@ -99,7 +99,31 @@ _WORDS = {
 
 @dataclass(frozen=True)
 class Design:
-    """A design: the wheel and the squeal model's inputs (see the module docstring)."""
+    """A design: the wheel and the squeal model's inputs (see the module docstring).
+
+    Attributes
+    ----------
+    wheel : geometry.WheelDesign
+        The wheel's shape and material (lengths in m, E in Pa, density in kg/m^3).
+    counter_body : CounterBodySection
+        What it rolls on ([counter_body]: a kind, its fields).
+    contact : Contact
+        Normal load [N], creep coefficient, friction, contact angle [rad], normal
+        contact, transient creep.
+    damping : Damping
+        Every mode's damping ratio, and measured ones by mode.
+    squeal : Squeal
+        The mode the rig was seen to squeal in ("": none).
+
+    Examples
+    --------
+    >>> import wheel_squeal as ws
+    >>> d = ws.load_design("table1")
+    >>> d.name, d.counter_body.KIND, d.contact.normal_load
+    ('table1', 'roller', 1000.0)
+    >>> d.replace(normal_load=1500.0).get("normal_load")
+    1500.0
+    """
 
     wheel: WheelDesign = field(default_factory=WheelDesign)
     counter_body: CounterBodySection = field(default_factory=Roller)

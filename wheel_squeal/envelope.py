@@ -61,8 +61,34 @@ def envelope(
     rpms: Sequence[float] | np.ndarray,
     rotation: bool = False,
 ) -> Envelope:
-    """Growth rate and winning mode over crabbing velocities [m/s] x wheel speeds [rpm]
-    (``reduced.stability_map``)."""
+    """Growth rate and winning mode over crabbing velocities x wheel speeds
+    (``reduced.stability_map``).
+
+    Parameters
+    ----------
+    design : Design
+    modeset : fem.ModeSet
+    contact : reduced.ContactLaw
+    crab_velocities : array_like
+        Crabbing velocities [m/s].
+    rpms : array_like
+        Wheel speeds [rev/min].
+    rotation : bool
+        Model the wheel's rotation.
+
+    Returns
+    -------
+    Envelope
+        Growth rate [1/s], winning mode and its frequency [Hz] per point.
+
+    Examples
+    --------
+    >>> import wheel_squeal as ws
+    >>> d = ws.load_design()
+    >>> env = ws.envelope(d, ws.explicit_modes(3.1, 1.6e8, 42), ws.contact_law(d), [0.0, 0.39], [800])
+    >>> (env.growth_rate_1_s[:, 0] > 0).tolist()
+    [False, True]
+    """
     from reduced import stability_map
 
     modes, dofs, speeds, radius = _map_inputs(design, modeset, contact, rpms, rotation)
@@ -116,7 +142,34 @@ def mitigation(
     rotation: bool = False,
 ) -> Mitigation:
     """The damping per mode and the friction slope that stop squeal over the envelope
-    (``reduced.mitigation``)."""
+    (``reduced.mitigation``).
+
+    Parameters
+    ----------
+    design : Design
+    modeset : fem.ModeSet
+    contact : reduced.ContactLaw
+    crab_velocities : array_like
+        Crabbing velocities [m/s].
+    rpms : array_like
+        Wheel speeds [rev/min].
+    rotation : bool
+        Model the wheel's rotation.
+
+    Returns
+    -------
+    Mitigation
+        Per mode the damping ratio it needs, and the creep-curve slope dmu/dzeta the
+        friction must not fall below.
+
+    Examples
+    --------
+    >>> import wheel_squeal as ws
+    >>> d = ws.load_design()
+    >>> mit = ws.mitigation(d, ws.explicit_modes(3.1, 1.6e8, 42), ws.contact_law(d), [0.1, 0.39], [800])
+    >>> bool(mit.result.settled), float(mit.result.damping_ratio[0]) > 0.00094
+    (True, True)
+    """
     from reduced import mitigation as find
 
     modes, dofs, speeds, radius = _map_inputs(design, modeset, contact, rpms, rotation)

@@ -111,9 +111,36 @@ def modal_modes(modes: list[Mode]) -> ModeSet:
 def explicit_modes(
     mass_kg: float, stiffness_n_m: float, damping_ns_m: float, nodal_diameters: int = 0
 ) -> ModeSet:
-    """One mode given by its modal mass [kg], stiffness [N/m] and damping [N s/m] at the
-    contact (lateral), and its nodal diameters (a pair on a turning wheel), as a mode set
-    the chain takes like any other. Bad values raise :class:`RequestError`."""
+    """One mode given by its modal parameters at the contact, as a mode set the chain
+    takes like any other.
+
+    Parameters
+    ----------
+    mass_kg : float
+        Its modal mass at the contact (lateral) [kg].
+    stiffness_n_m : float
+        Its modal stiffness [N/m].
+    damping_ns_m : float
+        Its modal damping [N s/m] (below critical).
+    nodal_diameters : int
+        A pair on a turning wheel when >= 1.
+
+    Returns
+    -------
+    fem.ModeSet
+
+    Raises
+    ------
+    RequestError
+        A value that is not positive (damping: negative) or over critical damping.
+
+    Examples
+    --------
+    >>> import wheel_squeal as ws
+    >>> m = ws.explicit_modes(3.1, 1.6e8, 42).modes[0]
+    >>> round(m.frequency_hz, 1), round(m.modal_mass, 6)
+    (1143.4, 3.1)
+    """
     for name, v, zero_ok in (
         ("mass_kg", mass_kg, False),
         ("stiffness_n_m", stiffness_n_m, False),
@@ -138,10 +165,36 @@ def explicit_modes(
 
 
 def load_modal_model(path: str | Path, fmax_hz: float | None = None) -> ModeSet:
-    """The modes of a modal-model file as a ``fem.ModeSet`` (no shapes; ``solver`` is
-    :data:`MODAL_MODEL_SOLVER`), in frequency order, those up to ``fmax_hz`` [Hz] when
-    given (the band, as for the FE modes). A bad file raises
-    :class:`~wheel_squeal.errors.RequestError` in one line naming the problem."""
+    r"""The modes of a modal-model file (one ``[[mode]]`` table each: frequency_hz,
+    damping_ratio, lateral and normal components at the contact [1/sqrt(kg)], optional
+    nodal_diameters and label), in frequency order.
+
+    Parameters
+    ----------
+    path : str or Path
+    fmax_hz : float, optional
+        Keep the modes up to this frequency [Hz] (the band, as for the FE modes).
+
+    Returns
+    -------
+    fem.ModeSet
+        No shapes; its ``solver`` is :data:`MODAL_MODEL_SOLVER`.
+
+    Raises
+    ------
+    RequestError
+        A bad file, in one line naming the problem.
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> import wheel_squeal as ws
+    >>> path = pathlib.Path(tempfile.mkdtemp()) / "rig.toml"
+    >>> text = "[[mode]]\nfrequency_hz = 1143.0\ndamping_ratio = 9.4e-4\nlateral = 0.568\nnormal = 0.0\n"
+    >>> _ = path.write_text(text)
+    >>> [m.label() for m in ws.load_modal_model(path).modes]
+    ['mode 1 (1143.0 Hz)']
+    """
     source = str(path)
     _, data = read_toml(path, "modal model", RequestError)
     unknown = sorted(set(data) - {"mode"})

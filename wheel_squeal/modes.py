@@ -155,14 +155,37 @@ def compute_modes(
     progress: Progress | None = None,
     budget: Budget | None = None,
 ) -> ModeSet:
-    """Eigenmodes of the bore-clamped wheel up to ``fmax_hz`` [Hz] as a ``fem.ModeSet``.
+    """Eigenmodes of the bore-clamped wheel up to ``fmax_hz``.
 
-    ``fidelity`` is a preset name (fast | balanced | accurate) or a :class:`Fidelity`;
-    ``solver`` another solver for the preset (a name of ``fem.solvers.SOLVERS``). With a
-    ``cache`` the mesh and the modes are re-used whenever geometry, material, fidelity,
-    code and libraries are unchanged. A solve that is not cached is estimated first and
-    refused (:class:`~wheel_squeal.errors.BudgetError`) beyond the ``budget`` (default:
-    :meth:`Budget.from_environment`).
+    With a ``cache`` the mesh and the modes are re-used whenever geometry, material,
+    fidelity, code and libraries are unchanged. A solve that is not cached is estimated
+    first and refused (:class:`~wheel_squeal.errors.BudgetError`) beyond the ``budget``.
+
+    Parameters
+    ----------
+    design : Design or geometry.WheelDesign
+    fidelity : str or Fidelity
+        A preset ("fast", "balanced", "accurate").
+    solver : str, optional
+        Another solver for the preset (a name of ``fem.solvers.SOLVERS``).
+    fmax_hz : float
+        The band's top [Hz].
+    cache : StageCache, optional
+    progress : Progress, optional
+    budget : Budget, optional
+        Default: :meth:`Budget.from_environment`.
+
+    Returns
+    -------
+    fem.ModeSet
+        The modes, labelled, with their contact components [1/sqrt(kg)].
+
+    Examples
+    --------
+    >>> import wheel_squeal as ws
+    >>> modes = ws.compute_modes(ws.load_design(), "fast", fmax_hz=1500.0)
+    >>> [m.label() for m in modes.modes][:3]
+    ['(1,0) axial', '(0,0) axial', '(2,0) axial']
     """
     from fem.modes import ModeSet
     from fem.solvers import SOLVERS, solve_modes

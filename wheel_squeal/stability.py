@@ -121,11 +121,21 @@ class StabilityTable:
     rows : list of ModeStabilityRow
         One per mode the contact sees, in frequency order.
     result : reduced.StabilityResult
-        The coupled system's: the modes, then the counter-body's degrees of freedom.
+        The coupled system's: the modes, then the counter-body's degrees of freedom
+        (eigenvalues [1/s], each mode's growth rate [1/s] and mechanism).
     labels : tuple of str
-        Every degree of freedom's label, in the order of ``result`` (:func:`dof_labels`).
+        Every degree of freedom's label, in the order of ``result``.
     wheel_speed_rad_s : float
         Omega, the wheel's rotation modelled (0: off) [rad/s].
+
+    Examples
+    --------
+    >>> import wheel_squeal as ws
+    >>> d = ws.load_design()
+    >>> modes = ws.explicit_modes(3.1, 1.6e8, 42)
+    >>> t = ws.stability_table(d, modes, ws.contact_law(d), ws.operating_point(d))
+    >>> t.labels, round(t.rows[0].stability.growth_rate_1_s, 2)
+    (('the given mode (1143.4 Hz)',), 8.63)
     """
 
     rows: list[ModeStabilityRow]
@@ -157,9 +167,31 @@ def stability_table(
 ) -> StabilityTable:
     """The linear stability of every mode the contact can excite at ``op``.
 
-    ``bounds``: the rows whose critical damping and friction slope are found ("all",
-    indices, or None: growth rates only, one eigen-solve; see
-    ``reduced.linear_stability``)."""
+    Parameters
+    ----------
+    design : Design
+    modeset : fem.ModeSet
+    contact : reduced.ContactLaw
+    op : reduced.OperatingPoint
+    rotation : bool
+        Model the wheel's rotation (travelling waves).
+    bounds : "all", sequence of int or None
+        The rows whose critical damping ratio and friction slope are found (None: growth
+        rates only, one eigen-solve; see ``reduced.linear_stability``).
+
+    Returns
+    -------
+    StabilityTable
+
+    Examples
+    --------
+    >>> import wheel_squeal as ws
+    >>> d = ws.load_design()
+    >>> modes, contact, op = ws.explicit_modes(3.1, 1.6e8, 42), ws.contact_law(d), ws.operating_point(d)
+    >>> t = ws.stability_table(d, modes, contact, op, bounds="all")
+    >>> round(t.rows[0].stability.critical_damping_ratio, 5)
+    0.00214
+    """
     from reduced import linear_stability
 
     modes = excitable(modeset, contact)
@@ -245,13 +277,15 @@ class NamedMode(NamedTuple):
 
 
 def named_mode(design: Design, modeset: ModeSet, mode: str = "auto") -> NamedMode:
-    """The named mode: ``mode`` unless "auto", else the design's ``[squeal] mode``. A
-    named mode with a node at the contact is refused in one line."""
+    """The named mode: ``mode`` unless "auto", else the design's ``[squeal] mode`` (which
+    names one of its FE modes: not among a modal model's). A named mode with a node at
+    the contact is refused in one line."""
     from .api import modal_dof, pick_mode
+    from .modal_model import MODAL_MODEL_SOLVER
 
     if mode != "auto":
         found, source = pick_mode(modeset, mode), f"the request ({mode}) names"
-    elif design.squeal.mode:
+    elif design.squeal.mode and modeset.solver != MODAL_MODEL_SOLVER:  # it names an FE mode
         found, source = pick_mode(modeset, design.squeal.mode), f"the design {design.name} names"
     else:
         return NamedMode(None, "", "")

@@ -31,15 +31,29 @@ class VerdictGrid:
 
     Attributes
     ----------
-    mode : the label of the mode that squeals ("" where none).
-    squeals, saturated : bool (saturated False: not a limit cycle at the end of the run).
-    amplitude_m_s, tone_hz, time_to_saturation_s : of the verdict's run (NaN where no squeal).
-    growth_rate_1_s : its linear growth rate (the largest of all modes where none squeals).
-    spl_db, spl_dba, sound_power_level_db : its levels (NaN without sound or squeal).
-    mechanism : what makes it grow ("" where none).
-    named : the mode named by the design or the request ("" if none).
-    rolling_speeds_m_s : the speeds at the contact.
-    duration_s : each run's fixed length (None: until its outcome is known).
+    crabbing_velocities_m_s, rpm, rolling_speeds_m_s : numpy.ndarray
+        The axes [m/s, rev/min, m/s].
+    mode, mechanism : numpy.ndarray of str
+        The mode that squeals and what makes it grow ("" where none).
+    squeals, saturated : numpy.ndarray of bool
+        Whether it squeals; whether its record ended in a limit cycle.
+    amplitude_m_s, tone_hz, time_to_saturation_s : numpy.ndarray
+        Of the verdict's run [m/s, Hz, s] (NaN where no squeal).
+    growth_rate_1_s : numpy.ndarray
+        Its linear growth rate [1/s] (the largest of all where none squeals).
+    spl_db, spl_dba, sound_power_level_db : numpy.ndarray
+        Its levels [dB, dB(A) re 20 uPa; dB re 1 pW] (NaN without sound).
+    named : str
+        The mode named by the design or the request ("" if none).
+    duration_s : float or None
+        Each run's fixed length [s] (None: until its outcome is known).
+
+    Examples
+    --------
+    >>> import wheel_squeal as ws
+    >>> g = ws.sweep_verdicts(ws.load_design(), [0.39], [400, 800], modeset=ws.explicit_modes(3.1, 1.6e8, 42))
+    >>> g.amplitude_m_s.shape, bool(g.squeals.all())
+    ((1, 2), True)
     """
 
     crabbing_velocities_m_s: np.ndarray

@@ -59,15 +59,37 @@ def wave_frequency_hz(mode: Mode, wave: Wave, wheel_speed_rad_s: float) -> float
 @dataclass(frozen=True)
 class ModeOutcome:
     """One mode at the operating point: its linear growth rate and frequency, and when
-    simulated its limit cycle (``simulation``) and sound.
+    integrated its limit cycle (``simulation``) and sound.
 
-    growth_rate_1_s : the linear growth rate, 1/s. damped_frequency_hz : the linear
-    frequency at the contact, Hz. wave : see :func:`wave_of`. energy_share : its share of
-    the limit cycle's vibration energy (None: integrated alone). mechanism : what makes
-    its eigenvalue grow ("falling friction", "mode coupling", "both"; None while it
-    decays). group : the modes integrated together (it among them; empty: not
-    integrated). shares : every degree of freedom's share of the limit cycle's vibration
-    energy, by label (the counter-body's too; None: one alone).
+    Attributes
+    ----------
+    mode : fem.Mode
+    growth_rate_1_s : float
+        The linear growth rate [1/s] of the eigenvalue it holds (> 0: it grows).
+    damped_frequency_hz : float
+        The linear frequency at the contact [Hz].
+    wave : {"standing", "backward", "forward"}
+        How the contact sees it (:func:`wave_of`).
+    simulation : Simulation or None
+        The record it was integrated in (None: linear only).
+    sound : SquealSound or None
+        Its levels (None: not radiated).
+    energy_share : float or None
+        Its share of the limit cycle's vibration energy (None: integrated alone).
+    mechanism : {"falling friction", "mode coupling", "both"} or None
+        What makes its eigenvalue grow (None while it decays).
+    group : tuple of fem.Mode
+        The modes integrated together (empty: not integrated).
+    shares : dict or None
+        Every degree of freedom's share of the limit cycle's energy, by label.
+
+    Examples
+    --------
+    >>> import wheel_squeal as ws
+    >>> a = ws.analyse(ws.load_design(), modes=ws.explicit_modes(3.1, 1.6e8, 42), stop_after="stability")
+    >>> o = a.verdict.pick
+    >>> o.grows, round(o.growth_rate_1_s, 2), o.state_words
+    (True, 8.63, 'linear analysis only')
     """
 
     mode: Mode
@@ -167,11 +189,29 @@ class ModeOutcome:
 class Verdict:
     """The answer at one operating point (see the module docstring).
 
-    squeals : bool. outcome : the squealing mode's :class:`ModeOutcome` (None: no
-    squeal). reason : the rule applied, in words. named : the outcome of the mode the
-    design or the user named (None: none named). pick : the model's own pick (the
-    fastest-growing mode, or the multi-mode carrier; None: nothing grows). margin : with
-    no squeal, the least stable mode, its growth rate and what would make it grow.
+    Attributes
+    ----------
+    squeals : bool
+    outcome : ModeOutcome or None
+        The squealing mode's (None: no squeal).
+    reason : str
+        The rule applied, in words.
+    named : ModeOutcome or None
+        The outcome of the mode the design or the request named (None: none named).
+    pick : ModeOutcome or None
+        The model's own outcome (the modes that grow together, or its linear pick).
+    margin : dict or None
+        With no squeal: the least stable mode and what would make it grow.
+    remedy : dict or None
+        With a squeal: what would stop it.
+
+    Examples
+    --------
+    >>> import wheel_squeal as ws
+    >>> a = ws.analyse(ws.load_design(), modes=ws.explicit_modes(3.1, 1.6e8, 42), stop_after="limit_cycle")
+    >>> v = a.verdict
+    >>> v.squeals, v.get("saturated"), round(v.get("tone_hz"))
+    (True, True, 1143)
     """
 
     squeals: bool

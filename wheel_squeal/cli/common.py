@@ -174,9 +174,9 @@ def operating_point_of(args: argparse.Namespace, design: Design) -> Any:
     return api.operating_point(
         design,
         rpm=getattr(args, "rpm", None),
-        speed=getattr(args, "speed", None),
-        crab_velocity=getattr(args, "crab_velocity", None),
-        angle_of_attack=getattr(args, "angle_of_attack", None),
+        rolling_speed_m_s=getattr(args, "speed", None),
+        crabbing_velocity_m_s=getattr(args, "crab_velocity", None),
+        angle_of_attack_rad=getattr(args, "angle_of_attack", None),
     )
 
 

@@ -183,7 +183,7 @@ def fe_ladder(
     ``note`` and empty results."""
     say = progress or (lambda _s: None)
     contact = api.contact_law(design)
-    op = api.operating_point(design, rpm=rpm, crab_velocity=crab_velocity)
+    op = api.operating_point(design, rpm=rpm, crabbing_velocity_m_s=crab_velocity)
     rows, modes = [], {}
     for rung in rungs:
         row = _blank_row("fe", rung.method, "elements_through_web", rung.etw)

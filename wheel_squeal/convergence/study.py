@@ -128,7 +128,7 @@ def run_convergence(
     ref_mode = modes[0]
     dof = api.modal_dof(ref_mode, design)
     contact = api.contact_law(design)
-    op = api.operating_point(design, rpm=DEFAULT_RPM, crab_velocity=DEFAULT_CRAB_VELOCITY_M_S)
+    op = api.operating_point(design, rpm=DEFAULT_RPM, crabbing_velocity_m_s=DEFAULT_CRAB_VELOCITY_M_S)
     duration = float(ref["simulated_s"])
     it_rows = integrator_ladder(
         dof,

@@ -168,7 +168,23 @@ def shares_text(o: ModeOutcome) -> str:
 
 def verdict_lines(v: Verdict) -> list[str]:
     """The verdict as the last lines a command prints: the answer, why, and what would
-    stop it (or how far it is from squealing)."""
+    stop it (or how far it is from squealing).
+
+    Parameters
+    ----------
+    v : Verdict
+
+    Returns
+    -------
+    list of str
+
+    Examples
+    --------
+    >>> import wheel_squeal as ws
+    >>> a = ws.analyse(ws.load_design(), modes=ws.explicit_modes(3.1, 1.6e8, 42), stop_after="limit_cycle")
+    >>> print(ws.verdict_lines(a.verdict)[0][:62])
+    VERDICT: squeals in the given mode (1143.4 Hz) by falling fric
+    """
     o = v.outcome
     if not v.squeals or o is None:
         return [f"VERDICT: no squeal. {v.reason}"]
@@ -303,8 +319,27 @@ def sound_text(summary: dict) -> str:
 
 
 def analysis_text(a: Analysis) -> str:
-    """What ``run`` and ``simulate`` print: the header, the simulated outcome's modal
-    parameters and limit cycle, the modes that grew together, the sound, the verdict."""
+    """What ``run`` and ``simulate`` print.
+
+    The header, the simulated outcome's modal parameters and limit cycle, the modes that
+    grew together, the sound and the verdict.
+
+    Parameters
+    ----------
+    a : Analysis
+
+    Returns
+    -------
+    str
+        Lines of text (no trailing newline).
+
+    Examples
+    --------
+    >>> import wheel_squeal as ws
+    >>> a = ws.analyse(ws.load_design(), modes=ws.explicit_modes(3.1, 1.6e8, 42), stop_after="limit_cycle")
+    >>> print(ws.analysis_text(a).splitlines()[0])
+    table1 (balanced preset): 1 of 1 modes seen at the contact grow at 800 RPM, Vc = 0.39 m/s
+    """
     from ..api import modal_dof
 
     lines = [analysis_header(a)]
