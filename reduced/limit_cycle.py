@@ -36,8 +36,9 @@ Definitions (all on the contact-point lateral velocity v = sum_i y_i'):
 * **time to saturation**: start of the first cycle after which every envelope value
   stays within ``saturation_tolerance`` of the final amplitude (NaN if not saturated).
 * **growth rate (fitted)**: least-squares slope of ln(envelope) against time over
-  the start of the record (from cycle 1 until the envelope first exceeds 30 % of
-  its final value; if it decays, the whole record down to 1e-9 of the largest
+  the start of the record (from where the envelope is twice its lowest value after the
+  first cycle, by when a decaying part of the start transient has died out, until it
+  first exceeds 30 % of its final value; if it decays, the whole record down to 1e-9 of the largest
   envelope, above the round-off floor), 1/s.
 * **mean power per cycle**: mean of P (Eq. 7) over each cycle, from the running
   integral of P (trapezoid on stored samples; RK4 stage quadrature in sweeps).
@@ -79,6 +80,8 @@ SQUEAL_THRESHOLD = 1e-3
 LINEAR_RATE_FRACTION = 0.1
 #: a decay is fitted down to this fraction of the largest envelope (round-off floor ~1e-15)
 DECAY_FIT_FLOOR = 1e-9
+#: the growth is fitted from where the envelope is this many times its lowest value
+GROWN_FROM_LOWEST = 2.0
 #: the oscillation has died out if the last cycle ends this many periods before the record
 CEASED_PERIODS = 3.0
 
@@ -221,7 +224,14 @@ def metrics_from_cycles(
     if final > amp[0]:
         above = np.nonzero(amp >= 0.3 * final)[0]
         stop = int(above[0]) if len(above) else n
-        lo = 1 if stop - 1 >= 3 else 0
+        # from where the envelope has doubled from its lowest cycle after the first: by
+        # then a decaying part of the start transient (a coupled pair's other eigenvalue,
+        # excited by the static deflection) has died out beside the growing one
+        lo = 1 + int(np.argmin(amp[1:stop])) if stop - 1 >= 3 else 0
+        doubled = np.nonzero(amp[lo:stop] >= GROWN_FROM_LOWEST * amp[lo])[0]
+        if len(doubled) and stop - (lo + int(doubled[0])) >= 3:
+            lo += int(doubled[0])
+        lo = lo if stop - lo >= 3 else min(1, lo)
         growth = (
             _fit_log_slope(cyc.start_s[lo:stop], amp[lo:stop])
             if stop - lo >= 3

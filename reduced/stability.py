@@ -161,6 +161,7 @@ class StabilityResult:
         energy.
     mechanisms : per eigenvalue, what makes it grow (None where it decays).
     linear : the linearised contact (:class:`LinearContact`).
+    assigned : per mode, the eigenvalues assigned to it (one; two for a rotating pair).
     """
 
     modes: tuple[ModeStability, ...]
@@ -170,6 +171,7 @@ class StabilityResult:
     shares: np.ndarray | None = None
     mechanisms: tuple[Mechanism | None, ...] = ()
     linear: LinearContact | None = None
+    assigned: tuple[tuple[int, ...], ...] = ()
 
     @property
     def winner(self) -> int:
@@ -483,6 +485,7 @@ def linear_stability(
         share,
         tuple(mechanisms),
         linear,
+        tuple(tuple(js) for js in assigned),
     )
 
 

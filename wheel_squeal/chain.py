@@ -19,10 +19,12 @@ import time
 from dataclasses import dataclass, fields, replace
 from typing import TYPE_CHECKING, Any
 
+import numpy as np
+
 from .analysis import STAGES, Analysis, ChainOptions
 from .api import contact_law, operating_point, simulate
 from .context import RunContext
-from .decision import decide, group_label
+from .decision import decide, eigenvalue_of, group_label, modes_of_eigenvalue
 from .design import Design
 from .errors import RequestError
 from .levels import squeal_sound
@@ -175,6 +177,7 @@ class _Chain:
         self.omega = wheel_speed_rad_s(self.design, self.op, self.opts.rotation)
         self.rows = self.table.rows
         self.by_index = {r.mode.index: r for r in self.rows}
+        self.row_of = {r.mode.index: k for k, r in enumerate(self.rows)}
         named = named_mode(self.design, self.modeset, self.opts.mode)
         if named.mode is not None and named.mode.index not in self.by_index:
             raise RequestError(f"mode {named.mode.index} ({named.mode.label()}) is not seen at the contact")
@@ -182,10 +185,13 @@ class _Chain:
 
     # -- the outcomes ---------------------------------------------------------------------
     def linear(self, m: Mode) -> ModeOutcome:
-        """A mode's linear answer."""
-        s = self.by_index[m.index].stability
-        wave = wave_of(m, s.damped_frequency_hz, self.omega)
-        return ModeOutcome(m, s.growth_rate_1_s, s.damped_frequency_hz, wave, mechanism=s.mechanism)
+        """A mode's linear answer: of the eigenvalue that speaks for it (the fastest-growing
+        one it takes part in: a coupled pair's eigenvalue for both its modes)."""
+        j = eigenvalue_of(self.table, self.row_of[m.index])
+        lam = self.table.result.eigenvalues[j]
+        f = abs(float(lam.imag)) / (2 * math.pi)
+        mechanism = self.table.result.mechanisms[j] if self.table.result.mechanisms else None
+        return ModeOutcome(m, float(lam.real), f, wave_of(m, f, self.omega), mechanism=mechanism)
 
     def run(self, group: tuple[Mode, ...]) -> ModeOutcome:
         """The time-domain answer of ``group`` integrated together (with the counter-body)
@@ -197,18 +203,35 @@ class _Chain:
             sim = simulate(dofs, self.contact, self.op, self.opts.duration, self.omega, self.ctx.budget)
         labels = dof_labels(group, self.design)
         shares: dict[str, float] | None = None
-        carrier = group[0]
+        carrier, carried = group[0], None
         if len(dofs) > 1:
             content = modal_content(sim.history)
             shares = {lab: float(x) for lab, x in zip(labels, content.energy_share)}
-            carrier = group[max(range(len(group)), key=lambda k: content.energy_share[k])]
+            carrier, carried = self.carrier(group, content.energy_share)
         base = self.linear(carrier)
         f = float(sim.limit_cycle.frequency_hz)
         wave = wave_of(carrier, f if math.isfinite(f) else base.damped_frequency_hz, self.omega)
         return replace(
-            base, wave=wave, simulation=sim, group=tuple(group), shares=shares,
-            energy_share=None if shares is None else shares[carrier.label()],
-        )  # fmt: skip
+            base, wave=wave, simulation=sim, group=tuple(group), shares=shares, energy_share=carried
+        )
+
+    def carrier(self, group: tuple[Mode, ...], energy_share: np.ndarray) -> tuple[Mode, float]:
+        """The mode that carries a limit cycle of ``group``, and its share of the energy:
+        the eigenvalue whose modes hold most of the energy carries it, and it is named by
+        its mode of the largest share (so that a coupled pair is named as its linear
+        eigenvalue is, in every command); the share is its modes' together."""
+        by_eigenvalue: dict[int, float] = {}
+        for k, m in enumerate(group):
+            j = eigenvalue_of(self.table, self.row_of[m.index])
+            by_eigenvalue[j] = by_eigenvalue.get(j, 0.0) + float(energy_share[k])
+        j = max(by_eigenvalue, key=lambda jj: by_eigenvalue[jj])
+        members = {m.index for m in group}
+        named = [
+            self.rows[r].mode
+            for r in modes_of_eigenvalue(self.table, j)
+            if self.rows[r].mode.index in members
+        ]
+        return (named[0] if named else group[0]), by_eigenvalue[j]
 
     def heard(self, o: ModeOutcome) -> ModeOutcome:
         """The outcome with its sound (where it squeals and the request goes so far)."""

@@ -31,7 +31,7 @@ if TYPE_CHECKING:
 
     from .stability import NamedMode, StabilityTable
 
-__all__ = ["Decision", "decide", "fastest_mode", "modes_of_eigenvalue"]
+__all__ = ["Decision", "decide", "eigenvalue_of", "fastest_mode", "group_label", "modes_of_eigenvalue"]
 
 
 @dataclass(frozen=True)
@@ -80,6 +80,20 @@ def modes_of_eigenvalue(table: StabilityTable, j: int) -> list[int]:
     assert shares is not None
     n = len(table.rows)
     return [int(k) for k in np.argsort(-shares[:n, j], kind="stable") if shares[k, j] >= PARTNER_SHARE]
+
+
+def eigenvalue_of(table: StabilityTable, row: int) -> int:
+    """The eigenvalue that speaks for the row's mode: the fastest-growing one it takes part
+    in (:func:`modes_of_eigenvalue`), else the one assigned to it (the slowest-decaying of
+    its own); a coupled pair's growing eigenvalue speaks for both its modes."""
+    lam = table.result.eigenvalues
+    for j in table.result.ranked():
+        if lam[j].real <= 0.0:
+            break
+        if row in modes_of_eigenvalue(table, j):
+            return int(j)
+    own = table.result.assigned[row]
+    return int(max(own, key=lambda j: lam[j].real))
 
 
 def fastest_mode(table: StabilityTable) -> int | None:
