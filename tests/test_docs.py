@@ -79,9 +79,10 @@ def test_every_page_is_in_the_table_of_contents():
 def _json_keys(x, parent: str, leaves: set[str], groups: set[str]) -> None:
     if isinstance(x, dict):
         if parent in FREE_GROUPS:
-            if parent == "verdicts":  # keyed by design: each a verdict
+            keyed = {"verdicts": "verdict", "operating_points": "operating_point"}
+            if parent in keyed:  # keyed by design: each a verdict or an operating point
                 for v in x.values():
-                    _json_keys(v, "verdict", leaves, groups)
+                    _json_keys(v, keyed[parent], leaves, groups)
             return
         for k, v in x.items():
             if isinstance(v, dict) or (isinstance(v, list) and v and isinstance(v[0], dict)):

@@ -34,6 +34,7 @@ from wheel_squeal.cache import MARKER as CACHE_MARKER
 from wheel_squeal.cache import StageCache
 from wheel_squeal.design import FIELDS
 from wheel_squeal.errors import BudgetError, RequestError
+from wheel_squeal.modes import check_modes_budget
 from wheel_squeal.outputs import MARKER, ResultFolder, result_folder
 
 FORK = mp.get_context("fork")
@@ -469,7 +470,7 @@ def test_estimate_is_within_2x_of_measured_dofs_and_memory(fidelity, solver):
     import sys
 
     fid = ws.fidelity_for(fidelity, solver)
-    cost = ws.check_modes_budget(WheelDesign(), fid, 5000.0, Budget())
+    cost = check_modes_budget(WheelDesign(), fid, 5000.0, Budget())
     r = subprocess.run(
         [sys.executable, "-c", _MEASURE, fidelity, solver or ""],
         capture_output=True,

@@ -14,6 +14,7 @@ import pytest
 from conftest import DESIGNS, ROOT, run_cli
 
 import wheel_squeal as ws
+from geometry import DesignError
 
 #: The Fig. 6 point, the fast preset (every command below runs with these).
 POINT = ("--rpm", "800", "--crab-velocity", "0.39")
@@ -190,7 +191,7 @@ def test_unsaturated_sweep_points_are_marked_and_drawn_hollow_unjoined(tmp_path)
     """Near the stability boundary 0.2 s runs do not saturate: each such point says
     saturated=False in sweep.csv and sweep_spl.csv, and the drawing joins only limit
     cycles (the plotted data, not the pixels)."""
-    from wheel_squeal.sweep_files import curve
+    from wheel_squeal.present.figures import curve
 
     r = run_cli(
         "sweep",
@@ -221,7 +222,6 @@ def test_unsaturated_sweep_points_are_marked_and_drawn_hollow_unjoined(tmp_path)
         [400, 800],
         0.25,
         modeset=ws.compute_modes(design, "fast"),
-        contact=ws.contact_law(design),
     )
     assert (grid.squeals & ~grid.saturated).any()
     for j in range(2):
@@ -320,5 +320,5 @@ def test_one_grammar(tmp_path):
     assert (tmp_path / "results" / "sweep" / "table1" / "sweep.csv").is_file()
     r = run_cli("run", "--bogus")
     assert r.returncode == 2 and "run --help" in r.stderr
-    with pytest.raises(ws.RequestError):
+    with pytest.raises(DesignError):  # one error type for a design file's every mistake
         ws.load_design(ROOT / "tests" / "conftest.py")

@@ -42,11 +42,8 @@ FIELDS: dict[str, Field] = {
     "P_W": Field("W", "power the contact force puts into the modes, Q v minus the modal damping losses"),
     "Q_N": Field("N", "lateral contact (creep) force on the wheel"),
     "amplitude_m_s": Field("m/s", "contact velocity amplitude of the limit cycle (or the last cycle)"),
-    "agrees_with_linear_winner": Field("-", "whether the multi-mode carrier is the fastest-growing mode"),
     "at_crabbing_velocity_m_s": Field("m/s", "crabbing velocity where the required damping binds"),
     "at_rpm": Field("rev/min", "wheel speed where the required damping binds"),
-    "carrier": Field("-", "the mode that carries the multi-mode limit cycle (most of its energy)"),
-    "carrier_mode": Field("-", "its index"),
     "c22": Field("", "Kalker's lateral creep coefficient C22 used"),
     "centre_hz": Field("Hz", "the one-third-octave band's exact centre frequency, 1000 * 10^(k/10)"),
     "contact_lost_fraction": Field("", "share of the record's last quarter with the surfaces apart (N = 0)"),
@@ -66,7 +63,15 @@ FIELDS: dict[str, Field] = {
     "dofs": Field("-", "degrees of freedom of the FE model (summed over harmonics)"),
     "duration_s": Field("s", "simulated time per point"),
     "elements": Field("-", "number of elements"),
-    "energy_share": Field("", "the mode's share of the multi-mode limit cycle's vibration energy"),
+    "energy_share": Field("", "the share of the limit cycle's vibration energy the carrying eigenvalue's modes hold"),
+    "growing_modes": Field("-", "the modes of every growing eigenvalue, integrated together for the model's outcome"),
+    "integrated_with_it": Field("-", "the named mode and the modes sharing its eigenvalue, integrated together"),
+    "kind": Field("-", "the counter-body's kind ([counter_body] kind)"),
+    "left_out": Field("-", "modes of growing eigenvalues beyond the most integrated together"),
+    "named_mode": Field("-", "the mode the request or the design names (null: none)"),
+    "stop_after": Field("-", "the chain's last stage: stability, limit_cycle or sound"),
+    "rolling_radius": Field("m", "the counter-body's rolling radius"),
+    "crown_radius": Field("m", "the counter-body's transverse radius"),
     "exact_volume_m3": Field("m^3", "the design's exact volume (revolved outline)"),
     "family": Field("-", "mode family: axial (out of plane), radial or circumferential"),
     "fastest_mode": Field("-", "label of the fastest-growing mode"),
@@ -93,7 +98,6 @@ FIELDS: dict[str, Field] = {
     "lateral_component": Field(
         "1/sqrt(kg)", "the mode's mass-normalised displacement at the contact along t"
     ),
-    "linear_winner_mode": Field("-", "index of the fastest-growing mode"),
     "loudest_angle_deg": Field("deg", "meridian angle from the +z axis of the far field's largest intensity"),
     "mass_kg": Field("kg", "modal mass at the contact (a study: the wheel's mass)"),
     "measured_frequency_hz": Field("Hz", "the measured squeal frequency (empty: not measured)"),
@@ -107,7 +111,6 @@ FIELDS: dict[str, Field] = {
     "modal_stiffness_n_m": Field("N/m", "modal stiffness at the contact"),
     "mode": Field("-", "mode label, or (mitigation) mode index"),
     "mode_frequency_hz": Field("Hz", "natural frequency of the verdict's mode"),
-    "mode_indices": Field("-", "the modes integrated together"),
     "mode_index": Field("-", "index of the verdict's mode"),
     "model_pick": Field("-", "the mode the model alone picks (fastest-growing, or multi-mode carrier)"),
     "model_pick_growth_rate_1_s": Field("1/s", "its growth rate"),
@@ -130,7 +133,6 @@ FIELDS: dict[str, Field] = {
     "partners": Field("-", "the modes that take part in the mode's fastest eigenvalue, itself first"),
     "predicted_spl_db": Field("dB re 20 uPa", "the sweep's SPL there (empty: no limit cycle around it)"),
     "predicted_tone_hz": Field("Hz", "the sweep's tone there"),
-    "peak_frequency_hz": Field("Hz", "the contact velocity's spectral peak over the last window"),
     "points": Field("-", "number of operating points"),
     "radiation_efficiency": Field("", "radiated power over rho0 c0 S <vn^2>"),
     "r_m": Field("m", "radius of the contact point"),
@@ -140,12 +142,6 @@ FIELDS: dict[str, Field] = {
     "required_damping_ratio": Field("", "damping ratio that keeps the mode stable over the envelope"),
     "required_friction_slope": Field("", "creep-curve slope that keeps every mode stable over the envelope"),
     "rim_depth": Field("m", "a study's design axis (any design field may be one)"),
-    "roller_lateral": Field(
-        "-", "the roller's lateral mode: [frequency Hz, damping ratio, modal mass kg] (null: rigid)"
-    ),
-    "roller_normal": Field(
-        "-", "the roller's normal mode: [frequency Hz, damping ratio, modal mass kg] (null: rigid)"
-    ),
     "rolling_speed_m_s": Field("m/s", "rolling speed V0 at the contact"),
     "rotation": Field("-", "whether the wheel's rotation is modelled"),
     "rpm": Field("rev/min", "wheel speed"),
@@ -195,7 +191,6 @@ FIELDS: dict[str, Field] = {
     "wav_full_scale_pa": Field("Pa", "the pressure of squeal.wav's full scale (its peak sample)"),
     "web_thickness": Field("m", "a study's design axis"),
     "wheel_speed_rad_s": Field("rad/s", "wheel speed Omega = V0 / R1"),
-    "window_s": Field("s", "start and end of the window the energy shares are taken over"),
     "why": Field("-", "why this mode"),
     "words": Field("-", "the same, in words"),
     "y_m": Field("m", "lateral displacement of the wheel at the contact"),
@@ -216,7 +211,8 @@ GROUPS: dict[str, str] = {
     "mode": "the mode",
     "model_pick": "the model's own pick (as the verdict's fields)",
     "modes": "every mode below fmax",
-    "multimode": "the multi-mode run (--multimode)",
+    "counter_body": "what the wheel rolls on: its kind and its values ([counter_body])",
+    "decision": "what the verdict integrated: the named mode and those with it, the modes that grow together",
     "operating_point": "the operating point",
     "override": "the named mode's own result (as the verdict's fields)",
     "per_unit_velocity": "levels at 1 m/s contact velocity (the fundamental)",
@@ -235,7 +231,8 @@ GROUPS: dict[str, str] = {
 
 #: JSON objects whose keys name things: stages (seconds each) or designs (a verdict each)
 FREE_GROUPS: dict[str, str] = {
-    "energy_share": "each mode's share of the multi-mode limit cycle's vibration energy, keyed by its label",
+    "energy_shares": "each degree of freedom's share of the limit cycle's vibration energy, keyed by its label",
+    "operating_points": "each design's operating point (at its own wheel radius), keyed by the design's name",
     "timings_s": "seconds per stage, keyed by the stage's name",
     "verdicts": "the verdict of each design, keyed by its name",
 }

@@ -111,5 +111,6 @@ def analysis_summary(a: Analysis) -> dict[str, Any]:
         out["limit_cycle"] = sim["limit_cycle"]
         out["contact"] |= sim["contact"]  # the creep law's values beside the contact's point
         out["modal_parameters"] = dof_summary(modal_dof(o.mode, a.design))
-        out["sound"] = o.sound.summary() if o.sound is not None else None
+        if o.sound is not None:
+            out["sound"] = o.sound.summary()
     return out
