@@ -20,7 +20,8 @@ sys.path.insert(0, str(ROOT))
 
 import acoustics as ac  # noqa: E402
 import wheel_squeal as ws  # noqa: E402
-from wheel_squeal.sound import default_microphone, mode_surface  # noqa: E402
+from wheel_squeal.listener import default_microphone  # noqa: E402
+from wheel_squeal.sound import mode_surface  # noqa: E402
 
 EPW = (4.0, 6.0, 8.0, 12.0, 16.0)
 

@@ -562,7 +562,8 @@ def bench_stability(design, table: Table, quick: bool) -> None:
 def bench_sound(design, table: Table, quick: bool) -> None:
     """The radiation of the (3,0) mode (balanced preset, no cache: air mesh, assembly,
     solve, far field) against the modes it comes from (mesh + modes, same preset)."""
-    from wheel_squeal.sound import default_microphone, mode_radiation
+    from wheel_squeal.listener import default_microphone
+    from wheel_squeal.sound import mode_radiation
 
     ms = ws.compute_modes(design, "balanced")
     mode, _ = ws.pick_mode(ms, "n=3,c=0")

@@ -429,12 +429,12 @@ def test_a_measured_file_with_a_byte_order_mark_reads_and_its_speeds_are_checked
 # --------------------------------------------------------------------------------------
 def test_a_microphone_on_a_silent_axis_hears_silence():
     import wheel_squeal as ws
-    from wheel_squeal.sound import Listener
+    from wheel_squeal.listener import Listener, air_for
 
     design = ws.load_design()
     a = ws.analyse(
         design, fidelity="fast", fmax_hz=3000.0, remedy=False,
-        listener=Listener((0.0, 0.1, 0.0), ws.sound.air_for(1.21, 343.0)),
+        listener=Listener((0.0, 0.1, 0.0), air_for(1.21, 343.0)),
     )  # fmt: skip
     sound = a.verdict.outcome.sound
     assert a.verdict.squeals and not sound.audible

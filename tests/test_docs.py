@@ -187,3 +187,18 @@ def test_the_generated_references_cover_every_command_and_field():
     outputs = conf._outputs_reference()
     for key in FIELDS:
         assert f"`{key}`" in outputs, key
+
+
+@pytest.mark.slow
+def test_the_python_guide_runs(tmp_path, monkeypatch):
+    """Every ``python`` block of the Python API guide runs as written (one namespace, in
+    order, in a scratch folder), so that the guide cannot drift from the API."""
+    text = (ROOT / "docs" / "guide" / "python-api.md").read_text()
+    blocks = re.findall(r"```python\n(.*?)```", text, re.S)
+    assert len(blocks) >= 2
+    monkeypatch.chdir(tmp_path)
+    monkeypatch.setenv("HOME", str(tmp_path))  # the guide's cache folder lands here
+    namespace: dict = {}
+    for block in blocks:
+        exec(compile(block, "python-api.md", "exec"), namespace)  # noqa: S102
+    assert namespace["grid"].squeals.shape == (3, 2)

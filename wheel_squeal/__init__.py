@@ -36,11 +36,12 @@ from .decision import Decision, decide
 from .design import Design
 from .envelope import envelope, mitigation
 from .errors import BudgetError, BudgetExhausted, RequestError
+from .listener import Listener
 from .modal_model import explicit_modes, load_modal_model
 from .present.text import analysis_text, verdict_lines
 from .presets import DEFAULT_DESIGN, DEFAULT_FIDELITY, FIDELITIES, Fidelity, fidelity_for
 from .progress import Progress
-from .sound import Listener, Sound, mode_sound
+from .sound import Sound, mode_sound
 from .stability import StabilityTable, stability_table
 from .sweeps import VerdictGrid, sweep_verdicts
 from .verdict import ModeOutcome, Verdict

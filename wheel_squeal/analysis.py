@@ -10,8 +10,8 @@ from typing import TYPE_CHECKING, Any
 from .api import modal_dof
 from .decision import Decision
 from .design import Design
+from .listener import Listener
 from .presets import MAX_MULTIMODE, Fidelity
-from .sound import Listener
 from .stability import StabilityTable
 from .types import Stage
 from .verdict import LEVELS, ModeOutcome, Verdict

@@ -63,9 +63,15 @@ FIELDS: dict[str, Field] = {
     "dofs": Field("-", "degrees of freedom of the FE model (summed over harmonics)"),
     "duration_s": Field("s", "simulated time per point"),
     "elements": Field("-", "number of elements"),
-    "energy_share": Field("", "the share of the limit cycle's vibration energy the carrying eigenvalue's modes hold"),
-    "growing_modes": Field("-", "the modes of every growing eigenvalue, integrated together for the model's outcome"),
-    "integrated_with_it": Field("-", "the named mode and the modes sharing its eigenvalue, integrated together"),
+    "energy_share": Field(
+        "", "the share of the limit cycle's vibration energy the carrying eigenvalue's modes hold"
+    ),
+    "growing_modes": Field(
+        "-", "the modes of every growing eigenvalue, integrated together for the model's outcome"
+    ),
+    "integrated_with_it": Field(
+        "-", "the named mode and the modes sharing its eigenvalue, integrated together"
+    ),
     "kind": Field("-", "the counter-body's kind ([counter_body] kind)"),
     "left_out": Field("-", "modes of growing eigenvalues beyond the most integrated together"),
     "named_mode": Field("-", "the mode the request or the design names (null: none)"),
@@ -115,7 +121,6 @@ FIELDS: dict[str, Field] = {
     "model_pick": Field("-", "the mode the model alone picks (fastest-growing, or multi-mode carrier)"),
     "model_pick_growth_rate_1_s": Field("1/s", "its growth rate"),
     "modes": Field("-", "number of modes found below fmax"),
-    "named_mode": Field("-", "the mode the design names ([squeal] mode)"),
     "nodal_circles": Field("-", "number of nodal circles"),
     "nodal_diameters": Field("-", "number of nodal diameters"),
     "nodes": Field("-", "number of mesh nodes"),
@@ -231,7 +236,7 @@ GROUPS: dict[str, str] = {
 
 #: JSON objects whose keys name things: stages (seconds each) or designs (a verdict each)
 FREE_GROUPS: dict[str, str] = {
-    "energy_shares": "each degree of freedom's share of the limit cycle's vibration energy, keyed by its label",
+    "energy_shares": "each degree of freedom's share of the limit cycle's energy, keyed by its label",
     "operating_points": "each design's operating point (at its own wheel radius), keyed by the design's name",
     "timings_s": "seconds per stage, keyed by the stage's name",
     "verdicts": "the verdict of each design, keyed by its name",

@@ -20,6 +20,7 @@ import numpy as np
 from .cache import CacheMiss, StageCache, code_version
 from .design import Design
 from .errors import RequestError
+from .listener import Listener, default_microphone
 from .presets import DEFAULT_FIDELITY, DEFAULT_FMAX_HZ, fidelity_for
 
 if TYPE_CHECKING:
@@ -29,90 +30,18 @@ if TYPE_CHECKING:
     from .budget import Budget
 
 __all__ = [
-    "MICROPHONE_DISTANCE_M",
     "mode_sound",
     "Radiation",
     "Sound",
-    "default_microphone",
     "mode_radiation",
     "radiation_key",
     "mode_surface",
-    "parse_microphone",
-    "microphone_for",
-    "Listener",
-    "air_for",
     "check_velocity_amplitude",
     "contact_velocity_phase",
     "ring_points",
     "sound_cost",
     "sound_of",
 ]
-
-#: The paper's microphone distance from the wheel [m]; its position on the wheel is not
-#: given: it is taken axially off the rim face, at the rolling radius, at angle 0 (the
-#: contact's, an antinode of the squeal mode's cos member).
-MICROPHONE_DISTANCE_M = 0.05
-
-
-def default_microphone(design: Design) -> tuple[float, float, float]:
-    """(r, z, theta) [m, m, rad]: 0.05 m off the rim face at the rolling radius."""
-    return (design.wheel.rolling_radius, design.wheel.rim_width / 2 + MICROPHONE_DISTANCE_M, 0.0)
-
-
-def parse_microphone(text: str) -> tuple[float, float, float]:
-    """``R,Z,THETA`` (m, m, rad) as a tuple; RequestError otherwise."""
-    try:
-        r, z, theta = (float(v) for v in text.split(","))
-    except ValueError:
-        raise RequestError(f"--microphone takes R,Z,THETA (m, m, rad), got {text!r}") from None
-    if not all(math.isfinite(v) for v in (r, z, theta)) or r < 0:
-        raise RequestError(f"--microphone R,Z,THETA needs finite values and R >= 0, got {text!r}")
-    return (r, z, theta)
-
-
-#: The farthest microphone [m]: beyond it a position is a slip of units (mm for m).
-MAX_MICROPHONE_DISTANCE_M = 1000.0
-
-
-def microphone_for(design: Design, text: str | None) -> tuple[float, float, float]:
-    """The microphone (r, z, theta) [m, m, rad] of ``--microphone`` text (None: the
-    default, :func:`default_microphone`), checked against the wheel: a position inside
-    its cross-section or absurdly far is refused (:class:`RequestError`)."""
-    from geometry.profile import half_profile
-
-    mic = parse_microphone(text) if text else default_microphone(design)
-    r, z, _ = mic
-    if math.hypot(r, z) > MAX_MICROPHONE_DISTANCE_M:
-        raise RequestError(
-            f"microphone at r {r:g} m, z {z:g} m is more than {MAX_MICROPHONE_DISTANCE_M:g} m from the "
-            "wheel (positions are in metres)"
-        )
-    if bool(half_profile(design.wheel).contains(np.array([[r, z]]))[0]):
-        raise RequestError(
-            f"microphone at r {r:g} m, z {z:g} m is inside the wheel's cross-section: place it in the air"
-        )
-    return mic
-
-
-@dataclass(frozen=True)
-class Listener:
-    """Where the sound is heard and through what: the microphone (r, z, theta) [m, m,
-    rad] and the air (``acoustics.Air``)."""
-
-    microphone: tuple[float, float, float]
-    air: Air
-
-
-def air_for(density_kg_m3: float, sound_speed_m_s: float) -> Air:
-    """``acoustics.Air`` of the given density and sound speed, refused
-    (:class:`RequestError`) outside the plausible ranges (``acoustics.implausible_air``)."""
-    from acoustics import Air
-    from acoustics.medium import implausible_air
-
-    problem = implausible_air(density_kg_m3, sound_speed_m_s)
-    if problem:
-        raise RequestError(problem)
-    return Air(density_kg_m3, sound_speed_m_s)
 
 
 def mode_surface(

@@ -13,6 +13,7 @@ __all__ = [
     "count",
     "finite",
     "grid_axis",
+    "microphone",
     "non_negative",
     "positive",
 ]
@@ -96,3 +97,14 @@ def angle_deg(text: str) -> float:
     if not -90.0 <= x <= 90.0:
         raise argparse.ArgumentTypeError(f"{x:g} is not an angle in degrees from -90 to 90")
     return x
+
+
+def microphone(text: str) -> tuple[float, float, float]:
+    """``R,Z,THETA`` [m, m, rad]: the microphone's radius, axial position and angle."""
+    try:
+        r, z, theta = (float(v) for v in text.split(","))
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"takes R,Z,THETA (m, m, rad), got {text!r}") from None
+    if not all(math.isfinite(v) for v in (r, z, theta)) or r < 0:
+        raise argparse.ArgumentTypeError(f"R,Z,THETA needs finite values and R >= 0, got {text!r}")
+    return (r, z, theta)

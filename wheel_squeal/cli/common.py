@@ -18,9 +18,9 @@ from ..chain import Analysis, ChainOptions, analyse
 from ..context import RunContext
 from ..design import Design
 from ..errors import RequestError
+from ..listener import Listener, air_for, microphone_for
 from ..presets import DEFAULT_SPEEDS_RPM, MAX_MULTIMODE, fidelity_for, rpm_to_speed
 from ..progress import Progress
-from ..sound import Listener, air_for, microphone_for
 from ..types import Stage
 
 __all__ = [
@@ -134,7 +134,7 @@ def context_of(args: argparse.Namespace) -> RunContext:
 
 def listener_of(args: argparse.Namespace, design: Design) -> Listener:
     """The command's ``--microphone``, ``--air-density`` and ``--sound-speed``, checked
-    before any work (:func:`wheel_squeal.sound.microphone_for`, ``air_for``)."""
+    before any work (:func:`wheel_squeal.listener.microphone_for`, ``air_for``)."""
     return Listener(microphone_for(design, args.microphone), air_for(args.air_density, args.sound_speed))
 
 

@@ -21,7 +21,7 @@ from ..presets import (
     FIDELITIES,
 )
 from ..sections import NORMAL_CONTACTS
-from .arguments import angle_deg, c22_value, finite, grid_axis, non_negative, positive
+from .arguments import angle_deg, c22_value, finite, grid_axis, microphone, non_negative, positive
 
 __all__ = [
     "add_axis",
@@ -191,6 +191,7 @@ def add_rotation(p: argparse.ArgumentParser) -> None:
 def add_microphone(p: argparse.ArgumentParser) -> None:
     p.add_argument(
         "--microphone",
+        type=microphone,
         metavar="R,Z,THETA",
         help="microphone position [m, m, rad] (default: 0.05 m off the rim face at the "
         "rolling radius, theta 0)",

@@ -106,8 +106,8 @@ def _add_run_command(sub: argparse._SubParsersAction) -> None:
         nargs="?",
         const=MAX_MULTIMODE,
         metavar="K",
-        help="also integrate the K most unstable modes together "
-        f"(default K: every unstable mode, at most {MAX_MULTIMODE})",
+        help="the model's own outcome integrates the modes of every growing eigenvalue together: "
+        f"at most K of them (default {MAX_MULTIMODE})",
     )
 
 
