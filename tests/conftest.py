@@ -13,6 +13,25 @@ import pytest
 ROOT = Path(__file__).resolve().parents[1]
 DESIGNS = ROOT / "designs"
 PIPELINE = ROOT / "pipeline.py"
+
+#: A two-mode modal model that squeals by mode coupling: 1000 and 960 Hz, lateral 0.5/0.1,
+#: normal -0.05/0.15 [1/sqrt(kg)], damping ratio 0.001 each (on a constant friction law
+#: it grows at 109 1/s at 800 RPM, Vc = 0.39 m/s, with no falling friction).
+COUPLED_PAIR_TOML = """
+[[mode]]
+frequency_hz = 1000.0
+damping_ratio = 0.001
+lateral = 0.5
+normal = -0.05
+label = "m1"
+
+[[mode]]
+frequency_hz = 960.0
+damping_ratio = 0.001
+lateral = 0.1
+normal = 0.15
+label = "m2"
+"""
 #: Table 1's mode given directly on the command line (no FE).
 TABLE1_MODE_ARGS = ("--mass", "3.1", "--stiffness", "1.6e8", "--damping", "42")
 

@@ -17,6 +17,7 @@ from typing import ClassVar
 
 import numpy as np
 import pytest
+from conftest import COUPLED_PAIR_TOML
 
 import wheel_squeal as ws
 from geometry import DesignError
@@ -24,22 +25,6 @@ from geometry.schema import spec
 from reduced import ModalDOF
 from wheel_squeal import sections
 from wheel_squeal.chain import ChainOptions
-
-PAIR = """
-[[mode]]
-frequency_hz = 1000.0
-damping_ratio = 0.001
-lateral = 0.5
-normal = -0.05
-label = "m1"
-
-[[mode]]
-frequency_hz = 960.0
-damping_ratio = 0.001
-lateral = 0.1
-normal = 0.15
-label = "m2"
-"""
 
 
 @dataclass(frozen=True)
@@ -95,7 +80,7 @@ def _eigenvalues(design, modes) -> np.ndarray:
 
 def test_a_new_kind_loads_writes_hashes_and_reaches_the_stability(block_kind, tmp_path):
     pair = tmp_path / "pair.toml"
-    pair.write_text(PAIR)
+    pair.write_text(COUPLED_PAIR_TOML)
     modes = ws.load_modal_model(pair)
     base = ws.load_design("table1").replace(friction_law="constant", squeal_mode="")
     text = base.to_toml().replace('kind = "roller"', "").split("[counter_body]")

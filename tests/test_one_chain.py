@@ -14,30 +14,13 @@ import math
 from pathlib import Path
 
 import pytest
+from conftest import COUPLED_PAIR_TOML
 
 import wheel_squeal as ws
 from wheel_squeal.chain import ChainOptions
 from wheel_squeal.study.task import CaseJob, run_case
 
 VC, RPM = 0.39, 800.0
-
-#: The coupled pair of the issue: 1000 and 960 Hz, lateral 0.5/0.1, normal -0.05/0.15
-#: [1/sqrt(kg)], damping ratio 0.001 each, on a constant friction law (no falling friction).
-PAIR = """
-[[mode]]
-frequency_hz = 1000.0
-damping_ratio = 0.001
-lateral = 0.5
-normal = -0.05
-label = "m1"
-
-[[mode]]
-frequency_hz = 960.0
-damping_ratio = 0.001
-lateral = 0.1
-normal = 0.15
-label = "m2"
-"""
 
 
 @pytest.fixture(scope="module")
@@ -56,7 +39,7 @@ def _case(name: str, tmp: Path):
         return table1.replace(modal_damping_ratio=0.05, squeal_mode=""), None
     if name == "coupled_pair":
         path = tmp / "pair.toml"
-        path.write_text(PAIR)
+        path.write_text(COUPLED_PAIR_TOML)
         return table1.replace(friction_law="constant", squeal_mode=""), ws.load_modal_model(path)
     roller = dict(lateral_frequency_hz=1100.0, lateral_damping_ratio=0.01, lateral_modal_mass_kg=2.0)
     return table1.replace(**roller), None

@@ -219,13 +219,8 @@ def test_simulate_with_explicit_modal_parameters_builds_no_mesh(tmp_path, monkey
     assert rc == 0
     s = json.loads((out / "summary.json").read_text())
     assert set(s["limit_cycle"]) == {
-        "squeal",
-        "state",
-        "velocity_amplitude_m_s",
-        "frequency_hz",
-        "time_to_saturation_s",
-        "growth_rate_1_s",
-        "contact_lost_fraction",
+        *("squeal", "state", "velocity_amplitude_m_s", "frequency_hz", "time_to_saturation_s"),
+        *("growth_rate_1_s", "contact_lost_fraction"),
     }
     assert s["limit_cycle"]["state"] == "limit cycle"
     assert s["limit_cycle"]["contact_lost_fraction"] == 0.0  # no normal motion: never apart
@@ -313,16 +308,8 @@ def test_run_default_writes_the_full_report(tmp_path):
 def test_compare_shows_geometry_moves_the_squeal_prediction(tmp_path):
     out = tmp_path / "cmp"
     r = cli(
-        "compare",
-        str(DESIGNS / "thin_web.toml"),
-        str(DESIGNS / "thick_web.toml"),
-        "--fidelity",
-        "fast",
-        "--out",
-        str(out),
-        "--quiet",
-        "--cache-dir",
-        str(tmp_path / "c"),
+        *("compare", str(DESIGNS / "thin_web.toml"), str(DESIGNS / "thick_web.toml"), "--fidelity", "fast"),
+        *("--out", str(out), "--quiet", "--cache-dir", str(tmp_path / "c")),
     )
     assert r.returncode == 0, r.stderr
     rows = {row["design"]: row for row in json.loads((out / "summary.json").read_text())["designs"]}
@@ -350,14 +337,9 @@ def test_mesh_command_summary(tmp_path):
 def test_modes_command_summary(tmp_path):
     out = tmp_path / "modes"
     r = cli(
-        "modes",
-        "--fidelity",
-        "fast",
-        "--fmax",
-        "3000",
+        *"modes --fidelity fast --fmax 3000 --quiet".split(),
         "--out",
         str(out),
-        "--quiet",
         "--cache-dir",
         str(tmp_path / "c"),
     )
@@ -407,15 +389,9 @@ def test_sweep_command(tmp_path):
     r = cli(
         "sweep",
         *TABLE1_MODE_ARGS,
-        "--crab-velocity",
-        "0:0.4:5",
-        "--rpm",
-        "400,800",
-        "--duration",
-        "0.8",
+        *"--crab-velocity 0:0.4:5 --rpm 400,800 --duration 0.8 --quiet".split(),
         "--out",
         str(out),
-        "--quiet",
     )
     assert r.returncode == 0, r.stderr
     lines = (out / "sweep.csv").read_text().splitlines()
@@ -433,16 +409,9 @@ def test_sweep_command(tmp_path):
 def test_render_command(tmp_path):
     out = tmp_path / "render"
     r = cli(
-        "render",
-        "--fidelity",
-        "fast",
-        "--fmax",
-        "1500",
-        "--modes",
-        "0,4",
+        *"render --fidelity fast --fmax 1500 --modes 0,4 --quiet".split(),
         "--out",
         out,
-        "--quiet",
         "--cache-dir",
         tmp_path / "c",
     )

@@ -395,14 +395,7 @@ def test_unbounded_sweeps_are_refused(tmp_path):
     # the limit can be lifted (here lowered: the same sweep that runs by default is refused)
     r = run_cli(
         *base,
-        "--crab-velocity",
-        "0:0.4:3",
-        "--rpm",
-        "800",
-        "--duration",
-        "0.5",
-        "--max-seconds",
-        "0.001",
+        *"--crab-velocity 0:0.4:3 --rpm 800 --duration 0.5 --max-seconds 0.001".split(),
         "--out",
         tmp_path / "c",
     )
@@ -413,14 +406,9 @@ def test_unbounded_sweeps_are_refused(tmp_path):
 @pytest.mark.slow
 def test_the_dof_limit_is_a_setting(tmp_path):
     r = run_cli(
-        "modes",
-        "--fidelity",
-        "fast",
-        "--max-dofs",
-        "100",
+        *"modes --fidelity fast --max-dofs 100 --quiet".split(),
         "--out",
         tmp_path / "m",
-        "--quiet",
         "--cache-dir",
         tmp_path / "c",
     )
@@ -515,18 +503,7 @@ def test_plot_windows_stay_inside_the_record(tmp_path):
     """A very soft mode (0.0036 Hz): the Fig. 7-10 windows are clamped to the record."""
     out = tmp_path / "soft"
     r = run_cli(
-        "simulate",
-        "--mass",
-        "3.1",
-        "--stiffness",
-        "1e-3",
-        "--damping",
-        "0",
-        "--duration",
-        "0.5",
-        "--out",
-        out,
-        "--quiet",
+        *"simulate --mass 3.1 --stiffness 1e-3 --damping 0 --duration 0.5 --quiet".split(), "--out", out
     )
     assert r.returncode == 0, r.stderr
     names = [p.name for p in out.glob("force_velocity_*.png")]

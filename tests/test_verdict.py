@@ -37,6 +37,16 @@ def _num(text: str) -> float | None:
     return float(text) if text not in ("", None) else None
 
 
+def _outcome(row: dict, tone: str | None = None) -> dict:
+    """The verdict's mode, tone, level and state from a CSV row (``tone``: from another file)."""
+    return {
+        "mode": row["verdict_mode"] or None,
+        "tone_hz": _num(row["tone_hz"] if tone is None else tone),
+        "spl_db": _num(row["spl_db"]),
+        "saturated": row["saturated"] == "True",
+    }
+
+
 @pytest.fixture(scope="module")
 def cases(tmp_path_factory):
     tmp = tmp_path_factory.mktemp("verdicts")
@@ -86,12 +96,7 @@ def test_every_command_gives_the_same_verdict(cases, name):
     r = run_cli("compare", design, *FAST, *POINT, "--out", base / "cmp", "--quiet", *cache)
     assert r.returncode == 0, r.stderr
     row = _csv(base / "cmp" / "compare.csv")[0]
-    got["compare"] = {
-        "mode": row["verdict_mode"] or None,
-        "tone_hz": _num(row["tone_hz"]),
-        "spl_db": _num(row["spl_db"]),
-        "saturated": row["saturated"] == "True",
-    }
+    got["compare"] = _outcome(row)
     r = run_cli(
         "sweep",
         "--design",
@@ -110,12 +115,7 @@ def test_every_command_gives_the_same_verdict(cases, name):
     assert r.returncode == 0, r.stderr
     row = _csv(base / "sw" / "sweep_spl.csv")[0]
     tone = _csv(base / "sw" / "sweep.csv")[0]["tone_hz"]
-    got["sweep"] = {
-        "mode": row["verdict_mode"] or None,
-        "tone_hz": _num(tone),
-        "spl_db": _num(row["spl_db"]),
-        "saturated": row["saturated"] == "True",
-    }
+    got["sweep"] = _outcome(row, tone)
     spec = base / "one.toml"
     field = "web_thickness"
     value = ws.load_design(design).wheel.web_thickness
@@ -126,12 +126,7 @@ def test_every_command_gives_the_same_verdict(cases, name):
     r = run_cli("study", spec, "--workers", "1", "--out", base / "study", "--quiet", *cache)
     assert r.returncode == 0, r.stderr
     row = _csv(base / "study" / "study.csv")[0]
-    got["study"] = {
-        "mode": row["verdict_mode"] or None,
-        "tone_hz": _num(row["tone_hz"]),
-        "spl_db": _num(row["spl_db"]),
-        "saturated": row["saturated"] == "True",
-    }
+    got["study"] = _outcome(row)
     for where, v in got.items():
         assert v["mode"] == want["mode"], where
         if where == "stability":  # it stops before the time domain: the linear verdict

@@ -146,15 +146,8 @@ def mitigation(
 
     Parameters
     ----------
-    design : Design
-    modeset : fem.ModeSet
-    contact : reduced.ContactLaw
-    crab_velocities : array_like
-        Crabbing velocities [m/s].
-    rpms : array_like
-        Wheel speeds [rev/min].
-    rotation : bool
-        Model the wheel's rotation.
+    design, modeset, contact, crab_velocities, rpms, rotation
+        The envelope's, as :func:`envelope` takes them.
 
     Returns
     -------

@@ -123,30 +123,9 @@ class SquealSound:
     tone_hz: float
     signal: MicrophoneSignal | None = None
 
-    # -- the fundamental stands for the sound where one field is asked for ------------------
     @property
     def fundamental(self) -> Sound:
         return self.harmonics[0]
-
-    @property
-    def field(self) -> Any:
-        return self.fundamental.field
-
-    @property
-    def radiation(self) -> Any:
-        return self.fundamental.radiation
-
-    @property
-    def microphone(self) -> tuple[float, float, float]:
-        return self.fundamental.microphone
-
-    @property
-    def velocity_amplitude_m_s(self) -> float:
-        return self.fundamental.velocity_amplitude_m_s
-
-    @property
-    def travelling(self) -> bool:
-        return self.fundamental.travelling
 
     @property
     def frequencies_hz(self) -> np.ndarray:
@@ -215,7 +194,7 @@ class SquealSound:
         a = np.power(10.0, a_weighting_db(self.frequencies_hz) / 10.0)
         angle = self.loudest_angle_rad()
         far = {}
-        silent_axis = self.field.harmonic >= 1  # cos(n phi) with n >= 1 vanishes on the axis
+        silent_axis = self.fundamental.field.harmonic >= 1  # cos(n phi) with n >= 1 vanishes on the axis
         for d in DISTANCES_M:
             tag = f"{d:g}".replace(".", "_")
             far[f"spl_{tag}m_db"] = _spl(self.far_mean_squares_pa2(d, angle).sum())

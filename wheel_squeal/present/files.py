@@ -29,8 +29,8 @@ def write_pressure_vtu(path: Path, sound: SquealSound) -> Path:
 
     from acoustics import spl_db
 
-    field = sound.field
-    p = field.vertex_pressure() * sound.velocity_amplitude_m_s
+    field = sound.fundamental.field
+    p = field.vertex_pressure() * sound.fundamental.velocity_amplitude_m_s
     pts = np.column_stack([field.mesh.points, np.zeros(len(field.mesh.points))])
     mesh = meshio.Mesh(
         pts,

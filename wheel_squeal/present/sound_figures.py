@@ -43,7 +43,7 @@ def write_sound_plot(path: Path, sound: SquealSound) -> Path:
     from acoustics import spl_db
     from acoustics.farfield import DIRECTIVITY_ANGLES
 
-    field, v = sound.field, sound.velocity_amplitude_m_s
+    field, v = sound.fundamental.field, sound.fundamental.velocity_amplitude_m_s
     pts, tri = field.mesh.points, field.mesh.triangles
     inside = np.hypot(*pts[tri].mean(axis=1).T) <= field.mesh.radius
     level = spl_db(field.vertex_pressure() * max(v, 1e-300))
@@ -56,7 +56,7 @@ def write_sound_plot(path: Path, sound: SquealSound) -> Path:
     for sign in (1, -1):
         t = Triangulation(sign * pts[:, 0], pts[:, 1], tri[inside])
         im = ax.tripcolor(t, level, shading="gouraud", cmap="magma", vmin=top - 40, vmax=top)
-    r, z, _ = sound.microphone
+    r, z, _ = sound.fundamental.microphone
     ax.plot([r], [z], "c^", ms=8, label=f"microphone (r {r:g} m, z {z:g} m)")
     span = NEAR_FIELD_RADII * float(np.max(field.body.points[0]))
     ax.set(
