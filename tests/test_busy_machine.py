@@ -508,3 +508,31 @@ def test_gmsh_leaves_the_process_its_signal_dispositions():
         during = _c_level_disposition(signal.SIGPIPE)
     after = {s: _c_level_disposition(s) for s in before}
     assert before[signal.SIGPIPE] == "ignore" and during == "ignore" and after == before
+
+
+STOP_IN_A_CALLBACK = """
+import ctypes, os, signal, sys, time
+from wheel_squeal.cli.stops import install_stop_handlers
+
+install_stop_handlers()
+code = "def notify():\\n    os.kill(os.getpid(), signal.SIGINT)\\n    for _ in range(10000):\\n        pass\\n"
+ns = {}
+exec(compile(code, "/site-packages/llvmlite/binding/executionengine.py", "exec"), {"os": os, "signal": signal}, ns)
+callback = ctypes.CFUNCTYPE(None)(ns["notify"])  # Python called from native code, as numba's cache is
+try:
+    callback()
+    time.sleep(3)
+    print("not stopped", file=sys.stderr)
+except KeyboardInterrupt:
+    print("stopped", file=sys.stderr)
+"""
+
+
+def test_a_stop_that_lands_in_a_native_callback_is_raised_after_it():
+    """A stop signal that lands while numba's machine-code cache calls back into Python
+    (through ctypes, which prints and swallows an exception raised there) is sent again
+    once the callback has returned: the command stops with its one line, no traceback."""
+    r = subprocess.run(
+        [sys.executable, "-c", STOP_IN_A_CALLBACK], capture_output=True, text=True, cwd=ROOT, timeout=60
+    )
+    assert r.stderr.strip() == "stopped", r.stderr

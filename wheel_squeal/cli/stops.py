@@ -17,6 +17,7 @@ import threading
 import time
 from collections.abc import Iterator
 from dataclasses import dataclass, field
+from types import FrameType
 
 __all__ = [
     "STATE",
@@ -66,10 +67,31 @@ class StopState:
 STATE = StopState()
 
 
-def _on_signal(signum: int, frame: object) -> None:
+#: Where Python code runs as a callback of native code (numba's LLVM object cache, through
+#: ctypes): an exception raised there is printed as "Exception ignored" with a traceback
+#: and swallowed, so a stop that lands there is sent again a moment later.
+CALLBACK_MODULES = ("llvmlite/binding",)
+RESEND_AFTER_S = 0.05
+
+
+def _in_native_callback(frame: FrameType | None) -> bool:
+    while frame is not None:
+        if any(m in frame.f_code.co_filename.replace("\\", "/") for m in CALLBACK_MODULES):
+            return True
+        frame = frame.f_back
+    return False
+
+
+def _on_signal(signum: int, frame: FrameType | None) -> None:
     STATE.received.append(signum)
-    if not STATE.holding:
-        raise STOPS[signum][0]
+    if STATE.holding:
+        return
+    if _in_native_callback(frame):
+        main = threading.main_thread().ident
+        assert main is not None
+        threading.Timer(RESEND_AFTER_S, signal.pthread_kill, (main, signum)).start()
+        return
+    raise STOPS[signum][0]
 
 
 @contextlib.contextmanager
