@@ -222,3 +222,17 @@ def test_the_numerics_rule_finds_what_it_forbids():
     assert [f.split(" ", 1)[1] for f in found] == [
         "imports scipy.linalg", "calls growth_rates in a loop", "calls simulate in a loop", "uses np.linalg",
     ]  # fmt: skip
+
+
+def test_every_package_is_installed():
+    """A non-editable install ships only the packages pyproject.toml lists: every folder
+    of the five packages that holds an ``__init__.py`` is among them."""
+    import tomllib
+
+    listed = set(tomllib.loads((ROOT / "pyproject.toml").read_text())["tool"]["setuptools"]["packages"])
+    found = {
+        ".".join(init.parent.relative_to(ROOT).parts)
+        for top in ("geometry", "fem", "reduced", "acoustics", "wheel_squeal")
+        for init in (ROOT / top).rglob("__init__.py")
+    }
+    assert found <= listed, sorted(found - listed)

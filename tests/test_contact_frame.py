@@ -100,6 +100,7 @@ def _axisym(etw: int, frame):
         return mesh, solve_axisymmetric(w, mesh, curved=True, fmax_hz=2500.0, contact=frame)
 
 
+@pytest.mark.slow
 def test_components_at_a_moved_contact_converge_and_agree_with_the_3d_solver():
     """At 2 deg the symmetric wheel's axial modes move the contact normally (the rim
     tilts): phi_n is 2-27 % of phi_t (the (3,0) mode's: 6 %). From one to three elements across the web each

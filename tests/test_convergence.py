@@ -22,6 +22,7 @@ def ladder():
     return rows, modes
 
 
+@pytest.mark.slow  # four FE solves and squeal runs
 def test_frequency_error_decreases_with_refinement(ladder):
     rows, _ = ladder
     errs = [abs(r["frequency_rel_error"]) for r in rows[1:]]  # 1, 2, 3 per web
@@ -35,6 +36,7 @@ def test_frequency_error_decreases_with_refinement(ladder):
     assert all(abs(r["amplitude_rel_error"]) < 1e-3 for r in rows[1:])
 
 
+@pytest.mark.slow
 def test_csv_has_the_columns(ladder, tmp_path):
     rows, _ = ladder
     path = tmp_path / "convergence.csv"

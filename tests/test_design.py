@@ -31,8 +31,9 @@ def test_design_files_exist_and_are_complete():
                 assert section not in data, path  # an outline design has no [wheel]
                 continue
             assert set(keys) - set(OPTIONAL_FIELDS) <= set(data[section]) <= set(keys), (path, section)
-        for section in ("roller", "contact", "damping"):
+        for section in ("counter_body", "contact", "damping"):
             assert section in data, (path, section)
+        assert data["counter_body"]["kind"] == "roller", path
 
 
 def test_table1_file_is_the_default_design():

@@ -110,14 +110,21 @@ def test_default_sectors():
 
 # -- exactness: cyclic reduction == full 3-D problem on the same mesh --------------------
 @pytest.fixture(scope="module")
-def same_mesh_pair(profile1):
+def cyclic_24(profile1):
     # 24 sectors: fem.solid's labeller takes a DFT over the node angles (48 distinct
     # angles here) up to n = 40; with 16 sectors (32 angles) n = 0 aliases onto n = 32
     m = revolve_profile(profile1, 24)
+    return m, solve_cyclic(TABLE1, m, fmax_hz=3000.0)
+
+
+@pytest.fixture(scope="module")
+def same_mesh_pair(cyclic_24):
+    """The cyclic solve and the full 3-D solve of the same mesh."""
+    m, cyc = cyclic_24
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", RuntimeWarning)
         full = solve_solid(TABLE1, m, order=2, fmax_hz=3000.0)
-    return m, solve_cyclic(TABLE1, m, fmax_hz=3000.0), full
+    return m, cyc, full
 
 
 @pytest.mark.slow
@@ -137,18 +144,18 @@ def test_cyclic_equals_full_3d_solve(same_mesh_pair):
             assert a.modal_mass == pytest.approx(b.modal_mass, rel=1e-6)
 
 
-def test_cyclic_shapes_match_contact_values(same_mesh_pair):
-    m, cyc, _ = same_mesh_pair
+def test_cyclic_shapes_match_contact_values(cyclic_24):
+    m, cyc = cyclic_24
     for mode, shape in zip(cyc.modes, cyc.shapes):
         assert shape.shape == (len(mode.contact_lateral), m.n_vertices, 3)
         if mode.modal_mass < math.inf:
             np.testing.assert_allclose(shape[:, m.contact_node, 2], mode.contact_lateral, rtol=1e-12)
 
 
-def test_pair_modal_mass_is_rotation_invariant(same_mesh_pair):
+def test_pair_modal_mass_is_rotation_invariant(cyclic_24):
     """Rotating a pair (phi_a, phi_b) -> (c a + s b, -s a + c b) leaves the contact modal
     mass unchanged to round-off, while a single member varies."""
-    _, cyc, _ = same_mesh_pair
+    _, cyc = cyclic_24
     mode = next(a for a in cyc.modes if key(a) == (3, 0, "axial"))
     pa, pb = mode.contact_lateral
     masses, single = [], []
@@ -181,6 +188,7 @@ def test_cyclic_converges_to_axisym_on_the_same_profile(profile2):
     assert errs[1] < errs[0] / 6  # Delta^4 would be 16x; measured 10x
 
 
+@pytest.mark.slow
 def test_cyclic_agrees_with_converged_axisym(profile2):
     """The issue's criterion at CI size: every mode below 3 kHz within 0.5 %, the (3,0)
     axial contact modal mass within 2 % (measured 0.16 % / 0.04 %, bench_modes.py)."""
@@ -211,6 +219,7 @@ def test_cyclic_free_free_matches_axisym(profile1):
         assert c[k].frequency_hz == pytest.approx(a[k].frequency_hz, rel=1e-3), k
 
 
+@pytest.mark.slow
 def test_cyclic_dished_wheel_contact_masses():
     """A dished web (web_offset != 0, not mirror-symmetric): in-plane modes couple to the
     axial contact displacement; both solvers give the same finite modal masses

@@ -189,6 +189,7 @@ def test_very_small_and_very_large_wheels(radius, table1_fast):
             assert a.modal_mass == math.inf
 
 
+@pytest.mark.slow
 def test_nu_near_half_p2_is_sane_and_p1_warns():
     """nu = 0.49: P2 (the axisymmetric path of every preset) does not lock: coarse (1
     per web) vs fine (4 per web) within 2.5 % on every mode below 5 kHz (measured 1.8 %
@@ -304,6 +305,7 @@ def test_free_free_rigid_modes_axisym(s):
         assert np.all(f[rigid] < 1e-5) and np.all(f[~rigid] > 30 * RIGID_TOL), (name, f)
 
 
+@pytest.mark.slow
 def test_free_free_3d_large_wheel_rigid_modes_and_pairs():
     """3-D, free-free, the 2 m wheel (coarse P2 mesh, 1 Hz rigid threshold and 10 Hz
     shift are absolute in fem.solid): exactly six rigid modes recognised and dropped

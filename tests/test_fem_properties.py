@@ -92,6 +92,7 @@ def gram_matrices(design, skm, ms) -> list[np.ndarray]:
     return out
 
 
+@pytest.mark.slow
 # -------------------------------------------------------------------------------------
 # 1. modal mass: positive, inf at a node, independent of the pair's rotation
 # -------------------------------------------------------------------------------------
@@ -130,6 +131,7 @@ def test_modal_mass_positive_and_independent_of_pair_rotation(d, alpha):
                 assert contact_modal_mass(turned) == math.inf
 
 
+@pytest.mark.slow
 # -------------------------------------------------------------------------------------
 # 2. scaling the whole wheel by s: f / s, m s^3
 # -------------------------------------------------------------------------------------

@@ -68,6 +68,7 @@ def test_modeset_contract(p2, mesh_ci):
     assert 1050 < m30.frequency_hz < 1200
 
 
+@pytest.mark.slow
 def test_pair_rotation_invariance(p2):
     """The pair-combined contact modal mass does not depend on how the pair is rotated.
 
@@ -175,6 +176,7 @@ def test_factorisations_agree(name, small_km):
     np.testing.assert_allclose(cos[single], 1.0, atol=1e-6)
 
 
+@pytest.mark.slow  # a full 3-D P2 solve
 def test_in_plane_modes_have_a_contact_node(p2):
     """Table 1 is mirror-symmetric (web_offset = 0): its in-plane modes (n = 0 torsion,
     circumferential and radial families) have u_z = 0 on z = 0, so the contact is a

@@ -222,6 +222,7 @@ def test_bad_outlines_are_refused_in_one_line(case, tmp_path):
 mm = st.floats(-1.0, 1.0).map(lambda x: x * 1e-3)
 
 
+@pytest.mark.slow
 @settings(max_examples=8, deadline=None, derandomize=True, suppress_health_check=[HealthCheck.too_slow])
 @given(
     dz=st.tuples(mm, mm, mm, mm),
@@ -262,6 +263,7 @@ span = st.floats(0.0, 1.0)
 MID_RANGE = (0.5, 0.5, 0.5, 0.5, 0.5, 0.5)
 
 
+@pytest.mark.slow
 @settings(max_examples=10, deadline=None, derandomize=True, suppress_health_check=[HealthCheck.too_slow])
 @given(hub=st.booleans(), u=st.tuples(span, span, span, span, span, span))
 @example(hub=False, u=MID_RANGE)
@@ -304,6 +306,7 @@ def curved_axisym():
     }
 
 
+@pytest.mark.slow  # three P2 solves, the finest with 4 elements through the wall
 def test_curved_web_axisym_converges(curved_axisym):
     """P2 under refinement (1, 2, 4 elements through the thinnest wall): frequencies fall
     monotonically and the steps shrink (measured 0.06 % then 0.01 % at most)."""

@@ -280,6 +280,7 @@ def test_very_stiff_mode_resolved_and_on_the_predicted_cycle(law):
     assert abs(_power_ratio(lc)) < 0.02
 
 
+@pytest.mark.slow
 def test_very_light_mode_matches_reference_and_predictor_warns(law):
     # m = 1e-4 kg (k = 1.6e8: 201 kHz). The contact's creep damping (~6e3 N s/m) is 24x
     # the mode's critical damping: the step comes from it (0.5/lambda = 7.4e-9 s), the

@@ -176,6 +176,7 @@ def test_render_mode_png(modeset, tmp_path):
     assert img._repr_png_()[:8] == b"\x89PNG\r\n\x1a\n"
 
 
+@pytest.mark.slow
 def test_different_modes_give_different_images(modeset):
     from fem.render import render_mode
 
@@ -192,6 +193,7 @@ def test_different_modes_give_different_images(modeset):
     assert 0.15 < _wheel_fraction(front.astype(np.uint8)) < 0.85
 
 
+@pytest.mark.slow
 def test_render_modes_png_and_gif(modeset, tmp_path):
     from PIL import Image
 

@@ -141,7 +141,7 @@ def test_growth_rates_match_a_time_domain_fit(law, op_fig6, f_pair):
         assert fitted.imag / (2 * math.pi) == pytest.approx(s.damped_frequency_hz, rel=1e-4)
 
 
-@pytest.mark.parametrize("which", [0, 1])
+@pytest.mark.parametrize("which", [0, pytest.param(1, marks=pytest.mark.slow)])
 def test_critical_damping_is_where_the_time_domain_growth_changes_sign(law, op_fig6, which):
     """Bisection on the mode's damping ratio with the time domain alone: the growth of
     its pole changes sign within 2 % of the computed zeta_crit (a separated mode and
@@ -331,7 +331,7 @@ def test_rotating_limit_cycle_tone(law, op_fig6):
 # --------------------------------------------------------------------------------------
 # item 5: mitigation over the envelope
 # --------------------------------------------------------------------------------------
-@pytest.mark.parametrize("rotation", [False, True])
+@pytest.mark.parametrize("rotation", [False, pytest.param(True, marks=pytest.mark.slow)])
 def test_mitigation_damping_and_friction_slope_stop_squeal_everywhere(table1_fe, rotation):
     design, ms, contact, _ = table1_fe
     vcs, rpms = np.linspace(0.0, 0.6, 13), [400.0, 600.0, 800.0]
