@@ -37,7 +37,6 @@ from geometry.gmsh_mesh import mesh_profile
 SETTINGS = dict(
     max_examples=10,
     deadline=None,
-    derandomize=True,  # reproducible CI runs
     suppress_health_check=[HealthCheck.too_slow],
 )
 

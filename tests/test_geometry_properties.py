@@ -25,7 +25,6 @@ from geometry import (
 SETTINGS = dict(
     max_examples=15,
     deadline=None,
-    derandomize=True,  # reproducible CI runs
     suppress_health_check=[HealthCheck.too_slow],
 )
 

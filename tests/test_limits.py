@@ -744,7 +744,7 @@ def random_loops(draw):
 
 
 @pytest.mark.slow
-@settings(max_examples=40, deadline=None, derandomize=True, suppress_health_check=[HealthCheck.too_slow])
+@settings(max_examples=40, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(points=random_loops())
 def test_random_outlines_are_a_wheel_or_one_line_that_says_why(points):
     from geometry import DesignError, WheelDesign
@@ -789,7 +789,7 @@ _AXES = {
 }
 
 
-@settings(max_examples=40, deadline=None, derandomize=True)
+@settings(max_examples=40, deadline=None)
 @given(
     axis=st.sampled_from(sorted(_AXES)),
     n=st.integers(1, 6),

@@ -223,7 +223,7 @@ mm = st.floats(-1.0, 1.0).map(lambda x: x * 1e-3)
 
 
 @pytest.mark.slow
-@settings(max_examples=8, deadline=None, derandomize=True, suppress_health_check=[HealthCheck.too_slow])
+@settings(max_examples=8, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(
     dz=st.tuples(mm, mm, mm, mm),
     dr_rim=st.floats(-5e-3, 5e-3),
@@ -264,7 +264,7 @@ MID_RANGE = (0.5, 0.5, 0.5, 0.5, 0.5, 0.5)
 
 
 @pytest.mark.slow
-@settings(max_examples=10, deadline=None, derandomize=True, suppress_health_check=[HealthCheck.too_slow])
+@settings(max_examples=10, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(hub=st.booleans(), u=st.tuples(span, span, span, span, span, span))
 @example(hub=False, u=MID_RANGE)
 @example(hub=True, u=MID_RANGE)

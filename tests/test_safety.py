@@ -578,7 +578,6 @@ def _design_error(path: Path) -> str | None:
 @settings(
     max_examples=200,
     deadline=None,
-    derandomize=True,
     suppress_health_check=[HealthCheck.function_scoped_fixture],
 )
 @given(_DECADE)
@@ -593,7 +592,6 @@ def test_designs_within_a_decade_of_table1_load_or_name_their_problem(tmp_path, 
 @settings(
     max_examples=6,
     deadline=None,
-    derandomize=True,
     suppress_health_check=[HealthCheck.function_scoped_fixture],
 )
 @given(_DECADE)

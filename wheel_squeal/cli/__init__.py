@@ -147,11 +147,11 @@ def run(prog: str | None = None, started_s: float | None = None) -> None:
     modules) takes about 0.3 s, a fifth of a typical command; the streams are flushed
     and the process ends without it.
     """
-    install_stop_handlers()
-    try:
+    try:  # a stop may land as soon as its handler is in place, before the handlers are all set
+        install_stop_handlers()
         status = main(prog=prog, alarm=True, started_s=started_s)
         sys.stdout.flush()
         sys.stderr.flush()
-    except KeyboardInterrupt:  # a stop after the command ended (its result is written)
+    except KeyboardInterrupt:  # a stop outside the command (its result, if any, is written)
         status = _status_of(KeyboardInterrupt())
     os._exit(status)
