@@ -236,3 +236,34 @@ def test_every_package_is_installed():
         for init in (ROOT / top).rglob("__init__.py")
     }
     assert found <= listed, sorted(found - listed)
+
+
+def test_no_api_message_names_a_command_line_flag():
+    """The API speaks in its own words (``max_seconds``, ``fmax_hz``, ``remedy=False``);
+    the command line turns the settings it has flags for into them (``cli.in_flags``).
+    Every string outside the command line and the field reference (which names the
+    commands that write each file), docstrings aside, is free of ``--flag``."""
+    import ast
+    import re
+
+    flag = re.compile(r"(?<![\w-])--[a-z][a-z-]+")
+    hits = []
+    for top in ("geometry", "fem", "reduced", "acoustics", "wheel_squeal"):
+        for path in (ROOT / top).rglob("*.py"):
+            rel = path.relative_to(ROOT)
+            if rel.parts[:2] == ("wheel_squeal", "cli") or rel.name == "fields.py":
+                continue
+            tree = ast.parse(path.read_text())
+            docstrings = {
+                id(node.body[0].value)
+                for node in ast.walk(tree)
+                if isinstance(node, ast.Module | ast.ClassDef | ast.FunctionDef | ast.AsyncFunctionDef)
+                and node.body
+                and isinstance(node.body[0], ast.Expr)
+                and isinstance(node.body[0].value, ast.Constant)
+            }
+            for node in ast.walk(tree):
+                text = node.value if isinstance(node, ast.Constant) and id(node) not in docstrings else None
+                if isinstance(text, str) and flag.search(text):
+                    hits.append(f"{rel}:{node.lineno}: {text[:60]!r}")
+    assert hits == [], hits

@@ -49,7 +49,7 @@ def test_no_result_folder_is_made_inside_another(tmp_path):
 
     with result_folder(tmp_path / "outer", "run") as staging:
         (staging / "a.txt").write_text("x")
-    with pytest.raises(RequestError, match="inside the result folder"):
+    with pytest.raises(RequestError, match="inside another result"):
         ResultFolder(tmp_path / "outer" / "inner").check()
     # a result that holds another (made by hand) is never replaced: it would go with it
     (tmp_path / "outer2" / "inner").mkdir(parents=True)

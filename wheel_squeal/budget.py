@@ -137,7 +137,7 @@ class Budget:
         if self.seconds_left() < 0.0:
             raise BudgetExhausted(
                 f"the request ran past its time budget of {_human_time(self.max_seconds)} "
-                f"({_human_time(self.elapsed_s())}, during {what}); raise it with --max-seconds S "
+                f"({_human_time(self.elapsed_s())}, during {what}); raise max_seconds "
                 f"({ENV_MAX_SECONDS}) or ask for less"
             )
 
@@ -161,8 +161,7 @@ class Budget:
         self._check_memory(cost, memory_bytes, remedy)
         if dofs > self.max_dofs:
             raise BudgetError(
-                f"{cost} (limit {self.max_dofs:,.0f} DOFs); {remedy}, or raise the "
-                f"limit with --max-dofs N ({ENV_MAX_DOFS})"
+                f"{cost} (limit {self.max_dofs:,.0f} DOFs); {remedy}, or raise max_dofs ({ENV_MAX_DOFS})"
             )
         self._check_time(cost, seconds, remedy)
 
@@ -212,10 +211,7 @@ class Budget:
             limit = _human_time(self.max_seconds) + (
                 f", {_human_time(max(left, 0.0))} of it left" if spent > 1.0 else ""
             )
-            raise BudgetError(
-                f"{cost} (limit {limit}); {remedy}, or raise "
-                f"the limit with --max-seconds S ({ENV_MAX_SECONDS})"
-            )
+            raise BudgetError(f"{cost} (limit {limit}); {remedy}, or raise max_seconds ({ENV_MAX_SECONDS})")
 
 
 @dataclass

@@ -197,7 +197,7 @@ class StageCache:
             if children - _LEGACY_STAGES:
                 raise RequestError(
                     f"cache folder {root} is not empty and not a wheel-squeal cache (no {MARKER}): "
-                    f"choose an empty or new folder (--cache-dir or {ENV_VAR})"
+                    f"choose an empty or new folder for the cache"
                 )
 
     def _ensure_root(self) -> bool:

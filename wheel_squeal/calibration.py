@@ -156,7 +156,7 @@ def calibrated_design_path(out: Path, name: str) -> Path:
             ours = False
         if not ours:
             raise RequestError(
-                f"--out {path} exists and is not a design written by calibrate: "
+                f"{path} exists and is not a design written by calibrate: "
                 "choose another path (nothing was written)"
             )
     try:
@@ -164,5 +164,5 @@ def calibrated_design_path(out: Path, name: str) -> Path:
         with tempfile.TemporaryFile(dir=path.parent):
             pass
     except OSError as exc:
-        raise RequestError(f"--out {out} cannot be written ({exc.strerror})") from None
+        raise RequestError(f"{out} cannot be written ({exc.strerror})") from None
     return path

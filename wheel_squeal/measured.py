@@ -129,7 +129,8 @@ def check_speeds(measured: Measured, rpms: Sequence[float]) -> None:
         if not np.any(np.abs(swept - rpm) <= SPEED_RTOL * rpm):
             listed = ", ".join(f"{r:g}" for r in swept)
             raise RequestError(
-                f"measured speed {rpm:g} RPM is not among the sweep's ({listed}): give it with --rpm"
+                f"measured speed {rpm:g} RPM is not among the sweep's ({listed}): "
+                "add it to the sweep's speeds"
             )
 
 
@@ -144,7 +145,7 @@ def compare_measured(grid: VerdictGrid, measured: Measured) -> list[dict]:
         if abs(grid.rpm[j] - rpm) > SPEED_RTOL * rpm:
             swept = ", ".join(f"{r:g}" for r in grid.rpm)
             raise RequestError(
-                f"measured speed {rpm:g} RPM is not among the sweep's ({swept}): give it with --rpm"
+                f"measured speed {rpm:g} RPM is not among the sweep's ({swept}): add it to the sweep's speeds"
             )
         cycle = grid.squeals[:, j] & grid.saturated[:, j] & np.isfinite(grid.spl_db[:, j])
         predicted_spl = _between(vcs, grid.spl_db[:, j], cycle, vc)

@@ -171,31 +171,32 @@ class ResultFolder:
             resolved = out.resolve()
             cwd = Path.cwd().resolve()
         except OSError as exc:
-            raise RequestError(f"--out {out}: {exc.strerror}") from None
+            raise RequestError(f"result folder {out}: {exc.strerror}") from None
         if resolved == cwd or resolved in cwd.parents:
             raise RequestError(
-                f"--out {out} is the current folder or one of its parents: name a folder for the results"
+                f"result folder {out} is the current folder or one of its parents: "
+                "name a folder for the results"
             )
         if out.is_symlink() and not out.exists():
-            raise RequestError(f"--out {out} is a broken symbolic link")
+            raise RequestError(f"result folder {out} is a broken symbolic link")
         for parent in resolved.parents:
             if (parent / MARKER).is_file():
                 raise RequestError(
-                    f"--out {out} lies inside the result folder {parent}: results are never nested "
+                    f"result folder {out} lies inside another result, {parent}: results are never nested "
                     "(a run that replaces the outer one would delete it); choose a folder outside it"
                 )
         if out.exists():
             if not out.is_dir():
-                raise RequestError(f"--out {out} exists and is not a folder")
+                raise RequestError(f"result folder {out} exists and is not a folder")
             if not is_result(out):
                 raise RequestError(
-                    f"--out {out} is a folder with other files in it, not a result of this tool "
+                    f"result folder {out} is a folder with other files in it, not a result of this tool "
                     f"(no {MARKER}): choose a new or empty folder (nothing was written)"
                 )
             inner = next((p.parent for p in out.glob(f"*/**/{MARKER}")), None)
             if inner is not None:
                 raise RequestError(
-                    f"--out {out} holds another result ({inner}) that replacing it would delete; "
+                    f"result folder {out} holds another result ({inner}) that replacing it would delete; "
                     "choose another folder (nothing was written)"
                 )
 
@@ -217,7 +218,9 @@ class ResultFolder:
             os.chmod(staging, mode)  # mkdir's mode is also masked by the umask; be explicit
         except OSError as exc:
             where = exc.filename or parent
-            raise RequestError(f"--out {self.out} cannot be written ({where}: {exc.strerror})") from None
+            raise RequestError(
+                f"result folder {self.out} cannot be written ({where}: {exc.strerror})"
+            ) from None
         self.staging = staging
         return staging
 
@@ -263,7 +266,8 @@ class ResultFolder:
                     raise
             if out.is_dir() and not is_result(out):
                 raise RequestError(
-                    f"--out {out} was filled with other files during the run; the result is left in {staging}"
+                    f"result folder {out} was filled with other files during the run; "
+                    f"the result is left in {staging}"
                 )
             try:
                 _exchange(staging, out)

@@ -23,7 +23,7 @@ if TYPE_CHECKING:
 __all__ = ["NO_REMEDY_HINT", "stability_plan", "verdict_plan"]
 
 #: How a user asks for less when a verdict's parts exceed the budget.
-NO_REMEDY_HINT = "lower fmax, or leave out the remedy (no_remedy / --no-remedy) or the sound"
+NO_REMEDY_HINT = "lower fmax_hz, or leave out the remedy (remedy=False) or the sound"
 
 
 def stability_plan(

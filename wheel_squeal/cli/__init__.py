@@ -12,6 +12,7 @@ from __future__ import annotations
 import contextlib
 import errno
 import os
+import re
 import signal
 import sys
 import warnings
@@ -99,6 +100,22 @@ def main(
     return status
 
 
+#: The settings the application's messages name in the API's words, and the flag a
+#: command-line user gives instead (the API names no flag; the command line names its own).
+FLAG_OF_SETTING = {
+    "max_seconds": "--max-seconds S",
+    "max_dofs": "--max-dofs N",
+    "fmax_hz": "--fmax",
+    "remedy=False": "--no-remedy",
+}
+_SETTING = re.compile("|".join(rf"(?<![\w-]){re.escape(k)}(?![\w-])" for k in FLAG_OF_SETTING))
+
+
+def in_flags(message: str) -> str:
+    """An application message with the settings it names as the command line's flags."""
+    return _SETTING.sub(lambda m: FLAG_OF_SETTING[m.group(0)], message)
+
+
 def _status_of(exc: BaseException) -> int:
     """The exit status of a command that raised ``exc``, with its one line on stderr
     (a bug's traceback is re-raised)."""
@@ -106,7 +123,7 @@ def _status_of(exc: BaseException) -> int:
         print(stop_line(STATE.received[0], STATE.budget_s), file=sys.stderr)
         return STOPS[STATE.received[0]][1]
     if isinstance(exc, RequestError | DesignError):
-        print(f"error: {exc}", file=sys.stderr)
+        print(f"error: {in_flags(str(exc))}", file=sys.stderr)
         return 2
     if isinstance(exc, Terminated):
         print("terminated", file=sys.stderr)
@@ -134,7 +151,7 @@ def _status_of(exc: BaseException) -> int:
         )
         return 1
     if isinstance(exc, (BudgetExhausted, *_computation_failures())):
-        print(f"error: {exc}", file=sys.stderr)
+        print(f"error: {in_flags(str(exc))}", file=sys.stderr)
         return 1
     raise exc
 

@@ -221,7 +221,7 @@ def check_scheduler_address(address: str) -> str:
     """``tcp://HOST:PORT`` (or ``HOST:PORT``) checked, as ``tcp://HOST:PORT``; any other
     form is refused (:class:`RequestError`) with what to give instead."""
     text = address.strip()
-    what = f"--scheduler {address!r}"
+    what = f"scheduler {address!r}"
     if not text:
         raise RequestError(f"{what}: give the scheduler's address, tcp://HOST:8786")
     scheme, sep, rest = text.partition("://")
