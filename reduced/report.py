@@ -9,6 +9,7 @@ picture from a few thousand points instead of hundreds of thousands.
 
 from __future__ import annotations
 
+import math
 from pathlib import Path
 from typing import Any
 
@@ -60,18 +61,33 @@ def summary_dicts(lc: LimitCycle, op: OperatingPoint, contact: ContactLaw) -> di
     }
 
 
-def write_timeseries_csv(history: TimeHistory, directory: Path, name: str = "timeseries.csv") -> Path:
-    """Write t_s, y_m, v_m_s, creepage, Q_N, P_W, u_n_m, N_N (contact-point totals) as CSV."""
+#: The longest row of timeseries.csv [bytes]: eight numbers of at most 15 characters
+#: (``-1.23456789e-05``), their separators and the line end.
+TIMESERIES_ROW_BYTES = 8 * 16
+
+
+def write_timeseries_csv(
+    history: TimeHistory, directory: Path, name: str = "timeseries.csv", max_bytes: float = math.inf
+) -> Path:
+    """Write t_s, y_m, v_m_s, creepage, Q_N, P_W, u_n_m, N_N (contact-point totals) as CSV,
+    every sample, or every k-th where all of them would exceed ``max_bytes`` (a comment
+    line then says k)."""
     path = Path(directory) / name
+    stride = max(1, math.ceil(len(history.t) * TIMESERIES_ROW_BYTES / max_bytes))
     zero = np.zeros(len(history.t))
     u_n = zero if history.u_n is None else history.u_n
     normal = zero + history.contact.normal_load_n if history.N is None else history.N
     data = np.column_stack(
         [history.t, history.y, history.v, history.creepage, history.Q, history.P, u_n, normal]
-    )
+    )[::stride]
     header = (
         "# Liu & Meehan squeal model time history at the contact point; SI units\n"
-        "t_s,y_m,v_m_s,creepage,Q_N,P_W,u_n_m,N_N"
+        + (
+            f"# one sample in {stride} (the whole record would exceed the file size limit)\n"
+            if stride > 1
+            else ""
+        )
+        + "t_s,y_m,v_m_s,creepage,Q_N,P_W,u_n_m,N_N"
     )
     row = ",".join(["%.9g"] * data.shape[1]) + "\n"
     # one format operation for the whole table: the text of np.savetxt, 2.5x faster

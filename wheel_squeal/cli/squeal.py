@@ -67,7 +67,7 @@ def cmd_run(args: argparse.Namespace, plots: PlotWorkers) -> int:
         a = analysis_of(args, design)
         ctx = context_of(args)
         with ctx.progress.stage("report"):
-            write_run_files(tmp, a, plots)
+            write_run_files(tmp, a, plots, ctx.budget.max_file_bytes)
         o = a.outcome
         if a.modeset.solver != MODAL_MODEL_SOLVER:  # a modal model has no shapes to draw
             shown = [o.mode.index] if o is not None else []
@@ -98,7 +98,7 @@ def cmd_simulate(args: argparse.Namespace, plots: PlotWorkers) -> int:
         a = analysis_of(args, design, stop_after="limit_cycle", remedy=False)
         o = a.outcome
         if o is not None and o.simulation is not None:
-            write_simulation_files(tmp, o.simulation, plots)
+            write_simulation_files(tmp, o.simulation, plots, context_of(args).budget.max_file_bytes)
         write_json(
             tmp / "summary.json", {**analysis_summary(a), "timings_s": context_of(args).progress.timings}
         )

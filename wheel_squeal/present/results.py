@@ -8,6 +8,7 @@ from __future__ import annotations
 from pathlib import Path
 from typing import TYPE_CHECKING
 
+from ..budget import MAX_FILE_BYTES
 from ..plotting import PlotWorkers
 from .figures import plot_times, write_mode_growth_plot, write_shares_plot
 from .files import write_pressure_vtu, write_squeal_wav
@@ -21,13 +22,15 @@ if TYPE_CHECKING:
 __all__ = ["write_run_files", "write_simulation_files", "write_sound_files"]
 
 
-def write_simulation_files(directory: Path, sim: Simulation, plots: PlotWorkers) -> None:
-    """``timeseries.csv`` and the Fig. 4, 6-10 counterparts (PNG) of a simulation, queued
-    on ``plots``, one job per file."""
+def write_simulation_files(
+    directory: Path, sim: Simulation, plots: PlotWorkers, max_file_bytes: float = MAX_FILE_BYTES
+) -> None:
+    """``timeseries.csv`` (at most ``max_file_bytes``) and the Fig. 4, 6-10 counterparts
+    (PNG) of a simulation, queued on ``plots``, one job per file."""
     from reduced import write_time_history_plots, write_timeseries_csv
     from reduced.report import TIME_HISTORY_FIGURES
 
-    plots.submit(write_timeseries_csv, sim.history, directory)
+    plots.submit(write_timeseries_csv, sim.history, directory, "timeseries.csv", max_file_bytes)
     for figure in TIME_HISTORY_FIGURES:
         plots.submit(write_time_history_plots, sim.history, directory, plot_times(sim), (figure,))
 
@@ -56,13 +59,15 @@ def write_sound_files(
             fn(directory / name, *args)
 
 
-def write_run_files(directory: Path, a: Analysis, plots: PlotWorkers) -> None:
+def write_run_files(
+    directory: Path, a: Analysis, plots: PlotWorkers, max_file_bytes: float = MAX_FILE_BYTES
+) -> None:
     """What ``run`` writes beside its summary, report and mode views: the limit cycle's
     record and figures, the squeal's sound, the modes that grew together (multimode.png)
     and every mode's growth rate (growth.png)."""
     o = a.outcome
     if o is not None and o.simulation is not None:
-        write_simulation_files(directory, o.simulation, plots)
+        write_simulation_files(directory, o.simulation, plots, max_file_bytes)
     heard = a.verdict.outcome
     if heard is not None and heard.sound is not None:
         write_sound_files(directory, heard.sound, plots, heard.simulation)
