@@ -49,7 +49,7 @@ def designs(fidelity: str, quick: bool) -> list[bool]:
     from acoustics import radiate, radiation_cost
     from wheel_squeal.envelope import envelope, envelope_seconds, mitigation
     from wheel_squeal.sound import mode_surface
-    from wheel_squeal.stability import choose_mode, excitable, stability_seconds, stability_table
+    from wheel_squeal.stability import excitable, stability_seconds, stability_table
 
     start, stop, num = DEFAULT_ENVELOPE_CRAB_VELOCITIES
     vcs, rpms = np.linspace(start, stop, num), list(DEFAULT_SPEEDS_RPM)
@@ -78,7 +78,8 @@ def designs(fidelity: str, quick: bool) -> list[bool]:
                     t,
                 )
             )
-        mode, _, _ = choose_mode(d, ms, "auto", contact, op)
+        a = ws.analyse(d, op=op, modes=ms, stop_after="stability", remedy=False)  # the mode it decides
+        mode = a.outcome.mode if a.outcome is not None else a.rows[a.table.fastest].mode
         surface = mode_surface(ms, mode, mode.frequency_hz)
         cost = radiation_cost(surface, mode.frequency_hz)
         t, field = timed(partial(radiate, surface, mode.frequency_hz))

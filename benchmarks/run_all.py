@@ -24,7 +24,7 @@ Rows (Table 1 wheel unless ``--design``):
   same final duration, vs ``solve_ivp`` (DOP853, rtol 1e-8) over that duration; the
   interpreted against the compiled RK4 kernel on 0.6 s of it, with the compiled form's
   load in a fresh process (where the two break even);
-* one sweep (50 crabbing velocities x 3 speeds, 0.6 s each): ``ws.sweep``
+* one sweep (50 crabbing velocities x 3 speeds, 0.6 s each): ``reduced.sweep``
   (numba, parallel) vs the 150 cases run one after another with ``reduced.simulate``
   + ``limit_cycle`` (RK4, one core); the first call (compile/cache load) is reported
   apart;
@@ -404,10 +404,10 @@ def bench_sweep(design, dof, contact, table: Table, quick: bool) -> None:
     rpms = np.array([400.0, 600.0, 800.0])
     speeds = rpms * 2 * math.pi / 60 * design.wheel.rolling_radius
     t = time.perf_counter()
-    ws.sweep(dof, contact, [0.39], [speeds[-1]], 0.01)
+    reduced.sweep(dof, contact, [0.39], [speeds[-1]], 0.01)
     t_first = time.perf_counter() - t
     n = 3 if quick else 5
-    s, res, _ = timed(lambda: ws.sweep(dof, contact, vcs, speeds, 0.6), n)
+    s, res, _ = timed(lambda: reduced.sweep(dof, contact, vcs, speeds, 0.6), n)
 
     def serial():
         out = []
@@ -420,7 +420,7 @@ def bench_sweep(design, dof, contact, table: Table, quick: bool) -> None:
     s_ser, _, _ = timed(serial, 1)
     table.add(
         "sweep",
-        "ws.sweep 50 x 3, 0.6 s (numba prange)",
+        "reduced.sweep 50 x 3, 0.6 s (numba prange)",
         n,
         s,
         "150 x simulate+limit_cycle, serial",

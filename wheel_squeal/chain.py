@@ -262,6 +262,12 @@ class _Chain:
                 simulated, bool(d.growing), self.opts.reaches("sound"),
             )  # fmt: skip
             plan.check(self.ctx.budget, "the verdict", NO_REMEDY_HINT)
+            if self.opts.beside and len(d.growing) > 1:
+                # the model's several modes run compiled: load that first, and the named
+                # mode runs compiled too instead of being interpreted (the same bits)
+                from reduced import load_compiled_kernels
+
+                load_compiled_kernels()
         named = self.named_outcome()
         model = self.model_outcome(integrate=not (named is not None and named.squeals) or self.opts.beside)
         if named is not None and named.squeals:
