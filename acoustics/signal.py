@@ -21,6 +21,7 @@ import numpy as np
 
 __all__ = [
     "WAV_RATE_HZ",
+    "faded",
     "periodic_samples",
     "whole_periods",
     "harmonic_amplitudes",
@@ -122,12 +123,32 @@ def resample(t: np.ndarray, x: np.ndarray, rate_hz: float) -> np.ndarray:
     return np.interp(t[0] + np.arange(n) / rate_hz, t, x)
 
 
-def write_wav(path: str | Path, signal: np.ndarray, rate_hz: int = WAV_RATE_HZ) -> float:
-    """Write ``signal`` as a mono 16-bit PCM WAV file, peak-normalised (the largest
-    |sample| at full scale); returns the peak it was divided by (0: a silent file)."""
+def faded(signal: np.ndarray, rate_hz: float, fade_s: float) -> np.ndarray:
+    """``signal`` faded in and out over ``fade_s`` [s] each end (raised cosine)."""
+    s = np.array(signal, float)
+    n = min(int(round(fade_s * rate_hz)), len(s) // 2)
+    if n > 0:
+        ramp = 0.5 - 0.5 * np.cos(np.pi * np.arange(n) / n)
+        s[:n] *= ramp
+        s[len(s) - n :] *= ramp[::-1]
+    return s
+
+
+def write_wav(
+    path: str | Path, signal: np.ndarray, rate_hz: int = WAV_RATE_HZ, full_scale: float | None = None
+) -> float:
+    """Write ``signal`` as a mono 16-bit PCM WAV file, ``full_scale`` at full scale
+    (default its largest |sample|; louder samples are clipped); returns the value it
+    was divided by (0: a silent file)."""
     s = np.asarray(signal, float)
     peak = float(np.max(np.abs(s))) if len(s) else 0.0
-    pcm = np.zeros(len(s), dtype="<i2") if peak == 0 else np.round(s / peak * 32767).astype("<i2")
+    if full_scale is not None and full_scale > 0:
+        peak = float(full_scale)
+    pcm = (
+        np.zeros(len(s), dtype="<i2")
+        if peak == 0
+        else np.round(np.clip(s / peak, -1.0, 1.0) * 32767).astype("<i2")
+    )
     with wave.open(str(path), "wb") as w:
         w.setnchannels(1)
         w.setsampwidth(2)

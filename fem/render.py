@@ -210,7 +210,9 @@ def _field_arrays(modeset: ModeSet) -> dict[str, np.ndarray]:
             dtype=np.int64,
         ),
         "contact_modal_mass_kg": np.array(
-            [m.modal_mass if math.isfinite(m.modal_mass) else -1.0 for m in ms], dtype=float
+            # NaN: the contact is on a node (no modal mass there), as null in summary.json
+            [m.modal_mass if math.isfinite(m.modal_mass) else math.nan for m in ms],
+            dtype=float,
         ),
     }
 

@@ -66,29 +66,31 @@ def summary_dicts(lc: LimitCycle, op: OperatingPoint, contact: ContactLaw) -> di
 TIMESERIES_ROW_BYTES = 8 * 16
 
 
+#: timeseries.csv's columns (SI units: the suffix names the unit)
+TIMESERIES_COLUMNS = ("t_s", "y_m", "v_m_s", "creepage", "Q_N", "P_W", "u_n_m", "N_N")
+
+
+def timeseries_stride(history: TimeHistory, max_bytes: float = math.inf) -> int:
+    """k: timeseries.csv holds every k-th sample, so that it stays within ``max_bytes``."""
+    return max(1, math.ceil(len(history.t) * TIMESERIES_ROW_BYTES / max_bytes))
+
+
 def write_timeseries_csv(
     history: TimeHistory, directory: Path, name: str = "timeseries.csv", max_bytes: float = math.inf
 ) -> Path:
-    """Write t_s, y_m, v_m_s, creepage, Q_N, P_W, u_n_m, N_N (contact-point totals) as CSV,
-    every sample, or every k-th where all of them would exceed ``max_bytes`` (a comment
-    line then says k)."""
+    """Write :data:`TIMESERIES_COLUMNS` (contact-point totals) as a plain CSV (one header
+    line, then numbers: any CSV reader takes it as it is), every sample, or every k-th
+    where all of them would exceed ``max_bytes`` (:func:`timeseries_stride`; summary.json
+    says k)."""
     path = Path(directory) / name
-    stride = max(1, math.ceil(len(history.t) * TIMESERIES_ROW_BYTES / max_bytes))
+    stride = timeseries_stride(history, max_bytes)
     zero = np.zeros(len(history.t))
     u_n = zero if history.u_n is None else history.u_n
     normal = zero + history.contact.normal_load_n if history.N is None else history.N
     data = np.column_stack(
         [history.t, history.y, history.v, history.creepage, history.Q, history.P, u_n, normal]
     )[::stride]
-    header = (
-        "# Liu & Meehan squeal model time history at the contact point; SI units\n"
-        + (
-            f"# one sample in {stride} (the whole record would exceed the file size limit)\n"
-            if stride > 1
-            else ""
-        )
-        + "t_s,y_m,v_m_s,creepage,Q_N,P_W,u_n_m,N_N"
-    )
+    header = ",".join(TIMESERIES_COLUMNS)
     row = ",".join(["%.9g"] * data.shape[1]) + "\n"
     # one format operation for the whole table: the text of np.savetxt, 2.5x faster
     path.write_text(header + "\n" + (row * len(data)) % tuple(data.ravel().tolist()))

@@ -54,6 +54,7 @@ __all__ = [
     "StabilityResult",
     "critical_damping_ratio",
     "critical_friction_slope",
+    "eigen_shares",
     "eigen_solve_bytes",
     "eigen_solve_seconds",
     "friction_damping_ns_m",
@@ -318,6 +319,19 @@ def _eigen_shares(
     return lam, assigned, share
 
 
+def eigen_shares(
+    modes: Modes, linear: LinearContact, wheel_speed_rad_s: float = 0.0
+) -> tuple[np.ndarray, np.ndarray]:
+    """The eigenvalues with Im >= 0 [1/s] of the modes on the linearised contact, and each
+    mode's share of each one's vibration energy, shape (modes, eigenvalues): one eigen-solve."""
+    modes = as_modes(modes)
+    damping = np.array([md.damping_ns_m for md in modes])
+    lam, _, share = _eigen_shares(
+        modes, damping, linear, wheel_speed_rad_s, _blocks(modes, wheel_speed_rad_s)
+    )
+    return lam, share
+
+
 def _mechanisms(
     modes: Sequence[ModalDOF],
     damping: np.ndarray,
@@ -472,7 +486,7 @@ def linear_stability(
         j = max(assigned[i], key=lambda jj: lam[jj].real)
         sigma, fd = float(lam[j].real), float(abs(lam[j].imag)) / (2 * math.pi)
         zeta_crit = slope_crit = math.nan
-        if i in wanted:
+        if i in wanted and modes[i].lateral != 0.0:  # else the friction's slope cannot act on it
             zeta_crit = critical_damping_ratio(modes, contact, op, i, wheel_speed_rad_s)
             slope_crit = critical_friction_slope(modes, contact, op, i, wheel_speed_rad_s)
         partners = [i] + [int(k) for k in np.argsort(-share[:, j]) if k != i and share[k, j] >= PARTNER_SHARE]
@@ -636,6 +650,9 @@ class Mitigation:
     reason: str = ""
 
 
+#: A damping bound below this is the root finder's round-off about 0 (none is needed).
+ROUNDOFF_DAMPING_RATIO = 1e-8
+
 #: A damping ratio beyond which a wheel damper is not a remedy (critical damping).
 MAX_DAMPING_RATIO = 1.0
 
@@ -747,6 +764,7 @@ def mitigation(
             f"V0 = {p[1]:.4g} m/s after {rounds} rounds of raising the damping bounds"
         )
     zeta = zeta * (1 + MITIGATION_MARGIN)
+    zeta[zeta < ROUNDOFF_DAMPING_RATIO] = 0.0  # the root finder's round-off: none needed
     slopes = {
         v0: max(
             critical_friction_slope(modes, contact, OperatingPoint(v0, float(vcs[-1])), i, omegas[v0])

@@ -71,24 +71,33 @@ def test_the_time_domain_without_normal_motion_is_the_lateral_kernel_bit_for_bit
     assert np.array_equal(y[:, 0], y1) and np.array_equal(u[:, 0], u1)
 
 
-#: sha256 of the Fig. 6 record's contact velocity and lateral force (Table 1 mode, 800 RPM,
-#: Vc = 0.39 m/s, 0.5 s from rest) as the lateral model computed it before the contact's
-#: normal direction was added
+#: sha256 of the Fig. 6 record's contact velocity (Table 1 mode, 800 RPM, Vc = 0.39 m/s,
+#: 0.5 s from rest) as the lateral model computed it before the contact's normal direction
+#: was added: the RK4 kernels' own IEEE arithmetic
 FIG6_V_SHA256 = "f5e8f7e45104b487a5f3c700bbfb1540621dde9bc7531e457b583f842aa8a96a"
-FIG6_Q_SHA256 = "4f38900867593d3680aabd31a6221834fc7340984a0157df3a45110c0275dab6"
+#: The lateral force of that record at samples 1000, 5000, 10000 and the last [N], and the
+#: sum of its magnitudes: the force is evaluated after the run by numpy's vectorised exp,
+#: whose last bit differs between numpy builds (2.4 and earlier differ), so it is compared
+#: to 1e-12 rather than to the bit
+FIG6_Q_SAMPLES_N = {1000: -193.87054589345013, 5000: -196.3399432097547, 10000: -198.54812180074904}
+FIG6_Q_LAST_N, FIG6_Q_ABS_SUM_N = -175.5739565366413, 5374060.402943479
 
 
 @pytest.mark.parametrize("normal", [True, False])
 def test_the_fig6_record_is_unchanged_to_the_bit(normal):
     """The paper's mode with the Hertz spring on (it has no normal motion) or off gives
-    the record of the lateral model before the normal direction existed, to the bit
-    (the RK4 kernels use IEEE arithmetic and the platform's exp, as then)."""
+    the record of the lateral model before the normal direction existed: its velocity to
+    the bit (the RK4 kernels use IEEE arithmetic and the platform's exp, as then), its
+    force to 1e-12 (numpy's exp after the run)."""
     import hashlib
 
     law = r.ContactLaw.from_hertz(HERTZ, 0.3, normal=normal)
     hist = r.simulate(TABLE1, law, OP, 0.5)
     assert hashlib.sha256(hist.v.tobytes()).hexdigest() == FIG6_V_SHA256
-    assert hashlib.sha256(hist.Q.tobytes()).hexdigest() == FIG6_Q_SHA256
+    for i, q in FIG6_Q_SAMPLES_N.items():
+        assert hist.Q[i] == pytest.approx(q, rel=1e-12)
+    assert hist.Q[-1] == pytest.approx(FIG6_Q_LAST_N, rel=1e-12)
+    assert np.abs(hist.Q).sum() == pytest.approx(FIG6_Q_ABS_SUM_N, rel=1e-12)
 
 
 @pytest.mark.parametrize("detune", [-0.2, -0.05, -0.01, 0.0, 0.01, 0.05, 0.2])

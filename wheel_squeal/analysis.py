@@ -35,8 +35,9 @@ class ChainOptions:
     Attributes
     ----------
     mode : str
-        "auto" (the design's named mode, else the model's own outcome) or a mode the
-        request names (an index, ``n=3[,c=0]``, ``f=HZ``): an override, integrated as asked.
+        "auto" (the design's named mode, else the model's own outcome), "model" (the
+        model's own outcome, whatever the design names) or a mode the request names (an
+        index, ``n=3[,c=0]``, ``f=HZ``): an override, integrated as asked.
     rotation : bool
         Model the wheel's rotation (travelling waves).
     max_modes : int

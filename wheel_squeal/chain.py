@@ -31,7 +31,7 @@ from .levels import squeal_sound
 from .modes import compute_modes
 from .plan import NO_REMEDY_HINT, stability_plan, verdict_plan
 from .presets import Fidelity, fidelity_for
-from .remedy import margin_of, remedy_of
+from .remedy import margin_of, remedy_design, remedy_of
 from .stability import (
     StabilityTable,
     contact_dofs,
@@ -41,7 +41,7 @@ from .stability import (
     stability_table,
     wheel_speed_rad_s,
 )
-from .verdict import ModeOutcome, Verdict, wave_frequency_hz, wave_of
+from .verdict import LOWEST_SQUEAL_HZ, ModeOutcome, Verdict, wave_of
 
 if TYPE_CHECKING:
     from fem.modes import Mode, ModeSet
@@ -239,14 +239,24 @@ class _Chain:
             return o
         if self.modeset.solver == "modal-model":  # no shapes: nothing radiates
             return o
+        shape = self.radiating(o)
         with self.ctx.progress.stage(f"sound of {o.label}"):
             s = squeal_sound(
-                self.design, self.modeset, o.mode, wave_frequency_hz(o.mode, o.wave, self.omega),
+                self.design, self.modeset, shape, o.tone_hz,
                 o.simulation, o.tone_hz, listener=self.opts.listener, travelling=o.wave != "standing",
                 fidelity=self.ctx.fidelity.name, fmax_hz=self.ctx.fmax_hz, cache=self.ctx.cache,
                 budget=self.ctx.budget, memo=self.ctx.memo,
             )  # fmt: skip
         return replace(o, sound=s)
+
+    def radiating(self, o: ModeOutcome) -> Mode:
+        """The shape that radiates a limit cycle: the mode holding the largest share of
+        its vibration energy (of several integrated together), else the outcome's own."""
+        if not (o.shares and o.group):
+            return o.mode
+        by_label = {m.label(): m for m in o.group}
+        held = [(share, by_label[lab]) for lab, share in o.shares.items() if lab in by_label]
+        return max(held, key=lambda sm: sm[0])[1] if held else o.mode
 
     # -- the verdict ----------------------------------------------------------------------
     def verdict(self) -> Verdict:
@@ -325,12 +335,41 @@ class _Chain:
     ) -> Verdict:
         """It squeals in ``outcome``: with its sound, and (``remedy`` asked for) what
         would stop it."""
-        remedy = None
-        if self.opts.remedy:
-            remedy = remedy_of(
-                self.design, self.rows, self.contact, self.op, outcome.mode, self.opts.rotation
+        if outcome.tone_hz < LOWEST_SQUEAL_HZ:
+            low = (
+                f"{reason}; its oscillation is at {outcome.tone_hz:.3g} Hz, below {LOWEST_SQUEAL_HZ:g} Hz: "
+                "an instability of the wheel, not a squeal one hears"
             )
+            return Verdict(False, None, low, named, pick)
+        remedy = self.remedy(outcome) if self.opts.remedy else None
         return Verdict(True, self.heard(outcome), reason, named, pick, remedy=remedy)
+
+    def remedy(self, outcome: ModeOutcome) -> dict[str, Any]:
+        """What stops every growing mode (``remedy_of``), its damping checked once more by
+        integrating the verdict's modes with it from rest: the record must decay."""
+        result = self.table.result
+        growing = [j for j in result.ranked() if result.eigenvalues[j].real > 0.0]
+        mechanisms = [
+            (result.mechanisms[j] if result.mechanisms else None, modes_of_eigenvalue(self.table, j))
+            for j in growing
+        ]
+        with self.ctx.progress.stage("remedy"):
+            r = remedy_of(self.design, self.rows, self.contact, self.op, self.opts.rotation, mechanisms)
+        if r["settled"] and self.opts.reaches("limit_cycle") and outcome.simulation is not None:
+            group = outcome.group or (outcome.mode,)
+            damped = remedy_design(self.design, r["paste"])
+            with self.ctx.progress.stage("the remedy checked in the time domain"):
+                sim = simulate(
+                    contact_dofs(group, damped), self.contact, self.op, self.opts.duration, self.omega,
+                    self.ctx.budget,
+                )  # fmt: skip
+            r["time_domain"] = sim.limit_cycle.state
+            if sim.limit_cycle.squeal:
+                r["settled"] = False
+                r["words"] = (
+                    f"{r['words']} (but integrated with them the record still {sim.limit_cycle.state})"
+                )
+        return r
 
     def quiet(self, reason: str, **extra: Any) -> Verdict:
         """No squeal, with how far the least stable mode is from growing."""

@@ -149,8 +149,12 @@ class Design:
             raise DesignError(f"{self.name}: {exc}") from None
 
     def damping_ratio_of(self, mode: Mode) -> float:
-        """A mode's modal damping ratio: its own (a modal test's), else the design's for its
-        (n, c) ([squeal.damping]), else the design's ``modal_damping_ratio``."""
+        """A mode's modal damping ratio: the design's for its label ([squeal.damping], a
+        modal model's mode: a remedy pasted in overrides the modal test), else its own (a
+        modal test's), else the design's for its (n, c), else ``modal_damping_ratio``."""
+        by_label = self.damping.labelled(mode.name) if mode.name else None
+        if by_label is not None:
+            return by_label
         if mode.damping_ratio is not None:
             return mode.damping_ratio
         return self.damping.ratio(mode.nodal_diameters, mode.nodal_circles)

@@ -13,6 +13,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from .design import Design
+from .outputs import bound_or_none, needed_or_none
 from .presets import rpm_to_speed
 from .stability import contact_dofs, excitable
 
@@ -120,13 +121,13 @@ class Mitigation:
                     "label": m.label(),
                     "frequency_hz": m.frequency_hz,
                     "damping_ratio": design.damping_ratio_of(m),
-                    "required_damping_ratio": float(z),
+                    "required_damping_ratio": needed_or_none(z),
                     "at_crabbing_velocity_m_s": float(p[0]),
                     "at_rpm": float(p[1]) / to_rpm,
                 }
                 for m, z, p in zip(self.modes, r.damping_ratio, r.damping_worst_point)
             ],
-            "required_friction_slope": r.friction_slope,
+            "required_friction_slope": bound_or_none(r.friction_slope),
             "friction_slope_at_rpm": r.friction_worst_speed_m_s / to_rpm,
             "settled": r.settled,
             "reason": r.reason,

@@ -71,15 +71,23 @@ class MicrophoneSignal:
 
     def wav_samples(self) -> np.ndarray:
         """The pressure over the run at the WAV file's sample rate [Pa], its last
-        :data:`MAX_WAV_SECONDS` at most (a very low tone's run is long)."""
-        from acoustics.signal import WAV_RATE_HZ, resample
+        :data:`MAX_WAV_SECONDS` at most (a very low tone's run is long), faded in and
+        out over :data:`WAV_FADE_S` (the band filter's edges would click)."""
+        from acoustics.signal import WAV_RATE_HZ, faded, resample
 
         keep = self.t >= self.t[-1] - MAX_WAV_SECONDS
-        return resample(self.t[keep], self.p[keep], WAV_RATE_HZ)
+        return faded(resample(self.t[keep], self.p[keep], WAV_RATE_HZ), WAV_RATE_HZ, WAV_FADE_S)
+
+    def wav_full_scale_pa(self) -> float:
+        """The pressure [Pa] the WAV's full scale stands for: the peak over the limit
+        cycle (the steady part), not an edge's."""
+        return float(np.max(np.abs(self.cycle_pa))) if len(self.cycle_pa) else 0.0
 
 
 #: The longest squeal.wav [s] (0.9 MB at 44.1 kHz and 16 bit)
 MAX_WAV_SECONDS = 10.0
+#: squeal.wav fades in and out over this time [s] (raised cosine: no click)
+WAV_FADE_S = 0.02
 #: Samples per period the limit cycle is resampled to for its spectrum (its harmonics
 #: up to the 16th, far above :data:`MAX_HARMONICS`)
 SAMPLES_PER_PERIOD = 32
@@ -229,7 +237,7 @@ class SquealSound:
         }
         out["wav_full_scale_pa"] = None
         if self.signal is not None and self.audible:
-            out["wav_full_scale_pa"] = float(np.max(np.abs(self.signal.wav_samples())))
+            out["wav_full_scale_pa"] = self.signal.wav_full_scale_pa()
         return out
 
     @property
@@ -267,7 +275,8 @@ def squeal_sound(
     **radiation: Any,
 ) -> SquealSound:
     """The :class:`SquealSound` of ``mode`` squealing as ``simulation`` says, heard at
-    ``tone_hz`` [Hz]: its harmonics radiated at k times ``mode_frequency_hz`` through
+    ``tone_hz`` [Hz]: its harmonics radiated at k times ``mode_frequency_hz`` (the tone
+    itself for a squeal: its shape vibrating at the limit cycle's frequency) through
     :func:`wheel_squeal.sound.mode_sound` (``radiation``: its keywords: listener,
     travelling, fidelity, fmax_hz, cache, budget, memo), and the microphone signal of the
     whole run (each band of the contact velocity's spectrum through its harmonic's

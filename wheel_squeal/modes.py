@@ -225,6 +225,7 @@ def check_named_modes(design: Design, modeset: ModeSet, fmax_hz: float) -> None:
     """Refuse (:class:`RequestError`) a design whose ``[squeal.damping]`` names a mode
     that is not among ``modeset``'s: its damping would be silently unused."""
     labels = {f"n={m.nodal_diameters},c={m.nodal_circles}" for m in modeset.modes}
+    labels |= {m.name for m in modeset.modes if m.name}
     missing = [k for k, _ in design.damping.by_mode if k not in labels]
     if missing:
         raise RequestError(

@@ -324,6 +324,31 @@ def result_folder(out: str | os.PathLike, command: str) -> Iterator[Path]:
 # --------------------------------------------------------------------------------------
 # files
 # --------------------------------------------------------------------------------------
+#: The one word in text for a value that does not exist (a mode the contact cannot
+#: excite has no modal mass there, no critical damping or slope; a bound no value
+#: reaches): null in JSON, an empty CSV cell, NaN in a VTU's fields
+NONE = "none"
+
+#: A bound past this size is the root finder's round-off, not a requirement
+MAX_BOUND = 1e20
+#: A damping ratio needed below this is round-off: no damping is needed
+MIN_NEEDED_DAMPING_RATIO = 1e-8
+
+
+def bound_or_none(x: Any) -> float | None:
+    """A critical value (damping ratio, friction slope) as it is reported: None where it
+    is not finite or past :data:`MAX_BOUND` (round-off)."""
+    v = finite_or_none(x)
+    return None if v is None or abs(float(v)) > MAX_BOUND else float(v)
+
+
+def needed_or_none(x: Any) -> float | None:
+    """A damping ratio a remedy needs: None where it is none (below
+    :data:`MIN_NEEDED_DAMPING_RATIO`, round-off, or not a finite number)."""
+    v = bound_or_none(x)
+    return None if v is None or v < MIN_NEEDED_DAMPING_RATIO else v
+
+
 def finite_or_none(x: Any) -> Any:
     """A number as a plain Python value, None for NaN and infinities (no value: JSON's
     null, an empty CSV cell); anything else unchanged. The one rule for missing values in

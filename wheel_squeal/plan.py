@@ -12,7 +12,7 @@ from typing import TYPE_CHECKING, Any
 from .api import SIMULATION_HINT, simulation_seconds, simulation_steps
 from .budget import CostPlan
 from .design import Design
-from .remedy import bounds_seconds
+from .remedy import bounds_seconds, remedy_seconds
 from .sound import sound_cost
 from .stability import contact_dofs, excitable, stability_seconds
 
@@ -41,7 +41,7 @@ def stability_plan(
         eigen_solve_bytes(dofs, rotation),
     )
     if remedy:
-        plan.add("remedy or margin", bounds_seconds(dofs, rotation))
+        plan.add("remedy or margin", max(bounds_seconds(dofs, rotation), remedy_seconds(dofs, 1, rotation)))
     return plan
 
 
@@ -69,9 +69,16 @@ def verdict_plan(
             simulation_seconds(dofs, contact, op),
             remedy=SIMULATION_HINT,
         )
-    if opts.remedy:
+    if opts.remedy and growing:
         dofs = contact_dofs(rows, design)
-        plan.add("remedy" if growing else "margin", bounds_seconds(dofs, opts.rotation))
+        n_growing = len(simulated[-1][1]) if simulated else 1
+        plan.add("remedy", remedy_seconds(dofs, n_growing, opts.rotation))
+        # its check: the largest group integrated once more with the remedy's damping
+        biggest = max((contact_dofs(together, design) for _, together in simulated), key=len, default=None)
+        if biggest is not None:
+            plan.add("the remedy checked in the time domain", simulation_seconds(biggest, contact, op))
+    elif opts.remedy:
+        plan.add("margin", bounds_seconds(contact_dofs(rows, design), opts.rotation))
     if sound:
         for m, _ in simulated:
             cost = sound_cost(design, modeset, m, opts.listener)

@@ -45,18 +45,32 @@ __all__ = [
 ]
 
 
+#: The longest label a [squeal.damping] key may be (a modal model's mode label)
+MAX_DAMPING_LABEL_CHARS = 80
+
+
 def mode_key(label: str, source: str = "design") -> str:
-    """``n=N,c=C`` of a mode named by nodal diameters and circles, written the one way
-    (``"n = 01, c = 0"`` is ``"n=1,c=0"``); the grammar is ``fem.modes.ModeSelection``'s."""
+    """A ``[squeal.damping]`` key written the one way: ``n=N,c=C`` for an FE mode named by
+    nodal diameters and circles (``"n = 01, c = 0"`` is ``"n=1,c=0"``; the grammar is
+    ``fem.modes.ModeSelection``'s), or a modal model's mode label as it is."""
     from fem.modes import ModeSelection
 
+    text = str(label)
+    if "=" not in text:
+        if text.strip() and text.isprintable() and len(text) <= MAX_DAMPING_LABEL_CHARS:
+            return text
+        raise DesignError(
+            f"{source}: [squeal.damping] key {ascii(text[:40])}: a mode's label (printable, at most "
+            f'{MAX_DAMPING_LABEL_CHARS} characters) or "n=N,c=C" (nodal diameters, circles)'
+        )
     try:
-        sel = ModeSelection.parse(str(label))
+        sel = ModeSelection.parse(text)
     except ValueError:
         sel = None
-    if sel is None or sel.nodal_diameters is None or "c" not in str(label).replace(" ", ""):
+    if sel is None or sel.nodal_diameters is None or "c" not in text.replace(" ", ""):
         raise DesignError(
-            f'{source}: [squeal.damping] key {label!r}: use "n=N,c=C" (nodal diameters, circles)'
+            f'{source}: [squeal.damping] key {label!r}: use "n=N,c=C" (nodal diameters, circles) or a '
+            "modal model's mode label"
         )
     return f"n={sel.nodal_diameters},c={sel.nodal_circles}"
 
@@ -301,8 +315,8 @@ class Contact(Fields):
 @dataclass(frozen=True)
 class Damping(Fields):
     """The modes' viscous damping: ``modal_damping_ratio`` [-] for every mode without a
-    measured one; ``by_mode`` the measured ratios (("n=N,c=C", ratio), ...), sorted (the
-    file's ``[squeal.damping]``)."""
+    measured one; ``by_mode`` the measured ratios ((key, ratio), ...), sorted (the file's
+    ``[squeal.damping]``; a key is "n=N,c=C" for an FE mode or a modal model's label)."""
 
     TABLE: ClassVar[str] = "damping"
 
@@ -318,7 +332,7 @@ class Damping(Fields):
         keys = [k for k, _ in self.by_mode]
         for k in keys:
             if mode_key(k) != k:
-                raise DesignError(f'[squeal.damping] key {k!r}: use "n=N,c=C" (nodal diameters, circles)')
+                raise DesignError(f'[squeal.damping] key {k!r}: write it "{mode_key(k)}"')
         if len(set(keys)) != len(keys):
             raise DesignError("[squeal.damping] names a mode twice")
 
@@ -328,6 +342,10 @@ class Damping(Fields):
     def ratio(self, nodal_diameters: int, nodal_circles: int) -> float:
         """The (n, c) mode's damping ratio: its measured one, else the common one."""
         return dict(self.by_mode).get(f"n={nodal_diameters},c={nodal_circles}", self.modal_damping_ratio)
+
+    def labelled(self, label: str) -> float | None:
+        """The ratio ``[squeal.damping]`` gives a mode by its label (None: none)."""
+        return dict(self.by_mode).get(label)
 
 
 @dataclass(frozen=True)

@@ -24,6 +24,7 @@ import numpy as np
 
 from .design import Design
 from .errors import RequestError
+from .outputs import bound_or_none
 
 if TYPE_CHECKING:
     from fem.modes import Mode, ModeSet
@@ -104,8 +105,8 @@ class ModeStabilityRow:
             "normal_component": phi_n,
             "growth_rate_1_s": s.growth_rate_1_s,
             "damped_frequency_hz": s.damped_frequency_hz,
-            "critical_damping_ratio": s.critical_damping_ratio,
-            "critical_friction_slope": s.critical_friction_slope,
+            "critical_damping_ratio": bound_or_none(s.critical_damping_ratio),
+            "critical_friction_slope": bound_or_none(s.critical_friction_slope),
             "unstable": bool(s.unstable),
             "mechanism": s.mechanism,
             "partners": list(self.partners),
@@ -277,12 +278,15 @@ class NamedMode(NamedTuple):
 
 
 def named_mode(design: Design, modeset: ModeSet, mode: str = "auto") -> NamedMode:
-    """The named mode: ``mode`` unless "auto", else the design's ``[squeal] mode`` (which
-    names one of its FE modes: not among a modal model's). A named mode with a node at
-    the contact is refused in one line."""
+    """The named mode: ``mode`` unless "auto" or "model", else (with "auto") the design's
+    ``[squeal] mode`` (which names one of its FE modes: not among a modal model's);
+    "model" names none (the model's own outcome is the verdict). A named mode with a
+    node at the contact is refused in one line."""
     from .api import modal_dof, pick_mode
     from .modal_model import MODAL_MODEL_SOLVER
 
+    if mode == "model":
+        return NamedMode(None, "", "")
     if mode != "auto":
         found, source = pick_mode(modeset, mode), f"the request ({mode}) names"
     elif design.squeal.mode and modeset.solver != MODAL_MODEL_SOLVER:  # it names an FE mode

@@ -35,10 +35,16 @@ if TYPE_CHECKING:
     from .api import Simulation
     from .levels import SquealSound
 
-__all__ = ["LEVELS", "ModeOutcome", "Verdict", "wave_frequency_hz", "wave_of"]
+__all__ = ["LEVELS", "LOWEST_SQUEAL_HZ", "ModeOutcome", "Verdict", "wave_frequency_hz", "wave_of"]
 
-#: The levels a verdict gives (summary.json's ``sound`` has more)
-LEVELS = ("spl_db", "spl_dba", "sound_power_level_db")
+#: An oscillation below this frequency [Hz] (the lower limit of hearing) is an
+#: instability, not a squeal: no level or sound file is given for it
+LOWEST_SQUEAL_HZ = 20.0
+
+#: The levels a verdict gives (summary.json's ``sound`` has more): at the microphone, the
+#: sound power, and at the common distances from the wheel centre (1 m, 7.5 m: levels
+#: that compare wheels of different sizes)
+LEVELS = ("spl_db", "spl_dba", "sound_power_level_db", "sound_power_level_dba", "spl_1m_db", "spl_7_5m_db")
 
 
 def wave_of(mode: Mode, frequency_hz: float, wheel_speed_rad_s: float) -> Wave:

@@ -52,8 +52,11 @@ def design_of(args: argparse.Namespace, path: Path | str | None = None) -> Desig
         changes["normal_contact"] = args.normal_contact
     if getattr(args, "transient_creep", False):
         changes["transient_creep"] = True
-    if given_modes(args) is not None:  # the design's [squeal] names FE modes
-        changes |= {"squeal_mode": "", "mode_damping": ()}
+    if getattr(args, "friction", None) is not None:
+        changes["friction_coefficient"] = args.friction
+    if given_modes(args) is not None:  # the design's [squeal] mode and (n, c) keys name FE modes
+        by_label = tuple((k, z) for k, z in design.damping.by_mode if "=" not in k)
+        changes |= {"squeal_mode": "", "mode_damping": by_label}
     return design.replace(**changes) if changes else design
 
 
@@ -143,8 +146,11 @@ def options_of(
 ) -> ChainOptions:
     """The chain's options from the command's flags (``changes`` replace them)."""
     listener = listener_of(args, design) if stop_after == "sound" and hasattr(args, "microphone") else None
+    mode = getattr(args, "mode", "auto") or "auto"
+    if mode == "auto" and getattr(args, "multimode", None):
+        mode = "model"  # --multimode asks for the model's own outcome as the verdict
     options = ChainOptions(
-        mode=getattr(args, "mode", "auto") or "auto",
+        mode=mode,
         rotation=getattr(args, "rotation", False),
         max_modes=getattr(args, "multimode", None) or MAX_MULTIMODE,
         duration=getattr(args, "duration", None),

@@ -128,8 +128,9 @@ def add_fe(p: argparse.ArgumentParser, mode: bool = True) -> None:
         p.add_argument(
             "--mode",
             default="auto",
-            help="squeal mode: auto (the one the design names, else the fastest-growing at "
-            "the operating point), INDEX, n=3[,c=0] or f=HZ",
+            help="squeal mode: auto (the one the design names, else the model's own outcome at "
+            "the operating point), model (the model's own outcome, whatever the design names), "
+            "INDEX, n=3[,c=0] or f=HZ",
         )
 
 
@@ -224,6 +225,13 @@ def add_modal_model(p: argparse.ArgumentParser) -> None:
 
 
 def add_friction_law(p: argparse.ArgumentParser) -> None:
+    p.add_argument(
+        "--friction",
+        type=positive,
+        metavar="MU",
+        help="the friction coefficient mu_s = mu_0 [-] (default: the design's [contact] "
+        "friction_coefficient)",
+    )
     p.add_argument(
         "--friction-law",
         choices=list(FRICTION_LAWS),

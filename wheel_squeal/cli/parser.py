@@ -106,8 +106,9 @@ def _add_run_command(sub: argparse._SubParsersAction) -> None:
         nargs="?",
         const=MAX_MULTIMODE,
         metavar="K",
-        help="the model's own outcome integrates the modes of every growing eigenvalue together: "
-        f"at most K of them (default {MAX_MULTIMODE})",
+        help="the verdict is the model's own outcome (the design's named mode set aside; --mode still "
+        "overrides): the modes of every growing eigenvalue integrated together, at most K of them "
+        f"(default {MAX_MULTIMODE})",
     )
 
 

@@ -19,9 +19,15 @@ from ..outputs import result_folder, write_csv, write_json
 from ..plotting import PlotWorkers
 from ..present.figures import write_compare_plot, write_envelope_plot, write_sweep_plot
 from ..present.html import compare_report, run_report
-from ..present.results import write_run_files, write_simulation_files
+from ..present.results import write_remedy_toml, write_run_files, write_simulation_files
 from ..present.summary import analysis_summary, contact_summary, operating_point_summary
-from ..present.tables import write_envelope_csv, write_measured_csv, write_sweep_csv, write_sweep_spl
+from ..present.tables import (
+    by_loudness,
+    write_envelope_csv,
+    write_measured_csv,
+    write_sweep_csv,
+    write_sweep_spl,
+)
 from ..present.text import (
     analysis_text,
     compare_table,
@@ -80,7 +86,7 @@ def cmd_run(args: argparse.Namespace, plots: PlotWorkers) -> int:
         with ctx.progress.stage("plots"):
             plots.draw()
         summary = {
-            **analysis_summary(a),
+            **analysis_summary(a, ctx.budget.max_file_bytes),
             "timings_s": {**ctx.progress.timings, "total": time.perf_counter() - t0},
             "cache": {"hits": ctx.cache.hits, "misses": ctx.cache.misses} if ctx.cache else None,
         }
@@ -100,7 +106,11 @@ def cmd_simulate(args: argparse.Namespace, plots: PlotWorkers) -> int:
         if o is not None and o.simulation is not None:
             write_simulation_files(tmp, o.simulation, plots, context_of(args).budget.max_file_bytes)
         write_json(
-            tmp / "summary.json", {**analysis_summary(a), "timings_s": context_of(args).progress.timings}
+            tmp / "summary.json",
+            {
+                **analysis_summary(a, context_of(args).budget.max_file_bytes),
+                "timings_s": context_of(args).progress.timings,
+            },
         )
         with context_of(args).progress.stage("plots"):
             plots.draw()
@@ -186,6 +196,7 @@ def cmd_compare(args: argparse.Namespace) -> int:
                 analyses.append(analysis_of(args, d))
             except RequestError as exc:
                 raise RequestError(f"design {d.name}: {exc}") from None
+        analyses = by_loudness(analyses)
         rows = [{k: a.to_record()[k] for k in columns_of("compare.csv")} for a in analyses]
         write_csv(tmp / "compare.csv", rows, columns_of("compare.csv"))
         write_compare_plot(tmp / "compare.png", rows, analyses)
@@ -274,8 +285,9 @@ def cmd_stability(args: argparse.Namespace) -> int:
                 summary["mitigation"] = mitigation_summary(design, ms, contact, vcs, rpms)
             write_envelope_csv(tmp / "stability.csv", env)
             write_envelope_plot(tmp / "stability.png", env, summary["mitigation"])
+        write_remedy_toml(tmp, a)
         write_json(tmp / "summary.json", summary)
-    print(stability_text(table.rows, table.fastest))
+    print(stability_text(table.rows, table.fastest, bounds is not None))
     print(eigenvalues_text(summary["eigenvalues"], summary["contact"]))
     if axes is not None:
         print(mitigation_text(summary["mitigation"]))

@@ -32,21 +32,21 @@ __all__ = [
 
 
 def plot_times(sim: Simulation) -> tuple[float, float]:
-    """Windows [s] for the paper's Fig. 7-10: while growing (0.2 s) and at the limit
-    cycle (0.4 s in the paper; later when this mode saturates later), inside the record."""
+    """Windows [s] for the paper's Fig. 7-10: while growing (0.2 s, or halfway to
+    saturation) and at the limit cycle: the record's last periods."""
     lc = sim.limit_cycle
     end = float(sim.history.t[-1])
     if not (lc.saturated and math.isfinite(lc.time_to_saturation_s)):
-        return (min(0.2, end / 3), min(0.4, end))
+        return (min(0.2, end / 3), round(end, 2))
     period = 1.0 / lc.frequency_hz
-    t_lc = max(0.4, lc.time_to_saturation_s + 20 * period)
     growing = min(0.2, 0.5 * lc.time_to_saturation_s)
-    return (round(growing, 2), round(max(min(t_lc, end - 5 * period), 0.0), 2))
+    return (round(growing, 2), round(max(end - 4 * period, 0.0), 2))
 
 
 def write_compare_plot(path: Path, rows: Sequence[dict], analyses: Sequence) -> Path:
     """Each design's growth to its limit cycle (the verdict's mode), its tone with the
-    verdict mode named, and its level at the microphone."""
+    verdict mode named, and its sound power level and the level 7.5 m from the wheel
+    centre (common to every design, unlike a microphone near each rim)."""
     from matplotlib.figure import Figure
 
     fig = Figure(figsize=(14, 4.4))
@@ -77,19 +77,22 @@ def write_compare_plot(path: Path, rows: Sequence[dict], analyses: Sequence) -> 
                          ha="center", va="bottom", fontsize=7)  # fmt: skip
     axes[1].set(xticks=x, ylabel="squeal tone (Hz)", title="tone and the mode that squeals")
     axes[1].set_xticklabels(names, rotation=30, ha="right")
-    spl = [r["spl_db"] if r["spl_db"] is not None else np.nan for r in rows]
-    axes[2].bar(
-        x, spl, color=["tab:orange" if r["saturated"] else "none" for r in rows], edgecolor="tab:orange"
-    )
+    power = [r["sound_power_level_db"] if r["sound_power_level_db"] is not None else np.nan for r in rows]
+    far = [r["spl_7_5m_db"] if r["spl_7_5m_db"] is not None else np.nan for r in rows]
+    hollow = ["tab:orange" if r["saturated"] else "none" for r in rows]
+    axes[2].bar(x - 0.2, power, 0.4, color=hollow, edgecolor="tab:orange", label="L_W (dB re 1 pW)")
+    axes[2].bar(x + 0.2, far, 0.4, color=["tab:green" if r["saturated"] else "none" for r in rows],
+                edgecolor="tab:green", label="SPL 7.5 m (dB re 20 uPa)")  # fmt: skip
     for xi, r in zip(x, rows):
-        if r["spl_db"] is not None:
-            axes[2].annotate(f"{r['spl_db']:.1f} dB\n{r['spl_dba']:.1f} dB(A)", (xi, r["spl_db"]),
+        if r["sound_power_level_db"] is not None:
+            axes[2].annotate(f"{r['sound_power_level_db']:.1f}", (xi - 0.2, r["sound_power_level_db"]),
                              ha="center", va="bottom", fontsize=7)  # fmt: skip
-    finite = [v for v in spl if np.isfinite(v)]
+    finite = [v for v in power + far if np.isfinite(v)]
     if finite:
-        axes[2].set_ylim(min(finite) - 20, max(finite) + 8)
+        axes[2].set_ylim(min(finite) - 20, max(finite) + 10)
+    axes[2].legend(fontsize=7, loc="upper right")
     axes[2].set(
-        xticks=x, ylabel="SPL at the microphone (dB re 20 uPa)", title="level (hollow: not a limit cycle)"
+        xticks=x, ylabel="level (dB)", title="sound power and level at 7.5 m (hollow: not a limit cycle)"
     )
     axes[2].set_xticklabels(names, rotation=30, ha="right")
     fig.savefig(path, dpi=PLOT_DPI)

@@ -14,12 +14,13 @@ __all__ = ["write_pressure_vtu", "write_squeal_wav"]
 
 
 def write_squeal_wav(path: Path, sound: SquealSound) -> float:
-    """squeal.wav: the microphone pressure over the run at 44.1 kHz, 16 bit, peak-normalised;
-    returns the peak [Pa] the samples were divided by (summary.json has the levels)."""
+    """squeal.wav: the microphone pressure over the run at 44.1 kHz, 16 bit, faded in and
+    out, the limit cycle's peak at full scale; returns that peak [Pa] (summary.json has
+    the levels)."""
     from acoustics.signal import WAV_RATE_HZ, write_wav
 
     assert sound.signal is not None  # a squeal's sound keeps its record
-    return write_wav(path, sound.signal.wav_samples(), WAV_RATE_HZ)
+    return write_wav(path, sound.signal.wav_samples(), WAV_RATE_HZ, sound.signal.wav_full_scale_pa())
 
 
 def write_pressure_vtu(path: Path, sound: SquealSound) -> Path:

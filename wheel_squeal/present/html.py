@@ -13,6 +13,7 @@ import base64
 import datetime as _dt
 import html
 import importlib.metadata
+import math
 from collections.abc import Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING
@@ -20,6 +21,7 @@ from typing import TYPE_CHECKING
 from geometry.files import write_atomic
 
 from ..cache import code_version
+from ..outputs import NONE
 from .summary import operating_point_summary
 from .text import verdict_lines
 
@@ -160,6 +162,76 @@ def _write(folder: Path, text: str) -> Path:
     return write_atomic(folder / REPORT_NAME, text)
 
 
+def _times(folder: Path, stem: str) -> list[Path]:
+    """``stem_<t>s.png`` in ``folder``, by time."""
+    return sorted(folder.glob(f"{stem}_*s.png"), key=lambda p: float(p.stem.rsplit("_", 1)[1][:-1]))
+
+
+def _limit_cycle(folder: Path) -> str:
+    """The counterparts of the paper's Figs. 4 and 6-10: the creep curve with the
+    operating point, the contact velocity over the run, and force, velocity and power
+    while growing and over the last periods (the limit cycle)."""
+    parts = [
+        image(folder / "velocity_history.png", "contact velocity over the run"),
+        image(folder / "creep_curve.png", "creep curve and the operating point"),
+    ]
+    for stem, what in (("force_velocity", "creep force and contact velocity"), ("power", "power")):
+        paths = _times(folder, stem)
+        for k, path in enumerate(paths):
+            when = "over the last periods (the limit cycle)" if k == len(paths) - 1 else "while growing"
+            t = path.stem.rsplit("_", 1)[1]
+            parts.append(
+                f'<p class="muted">{_e(what)} {when}, about t = {_e(t)}</p>' + image(path, f"{what} {when}")
+            )
+    return _section("The limit cycle", *parts) if any(parts) else ""
+
+
+def _together(folder: Path, a: Analysis) -> str:
+    """The modes integrated together: which carries the limit cycle, each one's share."""
+    o = next((x for x in (a.verdict.pick, a.verdict.named) if x is not None and x.shares), None)
+    if o is None or o.shares is None:
+        return ""
+    rows = [{"dof": k, "share": f"{v:.1%}"} for k, v in sorted(o.shares.items(), key=lambda kv: -kv[1])]
+    carried = (
+        f" ({o.energy_share:.1%} of the energy with its eigenvalue's partners)" if o.energy_share else ""
+    )
+    return _section(
+        "The modes that grow together",
+        f"<p>{_e(o.label)} carries the limit cycle{_e(carried)}, at {o.tone_hz:.1f} Hz.</p>",
+        table(rows, [("dof", "mode"), ("share", "share of the vibration energy")]),
+        image(folder / "multimode.png", "energy shares of the modes integrated together"),
+    )
+
+
+def _remedy(folder: Path, a: Analysis) -> str:
+    """What stops the squeal: the damping per mode, the friction levers, remedy.toml."""
+    r = a.verdict.remedy
+    if r is None:
+        return ""
+    rows = [{"mode": k, "now": r["damping_now"][k], "needed": v} for k, v in r["damping"].items()]
+    mu, slope = r["friction_coefficient"], r["friction_slope"]
+    levers = [
+        (f"friction coefficient (now {r['friction_coefficient_now']:.2g})",
+         f"below {mu:.2g}" if mu is not None else f"{NONE} stops it"),
+        (f"creep-curve slope dmu/dzeta (now {r['friction_slope_now']:.3g})",
+         f"above {slope:.3g}" if slope is not None else f"{NONE} stops it"),
+        *((f"{s['mode']} (now {s['frequency_hz_now']:.1f} Hz)", f"above {s['frequency_hz']:.1f} Hz")
+          for s in r["separations"] if s["frequency_hz"] is not None),
+    ]  # fmt: skip
+    toml = folder / "remedy.toml"
+    return _section(
+        "What would stop it",
+        f"<p>{_e(r['words'])}</p>",
+        table(
+            rows, [("mode", "mode"), ("now", "damping ratio now (-)"), ("needed", "damping ratio needed (-)")]
+        ),
+        _pairs(levers),
+        f'<p class="muted">remedy.toml, to paste into the design:</p><pre>{_e(toml.read_text())}</pre>'
+        if toml.is_file()
+        else "",
+    )
+
+
 # -- the reports -------------------------------------------------------------------------------
 def run_report(folder: Path, a: Analysis) -> Path:
     """The report of ``run``: the analysis ``a`` and the files in ``folder``."""
@@ -217,7 +289,12 @@ def run_report(folder: Path, a: Analysis) -> Path:
                     if sound["spl_db"] is not None
                     else "silent (below -20 dB re 20 uPa)",
                 ),
-                ("microphone (r, z, theta)", ", ".join(f"{x:g}" for x in sound["microphone_m"])),
+                (
+                    "microphone (r, z, theta)",
+                    "{:g} m, {:g} m, {:g} deg".format(
+                        *sound["microphone_m"][:2], math.degrees(sound["microphone_m"][2])
+                    ),
+                ),
                 (
                     "sound power level",
                     f"{sound['sound_power_level_db']:.1f} dB, "
@@ -251,11 +328,9 @@ def run_report(folder: Path, a: Analysis) -> Path:
         _section("How loud", levels) if levels else "",
         listen,
         _section("Which mode squeals", mode_table, image(folder / "growth.png", "growth rate of every mode")),
-        _section(
-            "The limit cycle",
-            image(folder / "velocity_history.png", "contact velocity over the run"),
-            image(folder / "force_velocity_0.20s.png", ""),
-        ),  # fmt: skip
+        _together(folder, a),
+        _remedy(folder, a),
+        _limit_cycle(folder),
         _section(
             "Spectra and band levels", image(folder / "spectrum.png", "spectra and one-third-octave bands")
         ),
@@ -276,10 +351,12 @@ def compare_report(folder: Path, rows: Sequence[dict], analyses: Sequence[Analys
         f"<h3>{_e(a.design.name)}</h3>" + _verdict_block(verdict_lines(a.verdict), a.verdict.squeals)
         for a in analyses
     )
-    columns = [("design", "design"), ("verdict_mode", "verdict"), ("tone_hz", "tone (Hz)"),
+    columns = [("design", "design"), ("rolling_speed_m_s", "V0 (m/s)"), ("rpm", "speed (rev/min)"),
+               ("crabbing_velocity_m_s", "Vc (m/s)"), ("verdict_mode", "verdict"), ("tone_hz", "tone (Hz)"),
                ("growth_rate_1_s", "growth (1/s)"), ("amplitude_m_s", "amplitude (m/s)"),
-               ("spl_db", "SPL (dB)"), ("spl_dba", "SPL (dB(A))"),
-               ("sound_power_level_db", "L_W (dB)")]  # fmt: skip
+               ("sound_power_level_db", "L_W (dB re 1 pW)"), ("sound_power_level_dba", "L_W (dB(A))"),
+               ("spl_1m_db", "SPL 1 m (dB re 20 uPa)"),
+               ("spl_7_5m_db", "SPL 7.5 m (dB re 20 uPa)")]  # fmt: skip
     a0 = analyses[0]
     body = [
         _section("Verdicts", verdicts),
@@ -290,10 +367,14 @@ def compare_report(folder: Path, rows: Sequence[dict], analyses: Sequence[Analys
                 [
                     ("designs", ", ".join(a.design.name for a in analyses)),
                     ("fidelity", f"{a0.fidelity.name} preset"),
-                    (
-                        "operating point",
-                        f"V0 = {a0.operating_point.rolling_speed_m_s:.4g} m/s, "
-                        f"Vc = {a0.operating_point.crabbing_velocity_m_s:.4g} m/s",
+                    *(
+                        (
+                            f"operating point of {a.design.name}",
+                            f"V0 = {a.operating_point.rolling_speed_m_s:.4g} m/s "
+                            f"({a.operating_point.rpm(a.design.rolling_radius):.0f} rev/min), "
+                            f"Vc = {a.operating_point.crabbing_velocity_m_s:.4g} m/s",
+                        )
+                        for a in analyses
                     ),
                 ]
             ),

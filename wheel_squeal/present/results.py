@@ -19,7 +19,24 @@ if TYPE_CHECKING:
     from ..chain import Analysis
     from ..levels import SquealSound
 
-__all__ = ["write_run_files", "write_simulation_files", "write_sound_files"]
+__all__ = ["write_remedy_toml", "write_run_files", "write_simulation_files", "write_sound_files"]
+
+
+def write_remedy_toml(directory: Path, a: Analysis) -> None:
+    """remedy.toml: the verdict's remedy as the ``[squeal.damping]`` table to paste into
+    the design (nothing where it does not squeal or no remedy was asked for)."""
+    from geometry.files import write_atomic
+
+    from ..presets import rpm_to_speed
+    from ..remedy import remedy_toml
+
+    remedy = a.verdict.remedy
+    if remedy is None or not remedy["paste"]:
+        return
+    op = a.operating_point
+    rpm = op.rolling_speed_m_s / rpm_to_speed(1.0, a.design.rolling_radius)
+    where = f"V0 = {op.rolling_speed_m_s:.4g} m/s ({rpm:.0f} RPM), Vc = {op.crabbing_velocity_m_s:.4g} m/s"
+    write_atomic(directory / "remedy.toml", remedy_toml(a.design, remedy, where))
 
 
 def write_simulation_files(
@@ -65,6 +82,7 @@ def write_run_files(
     """What ``run`` writes beside its summary, report and mode views: the limit cycle's
     record and figures, the squeal's sound, the modes that grew together (multimode.png)
     and every mode's growth rate (growth.png)."""
+    write_remedy_toml(directory, a)
     o = a.outcome
     if o is not None and o.simulation is not None:
         write_simulation_files(directory, o.simulation, plots, max_file_bytes)

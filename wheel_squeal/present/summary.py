@@ -5,6 +5,7 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING, Any
 
+from ..budget import MAX_FILE_BYTES
 from ..design import Design
 from ..outputs import finite_or_none
 from ..presets import Fidelity, rpm_to_speed
@@ -78,10 +79,11 @@ def contact_summary(design: Design, contact: ContactLaw, op: OperatingPoint) -> 
     }
 
 
-def analysis_summary(a: Analysis) -> dict[str, Any]:
+def analysis_summary(a: Analysis, max_file_bytes: float = MAX_FILE_BYTES) -> dict[str, Any]:
     """``summary.json`` of the chain: the verdict first, then what it rests on (the
     modes, every mode's stability and every eigenvalue, the contact, the operating point,
-    the decision, the limit cycle and its sound)."""
+    the decision, the limit cycle and its sound, and what timeseries.csv holds when it
+    is written within ``max_file_bytes``)."""
     from ..api import modal_dof
     from ..stability import eigenvalue_list
 
@@ -109,6 +111,13 @@ def analysis_summary(a: Analysis) -> dict[str, Any]:
     if o is not None and o.simulation is not None:
         sim = o.simulation.summary()
         out["limit_cycle"] = sim["limit_cycle"]
+        from reduced.report import TIMESERIES_COLUMNS, timeseries_stride
+
+        out["timeseries_csv"] = {
+            "columns": list(TIMESERIES_COLUMNS),
+            "what": "the squeal model's time history at the contact point, SI units",
+            "sample_stride": timeseries_stride(o.simulation.history, max_file_bytes),
+        }
         out["contact"] |= sim["contact"]  # the creep law's values beside the contact's point
         out["modal_parameters"] = dof_summary(modal_dof(o.mode, a.design))
         if o.sound is not None:

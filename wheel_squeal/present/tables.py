@@ -3,6 +3,8 @@ measured.csv), their columns from :mod:`wheel_squeal.fields`."""
 
 from __future__ import annotations
 
+import math
+from collections.abc import Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -13,9 +15,23 @@ from ..outputs import write_csv
 from ..sweeps import VerdictGrid
 
 if TYPE_CHECKING:
+    from ..analysis import Analysis
     from ..envelope import Envelope
 
-__all__ = ["write_envelope_csv", "write_measured_csv", "write_sweep_csv", "write_sweep_spl"]
+__all__ = ["by_loudness", "write_envelope_csv", "write_measured_csv", "write_sweep_csv", "write_sweep_spl"]
+
+
+def by_loudness(analyses: Sequence[Analysis]) -> list[Analysis]:
+    """compare's order: the loudest sound power level first, then designs that squeal
+    without a level (a modal model's), then the quiet ones; by name within each."""
+
+    def rank(a: Analysis) -> tuple[float, str]:
+        level = a.verdict.get("sound_power_level_db") if a.verdict.squeals else None
+        if level is not None:
+            return -float(level), a.design.name
+        return (math.inf if not a.verdict.squeals else 1e9), a.design.name
+
+    return sorted(analyses, key=rank)
 
 
 def write_envelope_csv(path: Path, env: Envelope) -> Path:

@@ -10,6 +10,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from ..design import Design
+from ..outputs import NONE, bound_or_none
 from ..presets import rpm_to_speed
 from ..sweeps import VerdictGrid
 
@@ -46,9 +47,9 @@ def modes_table(modes: Sequence[Mode], design: Design, selected: Mode | None = N
     ]
     for m in modes:
         d = m.to_dict(design.damping_ratio_of(m))
-        mass = f"{d['modal_mass_kg']:10.3f}" if d["modal_mass_kg"] is not None else f"{'node':>10}"
-        k = f"{d['modal_stiffness_n_m']:10.3e}" if d["modal_stiffness_n_m"] is not None else f"{'-':>10}"
-        c = f"{d['modal_damping_ns_m']:9.2f}" if d["modal_damping_ns_m"] is not None else f"{'-':>9}"
+        mass = f"{d['modal_mass_kg']:10.3f}" if d["modal_mass_kg"] is not None else f"{NONE:>10}"
+        k = f"{d['modal_stiffness_n_m']:10.3e}" if d["modal_stiffness_n_m"] is not None else f"{NONE:>10}"
+        c = f"{d['modal_damping_ns_m']:9.2f}" if d["modal_damping_ns_m"] is not None else f"{NONE:>9}"
         mark = " <- selected" if selected is not None and m.index == selected.index else ""
         lines.append(
             f"{m.index:>3} {m.frequency_hz:9.1f} {m.nodal_diameters:>2} "
@@ -111,35 +112,46 @@ def squeal_report(sim: Simulation, dof: ModalDOF, label: str | None = None) -> s
 
 
 def compare_table(rows: Sequence[dict]) -> str:
-    """The designs side by side, as text."""
+    """The designs side by side, as text, in the rows' order (loudest sound power first),
+    each at its own operating point, with levels at the common distances."""
 
     def num(v: Any, fmt: str, width: int) -> str:
-        return f"{v:{width}{fmt}}" if v is not None else f"{'-':>{width}}"
+        return f"{v:{width}{fmt}}" if v is not None else f"{NONE:>{width}}"
 
     lines = [
-        f"{'design':<16} {'verdict':<16} {'tone [Hz]':>9} {'growth [1/s]':>12} {'amp [m/s]':>9} "
-        f"{'SPL [dB]':>8} {'L_W [dB]':>8} {'model pick':<14}"
+        f"{'design':<16} {'V0 [m/s]':>8} {'[RPM]':>6} {'Vc [m/s]':>8} {'verdict':<16} {'tone [Hz]':>9} "
+        f"{'growth [1/s]':>12} {'amp [m/s]':>9} {'L_W [dB]':>8} {'L_W [dB(A)]':>11} {'1 m [dB]':>8} "
+        f"{'7.5 m [dB]':>10}"
     ]
     for r in rows:
         verdict = r["verdict_mode"] or "no squeal"
         amp = num(r["amplitude_m_s"], ".4f", 9) + ("" if r["saturated"] or not r["squeals"] else "*")
         tone, growth = num(r["tone_hz"], ".1f", 9), num(r["growth_rate_1_s"], ".3g", 12)
-        spl, power = num(r["spl_db"], ".1f", 8), num(r["sound_power_level_db"], ".1f", 8)
+        power, power_a = num(r["sound_power_level_db"], ".1f", 8), num(r["sound_power_level_dba"], ".1f", 11)
+        near, far = num(r["spl_1m_db"], ".1f", 8), num(r["spl_7_5m_db"], ".1f", 10)
         lines.append(
-            f"{r['design']:<16} {verdict:<16} {tone} {growth} {amp} {spl} {power} {r['model_pick']:<14}"
+            f"{r['design']:<16} {r['rolling_speed_m_s']:8.2f} {r['rpm']:6.0f} "
+            f"{r['crabbing_velocity_m_s']:8.3g} {verdict:<16} {tone} {growth} {amp} "
+            f"{power} {power_a} {near} {far}"
         )
+    lines.append("loudest sound power first; levels 1 m and 7.5 m from the wheel centre, loudest direction")
     if any(r["squeals"] and not r["saturated"] for r in rows):
         lines.append("* still growing at the end of the run: not a limit cycle")
     return "\n".join(lines)
 
 
-def _cell(value: float, width: int) -> str:
-    """A number in a text table, '-' where it was not computed (NaN)."""
-    return f"{value:{width}.3g}" if math.isfinite(value) else f"{'-':>{width}}"
+def _cell(value: float | None, width: int, computed: bool = True) -> str:
+    """A number in a text table: :data:`NONE` where it has no value (the contact cannot
+    excite the mode, or no bound exists), '-' where it was not computed."""
+    if not computed:
+        return f"{'-':>{width}}"
+    v = bound_or_none(value)
+    return f"{v:{width}.3g}" if v is not None else f"{NONE:>{width}}"
 
 
-def stability_text(rows: Sequence, winner: int) -> str:
-    """The stability of every excitable mode as text, the fastest-growing one marked."""
+def stability_text(rows: Sequence, winner: int, bounds: bool = True) -> str:
+    """The stability of every excitable mode as text, the fastest-growing one marked
+    (``bounds``: the critical damping and slope were computed)."""
     lines = [
         f"{'#':>3} {'f [Hz]':>9} {'n':>2} {'c':>2} {'family':<15} {'sigma [1/s]':>11} "
         f"{'zeta_crit':>10} {'dmu/dz crit':>11}"
@@ -149,8 +161,8 @@ def stability_text(rows: Sequence, winner: int) -> str:
         mark = " <- fastest" if i == winner else (" unstable" if s.unstable else "")
         lines.append(
             f"{m.index:>3} {s.damped_frequency_hz:9.1f} {m.nodal_diameters:>2} {m.nodal_circles:>2} "
-            f"{m.family:<15} {s.growth_rate_1_s:11.3g} {_cell(s.critical_damping_ratio, 10)} "
-            f"{_cell(s.critical_friction_slope, 11)}{mark}"
+            f"{m.family:<15} {s.growth_rate_1_s:11.3g} {_cell(s.critical_damping_ratio, 10, bounds)} "
+            f"{_cell(s.critical_friction_slope, 11, bounds)}{mark}"
         )
     return "\n".join(lines)
 
@@ -228,6 +240,10 @@ def eigenvalues_text(eigenvalues: list[dict], contact: dict) -> str:
     return "\n".join(lines)
 
 
+def _need(value: float | None, width: int) -> str:
+    return f"{value:{width}.2e}" if value is not None else f"{NONE:>{width}}"
+
+
 def mitigation_text(mitigation: dict) -> str:
     """The damping per mode and the friction slope that stop squeal over the envelope."""
     vc, rpm = mitigation["crabbing_velocity_m_s"], mitigation["rpm"]
@@ -239,11 +255,11 @@ def mitigation_text(mitigation: dict) -> str:
     for a, b in zip(off["damping"], on["damping"]):
         lines.append(
             f"{a['mode']:>3} {a['label']:<20} {a['frequency_hz']:8.1f} {a['damping_ratio']:9.2e} "
-            f"{a['required_damping_ratio']:12.2e} {b['required_damping_ratio']:13.2e}"
+            f"{_need(a['required_damping_ratio'], 12)} {_need(b['required_damping_ratio'], 13)}"
         )
     lines.append(
-        f"or a creep curve no steeper than dmu/dzeta = {off['required_friction_slope']:.3g} "
-        f"(rotation on: {on['required_friction_slope']:.3g}) at the quasi-static creepage"
+        f"or a creep curve no steeper than dmu/dzeta = {_cell(off['required_friction_slope'], 0).strip()} "
+        f"(rotation on: {_cell(on['required_friction_slope'], 0).strip()}) at the quasi-static creepage"
     )
     return "\n".join(lines)
 
