@@ -76,9 +76,9 @@ def test_every_page_is_in_the_table_of_contents():
 
 
 # -- the output fields ------------------------------------------------------------------------
-def _json_keys(x, parent: str, leaves: set[str], groups: set[str]) -> None:
+def _json_keys(x, parent: str, leaves: set[str], groups: set[str], listed: bool = False) -> None:
     if isinstance(x, dict):
-        if parent in FREE_GROUPS:
+        if parent in FREE_GROUPS and not listed:  # keyed by names (a list of records is a group)
             keyed = {"verdicts": "verdict", "operating_points": "operating_point"}
             if parent in keyed:  # keyed by design: each a verdict or an operating point
                 for v in x.values():
@@ -90,7 +90,7 @@ def _json_keys(x, parent: str, leaves: set[str], groups: set[str]) -> None:
             _json_keys(v, k, leaves, groups)
     elif isinstance(x, list) and x and isinstance(x[0], dict):
         for item in x:
-            _json_keys(item, parent, leaves, groups)
+            _json_keys(item, parent, leaves, groups, listed=True)
     else:
         leaves.add(parent)
 
@@ -202,3 +202,41 @@ def test_the_python_guide_runs(tmp_path, monkeypatch):
     for block in blocks:
         exec(compile(block, "python-api.md", "exec"), namespace)  # noqa: S102
     assert namespace["grid"].squeals.shape == (3, 2)
+
+
+def _documented_files() -> dict[str, tuple[set[str], set[str]]]:
+    """Per command of the README's table: (every file its "writes" cell names, those it
+    names outside parentheses: written every time)."""
+    out = {}
+    for command, cell in re.findall(
+        r"^\| `([a-z-]+)` \|[^|]*\| ([^|]*) \|$", (ROOT / "README.md").read_text(), re.M
+    ):
+        always = re.sub(r"\([^)]*\)", "", cell)
+        out[command] = (set(re.findall(r"`([^`]+)`", cell)), set(re.findall(r"`([^`]+)`", always)))
+    return out
+
+
+@pytest.mark.slow
+def test_every_command_writes_the_files_the_table_lists(written):
+    """The files each command wrote (in the fixture's runs: a squeal, --envelope, --sound,
+    --measured) are named by the README's table (patterns like ``*.png`` allowed), and
+    each file the table names outside parentheses was written."""
+    import fnmatch
+
+    documented = _documented_files()
+    for command, folder in written.items():
+        names = {p.name for p in folder.iterdir() if p.is_file() and not p.name.startswith(".")}
+        every, always = documented[command]
+        unlisted = {n for n in names if not any(fnmatch.fnmatch(n, pattern) for pattern in every)}
+        assert not unlisted, (command, sorted(unlisted))
+        missing = {pattern for pattern in always if not any(fnmatch.fnmatch(n, pattern) for n in names)}
+        assert not missing, (command, sorted(missing))
+
+
+def test_the_docs_render_math_without_the_network():
+    """The site bundles MathJax (the extension that copies it into _static), listed in the
+    docs extra; .ci/run checks the built pages load no script from the network."""
+    conf = (ROOT / "docs" / "conf.py").read_text()
+    assert '"sphinx-mathjax-offline"' in conf and "mathjax_path" not in conf
+    assert "sphinx-mathjax-offline" in (ROOT / "pyproject.toml").read_text()
+    assert 'src="(https?:)?//' in (ROOT / ".ci" / "run").read_text()

@@ -46,6 +46,7 @@ FIELDS: dict[str, Field] = {
     "at_rpm": Field("rev/min", "wheel speed where the required damping binds"),
     "c22": Field("", "Kalker's lateral creep coefficient C22 used"),
     "centre_hz": Field("Hz", "the one-third-octave band's exact centre frequency, 1000 * 10^(k/10)"),
+    "columns": Field("-", "the file's columns, in order"),
     "contact_lost_fraction": Field("", "share of the record's last quarter with the surfaces apart (N = 0)"),
     "contact_angle_deg": Field("deg", "the contact angle: the contact normal's angle from radial"),
     "contact_angle_rad": Field("rad", "the contact angle"),
@@ -66,6 +67,9 @@ FIELDS: dict[str, Field] = {
     "energy_share": Field(
         "", "the share of the limit cycle's vibration energy the carrying eigenvalue's modes hold"
     ),
+    "frequency_hz_now": Field("Hz", "the higher partner's natural frequency now"),
+    "friction_coefficient_now": Field("", "the friction coefficient mu_s now"),
+    "friction_slope_now": Field("", "the creep curve's slope dmu/dzeta at the quasi-static creepage now"),
     "growing_modes": Field(
         "-", "the modes of every growing eigenvalue, integrated together for the model's outcome"
     ),
@@ -75,6 +79,8 @@ FIELDS: dict[str, Field] = {
     "kind": Field("-", "the counter-body's kind ([counter_body] kind)"),
     "left_out": Field("-", "modes of growing eigenvalues beyond the most integrated together"),
     "named_mode": Field("-", "the mode the request or the design names (null: none)"),
+    "partner": Field("-", "the lower partner of a coupled pair"),
+    "sample_stride": Field("-", "k: the file holds every k-th sample of the record (1: all)"),
     "stop_after": Field("-", "the chain's last stage: stability, limit_cycle or sound"),
     "rolling_radius": Field("m", "the counter-body's rolling radius"),
     "crown_radius": Field("m", "the counter-body's transverse radius"),
@@ -155,7 +161,7 @@ FIELDS: dict[str, Field] = {
     "seconds": Field("s", "wall time"),
     "semi_axis_a_m": Field("m", "Hertz contact semi-axis in the rolling direction"),
     "semi_axis_b_m": Field("m", "Hertz contact semi-axis across (lateral)"),
-    "settled": Field("-", "whether the mitigation bounds converged"),
+    "settled": Field("-", "whether the bounds converged: with them nothing grows"),
     "solver": Field("-", "modal solver"),
     "sound_power_level_db": Field("dB re 1 pW", "sound power level (all harmonics radiated)"),
     "sound_power_level_dba": Field("dB(A) re 1 pW", "A-weighted sound power level (IEC 61672-1)"),
@@ -183,6 +189,9 @@ FIELDS: dict[str, Field] = {
     "stiffness_n_m": Field("N/m", "modal stiffness k at the contact"),
     "surface_power_w": Field("W", "radiated power from the surface integral"),
     "t_s": Field("s", "time"),
+    "time_domain": Field(
+        "-", "the state of the verdict's modes integrated with the remedy's damping (quiet: it decays)"
+    ),
     "time_to_saturation_s": Field("s", "when the oscillation reached its limit cycle"),
     "tone_difference_hz": Field("Hz", "predicted tone minus measured frequency"),
     "tone_hz": Field("Hz", "the tone a stationary microphone hears"),
@@ -195,6 +204,7 @@ FIELDS: dict[str, Field] = {
     "wave": Field("-", "standing, forward or backward (travelling wave with rotation)"),
     "wav_full_scale_pa": Field("Pa", "the pressure of squeal.wav's full scale (its peak sample)"),
     "web_thickness": Field("m", "a study's design axis"),
+    "what": Field("-", "what the file holds"),
     "wheel_speed_rad_s": Field("rad/s", "wheel speed Omega = V0 / R1"),
     "why": Field("-", "why this mode"),
     "words": Field("-", "the same, in words"),
@@ -223,7 +233,9 @@ GROUPS: dict[str, str] = {
     "per_unit_velocity": "levels at 1 m/s contact velocity (the fundamental)",
     "third_octave_bands": "the microphone's one-third-octave band levels over the limit cycle (null: empty)",
     "harmonics": "each radiated harmonic of the contact velocity: order, frequency, amplitude, levels",
-    "remedy": "with squeal: the damping ratio or the friction slope that would stop it",
+    "remedy": "with squeal: what stops every growing mode (damping per mode, friction, separation), checked",
+    "separations": "per coupled pair: the frequency its higher partner must reach for the pair to decay",
+    "timeseries_csv": "what timeseries.csv holds (its columns, SI units, and its sample stride)",
     "rotation_off": "mitigation with the wheel's rotation left out",
     "rotation_on": "mitigation with rotation",
     "selected_mode": "the mode the command selected",
@@ -236,6 +248,9 @@ GROUPS: dict[str, str] = {
 
 #: JSON objects whose keys name things: stages (seconds each) or designs (a verdict each)
 FREE_GROUPS: dict[str, str] = {
+    "damping": "the remedy's damping ratio [-] per mode, keyed by its label (the envelope's is a list)",
+    "damping_now": "each mode's damping ratio now [-], keyed by its label",
+    "paste": "the remedy as [squeal.damping] keys (n=N,c=C or a modal model's label) to damping ratios [-]",
     "energy_shares": "each degree of freedom's share of the limit cycle's energy, keyed by its label",
     "operating_points": "each design's operating point (at its own wheel radius), keyed by the design's name",
     "timings_s": "seconds per stage, keyed by the stage's name",

@@ -79,9 +79,15 @@ class MicrophoneSignal:
         return faded(resample(self.t[keep], self.p[keep], WAV_RATE_HZ), WAV_RATE_HZ, WAV_FADE_S)
 
     def wav_full_scale_pa(self) -> float:
-        """The pressure [Pa] the WAV's full scale stands for: the peak over the limit
-        cycle (the steady part), not an edge's."""
-        return float(np.max(np.abs(self.cycle_pa))) if len(self.cycle_pa) else 0.0
+        """The pressure [Pa] the WAV's full scale stands for: the peak of its steady part
+        (the limit cycle's window), not of an edge or of the growth's overshoot."""
+        from acoustics.signal import WAV_RATE_HZ
+
+        samples = self.wav_samples()
+        start = max(self.t[-1] - MAX_WAV_SECONDS, self.t[0])
+        first = max(0, int((self.window[0] - start) * WAV_RATE_HZ))
+        steady = samples[first:] if first < len(samples) else samples
+        return float(np.max(np.abs(steady))) if len(steady) else 0.0
 
 
 #: The longest squeal.wav [s] (0.9 MB at 44.1 kHz and 16 bit)

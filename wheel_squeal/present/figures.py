@@ -12,6 +12,7 @@ import numpy as np
 
 from reduced.report import PLOT_DPI
 
+from ..outputs import NONE
 from ..sweeps import VerdictGrid
 
 if TYPE_CHECKING:
@@ -92,7 +93,7 @@ def write_compare_plot(path: Path, rows: Sequence[dict], analyses: Sequence) -> 
         axes[2].set_ylim(min(finite) - 20, max(finite) + 10)
     axes[2].legend(fontsize=7, loc="upper right")
     axes[2].set(
-        xticks=x, ylabel="level (dB)", title="sound power and level at 7.5 m (hollow: not a limit cycle)"
+        xticks=x, ylabel="level (dB)", title="sound power, and level at 7.5 m\n(hollow: not a limit cycle)"
     )
     axes[2].set_xticklabels(names, rotation=30, ha="right")
     fig.savefig(path, dpi=PLOT_DPI)
@@ -156,7 +157,7 @@ def write_envelope_plot(path: Path, env: Envelope, mitigation: dict[str, Any] | 
     fig = Figure(figsize=(13 if mitigation else 8, 5))
     axes = fig.subplots(1, 2 if mitigation else 1, squeeze=False)[0]
     ax = axes[0]
-    fig.subplots_adjust(left=0.07, right=0.97 if mitigation else 0.7, bottom=0.2, top=0.9, wspace=0.55)
+    fig.subplots_adjust(left=0.07, right=0.97 if mitigation else 0.7, bottom=0.3, top=0.9, wspace=0.55)
     labels = {
         int(i): f"{env.modes[i].label()}, {env.modes[i].frequency_hz:.0f} Hz" for i in np.unique(env.winner)
     }
@@ -189,6 +190,10 @@ def write_envelope_plot(path: Path, env: Envelope, mitigation: dict[str, Any] | 
     return path
 
 
+def _num(x: float | None) -> str:
+    return NONE if x is None else f"{x:.3g}"
+
+
 def _mitigation_panel(ax: Any, mitigation: dict[str, Any]) -> None:
     """Each mode's damping ratio now and required over the envelope (log scale)."""
     off, on = mitigation["rotation_off"], mitigation["rotation_on"]
@@ -196,20 +201,23 @@ def _mitigation_panel(ax: Any, mitigation: dict[str, Any]) -> None:
     x = np.arange(len(names))
     now = [d["damping_ratio"] for d in off["damping"]]
     ax.bar(x - 0.27, now, 0.27, color="0.6", label="now")
-    ax.bar(x, [d["required_damping_ratio"] for d in off["damping"]], 0.27, color="C3", label="required")
-    ax.bar(x + 0.27, [d["required_damping_ratio"] for d in on["damping"]], 0.27, color="C1",
-           label="required, rotation on")  # fmt: skip
+
+    def needed(rows: list[dict]) -> list[float]:  # none needed (null): no bar
+        return [d["required_damping_ratio"] or np.nan for d in rows]
+
+    ax.bar(x, needed(off["damping"]), 0.27, color="C3", label="required")
+    ax.bar(x + 0.27, needed(on["damping"]), 0.27, color="C1", label="required, rotation on")
     ax.set_yscale("log")
     positive = [z for z in now if z > 0]
     if positive:  # a mode stable without damping needs none: its bar is below the axis
         ax.set_ylim(bottom=0.1 * min(positive))
-    ax.set_xticks(x, names, rotation=60, ha="right", fontsize=7)
+    ax.set_xticks(x, names, rotation=90, ha="center", fontsize=7)
     ax.set(
         ylabel="modal damping ratio",
         title=f"what stops squeal for Vc {mitigation['crabbing_velocity_m_s'][0]:g}-"
         f"{mitigation['crabbing_velocity_m_s'][1]:g} m/s: damping per mode,\n"
-        f"or a creep curve no steeper than dmu/dzeta = {off['required_friction_slope']:.3g} "
-        f"(rotation on: {on['required_friction_slope']:.3g})",
+        f"or a creep curve no steeper than dmu/dzeta = {_num(off['required_friction_slope'])} "
+        f"(rotation on: {_num(on['required_friction_slope'])})",
     )
     ax.title.set_fontsize(9)
     ax.legend(fontsize=7)

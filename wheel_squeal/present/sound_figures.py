@@ -52,7 +52,7 @@ def write_sound_plot(path: Path, sound: SquealSound) -> Path:
     fig = Figure(figsize=(11, 4.8))
     ax = fig.add_subplot(1, 2, 1)
     polar: Any = fig.add_subplot(1, 2, 2, projection="polar")  # a PolarAxes
-    fig.subplots_adjust(left=0.06, right=0.95, bottom=0.1, top=0.84, wspace=0.25)
+    fig.subplots_adjust(left=0.06, right=0.95, bottom=0.1, top=0.8, wspace=0.25)
     for sign in (1, -1):
         t = Triangulation(sign * pts[:, 0], pts[:, 1], tri[inside])
         im = ax.tripcolor(t, level, shading="gouraud", cmap="magma", vmin=top - 40, vmax=top)
@@ -81,8 +81,8 @@ def write_sound_plot(path: Path, sound: SquealSound) -> Path:
     polar.set_yticklabels([f"{x - DIRECTIVITY_RANGE_DB:g}" for x in (10, 20, 30, 40)], fontsize=7)
     polar.set_rlim(0, DIRECTIVITY_RANGE_DB)
     polar.set_title(
-        f"far-field directivity in the meridian plane (dB re max; 0 deg: +z axis);\n"
-        f"around the axis the pressure varies as cos({field.harmonic} phi)",
+        "far-field directivity, meridian plane\n(dB re max; 0 deg: +z axis);\n"
+        f"around the axis as cos({field.harmonic} phi)",
         fontsize=9,
         pad=18,
     )

@@ -64,12 +64,15 @@ def operating_point_summary(op: OperatingPoint, design: Design) -> dict[str, flo
 
 
 def contact_summary(design: Design, contact: ContactLaw, op: OperatingPoint) -> dict[str, Any]:
-    """The contact as the stability sees it: its point and angle, the friction law, the
-    normal spring, transient creep and the counter-body (SI units)."""
+    """The contact as the stability sees it: its point and angle, the friction law and
+    coefficient, the creep coefficient, the normal spring, transient creep and the
+    counter-body (SI units)."""
     frame = design.contact_frame
     return {
         **frame.to_dict(),
         "friction_law": contact.friction_law,
+        "friction_coefficient": contact.friction_coefficient,
+        "c22": contact.c22,
         "normal_contact": design.contact.normal_contact,
         "normal_stiffness_n_m": contact.normal_stiffness_n_m,
         "hertz_approach_m": finite_or_none(contact.hertz_approach_m),
