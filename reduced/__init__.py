@@ -15,7 +15,7 @@ All quantities are SI (m, s, kg, N, Pa, W, Hz).
 
 from ._engine import load_compiled_kernels
 from .contact import HertzContact, hertz_contact, kalker_c22
-from .counter_body import CounterBody, ModalRoller, RigidCounterBody, counter_body
+from .counter_body import CounterBody, ModalCounterBody, ModalRoller, RigidCounterBody, counter_body
 from .coupling import coupling_stiffness, two_mode_coalesces
 from .creep import FRICTION_LAWS, ContactLaw, adhesion_ratio, adhesion_ratio_slope, falling_friction_factor
 from .limit_cycle import Cycles, LimitCycle, analytic_growth_rate, cycles, limit_cycle
@@ -58,6 +58,7 @@ __all__ = [
     "kalker_c22",
     "ContactLaw",
     "CounterBody",
+    "ModalCounterBody",
     "ModalRoller",
     "RigidCounterBody",
     "counter_body",

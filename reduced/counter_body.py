@@ -18,7 +18,7 @@ from typing import Protocol
 
 from .model import ModalDOF
 
-__all__ = ["CounterBody", "ModalRoller", "RigidCounterBody", "counter_body"]
+__all__ = ["CounterBody", "ModalCounterBody", "ModalRoller", "RigidCounterBody", "counter_body"]
 
 
 class CounterBody(Protocol):
@@ -55,6 +55,22 @@ class ModalRoller:
             f, zeta, m = self.lateral
             out.append(ModalDOF.from_frequency(m, f, zeta, 0, lateral=-1.0, normal=0.0))
         return out
+
+
+@dataclass(frozen=True)
+class ModalCounterBody:
+    """A counter-body whose receptance along each direction is a sum of modal terms (a
+    rail's, fitted: ``track.fit``): per direction a tuple of (frequency [Hz], damping
+    ratio [-], modal mass at the contact [kg]), each term one degree of freedom."""
+
+    normal: tuple[tuple[float, float, float], ...] = ()
+    lateral: tuple[tuple[float, float, float], ...] = ()
+
+    def dofs(self) -> list[ModalDOF]:
+        out = [ModalDOF.from_frequency(m, f, z, 0, lateral=0.0, normal=-1.0) for f, z, m in self.normal]
+        return out + [
+            ModalDOF.from_frequency(m, f, z, 0, lateral=-1.0, normal=0.0) for f, z, m in self.lateral
+        ]
 
 
 def counter_body(

@@ -396,6 +396,28 @@ def static_normal_approach_m(modes: Modes, contact: ContactLaw, op: OperatingPoi
     return float(sum(md.normal * md.lateral * q0 / md.stiffness_n_m for md in modes))
 
 
+def preloaded_state(
+    modes: Modes,
+    contact: ContactLaw,
+    op: OperatingPoint,
+    preloaded: Sequence[int],
+    wheel_speed_rad_s: float = 0.0,
+) -> tuple[np.ndarray, np.ndarray]:
+    """An initial state (y0, v0) per coordinate (:func:`coordinates`) with the modes
+    ``preloaded`` (indices into ``modes``) at rest in their static deflection under the
+    steady creep force, a_i Q0 / k_i (Q0 = -mu0 W), the others at rest at zero: a track
+    has carried the steady force long before the squeal starts, so its slow terms do not
+    ring from a step."""
+    modes = as_modes(modes)
+    coords = coordinates(modes, wheel_speed_rad_s)
+    q0 = -float(adhesion_ratio(op.creepage, contact, op.rolling_speed_m_s)) * contact.normal_load_n
+    y0 = np.zeros(len(coords.m))
+    for c, i in enumerate(coords.mode):
+        if int(i) in set(preloaded) and coords.w[c] == 0.0:
+            y0[c] = modes[int(i)].lateral * q0 / modes[int(i)].stiffness_n_m
+    return y0, np.zeros(len(coords.m))
+
+
 def law_vector(contact: ContactLaw, op: OperatingPoint, modes: Modes | None = None) -> np.ndarray:
     """Pack the contact and operating point for the RK4 kernels (:mod:`reduced._kernels`);
     with ``modes``, the static normal approach they take (:func:`static_normal_approach_m`),

@@ -35,6 +35,7 @@ __all__ = [
     "damping_to_stop",
     "friction_coefficient_to_stop",
     "friction_slope_to_stop",
+    "held_growth_rates",
     "largest_growth_rate",
     "remedy_solves",
     "round_up",
@@ -111,11 +112,15 @@ class DampingRemedy:
     raised : tuple of int
         The degrees of freedom whose ratio was raised.
     growth_rate_1_s : float
-        The largest growth rate with these ratios [1/s].
+        The largest growth rate with these ratios [1/s] of the eigenvalues a wheel mode
+        takes part in.
     settled : bool
         Whether every eigenvalue decays at least at :data:`DECAY_RATE_1_S` with them
         (False: ``reason`` says what is left).
     reason : str
+    counter_body_growth_rate_1_s : float
+        The largest growth rate [1/s] of the eigenvalues no adjustable mode takes part in
+        (a counter-body's own, which no damping of the wheel moves; -inf: none).
     """
 
     damping_ratio: np.ndarray
@@ -123,6 +128,7 @@ class DampingRemedy:
     growth_rate_1_s: float
     settled: bool
     reason: str = ""
+    counter_body_growth_rate_1_s: float = -math.inf
 
 
 def damping_to_stop(
@@ -173,15 +179,21 @@ def damping_to_stop(
         return eigen_shares(_with_ratios(modes, z), linear, wheel_speed_rad_s)
 
     reason = ""
+
+    def wheel_held(lam: np.ndarray, share: np.ndarray) -> np.ndarray:
+        """Which eigenvalues an adjustable mode takes part in (the others are the
+        counter-body's own: no damping of the wheel moves them)."""
+        rows = sorted(allowed)
+        return share[rows].max(axis=0) >= PARTNER_SHARE if rows else np.zeros(len(lam), bool)
+
     for _ in range(rounds):
         lam, share = solve(zeta)
-        j = int(np.argmax(lam.real))
-        if lam[j].real + DECAY_RATE_1_S <= 0.0:
+        held = wheel_held(lam, share)
+        candidates = np.flatnonzero(held & (lam.real + DECAY_RATE_1_S > 0.0))
+        if len(candidates) == 0:
             break
+        j = int(candidates[np.argmax(lam.real[candidates])])
         group = [k for k in np.argsort(-share[:n, j]) if share[k, j] >= PARTNER_SHARE and k in allowed]
-        if not group:
-            reason = f"an eigenvalue no adjustable mode takes part in grows ({lam[j].real:.3g} 1/s)"
-            break
 
         def grows(delta: float, group: list[int] = group) -> float:
             z = zeta.copy()
@@ -201,12 +213,33 @@ def damping_to_stop(
         raised.update(int(k) for k in group)
     for k in raised:
         zeta[k] = round_up(float(zeta[k]))
-    lam, _ = solve(zeta)
-    rate = float(lam.real.max())
+    lam, share = solve(zeta)
+    held = wheel_held(lam, share)
+    rate = float(np.max(lam.real[held], initial=-math.inf))
+    own = float(np.max(lam.real[~held], initial=-math.inf))
     settled = rate + DECAY_RATE_1_S <= 0.0
     if not settled and not reason:
         reason = f"an eigenvalue still grows at {rate:.3g} 1/s after {rounds} rounds"
-    return DampingRemedy(zeta, tuple(sorted(raised)), rate, settled, "" if settled else reason)
+    return DampingRemedy(zeta, tuple(sorted(raised)), rate, settled, "" if settled else reason, own)
+
+
+def held_growth_rates(
+    modes: Modes,
+    contact: ContactLaw,
+    op: OperatingPoint,
+    wheel_speed_rad_s: float = 0.0,
+    adjustable: Sequence[int] | None = None,
+) -> tuple[float, float]:
+    """(the largest growth rate of the eigenvalues an ``adjustable`` mode takes part in,
+    that of the others: the counter-body's own) [1/s]; -inf where there are none."""
+    modes = as_modes(modes)
+    rows = list(range(len(modes)) if adjustable is None else adjustable)
+    lam, share = eigen_shares(modes, LinearContact.at(contact, op), wheel_speed_rad_s)
+    held = share[rows].max(axis=0) >= PARTNER_SHARE if rows else np.zeros(len(lam), bool)
+    return (
+        float(np.max(lam.real[held], initial=-math.inf)),
+        float(np.max(lam.real[~held], initial=-math.inf)),
+    )
 
 
 def friction_coefficient_to_stop(

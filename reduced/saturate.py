@@ -16,6 +16,8 @@ import time
 import warnings
 from collections.abc import Callable
 
+import numpy as np
+
 from .creep import ContactLaw
 from .limit_cycle import LimitCycle, limit_cycle
 from .model import (
@@ -61,13 +63,15 @@ def simulate_to_limit_cycle(
     samples_per_period: int = RECORD_SAMPLES_PER_PERIOD,
     wheel_speed_rad_s: float = 0.0,
     may_extend: Callable[[float], bool] | None = None,
+    initial_state: tuple[np.ndarray, np.ndarray] | None = None,
 ) -> tuple[TimeHistory, LimitCycle]:
     """Integrate from rest; returns the history and its limit-cycle metrics.
 
     ``duration`` [s]: a fixed length; None chooses it as the module docstring says.
     ``wheel_speed_rad_s``: the wheel's rotation (:func:`reduced.model.simulate`).
     ``may_extend``: asked before each longer run with its estimated time [s] (twice the
-    last run's); False keeps the last record (a caller's time budget).
+    last run's); False keeps the last record (a caller's time budget). ``initial_state``:
+    (y0, v0) per coordinate instead of rest (:func:`reduced.model.preloaded_state`).
     Raises ValueError for a ``duration`` that is not positive or whose record would not
     fit (:func:`longest_record_s`).
     """
@@ -90,8 +94,9 @@ def simulate_to_limit_cycle(
     while True:
         started = time.perf_counter()
         history = simulate(
-            modes, contact, op, t, samples_per_period=samples_per_period, wheel_speed_rad_s=wheel_speed_rad_s
-        )
+            modes, contact, op, t, initial_state, samples_per_period=samples_per_period,
+            wheel_speed_rad_s=wheel_speed_rad_s,
+        )  # fmt: skip
         lc = limit_cycle(history)
         settled = lc.saturated or (not lc.squeal and lc.growth_rate_analytic_1_s <= 0)
         if duration is not None or settled or t * 2 > max_duration:

@@ -17,11 +17,12 @@ ALLOWED = {
     "reduced": set(),
     "fem": {"geometry"},
     "acoustics": {"geometry"},
+    "track": set(),
     "designs": set(),
-    "wheel_squeal": {"geometry", "fem", "reduced", "acoustics", "designs"},
+    "wheel_squeal": {"geometry", "fem", "reduced", "acoustics", "track", "designs"},
     "pipeline": {"wheel_squeal"},
 }
-PACKAGES = ("geometry", "fem", "reduced", "acoustics", "wheel_squeal", "designs")
+PACKAGES = ("geometry", "fem", "reduced", "acoustics", "track", "wheel_squeal", "designs")
 
 
 def _modules() -> dict[str, Path]:
@@ -232,7 +233,7 @@ def test_every_package_is_installed():
     listed = set(tomllib.loads((ROOT / "pyproject.toml").read_text())["tool"]["setuptools"]["packages"])
     found = {
         ".".join(init.parent.relative_to(ROOT).parts)
-        for top in ("geometry", "fem", "reduced", "acoustics", "wheel_squeal")
+        for top in ("geometry", "fem", "reduced", "acoustics", "track", "wheel_squeal")
         for init in (ROOT / top).rglob("__init__.py")
     }
     assert found <= listed, sorted(found - listed)
@@ -248,7 +249,7 @@ def test_no_api_message_names_a_command_line_flag():
 
     flag = re.compile(r"(?<![\w-])--[a-z][a-z-]+")
     hits = []
-    for top in ("geometry", "fem", "reduced", "acoustics", "wheel_squeal"):
+    for top in ("geometry", "fem", "reduced", "acoustics", "track", "wheel_squeal"):
         for path in (ROOT / top).rglob("*.py"):
             rel = path.relative_to(ROOT)
             if rel.parts[:2] == ("wheel_squeal", "cli") or rel.name == "fields.py":

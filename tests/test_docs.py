@@ -85,13 +85,14 @@ def _json_keys(x, parent: str, leaves: set[str], groups: set[str], listed: bool 
                     _json_keys(v, keyed[parent], leaves, groups)
             return
         for k, v in x.items():
-            if isinstance(v, dict) or (isinstance(v, list) and v and isinstance(v[0], dict)):
+            records = isinstance(v, list) and (bool(v) and isinstance(v[0], dict) or (not v and k in GROUPS))
+            if isinstance(v, dict) or records:
                 groups.add(k)
             _json_keys(v, k, leaves, groups)
     elif isinstance(x, list) and x and isinstance(x[0], dict):
         for item in x:
             _json_keys(item, parent, leaves, groups, listed=True)
-    else:
+    elif not (isinstance(x, list) and not x and parent in GROUPS):  # an empty list of records: a group
         leaves.add(parent)
 
 
@@ -131,6 +132,7 @@ def written(tmp_path_factory) -> dict[str, Path]:
         "mesh": ("mesh", "--quiet"),
         "simulate": ("simulate", "--quiet", "--mass", "3.1", "--stiffness", "1.6e8", "--damping", "42"),
         "study": ("study", str(ROOT / "studies" / "smoke.toml"), "--quiet", *cache),
+        "track": ("track", "--design", "railway_920_track", "--points", "20", "--quiet"),
     }
     out = {}
     for name, args in runs.items():

@@ -13,6 +13,7 @@ and are estimated against a :class:`~wheel_squeal.budget.Budget` before they sta
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -307,10 +308,13 @@ def simulate(
     duration: float | None = None,
     wheel_speed_rad_s: float = 0.0,
     budget: Budget | None = None,
+    preloaded: Sequence[int] = (),
 ) -> Simulation:
     """Integrate the squeal model from rest (``reduced.simulate_to_limit_cycle``): one
     mode or several together (a list), ``duration`` [s] fixed or None to run until the
-    outcome is known, on a wheel turning at ``wheel_speed_rad_s`` (0: the paper's model).
+    outcome is known, on a wheel turning at ``wheel_speed_rad_s`` (0: the paper's model);
+    the degrees of freedom ``preloaded`` (a track's) start in their static deflection
+    under the steady creep force (``reduced.model.preloaded_state``).
     The RK4 steps are counted first and the run refused beyond ``budget`` (default:
     :meth:`Budget.from_environment`): a very low rolling speed makes the contact stiff
     and the step tiny."""
@@ -360,9 +364,15 @@ def simulate(
         return seconds < 0.8 * budget.seconds_left()
 
     try:
+        initial = None
+        if preloaded:
+            from reduced.model import preloaded_state
+
+            initial = preloaded_state(dof, contact, op, preloaded, wheel_speed_rad_s)
         history, lc = simulate_to_limit_cycle(
-            dof, contact, op, duration, wheel_speed_rad_s=wheel_speed_rad_s, may_extend=may_extend
-        )
+            dof, contact, op, duration, wheel_speed_rad_s=wheel_speed_rad_s, may_extend=may_extend,
+            initial_state=initial,
+        )  # fmt: skip
     except ValueError as exc:  # the model refuses what it cannot integrate, in its own words
         raise RequestError(str(exc)) from None
     return Simulation(history, lc, contact, op)

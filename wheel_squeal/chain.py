@@ -37,6 +37,7 @@ from .stability import (
     contact_dofs,
     dof_labels,
     excitable,
+    mode_dofs,
     named_mode,
     stability_table,
     wheel_speed_rad_s,
@@ -200,7 +201,15 @@ class _Chain:
 
         dofs = contact_dofs(group, self.design)
         with self.ctx.progress.stage(f"squeal model of {group_label(group)}"):
-            sim = simulate(dofs, self.contact, self.op, self.opts.duration, self.omega, self.ctx.budget)
+            sim = simulate(
+                dofs,
+                self.contact,
+                self.op,
+                self.opts.duration,
+                self.omega,
+                self.ctx.budget,
+                self.preloaded(group),
+            )
         labels = dof_labels(group, self.design)
         shares: dict[str, float] | None = None
         carrier, carried = group[0], None
@@ -214,6 +223,13 @@ class _Chain:
         return replace(
             base, wave=wave, simulation=sim, group=tuple(group), shares=shares, energy_share=carried
         )
+
+    def preloaded(self, group: tuple[Mode, ...]) -> range:
+        """The counter-body's degrees of freedom among ``group``'s (they follow the
+        wheel's) where it starts in its static deflection (a track)."""
+        if not self.design.counter_body.PRELOADED:
+            return range(0)
+        return range(len(group), len(contact_dofs(group, self.design)))
 
     def carrier(self, group: tuple[Mode, ...], energy_share: np.ndarray) -> tuple[Mode, float]:
         """The mode that carries a limit cycle of ``group``, and its share of the energy:
@@ -260,6 +276,28 @@ class _Chain:
 
     # -- the verdict ----------------------------------------------------------------------
     def verdict(self) -> Verdict:
+        """The one answer (:meth:`decide_verdict`), with what a track adds to it."""
+        v = self.decide_verdict()
+        if self.design.counter_body.KIND != "track":
+            return v
+        rigid = self.rigid_growth_rate()
+        fastest = float(self.table.result.eigenvalues.real.max())
+        effect = fastest - rigid
+        words = (
+            f"; the rail {'adds' if effect >= 0 else 'removes'} {abs(effect):.3g} 1/s at the fastest "
+            f"eigenvalue ({fastest:.3g} 1/s; {rigid:.3g} 1/s on a rigid rail)"
+        )
+        return replace(v, reason=v.reason + words, counter_body_effect_1_s=effect)
+
+    def rigid_growth_rate(self) -> float:
+        """The fastest growth rate [1/s] with the counter-body rigid (its degrees of
+        freedom left out, the contact as it is)."""
+        from reduced import linear_stability
+
+        dofs = mode_dofs([r.mode for r in self.rows], self.design)
+        return float(linear_stability(dofs, self.contact, self.op, self.omega).eigenvalues.real.max())
+
+    def decide_verdict(self) -> Verdict:
         """The one answer: the named mode as asked where it squeals, else the model's own
         outcome; never "no squeal" while a mode grows and sustains."""
         d = self.decision
@@ -361,7 +399,7 @@ class _Chain:
             with self.ctx.progress.stage("the remedy checked in the time domain"):
                 sim = simulate(
                     contact_dofs(group, damped), self.contact, self.op, self.opts.duration, self.omega,
-                    self.ctx.budget,
+                    self.ctx.budget, self.preloaded(group),
                 )  # fmt: skip
             r["time_domain"] = sim.limit_cycle.state
             if sim.limit_cycle.squeal:

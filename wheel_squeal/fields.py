@@ -38,6 +38,34 @@ class Field:
 
 #: key -> Field, alphabetical
 FIELDS: dict[str, Field] = {
+    "counter_body_effect_1_s": Field(
+        "1/s", "on a track: the growth rate the rail adds to the fastest eigenvalue (negative: removes)"
+    ),
+    "counter_body_growth_rate_1_s": Field(
+        "1/s", "the largest growth rate of an eigenvalue the counter-body holds alone (null: none grows)"
+    ),
+    "frequency_range_hz": Field("Hz", "the frequency grid's ends"),
+    "convention": Field("-", "the receptances' sign convention"),
+    "position": Field("-", "where in the sleeper bay the contact is"),
+    "max_relative_error": Field(
+        "", "the fit's largest error relative to the receptance's third-octave level"
+    ),
+    "band_hz": Field("Hz", "the band fitted"),
+    "poles": Field("-", "the modal terms of the fit"),
+    "pinned_pinned_lateral_hz": Field(
+        "Hz", "the rail's lateral pinned-pinned frequency (a simply supported bay)"
+    ),
+    "pinned_pinned_vertical_hz": Field(
+        "Hz", "the rail's vertical pinned-pinned frequency (a simply supported bay)"
+    ),
+    "vertical_support_re": Field("m/N", "the rail's vertical point receptance at a sleeper, real part"),
+    "vertical_support_im": Field("m/N", "the rail's vertical point receptance at a sleeper, imaginary part"),
+    "vertical_midspan_re": Field("m/N", "the rail's vertical point receptance at midspan, real part"),
+    "vertical_midspan_im": Field("m/N", "the rail's vertical point receptance at midspan, imaginary part"),
+    "lateral_support_re": Field("m/N", "the rail's lateral point receptance at a sleeper, real part"),
+    "lateral_support_im": Field("m/N", "the rail's lateral point receptance at a sleeper, imaginary part"),
+    "lateral_midspan_re": Field("m/N", "the rail's lateral point receptance at midspan, real part"),
+    "lateral_midspan_im": Field("m/N", "the rail's lateral point receptance at midspan, imaginary part"),
     "N_N": Field("N", "normal contact force (0 where the wheel and the roller have separated)"),
     "P_W": Field("W", "power the contact force puts into the modes, Q v minus the modal damping losses"),
     "Q_N": Field("N", "lateral contact (creep) force on the wheel"),
@@ -233,6 +261,8 @@ GROUPS: dict[str, str] = {
     "per_unit_velocity": "levels at 1 m/s contact velocity (the fundamental)",
     "third_octave_bands": "the microphone's one-third-octave band levels over the limit cycle (null: empty)",
     "harmonics": "each radiated harmonic of the contact velocity: order, frequency, amplitude, levels",
+    "fit_vertical": "the modal fit of the rail's vertical receptance at the contact (poles, band, error)",
+    "fit_lateral": "the modal fit of the rail's lateral receptance at the contact (poles, band, error)",
     "remedy": "with squeal: what stops every growing mode (damping per mode, friction, separation), checked",
     "separations": "per coupled pair: the frequency its higher partner must reach for the pair to decay",
     "timeseries_csv": "what timeseries.csv holds (its columns, SI units, and its sample stride)",
@@ -325,6 +355,19 @@ FILES: dict[str, OutputFile] = {
             "fastest_mode_index",
             "fastest_mode",
             "fastest_mode_frequency_hz",
+        ),
+    ),  # fmt: skip
+    "receptance.csv": OutputFile(
+        ("track",),
+        "the rail's point receptances, exp(+i omega t)",
+        (
+            "frequency_hz",
+            *(
+                f"{d}_{at}_{part}"
+                for d in ("vertical", "lateral")
+                for at in ("support", "midspan")
+                for part in ("re", "im")
+            ),
         ),
     ),  # fmt: skip
     "compare.csv": OutputFile(

@@ -230,7 +230,8 @@ def check_named_modes(design: Design, modeset: ModeSet, fmax_hz: float) -> None:
     if missing:
         raise RequestError(
             f"{design.name}: [squeal.damping] names {', '.join(missing)}, not among the {len(modeset.modes)} "
-            f"modes below {fmax_hz:g} Hz: raise fmax_hz or remove it"
+            f'modes below {fmax_hz:g} Hz (an FE mode is "n=N,c=C", a modal model\'s by its label): raise '
+            "fmax_hz or remove it"
         )
 
 

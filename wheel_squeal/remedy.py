@@ -104,11 +104,10 @@ def remedy_of(
         values now, ``separations``, ``toml`` (the table to paste) and ``words``.
     """
     from reduced.remedy import (
-        DECAY_RATE_1_S,
         damping_to_stop,
         friction_coefficient_to_stop,
         friction_slope_to_stop,
-        largest_growth_rate,
+        held_growth_rates,
         separation_to_stop,
     )
 
@@ -125,8 +124,10 @@ def remedy_of(
         key = damping_key(m)
         by_key[key] = max(by_key.get(key, 0.0), float(found.damping_ratio[k]))
     pasted = remedy_design(design, by_key)
-    rate = largest_growth_rate(contact_dofs(modes, pasted), contact, op, omega)
-    settled = found.settled and rate + DECAY_RATE_1_S <= 1e-9
+    rate, own = held_growth_rates(contact_dofs(modes, pasted), contact, op, omega, range(len(modes)))
+    # found aims at DECAY_RATE_1_S; once pasted (a (n, c) key damps every family alike)
+    # it must leave nothing growing
+    settled = found.settled and rate < 0.0
     mu = friction_coefficient_to_stop(dofs, contact, op, omega)
     slope = friction_slope_to_stop(dofs, contact, op, omega)
     separations = []
@@ -155,6 +156,7 @@ def remedy_of(
         "friction_slope_now": _slope_now(contact, op),
         "separations": separations,
         "paste": by_key,
+        "counter_body_growth_rate_1_s": own if own > 0.0 else None,
     }
     out["words"] = remedy_words(out, "" if settled else found.reason)
     return out
@@ -175,6 +177,9 @@ def remedy_words(r: dict[str, Any], unsettled: str = "") -> str:
             f"a creep curve falling less steeply than dmu/dzeta = {slope:.3g} at the quasi-static "
             f"creepage (now {r['friction_slope_now']:.3g})"
         )
+    own = r.get("counter_body_growth_rate_1_s")
+    if own:
+        parts[0] += f" (the counter-body's own eigenvalue grows at {own:.3g} 1/s: no wheel damping moves it)"
     for s in r["separations"]:
         if s["frequency_hz"] is not None:
             parts.append(

@@ -15,6 +15,7 @@ it through :class:`CounterBodySection` only. Files before the tagged section sai
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any, ClassVar
@@ -103,6 +104,9 @@ class CounterBodySection(Fields):
     TABLE: ClassVar[str] = "counter_body"
     KIND: ClassVar[str] = ""
     HASH_KEY: ClassVar[str] = "counter_body"
+    #: Whether its degrees of freedom start the time domain in their static deflection
+    #: under the steady creep force (a track, loaded long before); False: at rest at zero
+    PRELOADED: ClassVar[bool] = False
 
     def contact_radii(self) -> tuple[float, float]:
         """(radius along rolling, radius across) of its surface at the contact [m]."""
@@ -207,8 +211,153 @@ class Roller(CounterBodySection):
         return [f"roller {d}" for d in ("normal", "lateral") if self.modal(d) is not None]
 
 
+#: Where the wheel touches the rail in the sleeper bay, by name (a fraction of the span
+#: from a sleeper otherwise)
+RAIL_POSITIONS = {"support": 0.0, "midspan": 0.5}
+#: The band the rail's receptance is fitted over [Hz] and its frequencies per decade
+TRACK_FIT_BAND_HZ, TRACK_FIT_POINTS_PER_DECADE = (20.0, 6000.0), 100
+
+
+def _rail(default: float, unit: str, doc: str) -> Any:
+    return spec(default, unit, doc)
+
+
+@dataclass(frozen=True)
+class Track(CounterBodySection):
+    """A rail on discrete, periodic supports (``track``): the rail section (UIC60 by
+    default), the sleepers and, per direction, pad and ballast. The contact's normal is
+    the rail's vertical, its lateral tangent the rail's lateral (a contact on the rail
+    head's crown; the rail's torsion is left out). ``position``: "support", "midspan" or a
+    fraction of the span from a sleeper (in quotes: "0.3"); ``head_radius``: the rail
+    head's transverse radius [m]."""
+
+    KIND: ClassVar[str] = "track"
+    HASH_KEY: ClassVar[str] = "track"
+    PRELOADED: ClassVar[bool] = True
+
+    rail: str = spec("UIC60", "-", "the rail section's name (its values below)")
+    rail_youngs_modulus: float = _rail(210e9, "Pa", "the rail's Young's modulus E")
+    rail_shear_modulus: float = _rail(81e9, "Pa", "the rail's shear modulus G")
+    rail_density: float = _rail(7850.0, "kg/m^3", "the rail's density")
+    rail_area: float = _rail(76.7e-4, "m^2", "the rail's cross-section A")
+    rail_second_moment_vertical: float = _rail(3038.3e-8, "m^4", "I for vertical bending")
+    rail_second_moment_lateral: float = _rail(512.7e-8, "m^4", "I for lateral bending")
+    rail_shear_coefficient_vertical: float = _rail(0.4, "", "Timoshenko's shear coefficient, vertical")
+    rail_shear_coefficient_lateral: float = _rail(0.538, "", "Timoshenko's shear coefficient, lateral")
+    rail_loss_factor: float = _rail(0.01, "", "the rail's bending loss factor")
+    head_radius: float = _rail(0.3, "m", "the rail head's transverse radius")
+    sleeper_spacing: float = _rail(0.6, "m", "the distance between sleepers")
+    sleeper_mass: float = _rail(162.0, "kg", "the sleeper's mass per rail seat")
+    pad_stiffness_vertical: float = _rail(300e6, "N/m", "the rail pad's vertical stiffness")
+    pad_loss_factor_vertical: float = _rail(0.25, "", "the rail pad's vertical loss factor")
+    ballast_stiffness_vertical: float = _rail(50e6, "N/m", "the ballast's vertical stiffness per rail seat")
+    ballast_loss_factor_vertical: float = _rail(1.0, "", "the ballast's vertical loss factor")
+    pad_stiffness_lateral: float = _rail(50e6, "N/m", "the rail pad's lateral stiffness")
+    pad_loss_factor_lateral: float = _rail(0.25, "", "the rail pad's lateral loss factor")
+    ballast_stiffness_lateral: float = _rail(35e6, "N/m", "the ballast's lateral stiffness per rail seat")
+    ballast_loss_factor_lateral: float = _rail(1.0, "", "the ballast's lateral loss factor")
+    position: str = spec("midspan", "-", 'where in the sleeper bay: "support", "midspan" or a fraction')
+
+    def __post_init__(self) -> None:
+        for f in self.specs():
+            value = getattr(self, f.name)
+            if isinstance(value, float):
+                if f.name.endswith("loss_factor") or "loss_factor" in f.name:
+                    if not (math.isfinite(value) and 0.0 <= value <= 10.0):
+                        raise DesignError(f"[counter_body] {f.name} = {value!r}: a loss factor in [0, 10]")
+                    continue
+                _positive("counter_body", f.name, value)
+        if (
+            not 0.0 < self.rail_shear_coefficient_vertical <= 1.0
+            or not 0.0 < self.rail_shear_coefficient_lateral <= 1.0
+        ):
+            raise DesignError("[counter_body] a shear coefficient lies in (0, 1]")
+        self.position_fraction()  # refused in one line if it is not a position
+
+    def position_fraction(self) -> float:
+        """Where the contact is in the bay, as a fraction of the span from a sleeper [-]."""
+        if self.position in RAIL_POSITIONS:
+            return RAIL_POSITIONS[self.position]
+        try:
+            fraction = float(self.position)
+        except ValueError:
+            fraction = math.nan
+        if not 0.0 <= fraction < 1.0:
+            raise DesignError(
+                f'[counter_body] position = {self.position!r}: "support", "midspan" or a fraction of the '
+                'span in [0, 1) in quotes, like "0.3"'
+            )
+        return fraction
+
+    def beams(self) -> tuple[Any, Any]:
+        """The rail bending vertically and laterally (``track.BeamSection``)."""
+        from track import BeamSection
+
+        common = (self.rail_youngs_modulus, self.rail_shear_modulus, self.rail_density, self.rail_area)
+        return (
+            BeamSection(*common, self.rail_second_moment_vertical, self.rail_shear_coefficient_vertical,
+                        self.rail_loss_factor),
+            BeamSection(*common, self.rail_second_moment_lateral, self.rail_shear_coefficient_lateral,
+                        self.rail_loss_factor),
+        )  # fmt: skip
+
+    def supports(self) -> tuple[Any, Any]:
+        """The supports vertically and laterally (``track.Supports``)."""
+        from track import Supports
+
+        return (
+            Supports(self.sleeper_spacing, self.pad_stiffness_vertical, self.pad_loss_factor_vertical,
+                     self.sleeper_mass, self.ballast_stiffness_vertical, self.ballast_loss_factor_vertical),
+            Supports(self.sleeper_spacing, self.pad_stiffness_lateral, self.pad_loss_factor_lateral,
+                     self.sleeper_mass, self.ballast_stiffness_lateral, self.ballast_loss_factor_lateral),
+        )  # fmt: skip
+
+    def contact_radii(self) -> tuple[float, float]:
+        return math.inf, self.head_radius  # a straight rail: flat along rolling
+
+    def fits(self) -> tuple[Any, Any]:
+        """The rail's receptances at the contact fitted by modal terms (``track.ModalFit``,
+        vertical and lateral) over :data:`TRACK_FIT_BAND_HZ`."""
+        return _track_fits(self)
+
+    def body(self) -> CounterBody:
+        from reduced import ModalCounterBody
+
+        vertical, lateral = self.fits()
+
+        def terms(fit: Any) -> tuple[tuple[float, float, float], ...]:
+            return tuple(
+                zip(fit.frequency_hz.tolist(), fit.damping_ratio.tolist(), fit.modal_mass_kg.tolist())
+            )
+
+        return ModalCounterBody(terms(vertical), terms(lateral))
+
+    def dof_labels(self) -> list[str]:
+        vertical, lateral = self.fits()
+        return [f"rail normal {f:.0f} Hz" for f in vertical.frequency_hz] + [
+            f"rail lateral {f:.0f} Hz" for f in lateral.frequency_hz
+        ]
+
+
+@functools.lru_cache(maxsize=8)
+def _track_fits(track: Track) -> tuple[Any, Any]:
+    """The fits of a track's receptances, once per track in a process (a second each)."""
+    import numpy as np
+
+    from track import receptance
+    from track.fit import fit_receptance
+
+    lo, hi = TRACK_FIT_BAND_HZ
+    f = np.geomspace(lo, hi, int(TRACK_FIT_POINTS_PER_DECADE * math.log10(hi / lo)) + 1)
+    at = track.position_fraction()
+    return tuple(
+        fit_receptance(f, receptance(beam, support, f, at))
+        for beam, support in zip(track.beams(), track.supports())
+    )  # type: ignore[return-value]
+
+
 #: Every counter-body kind a design file may give, by its ``kind``.
-COUNTER_BODIES: dict[str, type[CounterBodySection]] = {"roller": Roller}
+COUNTER_BODIES: dict[str, type[CounterBodySection]] = {"roller": Roller, "track": Track}
 
 
 def counter_body_from_file(data: dict[str, Any], source: str) -> CounterBodySection:

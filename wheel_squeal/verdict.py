@@ -210,6 +210,9 @@ class Verdict:
         With no squeal: the least stable mode and what would make it grow.
     remedy : dict or None
         With a squeal: what would stop it.
+    counter_body_effect_1_s : float or None
+        On a track: how much the rail adds to the fastest growth rate [1/s] (negative:
+        removes), against a rigid rail with the same contact.
 
     Examples
     --------
@@ -227,6 +230,7 @@ class Verdict:
     pick: ModeOutcome | None = None
     margin: dict | None = None
     remedy: dict | None = None
+    counter_body_effect_1_s: float | None = None
 
     def get(self, key: str) -> Any:
         """A field of the verdict's outcome (None without squeal)."""
@@ -258,4 +262,6 @@ class Verdict:
             out["margin"] = self.margin
         if self.remedy is not None:
             out["remedy"] = self.remedy
+        if self.counter_body_effect_1_s is not None:
+            out["counter_body_effect_1_s"] = self.counter_body_effect_1_s
         return out

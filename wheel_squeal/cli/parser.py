@@ -74,6 +74,7 @@ def build_parser(prog: str = "wheel-squeal") -> CommandParser:
         _add_compare_command,
         _add_stability_command,
         _add_sound_command,
+        _add_track_command,
         _add_study_command,
         _add_render_command,
         _add_calibrate_command,
@@ -216,6 +217,16 @@ def _add_sound_command(sub: argparse._SubParsersAction) -> None:
     )
     p.add_argument("--frequency", type=positive, help="frequency [Hz] (default: the mode's)")
     add_microphone(p)
+
+
+def _add_track_command(sub: argparse._SubParsersAction) -> None:
+    p = sub.add_parser("track", help="the rail's point receptances (a design on a track)")
+    add_common(p, cache=False)
+    p.add_argument("--fmin", type=positive, default=20.0, help="lowest frequency [Hz] (default %(default)g)")
+    p.add_argument(
+        "--fmax", type=positive, default=5000.0, help="highest frequency [Hz] (default %(default)g)"
+    )
+    p.add_argument("--points", type=count, default=300, help="frequencies, log-spaced (default %(default)d)")
 
 
 def _add_study_command(sub: argparse._SubParsersAction) -> None:

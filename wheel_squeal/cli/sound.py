@@ -14,7 +14,7 @@ from ..present.text import sound_text
 from ..sound import check_velocity_amplitude, mode_sound
 from .common import analysis_of, context_of, design_of, listener_of, out_of
 
-__all__ = ["cmd_sound"]
+__all__ = ["cmd_sound", "cmd_track"]
 
 
 def cmd_sound(args: argparse.Namespace) -> int:
@@ -50,5 +50,24 @@ def cmd_sound(args: argparse.Namespace) -> int:
         )
     print(f"{design.name}: mode {mode.index} {mode.label()} ({why}), {mode.frequency_hz:.1f} Hz")
     print(sound_text(sound.summary()))
+    print(f"-> {out}")
+    return 0
+
+
+def cmd_track(args: argparse.Namespace) -> int:
+    """receptance.csv, receptance.png and summary.json of the rail the design rolls on."""
+    from ..present.track import track_text, write_receptance_csv, write_receptance_plot
+    from ..track import track_receptances
+
+    design = design_of(args)
+    out = out_of(args, design.name)
+    ctx = context_of(args)
+    with result_folder(out, "track") as tmp:
+        with ctx.progress.stage(f"the rail's receptances at {args.points} frequencies"):
+            t = track_receptances(design, args.fmin, args.fmax, args.points)
+        write_receptance_csv(tmp / "receptance.csv", t)
+        write_receptance_plot(tmp / "receptance.png", t)
+        write_json(tmp / "summary.json", {"design": design.name, **t.summary()})
+    print(track_text(t))
     print(f"-> {out}")
     return 0
