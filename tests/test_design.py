@@ -33,7 +33,7 @@ def test_design_files_exist_and_are_complete():
             assert set(keys) - set(OPTIONAL_FIELDS) <= set(data[section]) <= set(keys), (path, section)
         for section in ("counter_body", "contact", "damping"):
             assert section in data, (path, section)
-        assert data["counter_body"]["kind"] == "roller", path
+        assert data["counter_body"]["kind"] in ("roller", "track"), path
 
 
 def test_table1_file_is_the_default_design():

@@ -38,34 +38,6 @@ class Field:
 
 #: key -> Field, alphabetical
 FIELDS: dict[str, Field] = {
-    "counter_body_effect_1_s": Field(
-        "1/s", "on a track: the growth rate the rail adds to the fastest eigenvalue (negative: removes)"
-    ),
-    "counter_body_growth_rate_1_s": Field(
-        "1/s", "the largest growth rate of an eigenvalue the counter-body holds alone (null: none grows)"
-    ),
-    "frequency_range_hz": Field("Hz", "the frequency grid's ends"),
-    "convention": Field("-", "the receptances' sign convention"),
-    "position": Field("-", "where in the sleeper bay the contact is"),
-    "max_relative_error": Field(
-        "", "the fit's largest error relative to the receptance's third-octave level"
-    ),
-    "band_hz": Field("Hz", "the band fitted"),
-    "poles": Field("-", "the modal terms of the fit"),
-    "pinned_pinned_lateral_hz": Field(
-        "Hz", "the rail's lateral pinned-pinned frequency (a simply supported bay)"
-    ),
-    "pinned_pinned_vertical_hz": Field(
-        "Hz", "the rail's vertical pinned-pinned frequency (a simply supported bay)"
-    ),
-    "vertical_support_re": Field("m/N", "the rail's vertical point receptance at a sleeper, real part"),
-    "vertical_support_im": Field("m/N", "the rail's vertical point receptance at a sleeper, imaginary part"),
-    "vertical_midspan_re": Field("m/N", "the rail's vertical point receptance at midspan, real part"),
-    "vertical_midspan_im": Field("m/N", "the rail's vertical point receptance at midspan, imaginary part"),
-    "lateral_support_re": Field("m/N", "the rail's lateral point receptance at a sleeper, real part"),
-    "lateral_support_im": Field("m/N", "the rail's lateral point receptance at a sleeper, imaginary part"),
-    "lateral_midspan_re": Field("m/N", "the rail's lateral point receptance at midspan, real part"),
-    "lateral_midspan_im": Field("m/N", "the rail's lateral point receptance at midspan, imaginary part"),
     "N_N": Field("N", "normal contact force (0 where the wheel and the roller have separated)"),
     "P_W": Field("W", "power the contact force puts into the modes, Q v minus the modal damping losses"),
     "Q_N": Field("N", "lateral contact (creep) force on the wheel"),
@@ -240,6 +212,30 @@ FIELDS: dict[str, Field] = {
     "z_m": Field("m", "axial position of the contact point"),
 }
 
+#: receptance.csv's columns: the rail's receptance per direction and position, in parts
+_RECEPTANCES = [(d, at) for d in ("vertical", "lateral") for at in ("support", "midspan")]
+_WHERE = {"support": "a sleeper", "midspan": "midspan"}
+_PARTS = (("re", "real"), ("im", "imaginary"))
+FIELDS |= {
+    f"{d}_{at}_{part}": Field("m/N", f"{name} part of the rail's {d} receptance at {_WHERE[at]}")
+    for d, at in _RECEPTANCES for part, name in _PARTS
+}  # fmt: skip
+#: the track's and the rail's fields (the track command, a verdict on a track)
+FIELDS |= {
+    "band_hz": Field("Hz", "the band fitted"),
+    "convention": Field("-", "the receptances' sign convention"),
+    "counter_body_effect_1_s": Field("1/s", "on a track: what the rail adds to the fastest growth rate"),
+    "counter_body_growth_rate_1_s": Field("1/s", "the counter-body's own eigenvalue's growth (null: none)"),
+    "frequency_range_hz": Field("Hz", "the frequency grid's ends"),
+    "max_relative_error": Field(
+        "", "the fit's largest error relative to the receptance's third-octave level"
+    ),
+    "pinned_pinned_lateral_hz": Field("Hz", "the lateral pinned-pinned frequency (a simply supported bay)"),
+    "pinned_pinned_vertical_hz": Field("Hz", "the vertical pinned-pinned frequency (a simply supported bay)"),
+    "poles": Field("-", "the modal terms of the fit"),
+    "position": Field("-", "where in the sleeper bay the contact is"),
+}
+
 #: JSON objects that hold fields
 GROUPS: dict[str, str] = {
     "cache": "cache hits and misses of the run's stages",
@@ -360,15 +356,7 @@ FILES: dict[str, OutputFile] = {
     "receptance.csv": OutputFile(
         ("track",),
         "the rail's point receptances, exp(+i omega t)",
-        (
-            "frequency_hz",
-            *(
-                f"{d}_{at}_{part}"
-                for d in ("vertical", "lateral")
-                for at in ("support", "midspan")
-                for part in ("re", "im")
-            ),
-        ),
+        ("frequency_hz", *(f"{d}_{at}_{part}" for d, at in _RECEPTANCES for part, _ in _PARTS)),
     ),  # fmt: skip
     "compare.csv": OutputFile(
         ("compare",),
