@@ -50,12 +50,15 @@ def write_receptance_plot(path: Path, t: TrackReceptances) -> Path:
     marks = [("pinned-pinned, vertical", t.pinned_pinned_hz["vertical"]),
              ("pinned-pinned, lateral", t.pinned_pinned_hz["lateral"]),
              ("rail on pads, vertical", pad_peak_hz(t))]  # fmt: skip
-    for k, (what, f) in enumerate(marks):
-        if np.isfinite(f) and t.frequency_hz[0] <= f <= t.frequency_hz[-1]:
-            for ax in (mag, phase):
-                ax.axvline(f, color="0.5", lw=0.8, ls=":")
-            mag.annotate(f"{what}\n{f:.0f} Hz", (f, 0.97 - 0.12 * k), xycoords=("data", "axes fraction"),
-                         fontsize=7, ha="left", va="top")  # fmt: skip
+    shown = [
+        (what, f) for what, f in marks if np.isfinite(f) and t.frequency_hz[0] <= f <= t.frequency_hz[-1]
+    ]
+    for _, f in shown:
+        for ax in (mag, phase):
+            ax.axvline(f, color="0.5", lw=0.8, ls=":")
+    if shown:
+        phase.text(0.99, 0.04, "dotted: " + "; ".join(f"{what} {f:.0f} Hz" for what, f in shown),
+                   transform=phase.transAxes, ha="right", va="bottom", fontsize=8)  # fmt: skip
     mag.set(
         ylabel="|receptance| (m/N)", title="the rail's point receptance (exp(+i w t): phase <= 0 passive)"
     )
