@@ -167,7 +167,10 @@ def test_every_field_written_is_documented_and_every_documented_field_is_written
             columns |= set(header)
     assert leaves <= set(FIELDS), sorted(leaves - set(FIELDS))
     assert groups <= set(GROUPS) | set(FREE_GROUPS), sorted(groups - set(GROUPS) - set(FREE_GROUPS))
-    documented_unwritten = set(FIELDS) - leaves - columns - {"rim_depth", "web_thickness"}
+    # written only where the fixture's runs do not go: a verdict on a track (the rail's
+    # effect), a remedy of a mode-coupled pair (its separation): test_track and test_remedy
+    elsewhere = {"counter_body_effect_1_s", "frequency_hz_now", "partner"}
+    documented_unwritten = set(FIELDS) - leaves - columns - {"rim_depth", "web_thickness"} - elsewhere
     assert not documented_unwritten, sorted(documented_unwritten)
     assert not set(GROUPS) - groups, sorted(set(GROUPS) - groups)
 

@@ -174,8 +174,6 @@ FIELDS: dict[str, Field] = {
     "spl_7_5m_db": Field("dB re 20 uPa", "SPL 7.5 m from the wheel centre in the loudest direction"),
     "spl_7_5m_axis_db": Field("dB re 20 uPa", "SPL 7.5 m from the wheel centre on its axis (null: silent)"),
     "spl_difference_db": Field("dB", "prediction minus measurement"),
-    "stops_above_damping_ratio": Field("", "the squealing mode's damping ratio above which it stops here"),
-    "stops_above_friction_slope": Field("", "the creep-curve slope dmu/dzeta above which the squeal stops"),
     "squeal": Field("-", "whether the limit cycle is a self-sustained oscillation"),
     "squealing_points": Field("-", "operating points that squeal"),
     "squeals": Field("-", "the verdict: whether the wheel squeals"),
