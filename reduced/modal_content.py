@@ -18,10 +18,10 @@ WINDOW_PERIODS = 200
 
 @dataclass(frozen=True)
 class ModalContent:
-    """energy_share : each mode's share of the vibration energy (sum 1), time-averaged
-    over the window; carrier : the mode with the largest share; peak_frequency_hz : the
-    strongest frequency of the contact velocity there, Hz (in the frame of the contact);
-    window_s : the window's (start, end), s."""
+    """energy_share : each mode's share of the vibration energy (sum 1, about each
+    coordinate's mean), time-averaged over the window; carrier : the mode with the
+    largest share; peak_frequency_hz : the strongest frequency of the contact velocity
+    there, Hz (in the frame of the contact); window_s : the window's (start, end), s."""
 
     energy_share: np.ndarray
     carrier: int
@@ -36,7 +36,10 @@ def modal_content(history: TimeHistory) -> ModalContent:
     span = min(WINDOW_PERIODS / f_low, 0.25 * float(t[-1]))
     sel = t >= t[-1] - span
     coords = history.coordinates or coordinates(history.modes, history.wheel_speed_rad_s)
+    # the vibration about the mean: a static deflection (a track's under the steady creep
+    # force) holds no vibration energy
     y, u = history.y_modes[sel], history.v_modes[sel]
+    y = y - y.mean(axis=0)
     energy = 0.5 * (coords.m * u**2 + coords.k * y**2).mean(axis=0)
     per_mode = np.bincount(coords.mode, weights=energy, minlength=len(history.modes))
     share = per_mode / per_mode.sum() if per_mode.sum() > 0 else per_mode

@@ -17,9 +17,11 @@ import numpy as np
 
 from .creep import ContactLaw, adhesion_ratio
 from .limit_cycle import LimitCycle
-from .model import OperatingPoint, TimeHistory
+from .model import OperatingPoint, TimeHistory, coordinates
 
 __all__ = [
+    "counter_body_motion",
+    "counter_body_velocity",
     "summary_dicts",
     "write_timeseries_csv",
     "write_time_history_plots",
@@ -63,16 +65,45 @@ def summary_dicts(lc: LimitCycle, op: OperatingPoint, contact: ContactLaw) -> di
 
 #: The longest row of timeseries.csv [bytes]: eight numbers of at most 15 characters
 #: (``-1.23456789e-05``), their separators and the line end.
-TIMESERIES_ROW_BYTES = 8 * 16
+TIMESERIES_ROW_BYTES = 9 * 16
 
 
 #: timeseries.csv's columns (SI units: the suffix names the unit)
-TIMESERIES_COLUMNS = ("t_s", "y_m", "v_m_s", "creepage", "Q_N", "P_W", "u_n_m", "N_N")
+TIMESERIES_COLUMNS = ("t_s", "y_m", "v_m_s", "creepage", "Q_N", "P_W", "u_n_m", "N_N", "v_counter_body_m_s")
+
+
+def counter_body_velocity(history: TimeHistory) -> np.ndarray:
+    """The counter-body's own lateral velocity at the contact [m/s] (a rail's, a roller's
+    mode's): its coordinates have gain -1 (the contact sees the wheel's velocity minus
+    it); 0 where it is rigid."""
+    coords = history.coordinates or coordinates(history.modes, history.wheel_speed_rad_s)
+    theirs = coords.a < 0.0
+    if not theirs.any():
+        return np.zeros(len(history.t))
+    return (history.v_modes[:, theirs] * -coords.a[theirs]).sum(axis=1)
 
 
 def timeseries_stride(history: TimeHistory, max_bytes: float = math.inf) -> int:
     """k: timeseries.csv holds every k-th sample, so that it stays within ``max_bytes``."""
     return max(1, math.ceil(len(history.t) * TIMESERIES_ROW_BYTES / max_bytes))
+
+
+def counter_body_motion(history: TimeHistory) -> dict[str, float]:
+    """The counter-body's part at the end of the record (its last quarter): the rms of
+    the contact's slip velocity and of the counter-body's own velocity there [m/s], their
+    ratio, and the mean power the contact force puts into the counter-body [W] (its
+    fluctuating part: the steady creep force does no work on a body at rest)."""
+    sel = history.t >= 0.75 * float(history.t[-1])
+    v_cb = counter_body_velocity(history)[sel]
+    v = history.v[sel] - history.v[sel].mean()
+    q = history.Q[sel] - history.Q[sel].mean()
+    rms_v, rms_cb = float(np.sqrt(np.mean(v**2))), float(np.sqrt(np.mean((v_cb - v_cb.mean()) ** 2)))
+    return {
+        "contact_velocity_rms_m_s": rms_v,
+        "counter_body_velocity_rms_m_s": rms_cb,
+        "counter_body_velocity_share": rms_cb / rms_v if rms_v > 0 else 0.0,
+        "counter_body_power_w": float(np.mean(-q * (v_cb - v_cb.mean()))),
+    }
 
 
 def write_timeseries_csv(
@@ -88,7 +119,17 @@ def write_timeseries_csv(
     u_n = zero if history.u_n is None else history.u_n
     normal = zero + history.contact.normal_load_n if history.N is None else history.N
     data = np.column_stack(
-        [history.t, history.y, history.v, history.creepage, history.Q, history.P, u_n, normal]
+        [
+            history.t,
+            history.y,
+            history.v,
+            history.creepage,
+            history.Q,
+            history.P,
+            u_n,
+            normal,
+            counter_body_velocity(history),
+        ]
     )[::stride]
     header = ",".join(TIMESERIES_COLUMNS)
     row = ",".join(["%.9g"] * data.shape[1]) + "\n"

@@ -235,7 +235,7 @@ def test_simulate_with_explicit_modal_parameters_builds_no_mesh(tmp_path, monkey
     assert abs(s["limit_cycle"]["frequency_hz"] / 1143.0 - 1) < 0.01
     assert abs(s["operating_point"]["creepage"] - 0.022) < 0.0005
     lines = (out / "timeseries.csv").read_text().splitlines()
-    assert lines[0] == "t_s,y_m,v_m_s,creepage,Q_N,P_W,u_n_m,N_N"
+    assert lines[0] == "t_s,y_m,v_m_s,creepage,Q_N,P_W,u_n_m,N_N,v_counter_body_m_s"
     assert s["timeseries_csv"]["sample_stride"] == 1
     # Fig. 7-10 windows: growing (0.2 s) and on the limit cycle: the record's last periods
     end_s = float(lines[-1].split(",")[0])

@@ -115,9 +115,11 @@ def test_report_files_and_json(tmp_path, law, grid):
 
     csv = r.write_timeseries_csv(hist, tmp_path)
     lines = csv.read_text().splitlines()
-    assert lines[0] == "t_s,y_m,v_m_s,creepage,Q_N,P_W,u_n_m,N_N"  # one header line: any reader
+    assert (
+        lines[0] == "t_s,y_m,v_m_s,creepage,Q_N,P_W,u_n_m,N_N,v_counter_body_m_s"
+    )  # one header line: any reader
     data = np.loadtxt(csv, delimiter=",", skiprows=1)
-    assert data.shape == (len(hist.t), 8)
+    assert data.shape == (len(hist.t), 9)
     np.testing.assert_allclose(data[:, 2], hist.v, rtol=1e-8, atol=1e-12)
     # under a size limit: every k-th sample (summary.json says k), the file within the limit
     limit = len(hist.t) * r.report.TIMESERIES_ROW_BYTES / 7.5

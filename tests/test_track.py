@@ -183,3 +183,28 @@ def test_the_track_command_writes_the_receptances(tmp_path):
     assert "pinned-pinned: 1068 Hz vertical, 555 Hz lateral" in result.stdout
     refused = run_here("track", "--design", "table1", "--out", tmp_path / "r")
     assert refused.returncode == 2 and "not a track" in refused.stderr
+
+
+@pytest.mark.slow  # the test track's fits and a time domain with its 52 terms (about 15 s)
+def test_stability_and_simulate_on_the_track_agree_and_report_the_rail(tmp_path):
+    """The Table 1 mode (a modal model) on the test track: `stability` and `simulate` give
+    the same linear growth rate (the one chain), the record's growth matches it, the
+    verdict says what the rail adds, timeseries.csv carries the rail's velocity and
+    summary.json its share of the slip velocity and the power into it."""
+    model = tmp_path / "mode.toml"
+    model.write_text(
+        "[[mode]]\nfrequency_hz = 1143.4\ndamping_ratio = 9.4e-4\nlateral = 0.568\nnormal = 0.0\n"
+    )
+    common = ("--design", "railway_920_track", "--modal-model", model, "--quiet")
+    stab = run_here("stability", *common, "--out", tmp_path / "s")
+    sim = run_here("simulate", *common, "--out", tmp_path / "m")
+    assert stab.returncode == 0 and sim.returncode == 0, (stab.stderr, sim.stderr)
+    vs = json.loads((tmp_path / "s" / "summary.json").read_text())["verdict"]
+    vm = json.loads((tmp_path / "m" / "summary.json").read_text())
+    assert vs["growth_rate_1_s"] == pytest.approx(vm["verdict"]["growth_rate_1_s"], rel=1e-12)
+    assert "the rail" in vs["reason"] and vs["counter_body_effect_1_s"] is not None
+    motion = vm["counter_body_motion"]
+    assert 0 < motion["counter_body_velocity_share"] < 1 and motion["counter_body_velocity_rms_m_s"] > 0
+    header, *rows = (tmp_path / "m" / "timeseries.csv").read_text().splitlines()
+    rail = [float(r.split(",")[-1]) for r in rows[-200:]]
+    assert header.endswith(",v_counter_body_m_s") and max(abs(x) for x in rail) > 0

@@ -232,6 +232,12 @@ FIELDS |= {
     "pinned_pinned_vertical_hz": Field("Hz", "the vertical pinned-pinned frequency (a simply supported bay)"),
     "poles": Field("-", "the modal terms of the fit"),
     "position": Field("-", "where in the sleeper bay the contact is"),
+    "contact_velocity_rms_m_s": Field("m/s", "rms slip velocity at the contact, the record's last quarter"),
+    "counter_body_velocity_rms_m_s": Field("m/s", "rms of the counter-body's own lateral velocity there"),
+    "counter_body_velocity_share": Field("", "the counter-body's velocity over the slip velocity (rms)"),
+    "counter_body_power_w": Field("W", "mean power the contact force puts into the counter-body there"),
+    "counter_body_energy_share": Field("", "the counter-body's share of the limit cycle's vibration energy"),
+    "v_counter_body_m_s": Field("m/s", "the counter-body's own lateral velocity at the contact (0: rigid)"),
 }
 
 #: JSON objects that hold fields
@@ -259,6 +265,7 @@ GROUPS: dict[str, str] = {
     "fit_lateral": "the modal fit of the rail's lateral receptance at the contact (poles, band, error)",
     "remedy": "with squeal: what stops every growing mode (damping per mode, friction, separation), checked",
     "separations": "per coupled pair: the frequency its higher partner must reach for the pair to decay",
+    "counter_body_motion": "the counter-body at the end of the record: its velocity, power and energy shares",
     "timeseries_csv": "what timeseries.csv holds (its columns, SI units, and its sample stride)",
     "rotation_off": "mitigation with the wheel's rotation left out",
     "rotation_on": "mitigation with rotation",

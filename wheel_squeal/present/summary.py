@@ -116,6 +116,15 @@ def analysis_summary(a: Analysis, max_file_bytes: float = MAX_FILE_BYTES) -> dic
         out["limit_cycle"] = sim["limit_cycle"]
         from reduced.report import TIMESERIES_COLUMNS, timeseries_stride
 
+        if a.design.counter_body.dofs():
+            from reduced.report import counter_body_motion
+
+            shares = o.shares or {}
+            own = set(a.design.counter_body.dof_labels())
+            out["counter_body_motion"] = {
+                **counter_body_motion(o.simulation.history),
+                "counter_body_energy_share": sum(v for k, v in shares.items() if k in own),
+            }
         out["timeseries_csv"] = {
             "columns": list(TIMESERIES_COLUMNS),
             "what": "the squeal model's time history at the contact point, SI units",

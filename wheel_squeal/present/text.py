@@ -171,7 +171,13 @@ def shares_text(o: ModeOutcome) -> str:
     """Which mode carries the limit cycle of the modes integrated together, with every
     degree of freedom's share of its vibration energy."""
     assert o.shares is not None and o.simulation is not None
-    share = ", ".join(f"{label} {s:.1%}" for label, s in o.shares.items())
+    wheel = {m.label() for m in o.group}
+    parts = [f"{label} {s:.1%}" for label, s in o.shares.items() if label in wheel]
+    others = {label: s for label, s in o.shares.items() if label not in wheel}
+    if others:  # the counter-body's terms together (a rail has some fifty)
+        name = next(iter(others)).split()[0]
+        parts.append(f"the {name} ({len(others)} terms) {sum(others.values()):.1%}")
+    share = ", ".join(parts)
     return (
         f"the {len(o.group)} modes that grow together: {o.label} carries the limit cycle at "
         f"{o.tone_hz:.1f} Hz; energy shares: {share}"
@@ -366,6 +372,14 @@ def analysis_text(a: Analysis) -> str:
         if outcome is not None and outcome.shares is not None and outcome.simulation is not None:
             lines.append(shares_text(outcome))
             break
+    if o is not None and o.simulation is not None and a.design.counter_body.KIND == "track":
+        from reduced.report import counter_body_motion
+
+        m = counter_body_motion(o.simulation.history)
+        lines.append(
+            f"the rail at the end of the record: {m['counter_body_velocity_share']:.1%} of the slip velocity "
+            f"(rms {m['counter_body_velocity_rms_m_s']:.3g} m/s), {m['counter_body_power_w']:.3g} W into it"
+        )
     heard = a.verdict.outcome
     if heard is not None and heard.sound is not None:
         lines.append(sound_text(heard.sound.summary()))
