@@ -133,6 +133,7 @@ def written(tmp_path_factory) -> dict[str, Path]:
         "simulate": ("simulate", "--quiet", "--mass", "3.1", "--stiffness", "1.6e8", "--damping", "42"),
         "study": ("study", str(ROOT / "studies" / "smoke.toml"), "--quiet", *cache),
         "track": ("track", "--design", "railway_920_track", "--points", "20", "--quiet"),
+        "curve": ("curve", "--design", "railway_920_track", "--radius", "150", "--train-speed", "40", *fast),
     }
     out = {}
     for name, args in runs.items():

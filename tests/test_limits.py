@@ -626,7 +626,7 @@ def test_a_terminated_run_cleans_up_as_an_interrupted_one(tmp_path):
         stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
     )  # fmt: skip
     time.sleep(4.0)  # meshing or solving
-    assert p.poll() is None
+    assert p.poll() is None, p.communicate()  # (what it said, if it ended early)
     p.send_signal(signal.SIGTERM)
     _, err = p.communicate(timeout=30)
     assert p.returncode == 143 and "terminated" in err

@@ -7,7 +7,7 @@ from __future__ import annotations
 from collections.abc import Callable
 
 from .fe import cmd_mesh, cmd_modes, cmd_render
-from .sound import cmd_sound, cmd_track
+from .sound import cmd_curve, cmd_sound, cmd_track
 from .squeal import cmd_compare, cmd_run, cmd_simulate, cmd_stability, cmd_sweep
 from .study import cmd_study
 from .tools import cmd_cache, cmd_calibrate, cmd_converge, cmd_designs
@@ -22,6 +22,7 @@ COMMANDS: dict[str, Callable[..., int]] = {
     "stability": cmd_stability,
     "sound": cmd_sound,
     "track": cmd_track,
+    "curve": cmd_curve,
     "simulate": cmd_simulate,
     "sweep": cmd_sweep,
     "compare": cmd_compare,

@@ -75,6 +75,7 @@ def build_parser(prog: str = "wheel-squeal") -> CommandParser:
         _add_stability_command,
         _add_sound_command,
         _add_track_command,
+        _add_curve_command,
         _add_study_command,
         _add_render_command,
         _add_calibrate_command,
@@ -227,6 +228,26 @@ def _add_track_command(sub: argparse._SubParsersAction) -> None:
         "--fmax", type=positive, default=5000.0, help="highest frequency [Hz] (default %(default)g)"
     )
     p.add_argument("--points", type=count, default=300, help="frequencies, log-spaced (default %(default)d)")
+
+
+def _add_curve_command(sub: argparse._SubParsersAction) -> None:
+    p = sub.add_parser("curve", help="each wheel of a bogie in curves of radius R at train speed V")
+    add_common(p)
+    add_fe(p, mode=False)
+    p.add_argument(
+        "--radius", type=grid_axis, required=True, help="curve radii [m]: a comma list or START:STOP:N"
+    )
+    p.add_argument(
+        "--train-speed", type=grid_axis, required=True, help="train speeds [km/h]: a list or START:STOP:N"
+    )
+    p.add_argument(
+        "--wheelbase", type=positive, default=2.5, help="the bogie's wheelbase 2a [m] (default %(default)g)"
+    )
+    p.add_argument("--bogie", choices=["rigid", "symmetric"], default="rigid",
+                   help="rigid: leading axle flanging, trailing radial; symmetric: both yawed")  # fmt: skip
+    p.add_argument("--sound", action="store_true", help="the limit cycles and the pass-by level (slower)")
+    p.add_argument("--ground-reflection", type=non_negative, default=0.0,
+                   help="the ground's reflection factor at the pass-by (default 0: free field)")  # fmt: skip
 
 
 def _add_study_command(sub: argparse._SubParsersAction) -> None:

@@ -111,6 +111,31 @@ def squeal_report(sim: Simulation, dof: ModalDOF, label: str | None = None) -> s
     return "\n".join(lines)
 
 
+def curve_table(rows: Sequence[dict]) -> str:
+    """Each wheel at each radius and train speed: its angle of attack, creepage, verdict
+    and the bogie's pass-by level."""
+
+    def num(v: Any, fmt: str, width: int) -> str:
+        return f"{v:{width}{fmt}}" if v is not None else f"{NONE:>{width}}"
+
+    lines = [
+        f"{'R [m]':>7} {'V [km/h]':>8} {'wheel':<16} {'psi [mrad]':>10} {'creepage':>9} {'verdict':<18} "
+        f"{'mechanism':<17} {'tone [Hz]':>9} {'growth [1/s]':>12} {'LpAmax [dB(A)]':>14}"
+    ]
+    for r in rows:
+        lines.append(
+            f"{r['radius_m']:7.0f} {r['train_speed_km_h']:8.0f} {r['axle'] + ' ' + r['rail']:<16} "
+            f"{1e3 * r['angle_of_attack_rad']:10.2f} {r['lateral_creepage']:9.4f} "
+            f"{(r['verdict_mode'] if r['squeals'] else 'no squeal'):<18} {r['mechanism'] or '-':<17} "
+            f"{num(r['tone_hz'], '.1f', 9)} {num(r['growth_rate_1_s'], '.3g', 12)} "
+            f"{num(r['passby_lpamax_dba'], '.1f', 14)}"
+        )
+    lines.append(
+        "LpAmax: the bogie's pass-by 7.5 m away, 1.2 m above the rail head (free field unless a ground)"
+    )
+    return "\n".join(lines)
+
+
 def compare_table(rows: Sequence[dict]) -> str:
     """The designs side by side, as text, in the rows' order (loudest sound power first),
     each at its own operating point, with levels at the common distances."""
