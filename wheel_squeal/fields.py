@@ -12,6 +12,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from .rail_fields import CURVE_COLUMNS, RAIL_FIELDS, RECEPTANCE_COLUMNS
+
 __all__ = [
     "FIELDS",
     "FILES",
@@ -210,44 +212,7 @@ FIELDS: dict[str, Field] = {
     "z_m": Field("m", "axial position of the contact point"),
 }
 
-#: receptance.csv's columns: the rail's receptance per direction and position, in parts
-_RECEPTANCES = [(d, at) for d in ("vertical", "lateral") for at in ("support", "midspan")]
-_WHERE = {"support": "a sleeper", "midspan": "midspan"}
-_PARTS = (("re", "real"), ("im", "imaginary"))
-FIELDS |= {
-    f"{d}_{at}_{part}": Field("m/N", f"{name} part of the rail's {d} receptance at {_WHERE[at]}")
-    for d, at in _RECEPTANCES for part, name in _PARTS
-}  # fmt: skip
-#: the track's and the rail's fields (the track command, a verdict on a track)
-FIELDS |= {
-    "band_hz": Field("Hz", "the band fitted"),
-    "convention": Field("-", "the receptances' sign convention"),
-    "counter_body_effect_1_s": Field("1/s", "on a track: what the rail adds to the fastest growth rate"),
-    "counter_body_growth_rate_1_s": Field("1/s", "the counter-body's own eigenvalue's growth (null: none)"),
-    "frequency_range_hz": Field("Hz", "the frequency grid's ends"),
-    "max_relative_error": Field(
-        "", "the fit's largest error relative to the receptance's third-octave level"
-    ),
-    "pinned_pinned_lateral_hz": Field("Hz", "the lateral pinned-pinned frequency (a simply supported bay)"),
-    "pinned_pinned_vertical_hz": Field("Hz", "the vertical pinned-pinned frequency (a simply supported bay)"),
-    "poles": Field("-", "the modal terms of the fit"),
-    "position": Field("-", "where in the sleeper bay the contact is"),
-    "radius_m": Field("m", "the curve's radius"),
-    "train_speed_km_h": Field("km/h", "the train's speed"),
-    "axle": Field("-", "the bogie's axle: leading or trailing"),
-    "rail": Field("-", "the wheel's rail: inner or outer"),
-    "lateral_creepage": Field("", "tan(psi): the crabbing velocity over the rolling speed"),
-    "passby_lpamax_dba": Field("dB(A) re 20 uPa", "the bogie's L_pAmax at 7.5 m, 1.2 m above the rail head"),
-    "passby_sel_dba": Field("dB(A) re 20 uPa^2 s", "the bogie's sound exposure level there"),
-    "wheelbase_m": Field("m", "the bogie's wheelbase 2a"),
-    "bogie": Field("-", "how the bogie sits in the curve: rigid or symmetric"),
-    "contact_velocity_rms_m_s": Field("m/s", "rms slip velocity at the contact, the record's last quarter"),
-    "counter_body_velocity_rms_m_s": Field("m/s", "rms of the counter-body's own lateral velocity there"),
-    "counter_body_velocity_share": Field("", "the counter-body's velocity over the slip velocity (rms)"),
-    "counter_body_power_w": Field("W", "mean power the contact force puts into the counter-body there"),
-    "counter_body_energy_share": Field("", "the counter-body's share of the limit cycle's vibration energy"),
-    "v_counter_body_m_s": Field("m/s", "the counter-body's own lateral velocity at the contact (0: rigid)"),
-}
+FIELDS |= {k: Field(*v) for k, v in RAIL_FIELDS.items()}
 
 #: JSON objects that hold fields
 GROUPS: dict[str, str] = {
@@ -371,30 +336,11 @@ FILES: dict[str, OutputFile] = {
     "receptance.csv": OutputFile(
         ("track",),
         "the rail's point receptances, exp(+i omega t)",
-        ("frequency_hz", *(f"{d}_{at}_{part}" for d, at in _RECEPTANCES for part, _ in _PARTS)),
+        ("frequency_hz", *RECEPTANCE_COLUMNS),
     ),  # fmt: skip
     "curve.csv": OutputFile(
-        ("curve",),
-        "each wheel of the bogie at each curve radius and train speed",
-        (
-            "radius_m",
-            "train_speed_km_h",
-            "axle",
-            "rail",
-            "angle_of_attack_rad",
-            "lateral_creepage",
-            "crabbing_velocity_m_s",
-            "rolling_speed_m_s",
-            "squeals",
-            "verdict_mode",
-            "mechanism",
-            "tone_hz",
-            "growth_rate_1_s",
-            "amplitude_m_s",
-            "passby_lpamax_dba",
-            "passby_sel_dba",
-        ),
-    ),  # fmt: skip
+        ("curve",), "each wheel of the bogie at each curve radius and train speed", CURVE_COLUMNS
+    ),
     "compare.csv": OutputFile(
         ("compare",),
         "one row per design, loudest sound power first",

@@ -1,0 +1,55 @@
+"""The fields of the rail and of curves, in the field reference (:mod:`wheel_squeal.fields`
+takes them): the track command's receptances and fits, a verdict on a track, the rail's
+part of a limit cycle, and the curve command's cases. Each is (unit, meaning)."""
+
+from __future__ import annotations
+
+__all__ = ["CURVE_COLUMNS", "RAIL_FIELDS", "RECEPTANCE_COLUMNS"]
+
+#: receptance.csv's columns after the frequency: each direction and position, in parts
+RECEPTANCE_COLUMNS = tuple(
+    f"{d}_{at}_{part}"
+    for d in ("vertical", "lateral")
+    for at in ("support", "midspan")
+    for part in ("re", "im")
+)
+#: curve.csv's columns
+CURVE_COLUMNS = (
+    "radius_m", "train_speed_km_h", "axle", "rail", "angle_of_attack_rad", "lateral_creepage",
+    "crabbing_velocity_m_s", "rolling_speed_m_s", "squeals", "verdict_mode", "mechanism", "tone_hz",
+    "growth_rate_1_s", "amplitude_m_s", "passby_lpamax_dba", "passby_sel_dba",
+)  # fmt: skip
+_WHERE = {"support": "a sleeper", "midspan": "midspan"}
+_PART = {"re": "real", "im": "imaginary"}
+
+#: name -> (unit, meaning)
+RAIL_FIELDS: dict[str, tuple[str, str]] = {
+    **{c: ("m/N", f"{_PART[c.split('_')[2]]} part of the rail's {c.split('_')[0]} receptance at "
+                  f"{_WHERE[c.split('_')[1]]}") for c in RECEPTANCE_COLUMNS},
+    "band_hz": ("Hz", "the band fitted"),
+    "convention": ("-", "the receptances' sign convention"),
+    "counter_body_effect_1_s": ("1/s", "on a track: what the rail adds to the fastest growth rate"),
+    "counter_body_growth_rate_1_s": ("1/s", "the counter-body's own eigenvalue's growth (null: none)"),
+    "frequency_range_hz": ("Hz", "the frequency grid's ends"),
+    "max_relative_error": ("", "the fit's largest error relative to the receptance's third-octave level"),
+    "pinned_pinned_lateral_hz": ("Hz", "the lateral pinned-pinned frequency (a simply supported bay)"),
+    "pinned_pinned_vertical_hz": ("Hz", "the vertical pinned-pinned frequency (a simply supported bay)"),
+    "poles": ("-", "the modal terms of the fit"),
+    "position": ("-", "where in the sleeper bay the contact is"),
+    "angle_of_attack_rad": ("rad", "the angle of attack psi (2a/R at a rigid bogie's leading axle)"),
+    "radius_m": ("m", "the curve's radius"),
+    "train_speed_km_h": ("km/h", "the train's speed"),
+    "axle": ("-", "the bogie's axle: leading or trailing"),
+    "rail": ("-", "the wheel's rail: inner or outer"),
+    "lateral_creepage": ("", "tan(psi): the crabbing velocity over the rolling speed"),
+    "passby_lpamax_dba": ("dB(A) re 20 uPa", "the bogie's L_pAmax at 7.5 m, 1.2 m above the rail head"),
+    "passby_sel_dba": ("dB(A) re 20 uPa^2 s", "the bogie's sound exposure level there"),
+    "wheelbase_m": ("m", "the bogie's wheelbase 2a"),
+    "bogie": ("-", "how the bogie sits in the curve: rigid or symmetric"),
+    "contact_velocity_rms_m_s": ("m/s", "rms slip velocity at the contact, the record's last quarter"),
+    "counter_body_velocity_rms_m_s": ("m/s", "rms of the counter-body's own lateral velocity there"),
+    "counter_body_velocity_share": ("", "the counter-body's velocity over the slip velocity (rms)"),
+    "counter_body_power_w": ("W", "mean power the contact force puts into the counter-body there"),
+    "counter_body_energy_share": ("", "the counter-body's share of the limit cycle's vibration energy"),
+    "v_counter_body_m_s": ("m/s", "the counter-body's own lateral velocity at the contact (0: rigid)"),
+}  # fmt: skip
