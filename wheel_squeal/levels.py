@@ -45,6 +45,9 @@ __all__ = [
 HARMONIC_ENERGY_SHARE = 0.99
 #: ... and are at most this many, none above this frequency [Hz]
 MAX_HARMONICS, MAX_HARMONIC_HZ = 8, 10_000.0
+#: A record whose zero crossings give a frequency this far (relative) from the verdict's
+#: tone is analysed over whole periods of the tone instead
+TONE_MISMATCH = 0.1
 #: The limit cycle's harmonics and band levels are taken over its last this many periods
 LIMIT_CYCLE_PERIODS = 50
 #: The distances from the wheel centre the far levels are given at [m] (a listener at
@@ -111,6 +114,12 @@ def harmonic_velocities(
     h = simulation.history
     periods = max(1, min(LIMIT_CYCLE_PERIODS, int(0.25 * (h.t[-1] - h.t[0]) * f0_hz)))
     start, end, count = whole_periods(h.t, h.v, periods)
+    if abs(count / (end - start) / f0_hz - 1.0) > TONE_MISMATCH:
+        # the record is not periodic at the tone (several frequencies, not settled): its
+        # zero crossings count another frequency; take whole periods of the tone itself
+        count = periods
+        end = float(h.t[-1])
+        start = end - count / f0_hz
     samples = periodic_samples(h.t, h.v, start, end, count * SAMPLES_PER_PERIOD)
     k_max = max(1, min(MAX_HARMONICS, int(MAX_HARMONIC_HZ / mode_frequency_hz)))
     amps = harmonic_amplitudes(samples, count, k_max)
