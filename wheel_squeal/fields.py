@@ -293,8 +293,8 @@ FILES: dict[str, OutputFile] = {
     ),
     "timeseries.csv": OutputFile(
         ("run", "simulate"),
-        "the time history at the contact (a comment line, then the columns)",
-        ("t_s", "y_m", "v_m_s", "creepage", "Q_N", "P_W", "u_n_m", "N_N"),
+        "the time history at the contact (one header line; every k-th sample: summary.json)",
+        ("t_s", "y_m", "v_m_s", "creepage", "Q_N", "P_W", "u_n_m", "N_N", "v_counter_body_m_s"),
     ),
     "sweep.csv": OutputFile(
         ("sweep",),
