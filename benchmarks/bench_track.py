@@ -10,7 +10,6 @@ repeated runs, measured in the same process.
 from __future__ import annotations
 
 import argparse
-import statistics
 import sys
 import time
 from pathlib import Path
@@ -18,21 +17,14 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
+from bench_coupling import median_seconds  # noqa: E402  (the same medians, a script beside this one)
+
 import reduced as r  # noqa: E402
 import wheel_squeal as ws  # noqa: E402
 from wheel_squeal.stability import contact_dofs, excitable, mode_dofs  # noqa: E402
 
 #: the modes the benchmark takes (the issue's size)
 MODES = 30
-
-
-def median_seconds(fn, repeat: int) -> float:
-    times = []
-    for _ in range(repeat):
-        t0 = time.perf_counter()
-        fn()
-        times.append(time.perf_counter() - t0)
-    return statistics.median(times)
 
 
 def main() -> None:

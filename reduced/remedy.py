@@ -67,11 +67,6 @@ def _round_down(x: float, digits: int = 2) -> float:
     return float(round(math.floor(x / step * (1 + 1e-12)) * step, 12))
 
 
-def damping_ratios(modes: Sequence[ModalDOF]) -> np.ndarray:
-    """Each degree of freedom's modal damping ratio c / (2 sqrt(k m)) [-]."""
-    return np.array([md.damping_ns_m / (2.0 * math.sqrt(md.stiffness_n_m * md.mass_kg)) for md in modes])
-
-
 def _with_ratios(modes: Sequence[ModalDOF], zeta: np.ndarray) -> list[ModalDOF]:
     return [md.with_damping_ratio(float(z)) for md, z in zip(modes, zeta)]
 
@@ -171,7 +166,7 @@ def damping_to_stop(
     n = len(modes)
     linear = LinearContact.at(contact, op)
     allowed = set(range(n) if adjustable is None else adjustable)
-    zeta = damping_ratios(modes)
+    zeta = np.array([md.damping_ratio for md in modes])
     raised: set[int] = set()
     rounds = 2 * n + 4 if max_rounds is None else max_rounds
 
@@ -305,7 +300,7 @@ def separation_to_stop(
     linear = LinearContact.at(contact, op)
     hi = max(pair, key=lambda k: modes[k].angular_frequency_rad_s)
     f0 = modes[hi].angular_frequency_rad_s / (2 * math.pi)
-    zeta = damping_ratios(modes)[hi]
+    zeta = modes[hi].damping_ratio
 
     def grows_with(shift_hz: float) -> float:
         md = modes[hi]

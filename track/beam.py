@@ -5,7 +5,7 @@ The rail is discretised by two-node Timoshenko elements (the interdependent-inte
 stiffness, free of shear locking, with phi = 12 EI / (kappa G A l^2); the consistent
 translational and rotatory mass), a finite length ``spans`` sleeper bays long with the
 load at its middle, so that the waves the load sends out have decayed before they return
-(:func:`length_enough` says how far). Each support is a rail pad (complex stiffness
+(the ends absorb: :data:`ABSORBING_SPANS`). Each support is a rail pad (complex stiffness
 k_p (1 + i eta_p)) on a sleeper mass on ballast (k_b (1 + i eta_b)) to the ground; a
 continuous support is a distributed complex stiffness s per unit length. The rail's own
 loss factor eta_r makes its bending stiffness complex. Time dependence exp(+i omega t): a
@@ -315,9 +315,3 @@ def pinned_pinned_frequency_hz(beam: BeamSection, span_m: float) -> float:
     c = ei * k2 * k2
     w2 = min(r.real for r in np.roots([a, b, c]) if r.real > 0)
     return math.sqrt(w2) / (2 * math.pi)
-
-
-def length_enough(decay_db_per_m: float, spans: int, spacing_m: float) -> bool:
-    """Whether waves decaying at ``decay_db_per_m`` lose 40 dB over the way to an end and
-    back (the finite model then stands for the infinite track)."""
-    return decay_db_per_m * spans * spacing_m >= 40.0

@@ -22,7 +22,6 @@ limit cycle".
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
@@ -35,7 +34,7 @@ if TYPE_CHECKING:
     from .api import Simulation
     from .levels import SquealSound
 
-__all__ = ["LEVELS", "LOWEST_SQUEAL_HZ", "ModeOutcome", "Verdict", "wave_frequency_hz", "wave_of"]
+__all__ = ["LEVELS", "LOWEST_SQUEAL_HZ", "ModeOutcome", "Verdict", "wave_of"]
 
 #: An oscillation below this frequency [Hz] (the lower limit of hearing) is an
 #: instability, not a squeal: no level or sound file is given for it
@@ -53,13 +52,6 @@ def wave_of(mode: Mode, frequency_hz: float, wheel_speed_rad_s: float) -> Wave:
     if wheel_speed_rad_s == 0.0 or mode.nodal_diameters == 0:
         return "standing"
     return "backward" if frequency_hz < mode.frequency_hz else "forward"
-
-
-def wave_frequency_hz(mode: Mode, wave: Wave, wheel_speed_rad_s: float) -> float:
-    """The tone of ``wave`` at the contact and a microphone fixed in space [Hz]: f0, or
-    f0 -/+ n Omega / 2 pi."""
-    shift = mode.nodal_diameters * wheel_speed_rad_s / (2 * math.pi)
-    return mode.frequency_hz + {"standing": 0.0, "backward": -shift, "forward": shift}[wave]
 
 
 @dataclass(frozen=True)

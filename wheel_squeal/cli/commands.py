@@ -7,10 +7,11 @@ from __future__ import annotations
 from collections.abc import Callable
 
 from .fe import cmd_mesh, cmd_modes, cmd_render
-from .sound import cmd_curve, cmd_sound, cmd_track
+from .sound import cmd_sound
 from .squeal import cmd_compare, cmd_run, cmd_simulate, cmd_stability, cmd_sweep
 from .study import cmd_study
 from .tools import cmd_cache, cmd_calibrate, cmd_converge, cmd_designs
+from .track import cmd_curve, cmd_track
 
 __all__ = ["COMMANDS"]
 
