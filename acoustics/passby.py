@@ -25,7 +25,15 @@ import numpy as np
 
 from .medium import AIR, Air
 
-__all__ = ["MICROPHONE_HEIGHT_M", "MICROPHONE_DISTANCE_M", "PassbySource", "PassbyResult", "passby"]
+__all__ = [
+    "GROUND_DEPTH_M",
+    "MICROPHONE_HEIGHT_M",
+    "MICROPHONE_DISTANCE_M",
+    "PassbySource",
+    "PassbyResult",
+    "passby",
+    "passby_pressure",
+]
 
 #: The ISO 3095 microphone: its distance from the track centre line and height above the
 #: rail head [m]
@@ -35,6 +43,9 @@ MICROPHONE_DISTANCE_M, MICROPHONE_HEIGHT_M = 7.5, 1.2
 HALF_TRACK_M = 0.75
 #: The reference pressure [Pa]
 P_REF_PA = 20e-6
+#: The ground's depth below the rail head [m]: the rail (0.17 m) on its sleeper and
+#: ballast shoulder (about 0.3 m), the plane the image source is mirrored in
+GROUND_DEPTH_M = 0.5
 
 
 @dataclass(frozen=True)
@@ -69,11 +80,15 @@ class PassbySource:
     a_weighting_db: float = 0.0
 
 
+def _level(x: float) -> float:
+    return 10 * math.log10(x / P_REF_PA**2) if x > 0 else -math.inf
+
+
 @dataclass(frozen=True)
 class PassbyResult:
     """The pass-by: time [s] (0: the bogie's centre passes), the mean-square pressure
     [Pa^2] of all sources and of each, L_pmax and L_pAmax [dB re 20 uPa], SEL and SEL_A
-    [dB re 20 uPa^2 s]."""
+    [dB re 20 uPa^2 s]; each source's tone [Hz] and A-weighting [dB]."""
 
     t: np.ndarray
     mean_square_pa2: np.ndarray
@@ -82,6 +97,31 @@ class PassbyResult:
     lpamax_dba: float
     sel_db: float
     sel_dba: float
+    frequencies_hz: np.ndarray
+    a_weighting_db: np.ndarray
+
+    def levels_of(self, sources: Sequence[int]) -> tuple[float, float, float, float]:
+        """(L_pmax, L_pAmax, SEL, SEL_A) [dB] of the sources ``sources`` (indices) alone."""
+        idx = list(sources)
+        each = self.each_pa2[idx]
+        total = each.sum(axis=0)
+        total_a = (each * 10 ** (self.a_weighting_db[idx, None] / 10)).sum(axis=0)
+        dt = float(self.t[1] - self.t[0]) if len(self.t) > 1 else 0.0
+        return (_level(float(total.max(initial=0.0))), _level(float(total_a.max(initial=0.0))),
+                _level(float(total.sum() * dt)), _level(float(total_a.sum() * dt)))  # fmt: skip
+
+    def band_maxima_db(self, centres_hz: Sequence[float], a_weighted: bool = False) -> np.ndarray:
+        """The largest level over the pass-by [dB re 20 uPa] in each one-third-octave band
+        of centre ``centres_hz`` (its sources' tones within the band's edges, centre
+        times 10^(+-1/20)), A-weighted at each tone if ``a_weighted``; -inf where no
+        tone falls in a band."""
+        weight = 10 ** (self.a_weighting_db / 10) if a_weighted else np.ones(len(self.frequencies_hz))
+        out = np.full(len(centres_hz), -math.inf)
+        for i, centre in enumerate(centres_hz):
+            inside = (self.frequencies_hz >= centre * 10**-0.05) & (self.frequencies_hz < centre * 10**0.05)
+            if inside.any():
+                out[i] = _level(float((self.each_pa2[inside] * weight[inside, None]).sum(axis=0).max()))
+        return out
 
 
 def _angle_weight(d: np.ndarray, facing: float) -> np.ndarray:
@@ -117,7 +157,7 @@ def passby(
     *,
     distance_m: float = MICROPHONE_DISTANCE_M,
     height_m: float = MICROPHONE_HEIGHT_M,
-    ground_depth_m: float = 0.5,
+    ground_depth_m: float = GROUND_DEPTH_M,
     reflection: float = 0.0,
     air: Air = AIR,
     samples: int = 4001,
@@ -155,16 +195,60 @@ def passby(
         a_each[i] = each[i] * 10 ** (s.a_weighting_db / 10)
     total, total_a = each.sum(axis=0), a_each.sum(axis=0)
     dt = float(t[1] - t[0])
-
-    def level(x: float) -> float:
-        return 10 * math.log10(x / P_REF_PA**2) if x > 0 else -math.inf
-
     return PassbyResult(
         t,
         total,
         each,
-        level(float(total.max())),
-        level(float(total_a.max())),
-        level(float(total.sum() * dt)),
-        level(float(total_a.sum() * dt)),
+        _level(float(total.max())),
+        _level(float(total_a.max())),
+        _level(float(total.sum() * dt)),
+        _level(float(total_a.sum() * dt)),
+        np.array([s.frequency_hz for s in sources], float),
+        np.array([s.a_weighting_db for s in sources], float),
     )
+
+
+def passby_pressure(
+    sources: Sequence[PassbySource],
+    speed_m_s: float,
+    duration_s: float,
+    rate_hz: float,
+    *,
+    distance_m: float = MICROPHONE_DISTANCE_M,
+    height_m: float = MICROPHONE_HEIGHT_M,
+    ground_depth_m: float = GROUND_DEPTH_M,
+    reflection: float = 0.0,
+    air: Air = AIR,
+) -> tuple[np.ndarray, np.ndarray]:
+    """The pressure [Pa] at the microphone over ``duration_s`` centred on the bogie's
+    passing (time [s], pressure), sampled at ``rate_hz``: each source's tone as it
+    arrives, emitted at the retarded time t_e (t = t_e + r(t_e) / c, solved by
+    fixed-point iteration: the error shrinks by V/c each step), so that its frequency
+    falls as it passes (Doppler, f c / (c - V cos)) and its level follows its distance
+    and directivity; the image source over the ground as in :func:`passby`. The
+    orientation of a mode's nodal diameters is not known: its amplitude is the rms
+    over it (sqrt(1/2) for n >= 1), so that the signal's mean square matches
+    :func:`passby`'s."""
+    c = air.sound_speed_m_s
+    if not (0 < speed_m_s < 0.5 * c):
+        raise ValueError(f"speed {speed_m_s!r} m/s: positive and well below the speed of sound")
+    t = (np.arange(int(round(duration_s * rate_hz))) - 0.5 * duration_s * rate_hz) / rate_hz
+    microphone = np.array([0.0, distance_m, height_m])
+    p = np.zeros_like(t)
+    for s in sources:
+        facing = 1.0 if s.across_m >= 0 else -1.0
+        around = math.sqrt(0.5) if s.nodal_diameters >= 1 else 1.0
+        for depth_sign, factor in ((1.0, 1.0), (-1.0, reflection)):
+            if factor == 0.0:
+                continue
+            height = s.centre_height_m if depth_sign > 0 else -2 * ground_depth_m - s.centre_height_m
+            fixed = np.array([0.0, s.across_m, height]) - microphone
+            t_e = t.copy()
+            for _ in range(6):
+                along = s.along_m + speed_m_s * t_e
+                r = np.sqrt(along**2 + fixed[1] ** 2 + fixed[2] ** 2)
+                t_e = t - r / c
+            d = np.stack([-along, -np.full_like(along, fixed[1]), -np.full_like(along, fixed[2])], axis=1)
+            mag = np.interp(_angle_weight(d, facing), s.angles_rad, s.directivity_pa_m)
+            p += factor * around * mag / r * np.cos(2 * math.pi * s.frequency_hz * t_e)
+    return t, p

@@ -30,7 +30,13 @@ from .model import (
     simulate,
     simulate_reference,
 )
-from .predictor import LimitCyclePrediction, mean_power_per_cycle, predict_limit_cycle
+from .predictor import (
+    LimitCyclePrediction,
+    equivalent_mode,
+    harmonic_distortion,
+    mean_power_per_cycle,
+    predict_limit_cycle,
+)
 from .report import (
     summary_dicts,
     write_time_history_plots,
@@ -86,6 +92,8 @@ __all__ = [
     "LimitCyclePrediction",
     "mean_power_per_cycle",
     "predict_limit_cycle",
+    "equivalent_mode",
+    "harmonic_distortion",
     "SweepResult",
     "sweep",
     "longest_record_s",

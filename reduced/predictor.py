@@ -35,7 +35,7 @@ from .creep import ContactLaw, adhesion_ratio
 from .limit_cycle import analytic_growth_rate
 from .model import ModalDOF, OperatingPoint
 
-__all__ = ["LimitCyclePrediction", "mean_power_per_cycle", "predict_limit_cycle"]
+__all__ = ["LimitCyclePrediction", "equivalent_mode", "mean_power_per_cycle", "predict_limit_cycle"]
 
 #: harmonic distortion of the contact force above which the prediction is flagged
 DISTORTION_WARNING = 0.1
@@ -82,6 +82,38 @@ class LimitCyclePrediction:
     initial_amplitude_m_s: float
     velocity_amplitude_m_s: float
     squeal: bool
+
+
+def equivalent_mode(
+    mode: ModalDOF, contact: ContactLaw, op: OperatingPoint, growth_rate_1_s: float
+) -> tuple[ModalDOF, bool]:
+    """``mode`` alone on a rigid counter-body with its damping changed so that its linear
+    growth rate at ``op`` is ``growth_rate_1_s`` [1/s] (what the mode has among the others
+    and on a compliant counter-body, from the full linear analysis): the counter-body's
+    and the other modes' linear effect lumped into the mode's damping,
+    c_eq = c - 2 m (sigma - sigma_1), sigma_1 the mode's own growth rate alone.
+
+    Returns the mode and whether c_eq had to be clipped at zero (the rest of the
+    system adds more than the mode's own damping removes: the lumped mode then grows
+    slower than asked, and the prediction is a lower bound).
+
+    Examples
+    --------
+    >>> import reduced as r
+    >>> law = r.ContactLaw.from_hertz(r.hertz_contact(0.213, 0.3, 0.085, 0.04, 175e9, 0.28, 1000.0),
+    ...                               friction_coefficient=0.3)
+    >>> op = r.OperatingPoint.from_rpm(800, 0.213, 0.39)
+    >>> eq, clipped = equivalent_mode(r.ModalDOF(3.1, 1.6e8, 42.0), law, op, 5.0)
+    >>> round(analytic_growth_rate(eq, law, op), 9), clipped
+    (5.0, False)
+    """
+    sigma_1 = analytic_growth_rate(mode, contact, op)
+    c_eq = mode.damping_ns_m - 2.0 * mode.mass_kg * (growth_rate_1_s - sigma_1)
+    clipped = c_eq < 0.0
+    eq = ModalDOF(
+        mode.mass_kg, mode.stiffness_n_m, max(c_eq, 0.0), mode.nodal_diameters, mode.lateral, mode.normal
+    )
+    return eq, clipped
 
 
 def mean_power_per_cycle(

@@ -32,6 +32,7 @@ from .budget import Budget
 from .cache import CacheMiss, StageCache
 from .chain import Analysis, ChainOptions, analyse
 from .context import RunContext
+from .curve import curve
 from .decision import Decision, decide
 from .design import Design
 from .envelope import envelope, mitigation
@@ -62,6 +63,7 @@ __all__ = [
     "analyse",
     "analysis_text",
     "compute_modes",
+    "curve",
     "decide",
     "envelope",
     "explicit_modes",

@@ -17,7 +17,8 @@ RECEPTANCE_COLUMNS = tuple(
 CURVE_COLUMNS = (
     "radius_m", "train_speed_km_h", "axle", "rail", "angle_of_attack_rad", "lateral_creepage",
     "crabbing_velocity_m_s", "rolling_speed_m_s", "squeals", "verdict_mode", "mechanism", "tone_hz",
-    "growth_rate_1_s", "amplitude_m_s", "passby_lpamax_dba", "passby_sel_dba",
+    "growth_rate_1_s", "amplitude_m_s", "amplitude_method", "harmonic_distortion", "passby_lpamax_dba",
+    "passby_sel_dba", "bogie_lpmax_db", "bogie_lpamax_dba", "bogie_sel_dba", "bogie_lpamax_ground_dba",
 )  # fmt: skip
 _WHERE = {"support": "a sleeper", "midspan": "midspan"}
 _PART = {"re": "real", "im": "imaginary"}
@@ -42,8 +43,24 @@ RAIL_FIELDS: dict[str, tuple[str, str]] = {
     "axle": ("-", "the bogie's axle: leading or trailing"),
     "rail": ("-", "the wheel's rail: inner or outer"),
     "lateral_creepage": ("", "tan(psi): the crabbing velocity over the rolling speed"),
-    "passby_lpamax_dba": ("dB(A) re 20 uPa", "the bogie's L_pAmax at 7.5 m, 1.2 m above the rail head"),
-    "passby_sel_dba": ("dB(A) re 20 uPa^2 s", "the bogie's sound exposure level there"),
+    "passby_lpamax_dba": ("dB(A) re 20 uPa", "the wheel's own L_pAmax passing 7.5 m away, 1.2 m above the "
+                          "rail head, in free field"),
+    "passby_sel_dba": ("dB(A) re 20 uPa^2 s", "the wheel's own A-weighted sound exposure level there"),
+    "bogie_lpmax_db": ("dB re 20 uPa", "the bogie's L_pmax there (its wheels in energy), free field"),
+    "bogie_lpamax_dba": ("dB(A) re 20 uPa", "the bogie's L_pAmax there, free field"),
+    "bogie_sel_dba": ("dB(A) re 20 uPa^2 s", "the bogie's A-weighted sound exposure level there, free field"),
+    "bogie_lpamax_ground_dba": ("dB(A) re 20 uPa", "the bogie's L_pAmax over the ground (null: none asked)"),
+    "amplitude_method": ("-", "how the squeal's amplitude was found: harmonic balance or time domain"),
+    "harmonic_distortion": ("", "the harmonic balance's contact-force distortion (< 0.1: within a few %)"),
+    "distance_m": ("m", "the pass-by microphone's distance from the track centre line"),
+    "height_m": ("m", "the pass-by microphone's height above the rail head"),
+    "ground": ("-", "the ground under the pass-by: free field, or its depth and reflection factor"),
+    "file": ("-", "the sound file of the loudest pass-by"),
+    "peak_pa": ("Pa", "the pressure at the sound file's full scale"),
+    "sample_rate_hz": ("Hz", "the sound file's sample rate"),
+    "findings": ("-", "where squeal stops per train speed, beside the field's anchors"),
+    "lpmax_db": ("dB re 20 uPa", "the largest level over the pass-by in the band"),
+    "lpamax_dba": ("dB(A) re 20 uPa", "the largest A-weighted level over the pass-by in the band"),
     "wheelbase_m": ("m", "the bogie's wheelbase 2a"),
     "bogie": ("-", "how the bogie sits in the curve: rigid or symmetric"),
     "contact_velocity_rms_m_s": ("m/s", "rms slip velocity at the contact, the record's last quarter"),

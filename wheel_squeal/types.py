@@ -10,6 +10,7 @@ from reduced.limit_cycle import State
 from reduced.stability import Mechanism
 
 __all__ = [
+    "AmplitudeMethod",
     "CounterBodyKind",
     "FidelityName",
     "FrictionLawName",
@@ -39,3 +40,6 @@ CounterBodyKind = Literal["roller"]
 LimitCycleState = State
 #: The stages of the chain, in order; a request stops after one of them.
 Stage = Literal["stability", "limit_cycle", "sound"]
+#: How the curve command finds a squealing wheel's amplitude: the harmonic balance of its
+#: squeal mode (``reduced.predict_limit_cycle``, fast) or the chain's time domain.
+AmplitudeMethod = Literal["harmonic balance", "time domain"]

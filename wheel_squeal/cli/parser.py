@@ -245,9 +245,12 @@ def _add_curve_command(sub: argparse._SubParsersAction) -> None:
     )
     p.add_argument("--bogie", choices=["rigid", "symmetric"], default="rigid",
                    help="rigid: leading axle flanging, trailing radial; symmetric: both yawed")  # fmt: skip
-    p.add_argument("--sound", action="store_true", help="the limit cycles and the pass-by level (slower)")
-    p.add_argument("--ground-reflection", type=non_negative, default=0.0,
-                   help="the ground's reflection factor at the pass-by (default 0: free field)")  # fmt: skip
+    p.add_argument("--time-domain", action="store_true",
+                   help="amplitudes and sound from the time domain (minutes per squealing axle; default: "
+                   "harmonic balance of the squeal mode)")  # fmt: skip
+    p.add_argument("--ground-reflection", type=non_negative,
+                   help="also the pass-by over a ground 0.5 m below the rail head with this reflection "
+                   "factor (0 to 1; default: free field only)")  # fmt: skip
 
 
 def _add_study_command(sub: argparse._SubParsersAction) -> None:

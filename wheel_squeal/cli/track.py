@@ -5,10 +5,14 @@ radius and train speed)."""
 from __future__ import annotations
 
 import argparse
+from typing import TYPE_CHECKING
 
 from ..errors import RequestError
 from ..outputs import result_folder, write_json
 from .common import context_of, design_of, out_of
+
+if TYPE_CHECKING:
+    from ..types import AmplitudeMethod
 
 __all__ = ["cmd_curve", "cmd_track"]
 
@@ -33,12 +37,12 @@ def cmd_track(args: argparse.Namespace) -> int:
 
 
 def cmd_curve(args: argparse.Namespace) -> int:
-    """curve.csv and summary.json: each wheel of the bogie at each radius and speed."""
+    """curve.csv, curve.nc, summary.json, the maps, the loudest pass-by's WAV and
+    report.html: each wheel of the bogie at each radius and speed."""
     from track.curving import Bogie
 
     from ..curve import curve
-    from ..fields import columns_of
-    from ..outputs import write_csv
+    from ..present.curve import write_curve_files
     from ..present.text import curve_table
 
     design = design_of(args)
@@ -48,23 +52,24 @@ def cmd_curve(args: argparse.Namespace) -> int:
         raise RequestError(str(exc)) from None
     if min(args.radius) <= 0 or min(args.train_speed) <= 0:
         raise RequestError("--radius and --train-speed take positive values")
+    q = args.ground_reflection
+    if q is not None and not 0.0 <= q <= 1.0:
+        raise RequestError(f"--ground-reflection {q:g}: a reflection factor from 0 (absorbing) to 1 (rigid)")
+    if design.counter_body.KIND != "track":
+        raise RequestError(
+            f"{design.name} rolls on a {design.counter_body.KIND}: a curve needs a design on a track"
+        )
+    method: AmplitudeMethod = "time domain" if args.time_domain else "harmonic balance"
     out = out_of(args, design.name)
     ctx = context_of(args)
     with result_folder(out, "curve") as tmp:
         n = len(args.radius) * len(args.train_speed)
-        with ctx.progress.stage(f"{n} curves x 4 wheels"):
-            cases = curve(
-                design, args.radius, args.train_speed, bogie,
-                stop_after="sound" if args.sound else "stability",
-                context=ctx, ground_reflection=args.ground_reflection,
-            )  # fmt: skip
-        rows = [c.to_record() for c in cases]
-        write_csv(tmp / "curve.csv", rows, columns_of("curve.csv"))
-        write_json(
-            tmp / "summary.json",
-            {"design": design.name, "wheelbase_m": args.wheelbase, "bogie": args.bogie,
-             "cases": [{**r, "verdict": c.analysis.verdict.to_dict()} for r, c in zip(rows, cases)]},
-        )  # fmt: skip
+        with ctx.progress.stage(f"{n} curves x 4 wheels ({method})"):
+            cases = curve(design, args.radius, args.train_speed, bogie, method=method, context=ctx,
+                          ground_reflection=q)  # fmt: skip
+        rows, summary = write_curve_files(tmp, design, bogie, cases, method, q)
     print(curve_table(rows))
+    for line in summary["findings"]:
+        print(line)
     print(f"-> {out}")
     return 0

@@ -28,7 +28,10 @@ from .text import verdict_lines
 if TYPE_CHECKING:
     from ..chain import Analysis
 
-__all__ = ["ASSUMPTIONS", "REPORT_NAME", "compare_report", "run_report", "study_report"]
+__all__ = [
+    "ASSUMPTIONS", "REPORT_NAME", "audio", "compare_report", "image",
+    "listing_report", "run_report", "study_report", "table",
+]  # fmt: skip
 
 REPORT_NAME = "report.html"
 
@@ -386,15 +389,29 @@ def compare_report(folder: Path, rows: Sequence[dict], analyses: Sequence[Analys
     return _write(folder, _page("Designs compared", "wheel-squeal compare", body))
 
 
-def study_report(
-    folder: Path, name: str, summary_lines: Sequence[str], inputs: Sequence[tuple[str, object]]
+def listing_report(
+    folder: Path,
+    title: str,
+    subtitle: str,
+    summary_lines: Sequence[str],
+    inputs: Sequence[tuple[str, object]],
+    sections: Sequence[tuple[str, str]] = (),
 ) -> Path:
-    """The report of ``study``: its summary and every plot in ``folder``."""
+    """A report of summary lines, further sections (title, HTML), every plot in
+    ``folder``, the inputs, the assumptions and the files."""
     body = [
         _section("Summary", "<ul>" + "".join(f"<li>{_e(x)}</li>" for x in summary_lines) + "</ul>"),
+        *(_section(t, part) for t, part in sections),
         _section("Plots", *(image(p, p.stem) for p in sorted(folder.glob("*.png")))),
         _section("Inputs", _pairs(list(inputs)), _pairs(versions())),
         _section("Assumptions and limits", _assumptions()),
         _section("Files", _files(folder)),
     ]
-    return _write(folder, _page(f"Study {name}", "wheel-squeal study", body))
+    return _write(folder, _page(title, subtitle, body))
+
+
+def study_report(
+    folder: Path, name: str, summary_lines: Sequence[str], inputs: Sequence[tuple[str, object]]
+) -> Path:
+    """The report of ``study``: its summary and every plot in ``folder``."""
+    return listing_report(folder, f"Study {name}", "wheel-squeal study", summary_lines, inputs)

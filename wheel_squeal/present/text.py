@@ -112,26 +112,29 @@ def squeal_report(sim: Simulation, dof: ModalDOF, label: str | None = None) -> s
 
 
 def curve_table(rows: Sequence[dict]) -> str:
-    """Each wheel at each radius and train speed: its angle of attack, creepage, verdict
-    and the bogie's pass-by level."""
+    """Each wheel at each radius and train speed: its angle of attack, creepage, verdict,
+    amplitude and its own and the bogie's pass-by level."""
 
     def num(v: Any, fmt: str, width: int) -> str:
         return f"{v:{width}{fmt}}" if v is not None else f"{NONE:>{width}}"
 
     lines = [
-        f"{'R [m]':>7} {'V [km/h]':>8} {'wheel':<16} {'psi [mrad]':>10} {'creepage':>9} {'verdict':<18} "
-        f"{'mechanism':<17} {'tone [Hz]':>9} {'growth [1/s]':>12} {'LpAmax [dB(A)]':>14}"
+        f"{'R [m]':>7} {'V [km/h]':>8} {'wheel':<15} {'psi [mrad]':>10} {'creepage':>8} {'verdict':<13} "
+        f"{'mechanism':<16} {'tone [Hz]':>9} {'growth [1/s]':>12} {'v [m/s]':>7} {'LpAmax wheel':>12} "
+        f"{'bogie':>6}"
     ]
     for r in rows:
         lines.append(
-            f"{r['radius_m']:7.0f} {r['train_speed_km_h']:8.0f} {r['axle'] + ' ' + r['rail']:<16} "
-            f"{1e3 * r['angle_of_attack_rad']:10.2f} {r['lateral_creepage']:9.4f} "
-            f"{(r['verdict_mode'] if r['squeals'] else 'no squeal'):<18} {r['mechanism'] or '-':<17} "
+            f"{r['radius_m']:7.0f} {r['train_speed_km_h']:8.0f} {r['axle'] + ' ' + r['rail']:<15} "
+            f"{1e3 * r['angle_of_attack_rad']:10.2f} {r['lateral_creepage']:8.4f} "
+            f"{(r['verdict_mode'] if r['squeals'] else 'no squeal'):<13} {r['mechanism'] or '-':<16} "
             f"{num(r['tone_hz'], '.1f', 9)} {num(r['growth_rate_1_s'], '.3g', 12)} "
-            f"{num(r['passby_lpamax_dba'], '.1f', 14)}"
+            f"{num(r['amplitude_m_s'], '.3f', 7)} {num(r['passby_lpamax_dba'], '.1f', 12)} "
+            f"{num(r['bogie_lpamax_dba'], '.1f', 6)}"
         )
     lines.append(
-        "LpAmax: the bogie's pass-by 7.5 m away, 1.2 m above the rail head (free field unless a ground)"
+        "v: contact velocity amplitude; LpAmax [dB(A)]: the wheel's and the bogie's pass-by 7.5 m away, "
+        "1.2 m above the rail head, free field"
     )
     return "\n".join(lines)
 

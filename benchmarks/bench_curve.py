@@ -1,0 +1,76 @@
+"""The curve command's speed: railway_920 on the test track, 20 curve radii x 5 train
+speeds x the 4 wheels of a rigid bogie (verdict, harmonic-balance amplitude, sound and
+pass-by level of every wheel) with a warm cache (the FE modes on disk, the squeal
+modes' radiation kept in the run), target under 30 s; against the same 400 wheel cases
+run one by one (each its own analysis, amplitude and pass-by, nothing shared between
+the two wheels of an axle). Medians of repeated runs in the same process.
+
+    .venv/bin/python benchmarks/bench_curve.py [--repeat 3]
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+
+import numpy as np
+
+ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT))
+
+from bench_coupling import median_seconds  # noqa: E402  (the same medians, a script beside this one)
+
+import wheel_squeal as ws  # noqa: E402
+from acoustics.passby import passby  # noqa: E402
+from reduced import OperatingPoint  # noqa: E402
+from track.curving import Bogie, wheel_kinematics  # noqa: E402
+from wheel_squeal.curve import CurveCase, axle_sound, bogie_sources  # noqa: E402
+
+RADII_M = tuple(float(r) for r in np.round(np.geomspace(100.0, 2000.0, 20)))
+SPEEDS_KM_H = (20.0, 40.0, 60.0, 80.0, 100.0)
+
+
+def one_by_one(design: ws.Design, bogie: Bogie, ctx: ws.RunContext) -> int:
+    """Every wheel case as its own request; returns how many squeal."""
+    options = ws.ChainOptions(mode="model", stop_after="stability", remedy=False)
+    modes = ws.compute_modes(design, ctx.fidelity, fmax_hz=ctx.fmax_hz, cache=ctx.cache)
+    squealing = 0
+    for radius in RADII_M:
+        for speed in SPEEDS_KM_H:
+            for w in wheel_kinematics(radius, speed, bogie):
+                op = OperatingPoint(w.rolling_speed_m_s, w.crabbing_velocity_m_s)
+                a = ws.analyse(design, op=op, options=options, context=ctx, modes=modes)
+                case = CurveCase(radius, speed, w, a, axle_sound(a, "harmonic balance", ctx))
+                sources, _ = bogie_sources([case], bogie, design.rolling_radius)
+                if sources:
+                    passby(sources, speed / 3.6)
+                    squealing += 1
+    return squealing
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--repeat", type=int, default=3)
+    args = ap.parse_args()
+    design = ws.load_design("railway_920_track")
+    bogie = Bogie(2.5)
+    ctx = ws.RunContext.of("balanced")
+    ws.curve(design, RADII_M[:1], SPEEDS_KM_H[:1], bogie, context=ctx)  # warm: modes, fits, radiation
+    cases: list = []
+
+    def row() -> None:
+        cases[:] = ws.curve(design, RADII_M, SPEEDS_KM_H, bogie, context=ctx)
+
+    t_row = median_seconds(row, args.repeat)
+    n = len(cases)
+    heard = sum(c.analysis.verdict.squeals for c in cases)
+    t_one = median_seconds(lambda: one_by_one(design, bogie, ctx), args.repeat)
+    print(f"railway_920 on the test track: {len(RADII_M)} radii x {len(SPEEDS_KM_H)} speeds x 4 wheels "
+          f"= {n} cases, {heard} squeal")  # fmt: skip
+    print(f"curve, warm cache: {t_row:.1f} s (median of {args.repeat}); target < 30 s")
+    print(f"the same cases one by one: {t_one:.1f} s; ratio {t_one / t_row:.1f}")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,278 @@
+"""What the ``curve`` command writes besides curve.csv and summary.json: curve.nc (the
+cases on a radius x train speed x wheel grid, with units), the maps of squeal occurrence
+and of each wheel's L_pAmax over radius and speed (PNG), the loudest pass-by as a WAV
+file, and report.html."""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from ..fields import unit_of
+
+if TYPE_CHECKING:
+    from track.curving import Bogie
+
+    from ..curve import CurveCase
+    from ..design import Design
+    from ..types import AmplitudeMethod
+
+__all__ = [
+    "CURVE_MAPS",
+    "PASSBY_WAV",
+    "band_rows",
+    "curve_dataset",
+    "curve_report",
+    "loudest",
+    "write_curve_maps",
+    "write_curve_netcdf",
+    "write_curve_files",
+    "write_passby_wav",
+]
+
+#: The maps the curve command draws
+CURVE_MAPS = ("occurrence.png", "lpamax.png")
+#: The loudest pass-by's sound
+PASSBY_WAV = "passby.wav"
+#: The mechanisms in the occurrence map's colours (none first)
+_MECHANISMS = ("", "falling friction", "mode coupling", "both")
+#: curve.nc's variables on the (radius, speed, wheel) grid
+_GRID_VARIABLES = (
+    "angle_of_attack_rad", "lateral_creepage", "crabbing_velocity_m_s", "rolling_speed_m_s", "tone_hz",
+    "growth_rate_1_s", "amplitude_m_s", "harmonic_distortion", "passby_lpamax_dba", "passby_sel_dba",
+    "bogie_lpmax_db", "bogie_lpamax_dba", "bogie_sel_dba", "bogie_lpamax_ground_dba",
+)  # fmt: skip
+_TEXT_VARIABLES = ("verdict_mode", "mechanism", "amplitude_method")
+#: The report's table of squealing wheels: (key, heading)
+_REPORT_COLUMNS = (
+    ("radius_m", "R [m]"), ("train_speed_km_h", "V [km/h]"), ("axle", "axle"), ("rail", "rail"),
+    ("angle_of_attack_rad", "psi [rad]"), ("lateral_creepage", "creepage"), ("verdict_mode", "mode"),
+    ("mechanism", "mechanism"), ("tone_hz", "tone [Hz]"), ("growth_rate_1_s", "growth [1/s]"),
+    ("amplitude_m_s", "amplitude [m/s]"), ("passby_lpamax_dba", "wheel L_pAmax [dB(A)]"),
+    ("bogie_lpamax_dba", "bogie L_pAmax [dB(A)]"),
+)  # fmt: skip
+
+
+def _axes(rows: Sequence[dict]) -> tuple[list[float], list[float], list[str]]:
+    """The radii, train speeds and wheels of the rows, in their order."""
+    from track.curving import WHEELS
+
+    radii = list(dict.fromkeys(r["radius_m"] for r in rows))
+    speeds = list(dict.fromkeys(r["train_speed_km_h"] for r in rows))
+    return radii, speeds, [f"{a} {r}" for a, r in WHEELS]
+
+
+def _grid(rows: Sequence[dict], key: str, fill: Any = math.nan) -> np.ndarray:
+    """``key`` of every row on the (radius, speed, wheel) grid."""
+    radii, speeds, wheels = _axes(rows)
+    out = np.full(
+        (len(radii), len(speeds), len(wheels)), fill, dtype=object if isinstance(fill, str) else float
+    )
+    for r in rows:
+        v = r.get(key)
+        at = (radii.index(r["radius_m"]), speeds.index(r["train_speed_km_h"]),
+              wheels.index(f"{r['axle']} {r['rail']}"))  # fmt: skip
+        out[at] = fill if v is None else v
+    return out
+
+
+def curve_dataset(rows: Sequence[dict], attrs: dict[str, Any]) -> Any:
+    """The cases as an ``xarray.Dataset`` on the dimensions radius_m, train_speed_km_h and
+    wheel, every variable with its units (missing numbers NaN)."""
+    import xarray as xr
+
+    radii, speeds, wheels = _axes(rows)
+    dims = ("radius_m", "train_speed_km_h", "wheel")
+    data: dict[str, Any] = {"squeals": (dims, _grid(rows, "squeals", 0.0).astype(np.int8))}
+    data |= {k: (dims, _grid(rows, k)) for k in _GRID_VARIABLES}
+    data |= {k: (dims, _grid(rows, k, "").astype(str)) for k in _TEXT_VARIABLES}
+    ds = xr.Dataset(data, coords={"radius_m": radii, "train_speed_km_h": speeds, "wheel": wheels})
+    for k in (*_GRID_VARIABLES, "radius_m", "train_speed_km_h"):
+        ds[k].attrs["units"] = unit_of(k) or "1"
+    ds["squeals"].attrs = {"units": "1", "long_name": "1 where the wheel squeals"}
+    ds.attrs = dict(attrs)
+    return ds
+
+
+def write_curve_netcdf(path: Path, rows: Sequence[dict], attrs: dict[str, Any]) -> Path:
+    """curve.nc: :func:`curve_dataset` as NetCDF-3 (SciPy's writer: no HDF5 library)."""
+    curve_dataset(rows, attrs).to_netcdf(path, engine="scipy")
+    return Path(path)
+
+
+def write_curve_maps(folder: Path, rows: Sequence[dict]) -> list[str]:
+    """occurrence.png (each wheel's squeal and its mechanism over radius and train speed)
+    and lpamax.png (each wheel's L_pAmax at the pass-by position, free field)."""
+    from matplotlib.colors import ListedColormap
+    from matplotlib.figure import Figure
+
+    from reduced.report import PLOT_DPI
+
+    radii, speeds, wheels = _axes(rows)
+    mechanism = _grid(rows, "mechanism", "")
+    squeals = _grid(rows, "squeals", 0.0) > 0
+    code = np.vectorize(lambda m: _MECHANISMS.index(m) if m in _MECHANISMS else 0)(mechanism)
+    code = np.where(squeals, code, 0).astype(float)
+    level = _grid(rows, "passby_lpamax_dba")
+    finite = level[np.isfinite(level)]
+    for name, data, title in (
+        ("occurrence.png", code, "squeal by wheel: its mechanism"),
+        ("lpamax.png", level, "each wheel's L_pAmax at 7.5 m, 1.2 m above the rail head [dB(A)], free field"),
+    ):
+        fig = Figure(figsize=(11, 7.5))
+        axes = fig.subplots(2, 2, sharex=True, sharey=True).ravel()
+        fig.subplots_adjust(left=0.09, right=0.8, bottom=0.09, top=0.9, hspace=0.18, wspace=0.08)
+        if name == "occurrence.png":
+            cmap = ListedColormap(["#e8e8e8", "#d62728", "#1f77b4", "#9467bd"])
+            kw: dict[str, Any] = {"cmap": cmap, "vmin": -0.5, "vmax": 3.5}
+        else:
+            kw = {"cmap": "viridis", "vmin": finite.min() if len(finite) else 0,
+                  "vmax": finite.max() if len(finite) else 1}  # fmt: skip
+        for k, ax in enumerate(axes):
+            ax.set_facecolor("#e8e8e8")  # silent cells (NaN) show the background
+            im = ax.imshow(data[:, :, k].T, origin="lower", aspect="auto", **kw)
+            ax.set_title(wheels[k], fontsize=10)
+            ax.set_xticks(range(len(radii)), [f"{r:g}" for r in radii], rotation=90 if len(radii) > 8 else 0)
+            ax.set_yticks(range(len(speeds)), [f"{v:g}" for v in speeds])
+            if len(radii) * len(speeds) <= 60 and name == "lpamax.png":
+                for i in range(len(radii)):
+                    for j in range(len(speeds)):
+                        if np.isfinite(data[i, j, k]):
+                            ax.text(
+                                i, j, f"{data[i, j, k]:.0f}", ha="center", va="center", fontsize=7, color="w"
+                            )
+        for ax in axes[2:]:
+            ax.set_xlabel("curve radius R [m]")
+        for ax in axes[::2]:
+            ax.set_ylabel("train speed [km/h]")
+        cax = fig.add_axes((0.82, 0.15, 0.02, 0.7))
+        bar = fig.colorbar(im, cax=cax)
+        if name == "occurrence.png":
+            bar.set_ticks(range(4), labels=["no squeal", *_MECHANISMS[1:]])
+        else:
+            bar.set_label("L_pAmax [dB(A)] (grey: silent)")
+        fig.suptitle(title)
+        fig.savefig(folder / name, dpi=PLOT_DPI)
+    return list(CURVE_MAPS)
+
+
+def loudest(cases: Sequence[CurveCase]) -> list[CurveCase]:
+    """The four wheels of the radius and speed whose bogie pass-by is loudest in dB(A)
+    (empty: nothing squeals audibly)."""
+    heard = [c for c in cases if c.passby is not None]
+    if not heard:
+        return []
+    top = max(heard, key=lambda c: c.passby.free.lpamax_dba)  # type: ignore[union-attr]
+    return [c for c in cases if (c.radius_m, c.train_speed_km_h) == (top.radius_m, top.train_speed_km_h)]
+
+
+def band_rows(case: CurveCase) -> list[dict]:
+    """The bogie's largest level over the pass-by in each one-third-octave band that
+    holds a tone, in dB and dB(A) (free field)."""
+    from acoustics.levels import third_octave_bands
+
+    assert case.passby is not None
+    bands = third_octave_bands(20.0, 20000.0)
+    centres = [b.centre_hz for b in bands]
+    levels = case.passby.free.band_maxima_db(centres)
+    weighted = case.passby.free.band_maxima_db(centres, a_weighted=True)
+    return [
+        {"band_hz": b.label_hz, "lpmax_db": float(lv), "lpamax_dba": float(la)}
+        for b, lv, la in zip(bands, levels, weighted)
+        if np.isfinite(lv)
+    ]
+
+
+def write_passby_wav(
+    path: Path, group: Sequence[CurveCase], bogie: Bogie, rolling_radius_m: float
+) -> dict[str, Any]:
+    """The pass-by of one radius and speed's wheels as heard at the microphone (level and
+    Doppler shift; 16-bit, normalised to its peak pressure [Pa], which is returned with
+    the duration)."""
+    from acoustics.passby import MICROPHONE_DISTANCE_M, passby_pressure
+    from acoustics.signal import WAV_RATE_HZ, faded, write_wav
+
+    from ..curve import bogie_sources
+
+    speed = group[0].train_speed_km_h / 3.6
+    sources, _ = bogie_sources(group, bogie, rolling_radius_m)
+    duration = min(12.0, 2 * 10.0 * MICROPHONE_DISTANCE_M / speed)
+    _, p = passby_pressure(sources, speed, duration, WAV_RATE_HZ)
+    peak = write_wav(path, faded(p, WAV_RATE_HZ, 0.5))
+    return {"file": path.name, "radius_m": group[0].radius_m, "train_speed_km_h": group[0].train_speed_km_h,
+            "duration_s": duration, "peak_pa": peak, "sample_rate_hz": WAV_RATE_HZ}  # fmt: skip
+
+
+def curve_report(folder: Path, design: str, rows: Sequence[dict], summary: dict[str, Any]) -> Path:
+    """report.html: the cases that squeal, the loudest pass-by's bands and sound, the
+    maps, the inputs."""
+    from .html import audio, listing_report, table
+
+    squealing = [r for r in rows if r["squeals"]]
+    radii, speeds, _ = _axes(rows)
+    lines = [
+        f"{design} on its track: {len(radii)} radii x {len(speeds)} train speeds x 4 wheels; "
+        f"{len(squealing)} of {len(rows)} wheel cases squeal "
+        f"(amplitudes by {summary['amplitude_method']}).",
+        *summary["findings"],
+    ]
+    columns = [(k, h) for k, h in _REPORT_COLUMNS]
+    sections = [("Squealing wheels", table(squealing, columns) if squealing else "<p>No wheel squeals.</p>")]
+    loud = summary.get("loudest")
+    if loud:
+        sections.append((
+            f"The loudest pass-by: R = {loud['radius_m']:g} m at {loud['train_speed_km_h']:g} km/h",
+            table(loud["bands"], [("band_hz", "1/3-octave band [Hz]"), ("lpmax_db", "L_pmax [dB]"),
+                                  ("lpamax_dba", "L_pAmax [dB(A)]")])
+            + audio(folder / PASSBY_WAV),
+        ))  # fmt: skip
+    inputs = [(k, summary[k]) for k in ("design", "wheelbase_m", "bogie", "amplitude_method")]
+    inputs += [("microphone", "7.5 m from the track centre line, 1.2 m above the rail head (ISO 3095)"),
+               ("ground", summary["ground"])]  # fmt: skip
+    return listing_report(folder, f"{design} in curves", "wheel-squeal curve", lines, inputs, sections)
+
+
+def write_curve_files(
+    folder: Path,
+    design: Design,
+    bogie: Bogie,
+    cases: Sequence[CurveCase],
+    method: AmplitudeMethod,
+    ground_reflection: float | None,
+) -> tuple[list[dict], dict[str, Any]]:
+    """Every file of the curve command in ``folder``; returns curve.csv's rows and
+    summary.json without its cases."""
+    from acoustics.passby import GROUND_DEPTH_M, MICROPHONE_DISTANCE_M, MICROPHONE_HEIGHT_M
+
+    from ..curve import findings
+    from ..fields import columns_of
+    from ..outputs import write_csv, write_json
+
+    rows = [c.to_record() for c in cases]
+    q = ground_reflection
+    summary: dict[str, Any] = {
+        "design": design.name,
+        "wheelbase_m": bogie.wheelbase_m,
+        "bogie": bogie.kind,
+        "amplitude_method": method,
+        "microphone": {"distance_m": MICROPHONE_DISTANCE_M, "height_m": MICROPHONE_HEIGHT_M},
+        "ground": "free field" if q is None else f"{GROUND_DEPTH_M} m below the rail head, reflection {q:g}",
+        "findings": findings(cases, bogie),
+    }
+    group = loudest(cases)
+    if group:
+        wav = write_passby_wav(folder / PASSBY_WAV, group, bogie, design.rolling_radius)
+        summary["loudest"] = {**wav, "bands": band_rows(group[0])}
+    write_csv(folder / "curve.csv", rows, columns_of("curve.csv"))
+    attrs = {"title": f"{design.name} in curves", "amplitude_method": method,
+             "wheelbase_m": bogie.wheelbase_m, "bogie": bogie.kind}  # fmt: skip
+    write_curve_netcdf(folder / "curve.nc", rows, attrs)
+    write_curve_maps(folder, rows)
+    cases_json = [{**r, "verdict": c.analysis.verdict.to_dict()} for r, c in zip(rows, cases)]
+    write_json(folder / "summary.json", {**summary, "cases": cases_json})
+    curve_report(folder, design.name, rows, summary)
+    return rows, summary
