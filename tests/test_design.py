@@ -123,3 +123,35 @@ def test_invalid_toml_names_the_parameter(tmp_path, text, param):
 def test_missing_design_file(tmp_path):
     with pytest.raises(DesignError, match="not found"):
         ws.load_design(tmp_path / "nope.toml")
+
+
+def test_damping_by_family_falls_back_from_the_mode_to_its_family_to_the_common_ratio(tmp_path):
+    """[squeal.damping] may give a ratio per mode ("n=N,c=C"), per family with its
+    direction ("n>=2,axial"), per family ("n=0", "n=1", "n>=2") and for all the rest
+    (modal_damping_ratio); each mode takes the narrowest that names it, and says which;
+    the family keys survive a round trip through the file and are written one way."""
+    import dataclasses
+    from types import SimpleNamespace
+
+    from wheel_squeal.sections import Damping, mode_key
+
+    assert mode_key("n >= 2, axial") == "n>=2,axial" and mode_key("n = 0") == "n=0"
+    damping = Damping(
+        modal_damping_ratio=1e-3,
+        by_mode=tuple(sorted({"n=3,c=0": 5e-5, "n>=2,axial": 1e-4, "n>=2": 2e-4, "n=1": 3e-3}.items())),
+    )
+    assert damping.source(3, 0, "axial") == (5e-5, "n=3,c=0")
+    assert damping.source(2, 0, "axial") == (1e-4, "n>=2,axial")
+    assert damping.source(2, 0, "radial") == (2e-4, "n>=2")
+    assert damping.source(1, 0, "axial") == (3e-3, "n=1")
+    assert damping.source(0, 0, "axial") == (1e-3, "modal_damping_ratio")
+    design = dataclasses.replace(ws.load_design("railway_920"), damping=damping)
+    mode = SimpleNamespace(name=None, damping_ratio=None, nodal_diameters=4, nodal_circles=1, family="axial")
+    assert design.damping_source(mode) == (1e-4, "n>=2,axial")  # type: ignore[arg-type]
+    measured = SimpleNamespace(
+        name=None, damping_ratio=7e-4, nodal_diameters=4, nodal_circles=1, family="axial"
+    )
+    assert design.damping_source(measured) == (7e-4, "measured")  # type: ignore[arg-type]
+    path = tmp_path / "family.toml"
+    path.write_text(design.to_toml())
+    assert ws.load_design(path).damping == damping

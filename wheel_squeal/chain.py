@@ -278,6 +278,8 @@ class _Chain:
     def verdict(self) -> Verdict:
         """The one answer (:meth:`decide_verdict`), with what a track adds to it."""
         v = self.decide_verdict()
+        if v.outcome is not None:
+            v = replace(v, damping=self.design.damping_source(v.outcome.mode))
         if self.design.counter_body.KIND != "track":
             return v
         rigid = self.rigid_growth_rate()

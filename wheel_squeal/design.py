@@ -149,15 +149,20 @@ class Design:
             raise DesignError(f"{self.name}: {exc}") from None
 
     def damping_ratio_of(self, mode: Mode) -> float:
-        """A mode's modal damping ratio: the design's for its label ([squeal.damping], a
-        modal model's mode: a remedy pasted in overrides the modal test), else its own (a
-        modal test's), else the design's for its (n, c), else ``modal_damping_ratio``."""
+        """A mode's modal damping ratio (:meth:`damping_source`)."""
+        return self.damping_source(mode)[0]
+
+    def damping_source(self, mode: Mode) -> tuple[float, str]:
+        """A mode's modal damping ratio and where it comes from: the design's for its
+        label ([squeal.damping], a modal model's mode: a remedy pasted in overrides the
+        modal test), else its own (a modal test's: "measured"), else the design's for its
+        (n, c), its family or ``modal_damping_ratio`` (``Damping.source``)."""
         by_label = self.damping.labelled(mode.name) if mode.name else None
         if by_label is not None:
-            return by_label
+            return by_label, mode.name
         if mode.damping_ratio is not None:
-            return mode.damping_ratio
-        return self.damping.ratio(mode.nodal_diameters, mode.nodal_circles)
+            return mode.damping_ratio, "measured"
+        return self.damping.source(mode.nodal_diameters, mode.nodal_circles, mode.family)
 
     @property
     def rolling_radius(self) -> float:

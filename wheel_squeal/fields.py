@@ -61,6 +61,11 @@ FIELDS: dict[str, Field] = {
     "damped_frequency_hz": Field("Hz", "frequency of the mode's linear eigenvalue with the contact"),
     "damping_ns_m": Field("N s/m", "viscous damping c of the mode at the contact"),
     "damping_ratio": Field("", "the mode's damping ratio now"),
+    "damping_source": Field(
+        "-",
+        "where the squeal mode's damping ratio comes from: its key in "
+        "[squeal.damping] (a mode, n>=2,axial, n>=2, ...), modal_damping_ratio or measured",
+    ),
     "design": Field("-", "the design's name"),
     "dim": Field("-", "mesh dimension: 2 (profile) or 3 (solid)"),
     "dofs": Field("-", "degrees of freedom of the FE model (summed over harmonics)"),

@@ -226,7 +226,9 @@ def check_named_modes(design: Design, modeset: ModeSet, fmax_hz: float) -> None:
     that is not among ``modeset``'s: its damping would be silently unused."""
     labels = {f"n={m.nodal_diameters},c={m.nodal_circles}" for m in modeset.modes}
     labels |= {m.name for m in modeset.modes if m.name}
-    missing = [k for k, _ in design.damping.by_mode if k not in labels]
+    from .sections import FAMILY_KEYS
+
+    missing = [k for k, _ in design.damping.by_mode if k not in labels and k not in FAMILY_KEYS]
     if missing:
         raise RequestError(
             f"{design.name}: [squeal.damping] names {', '.join(missing)}, not among the {len(modeset.modes)} "

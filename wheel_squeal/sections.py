@@ -46,6 +46,8 @@ __all__ = [
     "Squeal",
     "Track",
     "counter_body_from_file",
+    "FAMILY_KEYS",
+    "family_keys",
     "mode_key",
 ]
 
@@ -54,13 +56,28 @@ __all__ = [
 MAX_DAMPING_LABEL_CHARS = 80
 
 
+#: The mode families a ``[squeal.damping]`` key may name (:func:`family_keys`): by nodal
+#: diameters (the n = 0 and n = 1 modes couple to the axle, n >= 2 do not), and each
+#: optionally by its direction at the tread
+FAMILY_KEYS = tuple(f"{n}{d}" for n in ("n=0", "n=1", "n>=2") for d in ("", ",axial", ",radial"))
+
+
+def family_keys(nodal_diameters: int, family: str) -> tuple[str, str]:
+    """The two family keys a mode answers to, the narrower first: ("n>=2,axial", "n>=2")."""
+    n = "n=0" if nodal_diameters == 0 else "n=1" if nodal_diameters == 1 else "n>=2"
+    return f"{n},{family}", n
+
+
 def mode_key(label: str, source: str = "design") -> str:
     """A ``[squeal.damping]`` key written the one way: ``n=N,c=C`` for an FE mode named by
     nodal diameters and circles (``"n = 01, c = 0"`` is ``"n=1,c=0"``; the grammar is
-    ``fem.modes.ModeSelection``'s), or a modal model's mode label as it is."""
+    ``fem.modes.ModeSelection``'s), a family of :data:`FAMILY_KEYS` (``"n >= 2, axial"``
+    is ``"n>=2,axial"``), or a modal model's mode label as it is."""
     from fem.modes import ModeSelection
 
     text = str(label)
+    if text.replace(" ", "") in FAMILY_KEYS:
+        return text.replace(" ", "")
     if "=" not in text:
         if text.strip() and text.isprintable() and len(text) <= MAX_DAMPING_LABEL_CHARS:
             return text
@@ -190,9 +207,19 @@ class Damping(Fields):
     def hash_payload(self) -> dict[str, str]:
         return {**super().hash_payload(), "by_mode": repr(self.by_mode)}
 
-    def ratio(self, nodal_diameters: int, nodal_circles: int) -> float:
-        """The (n, c) mode's damping ratio: its measured one, else the common one."""
-        return dict(self.by_mode).get(f"n={nodal_diameters},c={nodal_circles}", self.modal_damping_ratio)
+    def ratio(self, nodal_diameters: int, nodal_circles: int, family: str = "axial") -> float:
+        """The (n, c) mode's damping ratio (:meth:`source`)."""
+        return self.source(nodal_diameters, nodal_circles, family)[0]
+
+    def source(self, nodal_diameters: int, nodal_circles: int, family: str = "axial") -> tuple[float, str]:
+        """The (n, c) mode's damping ratio and the key it comes from: its own ("n=N,c=C"),
+        else its family's with its direction ("n>=2,axial"), else its family's ("n>=2"),
+        else the common one ("modal_damping_ratio")."""
+        table = dict(self.by_mode)
+        for key in (f"n={nodal_diameters},c={nodal_circles}", *family_keys(nodal_diameters, family)):
+            if key in table:
+                return table[key], key
+        return self.modal_damping_ratio, "modal_damping_ratio"
 
     def labelled(self, label: str) -> float | None:
         """The ratio ``[squeal.damping]`` gives a mode by its label (None: none)."""

@@ -205,6 +205,9 @@ class Verdict:
     counter_body_effect_1_s : float or None
         On a track: how much the rail adds to the fastest growth rate [1/s] (negative:
         removes), against a rigid rail with the same contact.
+    damping : (float, str) or None
+        The squeal mode's damping ratio and where it comes from (the design's key for
+        the mode, its family, ``modal_damping_ratio``, or "measured").
 
     Examples
     --------
@@ -223,6 +226,7 @@ class Verdict:
     margin: dict | None = None
     remedy: dict | None = None
     counter_body_effect_1_s: float | None = None
+    damping: tuple[float, str] | None = None
 
     def get(self, key: str) -> Any:
         """A field of the verdict's outcome (None without squeal)."""
@@ -256,4 +260,6 @@ class Verdict:
             out["remedy"] = self.remedy
         if self.counter_body_effect_1_s is not None:
             out["counter_body_effect_1_s"] = self.counter_body_effect_1_s
+        if self.damping is not None:
+            out["damping_ratio"], out["damping_source"] = self.damping
         return out
