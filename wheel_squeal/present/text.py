@@ -248,10 +248,11 @@ def verdict_lines(v: Verdict) -> list[str]:
     )
     wave = f", its {o.wave} wave" if o.wave != "standing" else ""
     by = f" by {o.mechanism}" if o.mechanism else ""
-    damping = f" (its damping ratio {v.damping[0]:.2g}, from {v.damping[1]})" if v.damping is not None else ""
+    damping = [f"  damping: {o.label}'s ratio {v.damping[0]:.2g}, from {v.damping[1]}"] if v.damping else []
     return [
         f"VERDICT: squeals in {o.label}{by} at {o.tone_hz:.1f} Hz{wave}{amplitude}{level}",
-        f"  why: {v.reason}{damping}",
+        f"  why: {v.reason}",
+        *damping,
         *([f"  remedy: {v.remedy['words']}"] if v.remedy is not None else []),
     ]
 
