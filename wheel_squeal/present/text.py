@@ -248,7 +248,11 @@ def verdict_lines(v: Verdict) -> list[str]:
     )
     wave = f", its {o.wave} wave" if o.wave != "standing" else ""
     by = f" by {o.mechanism}" if o.mechanism else ""
-    damping = [f"  damping: {o.label}'s ratio {v.damping[0]:.2g}, from {v.damping[1]}"] if v.damping else []
+    # the common ratio goes without saying on the terminal (summary.json always has it)
+    own = v.damping is not None and v.damping[1] != "modal_damping_ratio"
+    damping = (
+        [f"  damping: {o.label}'s ratio {v.damping[0]:.2g}, from {v.damping[1]}"] if own and v.damping else []
+    )
     return [
         f"VERDICT: squeals in {o.label}{by} at {o.tone_hz:.1f} Hz{wave}{amplitude}{level}",
         f"  why: {v.reason}",
