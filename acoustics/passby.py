@@ -243,11 +243,12 @@ def passby_pressure(
                 continue
             height = s.centre_height_m if depth_sign > 0 else -2 * ground_depth_m - s.centre_height_m
             fixed = np.array([0.0, s.across_m, height]) - microphone
+            cross2 = fixed[1] ** 2 + fixed[2] ** 2
             t_e = t.copy()
             for _ in range(6):
-                along = s.along_m + speed_m_s * t_e
-                r = np.sqrt(along**2 + fixed[1] ** 2 + fixed[2] ** 2)
-                t_e = t - r / c
+                t_e = t - np.sqrt((s.along_m + speed_m_s * t_e) ** 2 + cross2) / c
+            along = s.along_m + speed_m_s * t_e
+            r = np.sqrt(along**2 + cross2)
             d = np.stack([-along, -np.full_like(along, fixed[1]), -np.full_like(along, fixed[2])], axis=1)
             mag = np.interp(_angle_weight(d, facing), s.angles_rad, s.directivity_pa_m)
             p += factor * around * mag / r * np.cos(2 * math.pi * s.frequency_hz * t_e)

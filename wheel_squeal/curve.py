@@ -28,7 +28,7 @@ import math
 import warnings
 from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, get_args
 
 from .analysis import Analysis, ChainOptions
 from .design import Design
@@ -45,7 +45,7 @@ if TYPE_CHECKING:
 __all__ = ["AMPLITUDE_METHODS", "AxleSound", "BogiePassby", "CurveCase", "curve"]
 
 #: The amplitude methods :func:`curve` knows, the fast one first
-AMPLITUDE_METHODS: tuple[AmplitudeMethod, ...] = ("harmonic balance", "time domain")
+AMPLITUDE_METHODS: tuple[AmplitudeMethod, ...] = get_args(AmplitudeMethod)
 #: What is said of a squeal whose amplitude the harmonic balance cannot give
 COUPLING_ONLY = "mode coupling alone: its amplitude needs the time domain"
 
@@ -140,6 +140,7 @@ def _harmonic_balance(a: Analysis, ctx: RunContext) -> AxleSound:
     from reduced import equivalent_mode, harmonic_distortion, predict_limit_cycle
 
     from .api import modal_dof
+    from .modal_model import MODAL_MODEL_SOLVER
     from .sound import mode_sound
 
     o = a.verdict.outcome
@@ -156,7 +157,7 @@ def _harmonic_balance(a: Analysis, ctx: RunContext) -> AxleSound:
         return AxleSound("harmonic balance", note="no stable limit cycle in the harmonic balance")
     note = "the rail adds more than the mode's damping: a lower bound" if clipped else ""
     distortion = harmonic_distortion(amplitude, eq, a.contact, a.operating_point)
-    if a.modeset.solver == "modal-model":
+    if a.modeset.solver == MODAL_MODEL_SOLVER:
         return AxleSound("harmonic balance", amplitude, (), o.mode.nodal_diameters, distortion,
                          "a modal model's modes do not radiate")  # fmt: skip
     s = mode_sound(
@@ -287,6 +288,10 @@ def curve(
     if design.counter_body.KIND != "track":
         raise RequestError(
             f"{design.name} rolls on a {design.counter_body.KIND}: a curve needs a design on a track"
+        )
+    if ground_reflection is not None and not 0.0 <= ground_reflection <= 1.0:
+        raise RequestError(
+            f"ground reflection {ground_reflection:g}: a reflection factor from 0 (absorbing) to 1 (rigid)"
         )
     if method not in AMPLITUDE_METHODS:
         raise RequestError(f"amplitude method {method!r}: one of {', '.join(AMPLITUDE_METHODS)}")

@@ -53,12 +53,6 @@ def cmd_curve(args: argparse.Namespace) -> int:
     if min(args.radius) <= 0 or min(args.train_speed) <= 0:
         raise RequestError("--radius and --train-speed take positive values")
     q = args.ground_reflection
-    if q is not None and not 0.0 <= q <= 1.0:
-        raise RequestError(f"--ground-reflection {q:g}: a reflection factor from 0 (absorbing) to 1 (rigid)")
-    if design.counter_body.KIND != "track":
-        raise RequestError(
-            f"{design.name} rolls on a {design.counter_body.KIND}: a curve needs a design on a track"
-        )
     method: AmplitudeMethod = "time domain" if args.time_domain else "harmonic balance"
     out = out_of(args, design.name)
     ctx = context_of(args)

@@ -220,8 +220,9 @@ def curve_report(folder: Path, design: str, rows: Sequence[dict], summary: dict[
         f"(amplitudes by {summary['amplitude_method']}).",
         *summary["findings"],
     ]
-    columns = [(k, h) for k, h in _REPORT_COLUMNS]
-    sections = [("Squealing wheels", table(squealing, columns) if squealing else "<p>No wheel squeals.</p>")]
+    sections = [
+        ("Squealing wheels", table(squealing, _REPORT_COLUMNS) if squealing else "<p>No wheel squeals.</p>")
+    ]
     loud = summary.get("loudest")
     if loud:
         sections.append((

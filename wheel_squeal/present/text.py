@@ -111,12 +111,14 @@ def squeal_report(sim: Simulation, dof: ModalDOF, label: str | None = None) -> s
     return "\n".join(lines)
 
 
+def _num(v: Any, fmt: str, width: int) -> str:
+    """A number in a fixed-width column, or the word for none."""
+    return f"{v:{width}{fmt}}" if v is not None else f"{NONE:>{width}}"
+
+
 def curve_table(rows: Sequence[dict]) -> str:
     """Each wheel at each radius and train speed: its angle of attack, creepage, verdict,
     amplitude and its own and the bogie's pass-by level."""
-
-    def num(v: Any, fmt: str, width: int) -> str:
-        return f"{v:{width}{fmt}}" if v is not None else f"{NONE:>{width}}"
 
     lines = [
         f"{'R [m]':>7} {'V [km/h]':>8} {'wheel':<15} {'psi [mrad]':>10} {'creepage':>8} {'verdict':<13} "
@@ -128,9 +130,9 @@ def curve_table(rows: Sequence[dict]) -> str:
             f"{r['radius_m']:7.0f} {r['train_speed_km_h']:8.0f} {r['axle'] + ' ' + r['rail']:<15} "
             f"{1e3 * r['angle_of_attack_rad']:10.2f} {r['lateral_creepage']:8.4f} "
             f"{(r['verdict_mode'] if r['squeals'] else 'no squeal'):<13} {r['mechanism'] or '-':<16} "
-            f"{num(r['tone_hz'], '.1f', 9)} {num(r['growth_rate_1_s'], '.3g', 12)} "
-            f"{num(r['amplitude_m_s'], '.3f', 7)} {num(r['passby_lpamax_dba'], '.1f', 12)} "
-            f"{num(r['bogie_lpamax_dba'], '.1f', 6)}"
+            f"{_num(r['tone_hz'], '.1f', 9)} {_num(r['growth_rate_1_s'], '.3g', 12)} "
+            f"{_num(r['amplitude_m_s'], '.3f', 7)} {_num(r['passby_lpamax_dba'], '.1f', 12)} "
+            f"{_num(r['bogie_lpamax_dba'], '.1f', 6)}"
         )
     lines.append(
         "v: contact velocity amplitude; LpAmax [dB(A)]: the wheel's and the bogie's pass-by 7.5 m away, "
@@ -143,9 +145,6 @@ def compare_table(rows: Sequence[dict]) -> str:
     """The designs side by side, as text, in the rows' order (loudest sound power first),
     each at its own operating point, with levels at the common distances."""
 
-    def num(v: Any, fmt: str, width: int) -> str:
-        return f"{v:{width}{fmt}}" if v is not None else f"{NONE:>{width}}"
-
     lines = [
         f"{'design':<16} {'V0 [m/s]':>8} {'[RPM]':>6} {'Vc [m/s]':>8} {'verdict':<16} {'tone [Hz]':>9} "
         f"{'growth [1/s]':>12} {'amp [m/s]':>9} {'L_W [dB]':>8} {'L_W [dB(A)]':>11} {'1 m [dB]':>8} "
@@ -153,10 +152,13 @@ def compare_table(rows: Sequence[dict]) -> str:
     ]
     for r in rows:
         verdict = r["verdict_mode"] or "no squeal"
-        amp = num(r["amplitude_m_s"], ".4f", 9) + ("" if r["saturated"] or not r["squeals"] else "*")
-        tone, growth = num(r["tone_hz"], ".1f", 9), num(r["growth_rate_1_s"], ".3g", 12)
-        power, power_a = num(r["sound_power_level_db"], ".1f", 8), num(r["sound_power_level_dba"], ".1f", 11)
-        near, far = num(r["spl_1m_db"], ".1f", 8), num(r["spl_7_5m_db"], ".1f", 10)
+        amp = _num(r["amplitude_m_s"], ".4f", 9) + ("" if r["saturated"] or not r["squeals"] else "*")
+        tone, growth = _num(r["tone_hz"], ".1f", 9), _num(r["growth_rate_1_s"], ".3g", 12)
+        power, power_a = (
+            _num(r["sound_power_level_db"], ".1f", 8),
+            _num(r["sound_power_level_dba"], ".1f", 11),
+        )
+        near, far = _num(r["spl_1m_db"], ".1f", 8), _num(r["spl_7_5m_db"], ".1f", 10)
         lines.append(
             f"{r['design']:<16} {r['rolling_speed_m_s']:8.2f} {r['rpm']:6.0f} "
             f"{r['crabbing_velocity_m_s']:8.3g} {verdict:<16} {tone} {growth} {amp} "
@@ -329,14 +331,14 @@ def measured_table(comparison: list[dict]) -> str:
     """The comparison as text: prediction minus measurement per point, and its mean and
     spread over the points with a prediction."""
 
-    def num(x: Any, fmt: str) -> str:
+    def _num(x: Any, fmt: str) -> str:
         return "-" if x is None else format(x, fmt)
 
     lines = [f"{'Vc [m/s]':>9} {'rpm':>6} {'measured':>9} {'predicted':>9} {'pred-meas':>9}  dB"]
     for c in comparison:
         lines.append(
             f"{c['crabbing_velocity_m_s']:9.4f} {c['rpm']:6.0f} {c['measured_spl_db']:9.1f} "
-            f"{num(c['predicted_spl_db'], '9.1f'):>9} {num(c['spl_difference_db'], '+9.1f'):>9}"
+            f"{_num(c['predicted_spl_db'], '9.1f'):>9} {_num(c['spl_difference_db'], '+9.1f'):>9}"
         )
     d = np.array([c["spl_difference_db"] for c in comparison if c["spl_difference_db"] is not None])
     if len(d):
