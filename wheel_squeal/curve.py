@@ -69,11 +69,10 @@ class AxleSound:
 @dataclass(frozen=True)
 class BogiePassby:
     """The bogie's pass-by at one radius and train speed: free field, and over the ground
-    (``reflection`` its factor; None: not asked), with which source is whose wheel."""
+    (None: not asked), with which source is whose wheel."""
 
     free: PassbyResult
     ground: PassbyResult | None
-    reflection: float
     owners: tuple[int, ...]
 
     def wheel_levels(self, wheel: int) -> tuple[float, float, float, float] | None:
@@ -125,6 +124,7 @@ class CurveCase:
             "amplitude_m_s": s.amplitude_m_s if s is not None else None,
             "amplitude_method": s.method if s is not None and s.amplitude_m_s is not None else "",
             "harmonic_distortion": s.distortion if s is not None else None,
+            "amplitude_note": s.note if s is not None else "",
             "passby_lpamax_dba": finite_or_none(mine[1]) if mine else None,
             "passby_sel_dba": finite_or_none(mine[3]) if mine else None,
             "bogie_lpmax_db": finite_or_none(bogie[0]) if bogie else None,
@@ -318,7 +318,7 @@ def curve(
                 ground = None
                 if ground_reflection is not None:
                     ground = passby(sources, speed / 3.6, reflection=ground_reflection)
-                bp = BogiePassby(free, ground, ground_reflection or 0.0, tuple(owners))
+                bp = BogiePassby(free, ground, tuple(owners))
                 group = [replace(c, passby=bp) for c in group]
             cases += group
     return cases

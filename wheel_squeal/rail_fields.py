@@ -17,7 +17,8 @@ RECEPTANCE_COLUMNS = tuple(
 CURVE_COLUMNS = (
     "radius_m", "train_speed_km_h", "axle", "rail", "angle_of_attack_rad", "lateral_creepage",
     "crabbing_velocity_m_s", "rolling_speed_m_s", "squeals", "verdict_mode", "mechanism", "tone_hz",
-    "growth_rate_1_s", "amplitude_m_s", "amplitude_method", "harmonic_distortion", "passby_lpamax_dba",
+    "growth_rate_1_s", "amplitude_m_s", "amplitude_method", "harmonic_distortion", "amplitude_note",
+    "passby_lpamax_dba",
     "passby_sel_dba", "bogie_lpmax_db", "bogie_lpamax_dba", "bogie_sel_dba", "bogie_lpamax_ground_dba",
 )  # fmt: skip
 _WHERE = {"support": "a sleeper", "midspan": "midspan"}
@@ -58,6 +59,7 @@ RAIL_FIELDS: dict[str, tuple[str, str]] = {
     "file": ("-", "the sound file of the loudest pass-by"),
     "peak_pa": ("Pa", "the pressure at the sound file's full scale"),
     "sample_rate_hz": ("Hz", "the sound file's sample rate"),
+    "amplitude_note": ("-", "what the amplitude left out (mode coupling alone, a lower bound, not radiated)"),
     "findings": ("-", "where squeal stops per train speed, beside the field's anchors"),
     "lpmax_db": ("dB re 20 uPa", "the largest level over the pass-by in the band"),
     "lpamax_dba": ("dB(A) re 20 uPa", "the largest A-weighted level over the pass-by in the band"),

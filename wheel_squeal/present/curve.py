@@ -46,7 +46,7 @@ _GRID_VARIABLES = (
     "growth_rate_1_s", "amplitude_m_s", "harmonic_distortion", "passby_lpamax_dba", "passby_sel_dba",
     "bogie_lpmax_db", "bogie_lpamax_dba", "bogie_sel_dba", "bogie_lpamax_ground_dba",
 )  # fmt: skip
-_TEXT_VARIABLES = ("verdict_mode", "mechanism", "amplitude_method")
+_TEXT_VARIABLES = ("verdict_mode", "mechanism", "amplitude_method", "amplitude_note")
 #: The report's table of squealing wheels: (key, heading)
 _REPORT_COLUMNS = (
     ("radius_m", "R [m]"), ("train_speed_km_h", "V [km/h]"), ("axle", "axle"), ("rail", "rail"),

@@ -111,8 +111,7 @@ def squeal_report(sim: Simulation, dof: ModalDOF, label: str | None = None) -> s
     return "\n".join(lines)
 
 
-def _num(v: Any, fmt: str, width: int) -> str:
-    """A number in a fixed-width column, or the word for none."""
+def _num(v: Any, fmt: str, width: int) -> str:  # a fixed-width number, or the word for none
     return f"{v:{width}{fmt}}" if v is not None else f"{NONE:>{width}}"
 
 
@@ -134,10 +133,8 @@ def curve_table(rows: Sequence[dict]) -> str:
             f"{_num(r['amplitude_m_s'], '.3f', 7)} {_num(r['passby_lpamax_dba'], '.1f', 12)} "
             f"{_num(r['bogie_lpamax_dba'], '.1f', 6)}"
         )
-    lines.append(
-        "v: contact velocity amplitude; LpAmax [dB(A)]: the wheel's and the bogie's pass-by 7.5 m away, "
-        "1.2 m above the rail head, free field"
-    )
+    lines.append("v: contact velocity amplitude; LpAmax [dB(A)]: the wheel's and the bogie's pass-by "
+                 "7.5 m away, 1.2 m above the rail head, free field")  # fmt: skip
     return "\n".join(lines)
 
 
