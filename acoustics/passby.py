@@ -227,17 +227,23 @@ def passby_pressure(
     falls as it passes (Doppler, f c / (c - V cos)) and its level follows its distance
     and directivity; the image source over the ground as in :func:`passby`. The
     orientation of a mode's nodal diameters is not known: its amplitude is the rms
-    over it (sqrt(1/2) for n >= 1), so that the signal's mean square matches
-    :func:`passby`'s."""
+    over it (sqrt(1/2) for n >= 1).
+
+    The wheels squeal independently (:func:`passby` adds them in energy): sources of one
+    tone are combined with the energy sum of their amplitudes, sqrt(sum |p_k|^2), and the
+    phase of their amplitude-weighted sum, so that the signal's level at every moment is
+    the one :func:`passby` gives (two wheels summed in phase would read up to 3 dB
+    louder); different tones add as they are."""
     c = air.sound_speed_m_s
     if not (0 < speed_m_s < 0.5 * c):
         raise ValueError(f"speed {speed_m_s!r} m/s: positive and well below the speed of sound")
     t = (np.arange(int(round(duration_s * rate_hz))) - 0.5 * duration_s * rate_hz) / rate_hz
     microphone = np.array([0.0, distance_m, height_m])
-    p = np.zeros_like(t)
+    tones: dict[float, list[np.ndarray]] = {}
     for s in sources:
         facing = 1.0 if s.across_m >= 0 else -1.0
         around = math.sqrt(0.5) if s.nodal_diameters >= 1 else 1.0
+        analytic = np.zeros(len(t), dtype=complex)
         for depth_sign, factor in ((1.0, 1.0), (-1.0, reflection)):
             if factor == 0.0:
                 continue
@@ -251,5 +257,12 @@ def passby_pressure(
             r = np.sqrt(along**2 + cross2)
             d = np.stack([-along, -np.full_like(along, fixed[1]), -np.full_like(along, fixed[2])], axis=1)
             mag = np.interp(_angle_weight(d, facing), s.angles_rad, s.directivity_pa_m)
-            p += factor * around * mag / r * np.cos(2 * math.pi * s.frequency_hz * t_e)
+            analytic += factor * around * mag / r * np.exp(2j * math.pi * s.frequency_hz * t_e)
+        tones.setdefault(float(s.frequency_hz), []).append(analytic)
+    p = np.zeros_like(t)
+    for parts in tones.values():
+        each = np.array(parts)
+        weighted = (np.abs(each) * each).sum(axis=0)
+        phase = np.exp(1j * np.angle(weighted))
+        p += np.sqrt((np.abs(each) ** 2).sum(axis=0)) * phase.real
     return t, p

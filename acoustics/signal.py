@@ -14,7 +14,7 @@ across it (the radiation varies over hundreds of Hz).
 from __future__ import annotations
 
 import math
-import wave
+import struct
 from pathlib import Path
 
 import numpy as np
@@ -149,9 +149,17 @@ def write_wav(
         if peak == 0
         else np.round(np.clip(s / peak, -1.0, 1.0) * 32767).astype("<i2")
     )
-    with wave.open(str(path), "wb") as w:
-        w.setnchannels(1)
-        w.setsampwidth(2)
-        w.setframerate(int(rate_hz))
-        w.writeframes(pcm.tobytes())
+    Path(path).write_bytes(wav_bytes(pcm, int(rate_hz)))
     return peak
+
+
+def wav_bytes(pcm: np.ndarray, rate_hz: int) -> bytes:
+    """A mono 16-bit PCM WAV file's bytes (RIFF header and samples), made in memory and
+    written in one call: an interrupted write leaves no half-made writer object behind
+    (the standard library's ``wave`` fails in its finaliser when stopped mid-open)."""
+    data = np.asarray(pcm, dtype="<i2").tobytes()
+    fmt = struct.pack("<HHIIHH", 1, 1, rate_hz, 2 * rate_hz, 2, 16)  # PCM, mono, 16 bit
+    body = (
+        b"WAVE" + b"fmt " + struct.pack("<I", len(fmt)) + fmt + b"data" + struct.pack("<I", len(data)) + data
+    )
+    return b"RIFF" + struct.pack("<I", len(body)) + body

@@ -115,8 +115,8 @@ def _warm_modes(fidelity: str):
 
 def studies() -> list[bool]:
     from reduced import load_compiled_kernels
+    from wheel_squeal.plan import estimate_study
     from wheel_squeal.study import load_spec
-    from wheel_squeal.study.cost import estimate_study
     from wheel_squeal.study.runner import case_results
 
     load_compiled_kernels()  # as a worker does before its first case

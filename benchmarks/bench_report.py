@@ -18,6 +18,9 @@ import time
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT))
+from wheel_squeal.provenance import CODE_PACKAGES  # noqa: E402
+
 #: The last commit before the acoustician's outputs
 BASELINE = "6bd0612"
 
@@ -40,7 +43,7 @@ def main() -> None:
         subprocess.run([*git, "add", "-q", "--detach", str(base), args.baseline], check=True)
         trees = {"now": ROOT, "baseline": base}
         for tree in trees.values():  # bytecode compiled, as an install would
-            packages = [str(tree / p) for p in ("wheel_squeal", "reduced", "acoustics", "fem", "geometry")]
+            packages = [str(tree / p) for p in CODE_PACKAGES]
             subprocess.run([sys.executable, "-m", "compileall", "-q", *packages], check=True)
         times: dict[str, list[float]] = {k: [] for k in trees}
 

@@ -69,6 +69,7 @@ sys.path.insert(0, str(ROOT / "benchmarks"))  # bench_modes: the shared 3-D base
 import numpy as np  # noqa: E402
 
 import wheel_squeal as ws  # noqa: E402
+from wheel_squeal.provenance import CODE_PACKAGES  # noqa: E402
 
 
 # --------------------------------------------------------------------------------------
@@ -451,10 +452,7 @@ def bench_run(design_path: Path | None, table: Table, quick: bool) -> None:
             "-m",
             "compileall",
             "-q",
-            *(
-                str(ROOT / p)
-                for p in ("geometry", "fem", "reduced", "wheel_squeal", "designs", "pipeline.py")
-            ),
+            *(str(ROOT / p) for p in (*CODE_PACKAGES, "designs", "pipeline.py")),
         ],
         check=True,
     )

@@ -30,13 +30,16 @@ def spec(
     flat: str | None = None,
     when_set: bool = False,
     length: bool = False,
+    plausible: tuple[float, float] | None = None,
 ) -> Any:
     """A section's field: its ``default``, ``unit`` ("" a dimensionless number, "-" a word
     or a switch) and what it means (``doc``). ``flat``: the name a study or a calibration
     varies it by (None: not a design parameter). ``when_set``: written and hashed only
     when it differs from its default (a field added after the first designs: their files
-    and hashes stay as they were). ``length``: a size, scaled with the wheel."""
-    meta = {"unit": unit, "doc": doc, "flat": flat, "when_set": when_set, "length": length}
+    and hashes stay as they were). ``length``: a size, scaled with the wheel.
+    ``plausible``: (low, high), the range a real value lies in; outside it the value is a
+    typing error or a unit slip and :meth:`Fields.check_plausible` refuses it."""
+    meta = dict(unit=unit, doc=doc, flat=flat, when_set=when_set, length=length, plausible=plausible)
     return dataclasses.field(default=default, metadata=meta)
 
 
@@ -108,6 +111,23 @@ class Fields:
     def flat_fields(cls) -> dict[str, tuple[str, str]]:
         """{flat name: (field name, unit)} of its design parameters."""
         return {f.metadata["flat"]: (f.name, f.metadata["unit"]) for f in cls.specs() if f.metadata["flat"]}
+
+    def check_plausible(self) -> None:
+        """Refuse a number outside its field's plausible range (:func:`spec`) in one line
+        naming the field, its value and the range."""
+        for f in self.specs():
+            span = f.metadata.get("plausible")
+            value = getattr(self, f.name)
+            if span is None or value is None or isinstance(value, bool):
+                continue
+            low, high = span
+            if not (isinstance(value, int | float) and math.isfinite(value) and low <= value <= high):
+                unit = f" {f.metadata['unit']}" if f.metadata["unit"] not in ("", "-") else ""
+                shown = f"{value:g}" if isinstance(value, int | float) else repr(value)
+                raise DesignError(
+                    f"[{self.TABLE}] {f.name} = {shown}{unit} is outside the plausible range of "
+                    f"{f.metadata['doc']} ({low:g} to {high:g}{unit})"
+                )
 
     def _written(self, f: dataclasses.Field) -> bool:
         return not (f.metadata["when_set"] and getattr(self, f.name) == f.default)

@@ -35,11 +35,17 @@ Definitions (all on the contact-point lateral velocity v = sum_i y_i'):
   no record and reports its cycles' mean).
 * **time to saturation**: start of the first cycle after which every envelope value
   stays within ``saturation_tolerance`` of the final amplitude (NaN if not saturated).
-* **growth rate (fitted)**: least-squares slope of ln(envelope) against time over
-  the start of the record (from where the envelope is twice its lowest value after the
-  first cycle, by when a decaying part of the start transient has died out, until it
-  first exceeds 30 % of its final value; if it decays, the whole record down to 1e-9 of the largest
-  envelope, above the round-off floor), 1/s.
+* **envelope growth rate**: what the record shows of the linear growth: the
+  least-squares slope of ln(envelope) against time over its exponential phase, 1/s.
+  The envelope is the largest cycle amplitude in blocks of a few cycles (the upper
+  envelope: two waves of a turning wheel's pair, or a growing and a decaying eigenvalue,
+  beat in the cycle-by-cycle amplitude, and its maximum follows the growing one); the
+  phase runs from where the envelope has doubled from its lowest block after the first
+  (by then a decaying part of the start transient has died out beside the growing one)
+  until it first exceeds 30 % of its final value (a record still growing at its end:
+  to its end). If it decays, the whole record down to 1e-9 of
+  the largest envelope, above the round-off floor. NaN where no such phase holds three
+  blocks. It measures the record; the verdict's growth rate is the linear eigenvalue's.
 * **mean power per cycle**: mean of P (Eq. 7) over each cycle, from the running
   integral of P (trapezoid on stored samples; RK4 stage quadrature in sweeps).
 * **growth rate (analytic)**: the largest linear growth rate of steady sliding at the
@@ -67,6 +73,7 @@ __all__ = [
     "analytic_growth_rate",
     "cycles",
     "limit_cycle",
+    "envelope_growth_rate",
     "record_tail_level",
 ]
 
@@ -80,8 +87,6 @@ SQUEAL_THRESHOLD = 1e-3
 LINEAR_RATE_FRACTION = 0.1
 #: a decay is fitted down to this fraction of the largest envelope (round-off floor ~1e-15)
 DECAY_FIT_FLOOR = 1e-9
-#: the growth is fitted from where the envelope is this many times its lowest value
-GROWN_FROM_LOWEST = 2.0
 #: the oscillation has died out if the last cycle ends this many periods before the record
 CEASED_PERIODS = 3.0
 
@@ -112,8 +117,9 @@ class LimitCycle:
     frequency_hz : mean over the final window, Hz (NaN if fewer than 2 cycles or if the
         final amplitude is below the squeal threshold).
     time_to_saturation_s : s (NaN if not saturated).
-    growth_rate_1_s : fitted from the start envelope, 1/s (NaN if < 3 cycles).
-    growth_rate_analytic_1_s : from the friction slope, 1/s.
+    envelope_growth_rate_1_s : the record's exponential phase, fitted, 1/s (NaN where it
+        has none).
+    growth_rate_analytic_1_s : the linear growth rate of steady sliding, 1/s.
     cycles : per-cycle times, amplitudes and mean power (Cycles).
     """
 
@@ -122,7 +128,7 @@ class LimitCycle:
     velocity_amplitude_m_s: float
     frequency_hz: float
     time_to_saturation_s: float
-    growth_rate_1_s: float
+    envelope_growth_rate_1_s: float
     growth_rate_analytic_1_s: float
     cycles: Cycles = field(repr=False)
     state: State = "quiet"
@@ -220,30 +226,50 @@ def metrics_from_cycles(
         outside = np.nonzero(np.abs(amp - final) > saturation_tolerance * final)[0]
         first_in = 0 if len(outside) == 0 else int(outside[-1]) + 1
         t_sat = float(cyc.start_s[min(first_in, n - 1)])
-    # growth fitted on the start of the envelope (linear regime)
-    if final > amp[0]:
-        above = np.nonzero(amp >= 0.3 * final)[0]
-        stop = int(above[0]) if len(above) else n
-        # from where the envelope has doubled from its lowest cycle after the first: by
-        # then a decaying part of the start transient (a coupled pair's other eigenvalue,
-        # excited by the static deflection) has died out beside the growing one
-        lo = 1 + int(np.argmin(amp[1:stop])) if stop - 1 >= 3 else 0
-        doubled = np.nonzero(amp[lo:stop] >= GROWN_FROM_LOWEST * amp[lo])[0]
-        if len(doubled) and stop - (lo + int(doubled[0])) >= 3:
-            lo += int(doubled[0])
-        lo = lo if stop - lo >= 3 else min(1, lo)
-        growth = (
-            _fit_log_slope(cyc.start_s[lo:stop], amp[lo:stop])
-            if stop - lo >= 3
-            else _fit_log_slope(cyc.start_s[: min(n, 10)], amp[: min(n, 10)])
-        )
-    else:
-        # decaying: fit down to DECAY_FIT_FLOOR of the largest envelope, not the round-off tail
-        keep = amp >= DECAY_FIT_FLOOR * amp.max()
-        growth = _fit_log_slope(cyc.start_s[keep], amp[keep])
+    growth = envelope_growth_rate(cyc, final, saturated)
     return LimitCycle(
         squeal, saturated, final, frequency, t_sat, growth, growth_rate_analytic_1_s, cyc, state
     )
+
+
+#: The exponential phase is fitted from where the envelope is this many times its lowest
+GROWN_FROM_LOWEST = 2.0
+#: The exponential phase is fitted on at least this many blocks of the envelope, each of
+#: at most MAX_BLOCK_CYCLES cycles (a turning wheel's waves beat every 10-20 cycles)
+MIN_BLOCKS, MAX_BLOCK_CYCLES = 8, 25
+#: The exponential phase ends where the envelope first reaches this fraction of its final
+#: value (beyond it the friction's saturation slows the growth)
+LINEAR_PHASE_END = 0.3
+
+
+def envelope_growth_rate(cyc: Cycles, final: float, saturated: bool = True) -> float:
+    """The record's envelope growth rate [1/s] over its exponential phase (the module
+    docstring): the slope of ln(block maximum of the cycle amplitudes) against time; a
+    record that has not ``saturated`` is exponential to its end."""
+    amp, start = cyc.amplitude_m_s, cyc.start_s
+    n = len(amp)
+    if n < 3:
+        return float("nan")
+    if not final > amp[0]:  # decaying: down to the round-off floor
+        keep = amp >= DECAY_FIT_FLOOR * amp.max()
+        return _fit_log_slope(start[keep], amp[keep])
+    above = np.nonzero(amp >= LINEAR_PHASE_END * final)[0] if saturated else np.zeros(0, dtype=int)
+    stop = int(above[0]) if len(above) else n
+    size = int(min(MAX_BLOCK_CYCLES, max(1, stop // (2 * MIN_BLOCKS))))
+    blocks = stop // size
+    if blocks < 3:
+        return float("nan")
+    env = amp[: blocks * size].reshape(blocks, size).max(axis=1)
+    times = start[: blocks * size].reshape(blocks, size).mean(axis=1)
+    lo = 1 + int(np.argmin(env[1:])) if blocks > 3 else 0
+    # from where it has doubled from its lowest: by then a decaying part of the start
+    # transient (a coupled pair's other eigenvalue) has died out beside the growing one
+    doubled = np.nonzero(env[lo:] >= GROWN_FROM_LOWEST * env[lo])[0]
+    if len(doubled) and blocks - (lo + int(doubled[0])) >= 3:
+        lo += int(doubled[0])
+    if blocks - lo < 3:
+        lo = max(0, blocks - 3)
+    return _fit_log_slope(times[lo:], env[lo:])
 
 
 def limit_cycle(

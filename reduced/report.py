@@ -46,7 +46,7 @@ def summary_dicts(lc: LimitCycle, op: OperatingPoint, contact: ContactLaw) -> di
             "velocity_amplitude_m_s": float(lc.velocity_amplitude_m_s),
             "frequency_hz": float(lc.frequency_hz),
             "time_to_saturation_s": float(lc.time_to_saturation_s),
-            "growth_rate_1_s": float(lc.growth_rate_1_s),
+            "envelope_growth_rate_1_s": float(lc.envelope_growth_rate_1_s),
         },
         "operating_point": {
             "rolling_speed_m_s": float(op.rolling_speed_m_s),

@@ -59,6 +59,7 @@ __all__ = [
     "eigen_solve_seconds",
     "friction_damping_ns_m",
     "growth_rates",
+    "leading_mode",
     "linear_stability",
     "mitigation",
     "mitigation_seconds",
@@ -126,9 +127,11 @@ PARTNER_SHARE = 0.05
 class ModeStability:
     """One mode's linear stability at an operating point (see the module docstring).
 
-    growth_rate_1_s : sigma, 1/s (> 0: the mode grows, it can squeal).
-    damped_frequency_hz : the frequency of its fastest-growing eigenvalue, Hz (in the
-        frame of the contact: f0 -/+ n Omega / 2 pi for a rotating pair).
+    growth_rate_1_s : sigma, 1/s (> 0: the mode grows, it can squeal): of the fastest-
+        growing eigenvalue it takes part in (:data:`PARTNER_SHARE`; a coupled pair's
+        growing eigenvalue for both its modes), else of its own slowest-decaying one.
+    damped_frequency_hz : the frequency of that eigenvalue, Hz (in the frame of the
+        contact: f0 -/+ n Omega / 2 pi for a rotating pair).
     critical_damping_ratio : modal damping ratio above which it is stable here (0 if it
         is stable without damping).
     critical_friction_slope : dmu/dzeta at zeta0 above which it is stable here.
@@ -176,8 +179,11 @@ class StabilityResult:
 
     @property
     def winner(self) -> int:
-        """Index of the fastest-growing mode."""
-        return int(np.argmax([m.growth_rate_1_s for m in self.modes]))
+        """Index of the leading mode: the one holding the largest share of the vibration
+        energy of the fastest-growing eigenvalue (of a coupled pair, the partner that holds
+        more of it, whichever of the two is assigned the faster of its own); where nothing
+        grows, the mode that grows fastest (decays slowest)."""
+        return leading_mode(self.eigenvalues, self.shares, [m.growth_rate_1_s for m in self.modes])
 
     @property
     def growth_rate_1_s(self) -> float:
@@ -187,6 +193,24 @@ class StabilityResult:
     def ranked(self) -> list[int]:
         """The eigenvalues' indices, fastest-growing first."""
         return [int(j) for j in np.argsort(-self.eigenvalues.real, kind="stable")]
+
+
+def leading_mode(
+    eigenvalues: np.ndarray,
+    shares: np.ndarray | None,
+    growth_rates: Sequence[float],
+    candidates: int | None = None,
+) -> int:
+    """The leading mode among the first ``candidates`` (default all): the largest share of
+    the fastest-growing eigenvalue they take part in, else the largest growth rate."""
+    k = len(growth_rates) if candidates is None else candidates
+    if shares is not None:
+        for j in np.argsort(-eigenvalues.real, kind="stable"):
+            if eigenvalues[j].real <= 0.0:
+                break
+            if np.max(shares[:k, j]) >= PARTNER_SHARE:
+                return int(np.argmax(shares[:k, j]))
+    return int(np.argmax(growth_rates[:k]))
 
 
 # --------------------------------------------------------------------------------------
@@ -482,8 +506,12 @@ def linear_stability(
     lam, assigned, share = _eigen_shares(modes, damping, linear, wheel_speed_rad_s, blocks)
     mechanisms = _mechanisms(modes, damping, linear, wheel_speed_rad_s, blocks, lam)
     result = []
+    ranked = np.argsort(-lam.real, kind="stable")
     for i in range(len(modes)):
         j = max(assigned[i], key=lambda jj: lam[jj].real)
+        # a growing eigenvalue the mode takes part in speaks for it (a coupled pair's for
+        # both its modes), else its own slowest-decaying one
+        j = next((int(jj) for jj in ranked if lam[jj].real > 0.0 and share[i, jj] >= PARTNER_SHARE), j)
         sigma, fd = float(lam[j].real), float(abs(lam[j].imag)) / (2 * math.pi)
         zeta_crit = slope_crit = math.nan
         if i in wanted and modes[i].lateral != 0.0:  # else the friction's slope cannot act on it
@@ -612,12 +640,14 @@ def stability_map(
         blocks = _blocks(modes, omega)
         for i, vc in enumerate(vcs):
             linear = LinearContact.at(contact, OperatingPoint(float(v0), float(vc)))
-            lam, assigned = _mode_eigenvalues(modes, damping, linear, omega, blocks)
+            lam, assigned, share = _eigen_shares(modes, damping, linear, omega, blocks)
             best = [max(js, key=lambda jj: lam[jj].real) for js in assigned[:k]]
-            w = int(np.argmax([lam[b].real for b in best]))
+            w = leading_mode(lam, share, [lam[b].real for b in best], k)
+            fastest = int(np.argmax(lam.real))
+            top = fastest if lam[fastest].real > 0.0 and share[w, fastest] >= PARTNER_SHARE else best[w]
             winner[i, j] = w
-            growth[i, j] = lam[best[w]].real
-            freq[i, j] = abs(lam[best[w]].imag) / (2 * math.pi)
+            growth[i, j] = lam[top].real
+            freq[i, j] = abs(lam[top].imag) / (2 * math.pi)
     return StabilityMap(vcs, speeds, growth, winner, freq)
 
 

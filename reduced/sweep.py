@@ -200,7 +200,7 @@ def sweep_points(
                 )
             out["amp"][i] = lc.velocity_amplitude_m_s
             out["freq"][i] = lc.frequency_hz
-            out["growth"][i] = lc.growth_rate_1_s
+            out["growth"][i] = lc.envelope_growth_rate_1_s
             out["sigma"][i] = lc.growth_rate_analytic_1_s
             out["tsat"][i] = lc.time_to_saturation_s
             out["squeal"][i] = lc.squeal

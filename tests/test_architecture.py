@@ -11,6 +11,8 @@ from pathlib import Path
 
 from conftest import PIPELINE, ROOT, TABLE1_MODE_ARGS
 
+from wheel_squeal.provenance import CODE_PACKAGES
+
 #: What each top-level package may import of the project (anything else is "upward").
 ALLOWED = {
     "geometry": set(),
@@ -22,7 +24,7 @@ ALLOWED = {
     "wheel_squeal": {"geometry", "fem", "reduced", "acoustics", "track", "designs"},
     "pipeline": {"wheel_squeal"},
 }
-PACKAGES = ("geometry", "fem", "reduced", "acoustics", "track", "wheel_squeal", "designs")
+PACKAGES = (*CODE_PACKAGES, "designs")
 
 
 def _modules() -> dict[str, Path]:
@@ -233,7 +235,7 @@ def test_every_package_is_installed():
     listed = set(tomllib.loads((ROOT / "pyproject.toml").read_text())["tool"]["setuptools"]["packages"])
     found = {
         ".".join(init.parent.relative_to(ROOT).parts)
-        for top in ("geometry", "fem", "reduced", "acoustics", "track", "wheel_squeal")
+        for top in CODE_PACKAGES
         for init in (ROOT / top).rglob("__init__.py")
     }
     assert found <= listed, sorted(found - listed)
@@ -249,7 +251,7 @@ def test_no_api_message_names_a_command_line_flag():
 
     flag = re.compile(r"(?<![\w-])--[a-z][a-z-]+")
     hits = []
-    for top in ("geometry", "fem", "reduced", "acoustics", "track", "wheel_squeal"):
+    for top in CODE_PACKAGES:
         for path in (ROOT / top).rglob("*.py"):
             rel = path.relative_to(ROOT)
             if rel.parts[:2] == ("wheel_squeal", "cli") or rel.name == "fields.py":

@@ -45,7 +45,7 @@ def test_a_study_name_that_is_not_a_label_is_refused(tmp_path, name):
 
 def test_no_result_folder_is_made_inside_another(tmp_path):
     from wheel_squeal.errors import RequestError
-    from wheel_squeal.outputs import ResultFolder, result_folder
+    from wheel_squeal.folders import ResultFolder, result_folder
 
     with result_folder(tmp_path / "outer", "run") as staging:
         (staging / "a.txt").write_text("x")
@@ -213,7 +213,7 @@ def test_a_stop_inside_a_long_native_computation_ends_within_the_grace(tmp_path)
 import signal, sys, numpy as np
 sys.path.insert(0, {str(ROOT)!r})
 from wheel_squeal.cli.stops import install_stop_handlers, STATE, stop_line
-from wheel_squeal.outputs import ResultFolder
+from wheel_squeal.folders import ResultFolder
 install_stop_handlers()
 a = np.random.default_rng(0).standard_normal((3000, 3000))  # made before the clock starts
 STATE.budget_s = 0.5

@@ -803,8 +803,8 @@ def test_random_study_specs_are_a_study_or_one_line_that_says_why(
     tmp_path_factory, axis, n, points, base, fidelity
 ):
     from wheel_squeal.errors import RequestError
+    from wheel_squeal.plan import estimate_study
     from wheel_squeal.study import load_spec
-    from wheel_squeal.study.cost import estimate_study
 
     grid, problem = _AXES[axis]
     vcs = ", ".join(f"{0.1 * (k + 1):g}" for k in range(points[0]))

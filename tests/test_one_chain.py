@@ -128,5 +128,5 @@ def test_a_coupled_pair_grows_at_its_linear_rate_in_the_time_domain(tmp_path):
     o = a.verdict.outcome
     assert o is not None and o.mechanism == "mode coupling" and len(o.group) == 2
     assert o.growth_rate_1_s == pytest.approx(109.0, rel=0.02)  # the 109 1/s
-    fitted = o.simulation.limit_cycle.growth_rate_1_s
+    fitted = o.simulation.limit_cycle.envelope_growth_rate_1_s
     assert fitted == pytest.approx(o.growth_rate_1_s, rel=0.05)

@@ -15,8 +15,8 @@ from conftest import run_cli as cli
 import wheel_squeal as ws
 from geometry import WheelDesign
 from wheel_squeal.cli import main
+from wheel_squeal.folders import MARKER
 from wheel_squeal.modes import modes_cache_key
-from wheel_squeal.outputs import MARKER
 
 
 # ---------------------------------------------------------------------------------------
@@ -220,7 +220,7 @@ def test_simulate_with_explicit_modal_parameters_builds_no_mesh(tmp_path, monkey
     s = json.loads((out / "summary.json").read_text())
     assert set(s["limit_cycle"]) == {
         *("squeal", "state", "velocity_amplitude_m_s", "frequency_hz", "time_to_saturation_s"),
-        *("growth_rate_1_s", "contact_lost_fraction"),
+        *("envelope_growth_rate_1_s", "contact_lost_fraction"),
     }
     assert s["limit_cycle"]["state"] == "limit cycle"
     assert s["limit_cycle"]["contact_lost_fraction"] == 0.0  # no normal motion: never apart

@@ -98,7 +98,7 @@ def test_growth_rate_fitted_vs_analytic(fig6, law, op_fig6):
     assert sigma > 0
     # the fit covers amplitudes up to 30 % of the limit cycle, where the describing
     # function has dropped slightly: allow 3 % (measured 1 %)
-    assert lc.growth_rate_1_s == pytest.approx(sigma, rel=0.03)
+    assert lc.envelope_growth_rate_1_s == pytest.approx(sigma, rel=0.03)
 
 
 def test_production_matches_solve_ivp_reference(law, op_fig6, fig6):

@@ -66,7 +66,7 @@ def test_vc_tiny_decays_to_round_off_and_mirrors(law):
     assert not lc.squeal and not pred.squeal
     # the force step excites |Q(Vc)|/sqrt(km) = 2.7e-10 m/s, which decays at sigma = -991/s
     assert np.abs(hist.v).max() <= 1.01 * pred.initial_amplitude_m_s
-    assert lc.growth_rate_1_s == pytest.approx(lc.growth_rate_analytic_1_s, rel=0.01)
+    assert lc.envelope_growth_rate_1_s == pytest.approx(lc.growth_rate_analytic_1_s, rel=0.01)
     # after ~40 cycles the oscillation is below round-off and v stops crossing zero:
     # reported as died out (amplitude 0), not as the mean of the decaying cycles
     assert lc.velocity_amplitude_m_s == 0.0
@@ -105,7 +105,7 @@ def test_vc_far_beyond_saturation_is_quiet(law):
     assert not pred.squeal and pred.stable_amplitudes_m_s == ()  # no limit cycle at all
     # the step from rest excites 7.0 mm/s, which decays at the analytic rate
     assert lc.cycles.amplitude_m_s[0] == pytest.approx(pred.initial_amplitude_m_s, rel=0.05)
-    assert lc.growth_rate_1_s == pytest.approx(lc.growth_rate_analytic_1_s, rel=0.01)
+    assert lc.envelope_growth_rate_1_s == pytest.approx(lc.growth_rate_analytic_1_s, rel=0.01)
     assert lc.velocity_amplitude_m_s < 0.2 * pred.initial_amplitude_m_s
     assert np.all(np.abs(hist.Q) <= 0.3 * 1000.0)
 
@@ -123,7 +123,7 @@ def test_stability_boundary_near_0p63_is_not_a_limit_cycle(law):
         assert (sigma > 0) == growing and abs(sigma) < 0.25
         assert not lc.saturated and math.isnan(lc.time_to_saturation_s)
         assert lc.squeal == growing  # growing: squeal still building up; decaying: none
-        assert lc.growth_rate_1_s == pytest.approx(sigma, rel=0.05)
+        assert lc.envelope_growth_rate_1_s == pytest.approx(sigma, rel=0.05)
         assert lc.velocity_amplitude_m_s < 0.02  # still near the 8 mm/s kick
         assert r.predict_limit_cycle(MODE, law, op).squeal == growing
     # the same boundary in rolling speed: identical sigma at 400 and 800 RPM
@@ -231,8 +231,8 @@ def test_damping_zero_and_threshold_against_growth_rate(law):
         sigma = r.analytic_growth_rate(mode, law, op)
         assert sigma == pytest.approx((c_neg - factor * c_neg) / 6.2, rel=1e-9)
         lc = r.limit_cycle(r.simulate(mode, law, op, 0.6))
-        assert np.sign(lc.growth_rate_1_s) == np.sign(sigma)
-        assert lc.growth_rate_1_s == pytest.approx(sigma, rel=0.05)
+        assert np.sign(lc.envelope_growth_rate_1_s) == np.sign(sigma)
+        assert lc.envelope_growth_rate_1_s == pytest.approx(sigma, rel=0.05)
         assert not lc.saturated and lc.squeal == (sigma > 0)
         assert r.predict_limit_cycle(mode, law, op).squeal == (sigma > 0)
 
@@ -251,7 +251,7 @@ def test_damping_very_large_no_squeal(law):
         assert np.abs(hist.v[-len(hist.v) // 10 :]).max() < 1e-15
     # the underdamped one decays at the analytic rate (fit stops above the round-off floor)
     lc = r.limit_cycle(r.simulate(r.ModalDOF(3.1, 1.6e8, 955.0), law, op, 0.3))
-    assert lc.growth_rate_1_s == pytest.approx(lc.growth_rate_analytic_1_s, rel=0.01)
+    assert lc.envelope_growth_rate_1_s == pytest.approx(lc.growth_rate_analytic_1_s, rel=0.01)
     # c enters the step choice: c/m = 3.2e4 /s with the contact's 2.2e3 /s
     assert r.choose_time_step(r.ModalDOF(3.1, 1.6e8, 1e5), law, op) < r.choose_time_step(MODE, law, op)
 

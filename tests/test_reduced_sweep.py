@@ -89,7 +89,7 @@ def test_sweep_matches_single_simulation(grid, law):
     lc = r.limit_cycle(r.simulate(MODE, law, r.OperatingPoint(SPEEDS[j], 0.39), DURATION))
     assert grid.velocity_amplitude_m_s[i, j] == pytest.approx(lc.velocity_amplitude_m_s, rel=1e-9)
     assert grid.frequency_hz[i, j] == pytest.approx(lc.frequency_hz, rel=1e-9)
-    assert grid.growth_rate_1_s[i, j] == pytest.approx(lc.growth_rate_1_s, rel=1e-6)
+    assert grid.growth_rate_1_s[i, j] == pytest.approx(lc.envelope_growth_rate_1_s, rel=1e-6)
     assert grid.frequency_hz[i, j] == pytest.approx(MODE.frequency_hz, rel=0.01)
 
 
@@ -105,7 +105,7 @@ def test_report_files_and_json(tmp_path, law, grid):
         "velocity_amplitude_m_s",
         "frequency_hz",
         "time_to_saturation_s",
-        "growth_rate_1_s",
+        "envelope_growth_rate_1_s",
     }
     assert back["contact"]["c22"] == 3.14 and back["contact"]["friction_coefficient"] == 0.3
     assert back["operating_point"]["creepage"] == pytest.approx(0.0219, abs=1e-4)

@@ -26,7 +26,7 @@ from hypothesis import HealthCheck, example, given, settings
 from hypothesis import strategies as st
 
 import wheel_squeal as ws
-import wheel_squeal.outputs as outputs
+import wheel_squeal.folders as folders
 from geometry import WheelDesign
 from geometry.design import SECTIONS
 from wheel_squeal.budget import Budget
@@ -34,8 +34,8 @@ from wheel_squeal.cache import MARKER as CACHE_MARKER
 from wheel_squeal.cache import StageCache
 from wheel_squeal.design import FIELDS
 from wheel_squeal.errors import BudgetError, RequestError
+from wheel_squeal.folders import MARKER, ResultFolder, result_folder
 from wheel_squeal.modes import check_modes_budget
-from wheel_squeal.outputs import MARKER, ResultFolder, result_folder
 
 FORK = mp.get_context("fork")
 
@@ -177,10 +177,10 @@ def _write_killed(out: Path, kill_at: int, exchange: bool) -> None:
     """Child: write a new result to ``out``, SIGKILLing itself at the ``kill_at``-th step
     (before and after each rename / exchange / removal); exit 0 if it got through."""
     if not exchange:
-        outputs._RENAMEAT2 = None
+        folders._RENAMEAT2 = None
     events = [0]
     for name in _STEPS:
-        real = getattr(outputs, name)
+        real = getattr(folders, name)
 
         def step(*a, _real=real):
             if events[0] == kill_at:
@@ -192,7 +192,7 @@ def _write_killed(out: Path, kill_at: int, exchange: bool) -> None:
             events[0] += 1
             return result
 
-        setattr(outputs, name, step)
+        setattr(folders, name, step)
     folder = ResultFolder(out)
     folder.open()
     for i in range(20):

@@ -26,7 +26,17 @@ import math
 from dataclasses import dataclass
 from typing import Literal
 
-__all__ = ["BOGIES", "WHEELS", "Bogie", "WheelKinematics", "wheel_kinematics"]
+__all__ = [
+    "BOGIES",
+    "MAX_ANGLE_OF_ATTACK_RAD",
+    "MAX_TRAIN_SPEED_KM_H",
+    "MAX_UNBALANCED_ACCELERATION_M_S2",
+    "WHEELS",
+    "Bogie",
+    "WheelKinematics",
+    "check_curve",
+    "wheel_kinematics",
+]
 
 Axle = Literal["leading", "trailing"]
 Rail = Literal["inner", "outer"]
@@ -41,6 +51,65 @@ WHEELS: tuple[tuple[Axle, Rail], ...] = (
 )
 #: The bogie positions :func:`wheel_kinematics` knows
 BOGIES: tuple[BogieKind, ...] = ("rigid", "symmetric")
+#: The largest angle of attack the curving holds for [rad]: about 50 mrad (3 deg), what a
+#: bogie's leading axle reaches in the tightest curves bogie vehicles run (depot curves of
+#: about 50 m radius for a 2.5 m wheelbase); beyond it the kinematics' small angles and a
+#: wheelset guided by its flange no longer hold
+MAX_ANGLE_OF_ATTACK_RAD = 0.05
+#: The fastest a train runs [km/h] (the fastest in service run at 320-350 km/h)
+MAX_TRAIN_SPEED_KM_H = 400.0
+#: The largest unbalanced lateral acceleration in a curve [m/s^2]: tilting trains run at
+#: up to about 2 m/s^2 (a cant deficiency near 300 mm), 3 m/s^2 is beyond any service
+#: and near where a vehicle overturns
+MAX_UNBALANCED_ACCELERATION_M_S2 = 3.0
+#: Standard gravity [m/s^2] and the distance between the rails' centres [m] (standard gauge)
+GRAVITY_M_S2, RAIL_SPACING_M = 9.81, 1.5
+
+
+def check_curve(radius_m: float, train_speed_km_h: float, bogie: Bogie, cant_mm: float = 0.0) -> None:
+    """Refuse (ValueError, one line) a curve the curving cannot mean: a radius at which
+    ``bogie`` would run beyond :data:`MAX_ANGLE_OF_ATTACK_RAD`, a speed beyond
+    :data:`MAX_TRAIN_SPEED_KM_H`, or one whose unbalanced lateral acceleration
+    V^2/R - g h/s exceeds :data:`MAX_UNBALANCED_ACCELERATION_M_S2`.
+
+    Examples
+    --------
+    >>> check_curve(150.0, 40.0, Bogie(2.5))
+    >>> check_curve(5.0, 40.0, Bogie(2.5))  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ...
+    ValueError: curve radius 5 m: ... angle of attack of 500 mrad; the curving holds up to 50 mrad, ...
+    """
+    if not (math.isfinite(radius_m) and radius_m > 0):
+        raise ValueError(f"curve radius {radius_m!r} m: positive")
+    if not (math.isfinite(train_speed_km_h) and train_speed_km_h > 0):
+        raise ValueError(f"train speed {train_speed_km_h!r} km/h: positive")
+    psi = bogie.wheelbase_m / radius_m
+    if psi > MAX_ANGLE_OF_ATTACK_RAD:
+        tightest = bogie.wheelbase_m / MAX_ANGLE_OF_ATTACK_RAD
+        raise ValueError(
+            f"curve radius {radius_m:g} m: a bogie of wheelbase {bogie.wheelbase_m:g} m would run at an "
+            f"angle of attack of {psi * 1e3:.0f} mrad; the curving holds up to "
+            f"{MAX_ANGLE_OF_ATTACK_RAD * 1e3:.0f} mrad, R >= {tightest:.0f} m for this wheelbase (the "
+            "tightest curves bogie vehicles run)"
+        )
+    if train_speed_km_h > MAX_TRAIN_SPEED_KM_H:
+        raise ValueError(
+            f"train speed {train_speed_km_h:g} km/h: faster than any train runs (at most "
+            f"{MAX_TRAIN_SPEED_KM_H:g} km/h)"
+        )
+    speed = train_speed_km_h / 3.6
+    unbalanced = speed * speed / radius_m - GRAVITY_M_S2 * cant_mm * 1e-3 / RAIL_SPACING_M
+    if abs(unbalanced) > MAX_UNBALANCED_ACCELERATION_M_S2:
+        fastest = 3.6 * math.sqrt(
+            max(MAX_UNBALANCED_ACCELERATION_M_S2 + GRAVITY_M_S2 * cant_mm * 1e-3 / RAIL_SPACING_M, 0.0)
+            * radius_m
+        )
+        raise ValueError(
+            f"{train_speed_km_h:g} km/h in a curve of {radius_m:g} m (cant {cant_mm:g} mm): an unbalanced "
+            f"lateral acceleration of {unbalanced:.3g} m/s^2, beyond any train's "
+            f"({MAX_UNBALANCED_ACCELERATION_M_S2:g} m/s^2, {fastest:.0f} km/h there)"
+        )
 
 
 @dataclass(frozen=True)
@@ -95,10 +164,7 @@ def wheel_kinematics(radius_m: float, train_speed_km_h: float, bogie: Bogie) -> 
     >>> round(w[0].angle_of_attack_rad, 4), round(w[0].crabbing_velocity_m_s, 4), w[2].angle_of_attack_rad
     (0.0125, 0.1389, 0.0)
     """
-    if not (math.isfinite(radius_m) and radius_m > 0):
-        raise ValueError(f"curve radius {radius_m!r} m: positive")
-    if not (math.isfinite(train_speed_km_h) and train_speed_km_h > 0):
-        raise ValueError(f"train speed {train_speed_km_h!r} km/h: positive")
+    check_curve(radius_m, train_speed_km_h, bogie)
     speed = train_speed_km_h / 3.6
     half = 0.5 * bogie.wheelbase_m
     psi = {"leading": 2 * half / radius_m, "trailing": 0.0}

@@ -13,7 +13,7 @@ from .design import Design
 from .listener import Listener
 from .presets import MAX_MULTIMODE, Fidelity
 from .stability import StabilityTable
-from .types import Stage
+from .types import AmplitudeMethod, Stage
 from .verdict import LEVELS, ModeOutcome, Verdict
 
 if TYPE_CHECKING:
@@ -61,6 +61,10 @@ class ChainOptions:
     beside : bool
         Beside a named mode that squeals, the model's own outcome integrated too (False:
         its linear pick; sweeps and studies).
+    amplitude : {"time domain", "harmonic balance"}
+        How the limit cycle's amplitude is found: the time domain from rest of the modes
+        the decision integrates (its harmonics radiated), or the harmonic balance of the
+        squeal mode (fast: no time domain; the fundamental radiated).
 
     Examples
     --------
@@ -80,6 +84,7 @@ class ChainOptions:
     remedy: bool = True
     simulate_stable: bool = True
     beside: bool = True
+    amplitude: AmplitudeMethod = "time domain"
 
     def reaches(self, stage: Stage) -> bool:
         """Whether the request goes as far as ``stage``."""
@@ -134,6 +139,14 @@ class Analysis:
     verdict: Verdict
     wheel_speed_rad_s: float = 0.0
     timings_s: dict[str, float] = field(default_factory=dict)
+
+    def __repr__(self) -> str:
+        op = self.operating_point
+        return (
+            f"Analysis({self.design.name!r}, V0 = {op.rolling_speed_m_s:.4g} m/s, Vc = "
+            f"{op.crabbing_velocity_m_s:.4g} m/s, {len(self.rows)} modes, stopped after "
+            f"{self.options.stop_after!r}: {self.verdict.headline()})"
+        )
 
     @property
     def rows(self) -> list[ModeStabilityRow]:

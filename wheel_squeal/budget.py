@@ -241,6 +241,5 @@ class CostPlan:
         ranked = sorted(self.parts, key=lambda p: -p[1])
         named = "; ".join(f"{w} {_human_time(t)}" for w, t, _, _ in ranked[:3] if t >= 0.01 * self.seconds)
         own = ranked[0][3]
-        return budget.check_work(
-            f"{what} ({named})", self.seconds, f"{own}; or {remedy}" if own else remedy, self.memory_bytes
-        )
+        hint = "; or ".join(h for h in (own, remedy) if h)
+        return budget.check_work(f"{what} ({named})", self.seconds, hint, self.memory_bytes)

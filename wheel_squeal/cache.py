@@ -29,10 +29,7 @@ entry is written straight from its arrays to the file (no copy of it in memory).
 from __future__ import annotations
 
 import contextlib
-import functools
 import hashlib
-import importlib.metadata
-import importlib.util
 import json
 import os
 import re
@@ -56,9 +53,8 @@ __all__ = [
     "ENV_VAR",
     "MARKER",
     "StageCache",
-    "code_version",
+    "keep_compiled_code_in",
     "default_cache_root",
-    "library_versions",
     "parse_size",
 ]
 
@@ -84,6 +80,21 @@ _TMP = re.compile(r"[0-9a-f]{32}\.npz\..+\.tmp")
 _LEGACY_STAGES = {"mesh2d", "mesh3d", "modes", "views"}
 
 
+#: The cache's folder of numba's machine code for the squeal model's kernels, and the
+#: environment variable numba reads it from
+COMPILED_FOLDER, NUMBA_CACHE_ENV = "compiled", "NUMBA_CACHE_DIR"
+
+
+def keep_compiled_code_in(folder: Path) -> None:
+    """Have numba keep the kernels' machine code in ``folder`` (the stage cache's) instead
+    of beside the installed package, which may be read-only and is not the tool's to
+    write. Set before numba is imported (it reads the variable then); a
+    ``NUMBA_CACHE_DIR`` the user set is left as it is."""
+    if "numba" in sys.modules or os.environ.get(NUMBA_CACHE_ENV, "").strip():
+        return
+    os.environ[NUMBA_CACHE_ENV] = str(folder)
+
+
 def default_cache_root() -> Path:
     """``$WHEEL_SQUEAL_CACHE`` if set and not empty, else the user's cache folder."""
     env = os.environ.get(ENV_VAR, "").strip()
@@ -91,35 +102,6 @@ def default_cache_root() -> Path:
         return Path(env).expanduser()
     base = os.environ.get("XDG_CACHE_HOME", "").strip()
     return (Path(base) if base else Path.home() / ".cache") / "wheel-squeal"
-
-
-@functools.cache
-def code_version(*packages: str) -> str:
-    """Hash of the source of the given packages: a change of the code that computes a
-    stage invalidates its entries."""
-    h = hashlib.sha256()
-    for pkg in packages:
-        spec = importlib.util.find_spec(pkg)
-        if spec is None or not spec.submodule_search_locations:
-            raise ValueError(f"{pkg!r} is not a package")
-        root = Path(next(iter(spec.submodule_search_locations)))
-        for f in sorted(root.rglob("*.py")):
-            h.update(f.relative_to(root.parent).as_posix().encode())
-            h.update(f.read_bytes())
-    return h.hexdigest()[:16]
-
-
-@functools.cache
-def library_versions(*distributions: str) -> dict[str, str]:
-    """Installed versions of the libraries whose results a stage stores (an upgrade of
-    SciPy or scikit-fem may change the last digits of every mode)."""
-    out = {}
-    for name in distributions:
-        try:
-            out[name] = importlib.metadata.version(name)
-        except importlib.metadata.PackageNotFoundError:
-            out[name] = "absent"
-    return out
 
 
 def parse_size(text: str) -> int:
@@ -180,6 +162,7 @@ class StageCache:
         if enabled:
             self._check_root()
             self.max_bytes  # noqa: B018 (a bad $WHEEL_SQUEAL_CACHE_SIZE is refused before any work)
+            keep_compiled_code_in(self.root / COMPILED_FOLDER)
 
     # -- the root -----------------------------------------------------------------------
     def _check_root(self) -> None:

@@ -14,43 +14,40 @@ the stage it needs (:data:`wheel_squeal.types.Stage`):
 
 from __future__ import annotations
 
-import math
 import time
-from dataclasses import dataclass, fields, replace
-from typing import TYPE_CHECKING, Any
-
-import numpy as np
+from dataclasses import fields, replace
+from typing import TYPE_CHECKING, Any, get_args
 
 from .analysis import STAGES, Analysis, ChainOptions
 from .api import contact_law, operating_point, simulate
 from .context import RunContext
-from .decision import decide, eigenvalue_of, group_label, modes_of_eigenvalue
+from .decision import modes_of_eigenvalue
 from .design import Design
 from .errors import RequestError
-from .levels import squeal_sound
 from .modes import compute_modes
+from .outcomes import Outcomes
 from .plan import NO_REMEDY_HINT, stability_plan, verdict_plan
 from .presets import Fidelity, fidelity_for
 from .remedy import margin_of, remedy_design, remedy_of
 from .stability import (
     StabilityTable,
     contact_dofs,
-    dof_labels,
     excitable,
     mode_dofs,
-    named_mode,
     stability_table,
-    wheel_speed_rad_s,
 )
-from .verdict import LOWEST_SQUEAL_HZ, ModeOutcome, Verdict, wave_of
+from .types import AmplitudeMethod
+from .verdict import LOWEST_SQUEAL_HZ, ModeOutcome, Verdict
 
 if TYPE_CHECKING:
-    from fem.modes import Mode, ModeSet
-    from reduced import ContactLaw, OperatingPoint
+    from fem.modes import ModeSet
+    from reduced import OperatingPoint
 
 
-__all__ = ["Analysis", "ChainOptions", "analyse"]  # the record and options: .analysis
+__all__ = ["AMPLITUDE_METHODS", "Analysis", "ChainOptions", "analyse"]  # the record and options: .analysis
 
+#: The amplitude methods, the faster last
+AMPLITUDE_METHODS: tuple[AmplitudeMethod, ...] = get_args(AmplitudeMethod)
 #: The keywords of :func:`analyse` that make its operating point
 _OPERATING_POINT_KEYS = ("rpm", "rolling_speed_m_s", "crabbing_velocity_m_s", "angle_of_attack_rad")
 #: The keywords of :func:`analyse` that make its context
@@ -110,6 +107,8 @@ def analyse(
         raise TypeError(f"analyse() got unknown settings {unknown}") from None
     if opts.stop_after not in STAGES:
         raise RequestError(f"stop_after must be one of {', '.join(STAGES)}, got {opts.stop_after!r}")
+    if opts.amplitude not in AMPLITUDE_METHODS:
+        raise RequestError(f"amplitude must be one of {', '.join(AMPLITUDE_METHODS)}, got {opts.amplitude!r}")
     ctx = _context(context, ctx_settings)
     op = op or operating_point(design, **at)
     timings: dict[str, float] = {}
@@ -124,6 +123,7 @@ def analyse(
             budget=ctx.budget,
         )
     timings["modes"] = time.perf_counter() - t0
+    ctx.budget.checkpoint("the modes")
     t0 = time.perf_counter()
     contact = contact_law(design, opts.c22, opts.friction_law)
     if table is None:
@@ -133,6 +133,7 @@ def analyse(
         with ctx.progress.stage(f"linear stability of {n} modes") if n > 200 else _nothing():
             table = stability_table(design, modes, contact, op, opts.rotation)
     timings["stability"] = time.perf_counter() - t0
+    ctx.budget.checkpoint("the linear stability")
     chain = _Chain(design, opts, ctx, modes, contact, op, table)
     verdict = chain.verdict()
     timings["total"] = sum(timings.values())
@@ -162,117 +163,9 @@ class _nothing:
         return None
 
 
-@dataclass
-class _Chain:
-    """One analysis in progress: the steps of :func:`analyse` after the stability."""
-
-    design: Design
-    opts: ChainOptions
-    ctx: RunContext
-    modeset: ModeSet
-    contact: ContactLaw
-    op: OperatingPoint
-    table: StabilityTable
-
-    def __post_init__(self) -> None:
-        self.omega = wheel_speed_rad_s(self.design, self.op, self.opts.rotation)
-        self.rows = self.table.rows
-        self.by_index = {r.mode.index: r for r in self.rows}
-        self.row_of = {r.mode.index: k for k, r in enumerate(self.rows)}
-        named = named_mode(self.design, self.modeset, self.opts.mode)
-        if named.mode is not None and named.mode.index not in self.by_index:
-            raise RequestError(f"mode {named.mode.index} ({named.mode.label()}) is not seen at the contact")
-        self.decision = decide(self.table, named, self.opts.max_modes)
-
-    # -- the outcomes ---------------------------------------------------------------------
-    def linear(self, m: Mode) -> ModeOutcome:
-        """A mode's linear answer: of the eigenvalue that speaks for it (the fastest-growing
-        one it takes part in: a coupled pair's eigenvalue for both its modes)."""
-        j = eigenvalue_of(self.table, self.row_of[m.index])
-        lam = self.table.result.eigenvalues[j]
-        f = abs(float(lam.imag)) / (2 * math.pi)
-        mechanism = self.table.result.mechanisms[j] if self.table.result.mechanisms else None
-        return ModeOutcome(m, float(lam.real), f, wave_of(m, f, self.omega), mechanism=mechanism)
-
-    def run(self, group: tuple[Mode, ...]) -> ModeOutcome:
-        """The time-domain answer of ``group`` integrated together (with the counter-body)
-        from rest: the mode that carries its limit cycle, with every share."""
-        from reduced import modal_content
-
-        dofs = contact_dofs(group, self.design)
-        with self.ctx.progress.stage(f"squeal model of {group_label(group)}"):
-            sim = simulate(
-                dofs,
-                self.contact,
-                self.op,
-                self.opts.duration,
-                self.omega,
-                self.ctx.budget,
-                self.preloaded(group),
-            )
-        labels = dof_labels(group, self.design)
-        shares: dict[str, float] | None = None
-        carrier, carried = group[0], None
-        if len(dofs) > 1:
-            content = modal_content(sim.history)
-            shares = {lab: float(x) for lab, x in zip(labels, content.energy_share)}
-            carrier, carried = self.carrier(group, content.energy_share)
-        base = self.linear(carrier)
-        f = float(sim.limit_cycle.frequency_hz)
-        wave = wave_of(carrier, f if math.isfinite(f) else base.damped_frequency_hz, self.omega)
-        return replace(
-            base, wave=wave, simulation=sim, group=tuple(group), shares=shares, energy_share=carried
-        )
-
-    def preloaded(self, group: tuple[Mode, ...]) -> range:
-        """The counter-body's degrees of freedom among ``group``'s (they follow the
-        wheel's) where it starts in its static deflection (a track)."""
-        if not self.design.counter_body.PRELOADED:
-            return range(0)
-        return range(len(group), len(contact_dofs(group, self.design)))
-
-    def carrier(self, group: tuple[Mode, ...], energy_share: np.ndarray) -> tuple[Mode, float]:
-        """The mode that carries a limit cycle of ``group``, and its share of the energy:
-        the eigenvalue whose modes hold most of the energy carries it, and it is named by
-        its mode of the largest share (so that a coupled pair is named as its linear
-        eigenvalue is, in every command); the share is its modes' together."""
-        by_eigenvalue: dict[int, float] = {}
-        for k, m in enumerate(group):
-            j = eigenvalue_of(self.table, self.row_of[m.index])
-            by_eigenvalue[j] = by_eigenvalue.get(j, 0.0) + float(energy_share[k])
-        j = max(by_eigenvalue, key=lambda jj: by_eigenvalue[jj])
-        members = {m.index for m in group}
-        named = [
-            self.rows[r].mode
-            for r in modes_of_eigenvalue(self.table, j)
-            if self.rows[r].mode.index in members
-        ]
-        return (named[0] if named else group[0]), by_eigenvalue[j]
-
-    def heard(self, o: ModeOutcome) -> ModeOutcome:
-        """The outcome with its sound (where it squeals and the request goes so far)."""
-        if not (self.opts.reaches("sound") and o.simulation is not None and o.squeals):
-            return o
-        if self.modeset.solver == "modal-model":  # no shapes: nothing radiates
-            return o
-        shape = self.radiating(o)
-        with self.ctx.progress.stage(f"sound of {o.label}"):
-            s = squeal_sound(
-                self.design, self.modeset, shape, o.tone_hz,
-                o.simulation, o.tone_hz, listener=self.opts.listener, travelling=o.wave != "standing",
-                fidelity=self.ctx.fidelity.name, fmax_hz=self.ctx.fmax_hz, cache=self.ctx.cache,
-                budget=self.ctx.budget, memo=self.ctx.memo,
-            )  # fmt: skip
-        return replace(o, sound=s)
-
-    def radiating(self, o: ModeOutcome) -> Mode:
-        """The shape that radiates a limit cycle: the mode holding the largest share of
-        its vibration energy (of several integrated together), else the outcome's own."""
-        if not (o.shares and o.group):
-            return o.mode
-        by_label = {m.label(): m for m in o.group}
-        held = [(share, by_label[lab]) for lab, share in o.shares.items() if lab in by_label]
-        return max(held, key=lambda sm: sm[0])[1] if held else o.mode
+class _Chain(Outcomes):
+    """One analysis in progress: the steps of :func:`analyse` after the stability, from
+    the outcomes (:class:`~wheel_squeal.outcomes.Outcomes`) to the verdict."""
 
     # -- the verdict ----------------------------------------------------------------------
     def verdict(self) -> Verdict:
@@ -322,7 +215,9 @@ class _Chain:
         model = self.model_outcome(integrate=not (named is not None and named.squeals) or self.opts.beside)
         if named is not None and named.squeals:
             beside = f"; the model alone: {self.model_words(model)}" if model is not None else ""
-            how = "integrated" if named.simulation is not None else "reported"
+            how = (
+                "integrated" if named.simulation is not None else "balanced" if named.balance else "reported"
+            )
             return self.loud(named, f"{d.named_by} {named.label}, {how} as asked{beside}", named, model)
         if model is None:
             stable = f"{d.named_by} {named.label}; " if named is not None else ""

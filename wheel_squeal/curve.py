@@ -8,33 +8,28 @@ load (no flange contact, no cant deficiency: ``track.curving``): one analysis pe
 answers for both; the inner and outer wheels differ in the pass-by, on the rails nearer
 and farther from the microphone (on the curve's outer side).
 
-The amplitude of a squealing wheel comes by one of two methods
-(:data:`wheel_squeal.types.AmplitudeMethod`):
-
-- ``"harmonic balance"`` (the default): the verdict's squeal mode alone, its damping
-  changed so that its growth rate is the one the full linear analysis gives with the
-  rail and the other modes (``reduced.equivalent_mode``), and its limit cycle from the
-  energy balance over one harmonic cycle (``reduced.predict_limit_cycle``); its sound
-  is the mode's radiation at its natural frequency (one solve per mode, kept for the
-  run) scaled by the amplitude. A squeal by mode coupling alone has no falling branch
-  to balance: its amplitude is left to the time domain and said so.
-- ``"time domain"``: the chain's limit cycle and sound (every harmonic), minutes per
-  squealing axle.
+The amplitude and sound of a squealing wheel are the chain's, by one of its two methods
+(:data:`wheel_squeal.types.AmplitudeMethod`, ``ChainOptions.amplitude``): the harmonic
+balance of the squeal mode (the default here: fast, the fundamental radiated) or the
+time domain (every harmonic radiated, seconds per squealing axle).
 """
 
 from __future__ import annotations
 
-import math
-import warnings
+import functools
 from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any, get_args
+from typing import TYPE_CHECKING, Any
 
 from .analysis import Analysis, ChainOptions
+from .api import contact_law
+from .chain import AMPLITUDE_METHODS
 from .design import Design
 from .errors import RequestError
 from .outputs import finite_or_none
-from .types import AmplitudeMethod, Stage
+from .plan import CurveSize, check_curve_files, curve_plan, time_domain_axle_seconds
+from .stability import excitable, mode_dofs
+from .types import AmplitudeMethod
 
 if TYPE_CHECKING:
     from acoustics.passby import PassbyResult, PassbySource
@@ -43,11 +38,6 @@ if TYPE_CHECKING:
     from .context import RunContext
 
 __all__ = ["AMPLITUDE_METHODS", "AxleSound", "BogiePassby", "CurveCase", "curve"]
-
-#: The amplitude methods :func:`curve` knows, the fast one first
-AMPLITUDE_METHODS: tuple[AmplitudeMethod, ...] = get_args(AmplitudeMethod)
-#: What is said of a squeal whose amplitude the harmonic balance cannot give
-COUPLING_ONLY = "mode coupling alone: its amplitude needs the time domain"
 
 
 @dataclass(frozen=True)
@@ -134,68 +124,26 @@ class CurveCase:
         }
 
 
-def _harmonic_balance(a: Analysis, ctx: RunContext) -> AxleSound:
-    """The squeal's amplitude by harmonic balance and the mode's sound at it (module
-    docstring)."""
-    from reduced import equivalent_mode, harmonic_distortion, predict_limit_cycle
-
-    from .api import modal_dof
-    from .modal_model import MODAL_MODEL_SOLVER
-    from .sound import mode_sound
-
-    o = a.verdict.outcome
-    assert o is not None
-    if o.mechanism == "mode coupling":
-        return AxleSound("harmonic balance", note=COUPLING_ONLY)
-    eq, clipped = equivalent_mode(
-        modal_dof(o.mode, a.design), a.contact, a.operating_point, o.growth_rate_1_s
-    )
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", RuntimeWarning)  # the distortion is reported instead
-        amplitude = predict_limit_cycle(eq, a.contact, a.operating_point).velocity_amplitude_m_s
-    if not (math.isfinite(amplitude) and amplitude > 0):
-        return AxleSound("harmonic balance", note="no stable limit cycle in the harmonic balance")
-    note = "the rail adds more than the mode's damping: a lower bound" if clipped else ""
-    distortion = harmonic_distortion(amplitude, eq, a.contact, a.operating_point)
-    if a.modeset.solver == MODAL_MODEL_SOLVER:
-        return AxleSound("harmonic balance", amplitude, (), o.mode.nodal_diameters, distortion,
-                         "a modal model's modes do not radiate")  # fmt: skip
-    s = mode_sound(
-        a.design, a.modeset, o.mode, o.mode.frequency_hz, amplitude, travelling=o.wave != "standing",
-        fidelity=ctx.fidelity.name, fmax_hz=ctx.fmax_hz, cache=ctx.cache, budget=ctx.budget, memo=ctx.memo,
-    )  # fmt: skip
-    return AxleSound(
-        "harmonic balance",
-        amplitude,
-        ((o.tone_hz, amplitude * s.radiation.directivity_pa_m),),
-        o.mode.nodal_diameters,
-        distortion,
-        note,
-    )
-
-
-def _time_domain(a: Analysis) -> AxleSound:
-    """The chain's limit cycle and its radiated harmonics."""
-    o = a.verdict.outcome
-    assert o is not None
-    if o.sound is None:
-        return AxleSound("time domain", o.amplitude_m_s, note="not radiated")
-    tones = tuple(
-        (f, h.velocity_amplitude_m_s * h.radiation.directivity_pa_m)
-        for h, f in zip(o.sound.harmonics, o.sound.frequencies_hz)
-    )
-    return AxleSound("time domain", o.amplitude_m_s, tones, o.mode.nodal_diameters)
-
-
-def axle_sound(a: Analysis, method: AmplitudeMethod, ctx: RunContext) -> AxleSound | None:
-    """The squeal's amplitude and sound of one axle's analysis by ``method`` (None: it
-    does not squeal audibly)."""
+def axle_sound(a: Analysis) -> AxleSound | None:
+    """What one axle's analysis sends to the pass-by (None: it does not squeal audibly):
+    its outcome's amplitude, method and each radiated tone's directivity at it."""
     from .verdict import LOWEST_SQUEAL_HZ
 
     o = a.verdict.outcome
     if not a.verdict.squeals or o is None or not o.tone_hz >= LOWEST_SQUEAL_HZ:
         return None
-    return _harmonic_balance(a, ctx) if method == "harmonic balance" else _time_domain(a)
+    method: AmplitudeMethod = "time domain" if o.simulation is not None else "harmonic balance"
+    balance = o.balance
+    note = balance.note if balance is not None else ""
+    distortion = balance.distortion if balance is not None else None
+    if o.sound is None:
+        why = "a modal model's modes do not radiate" if o.amplitude_m_s is not None else ""
+        return AxleSound(method, o.amplitude_m_s, (), o.mode.nodal_diameters, distortion, note or why)
+    tones = tuple(
+        (float(f), h.velocity_amplitude_m_s * h.radiation.directivity_pa_m)
+        for h, f in zip(o.sound.harmonics, o.sound.frequencies_hz)
+    )
+    return AxleSound(method, o.amplitude_m_s, tones, o.mode.nodal_diameters, distortion, note)
 
 
 def _sources(
@@ -279,7 +227,7 @@ def curve(
 
     from acoustics.passby import passby
     from reduced import OperatingPoint
-    from track.curving import wheel_kinematics
+    from track.curving import check_curve, wheel_kinematics
 
     from .api import compute_modes
     from .chain import analyse
@@ -296,20 +244,50 @@ def curve(
     if method not in AMPLITUDE_METHODS:
         raise RequestError(f"amplitude method {method!r}: one of {', '.join(AMPLITUDE_METHODS)}")
     ctx = context or RunContext.of("balanced")
+    size = _size(radii_m, train_speeds_km_h, bogie)
+    plan_of = functools.partial(
+        curve_plan, design, size, method == "time domain", ctx.fidelity, ctx.fmax_hz,
+        passbys=1 if ground_reflection is None else 2,
+    )  # fmt: skip
+    plan_of().check(ctx.budget, "the curve map", "")  # before the modes: counts alone
+    check_curve_files(size, ctx.budget.max_file_bytes)
+    tightest, slowest, fastest = (
+        min(radii_m, default=1.0),
+        min(train_speeds_km_h, default=1.0),
+        max(train_speeds_km_h, default=1.0),
+    )
+    try:  # the tightest curve at the slowest and fastest speed bound every other
+        check_curve(float(tightest), float(slowest), bogie)
+        check_curve(float(tightest), float(fastest), bogie)
+    except ValueError as exc:
+        raise RequestError(str(exc)) from None
     modes = compute_modes(design, ctx.fidelity, fmax_hz=ctx.fmax_hz, cache=ctx.cache, progress=ctx.progress,
                           budget=ctx.budget)  # fmt: skip
-    stop: Stage = "stability" if method == "harmonic balance" else "sound"
-    options = ChainOptions(mode="model", stop_after=stop, remedy=False)
+    contact = contact_law(design)
+    wheel = excitable(modes, contact)
+    td = None
+    if method == "time domain":
+        ops = [  # the slowest: the squeal model's step is shortest there
+            OperatingPoint(w.rolling_speed_m_s, w.crabbing_velocity_m_s)
+            for w in wheel_kinematics(float(tightest), float(slowest), bogie)
+            if w.crabbing_velocity_m_s != 0.0
+        ]
+        td = time_domain_axle_seconds(design, wheel, contact, ops)
+    plan_of(wheel_dofs=mode_dofs(wheel, design), time_domain_seconds=td).check(
+        ctx.budget, "the curve map", ""
+    )
+    options = ChainOptions(mode="model", stop_after="sound", remedy=False, amplitude=method)
     cases: list[CurveCase] = []
     for radius in radii_m:
         for speed in train_speeds_km_h:
+            ctx.budget.checkpoint(f"the curve of {float(radius):g} m at {float(speed):g} km/h")
             by_axle: dict[str, tuple[Analysis, AxleSound | None]] = {}
             group = []
             for w in wheel_kinematics(float(radius), float(speed), bogie):
                 if w.axle not in by_axle:
                     op = OperatingPoint(w.rolling_speed_m_s, w.crabbing_velocity_m_s)
                     a = analyse(design, op=op, options=options, context=ctx, modes=modes)
-                    by_axle[w.axle] = (a, axle_sound(a, method, ctx))
+                    by_axle[w.axle] = (a, axle_sound(a))
                 a, s = by_axle[w.axle]
                 group.append(CurveCase(float(radius), float(speed), w, a, s))
             sources, owners = bogie_sources(group, bogie, design.rolling_radius)
@@ -322,6 +300,12 @@ def curve(
                 group = [replace(c, passby=bp) for c in group]
             cases += group
     return cases
+
+
+def _size(radii_m: Sequence[float], train_speeds_km_h: Sequence[float], bogie: Bogie) -> CurveSize:
+    """The map's size: its curves, and the bogie's axles that slide (a rigid bogie's
+    trailing axle runs radially)."""
+    return CurveSize(len(radii_m), len(train_speeds_km_h), 2, 1 if bogie.kind == "rigid" else 2)
 
 
 #: Rudd's rule of thumb: squeal in curves tighter than about this many wheelbases

@@ -98,15 +98,8 @@ def eigenvalue_of(table: StabilityTable, row: int) -> int:
 
 def fastest_mode(table: StabilityTable) -> int | None:
     """The row that holds most of the fastest-growing eigenvalue a mode of the wheel takes
-    part in (None: nothing grows)."""
-    lam = table.result.eigenvalues
-    for j in table.result.ranked():
-        if lam[j].real <= 0.0:
-            return None
-        rows = modes_of_eigenvalue(table, j)
-        if rows:
-            return rows[0]
-    return None
+    part in (``StabilityTable.fastest``; None: nothing grows)."""
+    return table.fastest if table.grows else None
 
 
 def _together(table: StabilityTable, row: int) -> tuple[Mode, ...]:

@@ -35,6 +35,7 @@ from geometry.schema import Fields, toml_value
 
 from .sections import (
     COUNTER_BODIES,
+    DAMPING_KEYS,
     Contact,
     CounterBodySection,
     Damping,
@@ -338,7 +339,9 @@ def _field(name: str) -> tuple[str, str]:
 
 def _measured_damping(table: Any, source: str) -> tuple[tuple[str, float], ...]:
     if not isinstance(table, dict):
-        raise DesignError(f'{source}: [squeal.damping] must be a table of "n=N,c=C" = ratio')
+        raise DesignError(
+            f"{source}: [squeal.damping] must be a table of key = ratio, the keys {DAMPING_KEYS}"
+        )
     items: dict[str, tuple[str, float]] = {}
     for label, ratio in table.items():
         if isinstance(ratio, bool) or not isinstance(ratio, int | float):

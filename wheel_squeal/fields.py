@@ -110,6 +110,11 @@ FIELDS: dict[str, Field] = {
     "growth_rate_1_s": Field(
         "1/s", "linear growth rate (negative: decays); the largest where no mode squeals"
     ),
+    "envelope_growth_rate_1_s": Field(
+        "1/s",
+        "the record's envelope growth over its exponential phase, fitted (null: none); the linear "
+        "growth rate measured in the time domain",
+    ),
     "hits": Field("-", "stages read from the cache"),
     "index": Field("-", "the mode's index in frequency order"),
     "label": Field("-", "mode label (n,c) family"),
@@ -257,7 +262,8 @@ GROUPS: dict[str, str] = {
     "participants": "the modes holding at least 5 % of one eigenvalue's energy, with their shares",
     "stability": "every excitable mode's linear stability",
     "verdict": "the one answer: whether, in which mode, at what tone, how loud, why",
-    "winner": "the fastest-growing mode (its fastest eigenvalue's growth rate, frequency and mechanism)",
+    "winner": "the leading mode, the verdict's: the one holding most of the fastest-growing eigenvalue (its "
+    "growth rate, frequency and mechanism)",
 }
 
 #: JSON objects whose keys name things: stages (seconds each) or designs (a verdict each)

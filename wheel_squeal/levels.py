@@ -127,9 +127,10 @@ def harmonic_velocities(
     return tuple(range(1, k + 1)), amps[:k], share, (start, end, count), samples
 
 
-def tone_sound(sound: Sound) -> SquealSound:
-    """A pure tone (one ``Sound``, no record) as a :class:`SquealSound`."""
-    return SquealSound((sound,), (1,), 1.0, float(sound.field.frequency_hz))
+def tone_sound(sound: Sound, tone_hz: float | None = None) -> SquealSound:
+    """A pure tone (one ``Sound``, no record) as a :class:`SquealSound`, heard at
+    ``tone_hz`` [Hz] (default: the frequency it was radiated at)."""
+    return SquealSound((sound,), (1,), 1.0, float(sound.field.frequency_hz if tone_hz is None else tone_hz))
 
 
 @dataclass(frozen=True, eq=False)

@@ -15,11 +15,12 @@ import numpy as np
 from geometry import WheelDesign
 
 from .budget import MAX_FILE_BYTES, Budget
-from .cache import CacheMiss, StageCache, code_version, library_versions
+from .cache import CacheMiss, StageCache
 from .design import Design, as_design
 from .errors import RequestError
 from .presets import DEFAULT_FIDELITY, DEFAULT_FMAX_HZ, FIDELITIES, Fidelity, fidelity_for
 from .progress import Progress
+from .provenance import code_version, library_versions
 
 if TYPE_CHECKING:
     from fem.cost import SolveCost
@@ -226,14 +227,13 @@ def check_named_modes(design: Design, modeset: ModeSet, fmax_hz: float) -> None:
     that is not among ``modeset``'s: its damping would be silently unused."""
     labels = {f"n={m.nodal_diameters},c={m.nodal_circles}" for m in modeset.modes}
     labels |= {m.name for m in modeset.modes if m.name}
-    from .sections import FAMILY_KEYS
+    from .sections import DAMPING_KEYS, FAMILY_KEYS
 
     missing = [k for k, _ in design.damping.by_mode if k not in labels and k not in FAMILY_KEYS]
     if missing:
         raise RequestError(
             f"{design.name}: [squeal.damping] names {', '.join(missing)}, not among the {len(modeset.modes)} "
-            f'modes below {fmax_hz:g} Hz (an FE mode is "n=N,c=C", a modal model\'s by its label): raise '
-            "fmax_hz or remove it"
+            f"modes below {fmax_hz:g} Hz (the keys are {DAMPING_KEYS}): raise fmax_hz or remove it"
         )
 
 

@@ -35,7 +35,9 @@ __all__ = [
     "C22_RANGE",
     "COUNTER_BODIES",
     "CounterBodySection",
+    "DAMPING_KEYS",
     "DEFAULT_FRICTION_LAW",
+    "FRICTION_RANGE",
     "MAX_RELAXATION_LENGTH_M",
     "NORMAL_CONTACTS",
     "ROLLER_MODAL",
@@ -60,6 +62,14 @@ MAX_DAMPING_LABEL_CHARS = 80
 #: diameters (the n = 0 and n = 1 modes couple to the axle, n >= 2 do not), and each
 #: optionally by its direction at the tread
 FAMILY_KEYS = tuple(f"{n}{d}" for n in ("n=0", "n=1", "n>=2") for d in ("", ",axial", ",radial"))
+#: The keys a ``[squeal.damping]`` table accepts, in words (every error about one names them)
+DAMPING_KEYS = (
+    'a mode "n=N,c=C" (nodal diameters, circles), a family "n=0", "n=1" or "n>=2" (each optionally '
+    'with ",axial" or ",radial") or a modal model\'s mode label'
+)
+#: The friction coefficients a wheel on a rail or a roller may have: a friction modifier
+#: or a lubricant lowers it to 0.05-0.3, clean dry steel reaches 0.6-0.8
+FRICTION_RANGE = (1e-3, 1.0)
 
 
 def family_keys(nodal_diameters: int, family: str) -> tuple[str, str]:
@@ -82,18 +92,15 @@ def mode_key(label: str, source: str = "design") -> str:
         if text.strip() and text.isprintable() and len(text) <= MAX_DAMPING_LABEL_CHARS:
             return text
         raise DesignError(
-            f"{source}: [squeal.damping] key {ascii(text[:40])}: a mode's label (printable, at most "
-            f'{MAX_DAMPING_LABEL_CHARS} characters) or "n=N,c=C" (nodal diameters, circles)'
+            f"{source}: [squeal.damping] key {ascii(text[:40])}: the keys are {DAMPING_KEYS} (printable, at "
+            f"most {MAX_DAMPING_LABEL_CHARS} characters)"
         )
     try:
         sel = ModeSelection.parse(text)
     except ValueError:
         sel = None
     if sel is None or sel.nodal_diameters is None or "c" not in text.replace(" ", ""):
-        raise DesignError(
-            f'{source}: [squeal.damping] key {label!r}: use "n=N,c=C" (nodal diameters, circles) or a '
-            "modal model's mode label"
-        )
+        raise DesignError(f"{source}: [squeal.damping] key {label!r}: the keys are {DAMPING_KEYS}")
     return f"n={sel.nodal_diameters},c={sel.nodal_circles}"
 
 
@@ -121,7 +128,7 @@ class Contact(Fields):
     normal_load: float = spec(1000.0, "N", "the normal load W", flat="normal_load")
     c22: float = spec(TABLE1_C22, "", "Kalker's lateral creep coefficient C22 (the paper's 3.14)", flat="c22")
     friction_coefficient: float = spec(
-        0.3, "", "the friction coefficient mu_s = mu_0", flat="friction_coefficient"
+        0.3, "", "the friction coefficient mu_s = mu_0", flat="friction_coefficient", plausible=FRICTION_RANGE
     )
     friction_law: str = spec(
         DEFAULT_FRICTION_LAW, "-", "a name of reduced.FRICTION_LAWS: falling (the paper's) or constant",
@@ -148,6 +155,7 @@ class Contact(Fields):
                 f"[contact] c22 = {self.c22:g} is outside the range of Kalker's creep coefficients "
                 f"({C22_RANGE[0]:g} to {C22_RANGE[1]:g}; 3.14 in the paper)"
             )
+        self.check_plausible()
         if self.friction_law not in FRICTION_LAWS:
             raise DesignError(
                 f"[contact] friction_law must be one of {', '.join(map(repr, FRICTION_LAWS))}, "

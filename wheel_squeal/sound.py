@@ -17,11 +17,12 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from .cache import CacheMiss, StageCache, code_version
+from .cache import CacheMiss, StageCache
 from .design import Design
 from .errors import RequestError
 from .listener import Listener, default_microphone
 from .presets import DEFAULT_FIDELITY, DEFAULT_FMAX_HZ, fidelity_for
+from .provenance import code_version
 
 if TYPE_CHECKING:
     from acoustics import Air, RadiationCost, SoundField, Surface

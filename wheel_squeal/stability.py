@@ -30,13 +30,11 @@ if TYPE_CHECKING:
     from fem.modes import Mode, ModeSet
     from reduced import ContactLaw, ModalDOF, ModeStability, OperatingPoint, StabilityResult
 
-    from .budget import Budget
 
 __all__ = [
     "ModeStabilityRow",
     "NamedMode",
     "StabilityTable",
-    "check_stability_budget",
     "contact_dofs",
     "dof_labels",
     "eigenvalue_list",
@@ -149,8 +147,19 @@ class StabilityTable:
 
     @property
     def fastest(self) -> int:
-        """The index of the row that grows fastest."""
-        return max(range(len(self.rows)), key=lambda i: self.rows[i].stability.growth_rate_1_s)
+        """The index of the leading row (``reduced.stability.leading_mode`` among the
+        wheel's modes: the one holding most of the fastest-growing eigenvalue a mode of
+        the wheel takes part in); where nothing grows, the row that decays slowest. The
+        decision's pick (``decision.fastest_mode``)."""
+        from reduced.stability import leading_mode
+
+        growth = [r.stability.growth_rate_1_s for r in self.rows]
+        return leading_mode(self.result.eigenvalues, self.result.shares, growth, len(self.rows))
+
+    @property
+    def grows(self) -> bool:
+        """Whether an eigenvalue a mode of the wheel takes part in grows."""
+        return any(r.stability.unstable for r in self.rows)
 
     @property
     def growing(self) -> list[ModeStabilityRow]:
@@ -241,30 +250,6 @@ def stability_seconds(
     dofs = contact_dofs(excitable(modeset, contact), design)
     coupled = contact.normal_stiffness_n_m > 0 and any(d.normal != 0.0 for d in dofs)
     return seconds(dofs, rotation, bounds, coupled)
-
-
-def check_stability_budget(
-    design: Design,
-    modeset: ModeSet,
-    contact: ContactLaw,
-    rotation: bool,
-    budget: Budget,
-    bounds: int = 0,
-) -> float:
-    """Refuse :func:`stability_table` (with ``bounds`` modes' bounds) beyond ``budget``
-    in time or memory, before it starts; returns its estimated time [s]."""
-    from reduced.stability import eigen_solve_bytes
-
-    dofs = contact_dofs(excitable(modeset, contact), design)
-    what = f"the linear stability of {len(dofs)} degrees of freedom" + (
-        f" with the critical damping and friction slope of {bounds}" if bounds else ""
-    )
-    return budget.check_work(
-        what,
-        stability_seconds(design, modeset, contact, rotation, bounds),
-        "lower fmax" + (", or leave the bounds out" if bounds else ""),
-        eigen_solve_bytes(dofs, rotation),
-    )
 
 
 class NamedMode(NamedTuple):

@@ -35,11 +35,11 @@ SolverName = Literal["axisym", "3d", "3d-tet"]
 #: The FE presets of ``wheel_squeal.presets.FIDELITIES``.
 FidelityName = Literal["fast", "balanced", "accurate"]
 #: What the wheel rolls on (``wheel_squeal.sections.COUNTER_BODIES``).
-CounterBodyKind = Literal["roller"]
+CounterBodyKind = Literal["roller", "track"]
 #: What a record shows at its end (``reduced.limit_cycle``).
 LimitCycleState = State
 #: The stages of the chain, in order; a request stops after one of them.
 Stage = Literal["stability", "limit_cycle", "sound"]
-#: How the curve command finds a squealing wheel's amplitude: the harmonic balance of its
-#: squeal mode (``reduced.predict_limit_cycle``, fast) or the chain's time domain.
+#: How the chain finds a squeal's amplitude: the harmonic balance of its squeal mode
+#: (``reduced.predict_limit_cycle``, fast) or the time domain from rest.
 AmplitudeMethod = Literal["harmonic balance", "time domain"]

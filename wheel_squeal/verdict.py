@@ -34,7 +34,7 @@ if TYPE_CHECKING:
     from .api import Simulation
     from .levels import SquealSound
 
-__all__ = ["LEVELS", "LOWEST_SQUEAL_HZ", "ModeOutcome", "Verdict", "wave_of"]
+__all__ = ["COUPLING_ONLY", "LEVELS", "LOWEST_SQUEAL_HZ", "Balance", "ModeOutcome", "Verdict", "wave_of"]
 
 #: An oscillation below this frequency [Hz] (the lower limit of hearing) is an
 #: instability, not a squeal: no level or sound file is given for it
@@ -44,6 +44,24 @@ LOWEST_SQUEAL_HZ = 20.0
 #: sound power, and at the common distances from the wheel centre (1 m, 7.5 m: levels
 #: that compare wheels of different sizes)
 LEVELS = ("spl_db", "spl_dba", "sound_power_level_db", "sound_power_level_dba", "spl_1m_db", "spl_7_5m_db")
+
+
+#: What is said of a squeal whose amplitude the harmonic balance cannot give
+COUPLING_ONLY = "mode coupling alone: its amplitude needs the time domain"
+
+
+@dataclass(frozen=True)
+class Balance:
+    """A squeal's limit cycle by harmonic balance, without a time domain
+    (``wheel_squeal.chain``): the contact velocity amplitude [m/s] (None: the balance has
+    none, ``note`` says why), the contact force's distortion (its rms beyond the
+    fundamental over the modal force; under 0.1 the amplitude is within a few per cent of
+    the time domain's) and a note where something was left out (a lower bound, mode
+    coupling alone)."""
+
+    amplitude_m_s: float | None
+    distortion: float | None = None
+    note: str = ""
 
 
 def wave_of(mode: Mode, frequency_hz: float, wheel_speed_rad_s: float) -> Wave:
@@ -80,6 +98,9 @@ class ModeOutcome:
         The modes integrated together (empty: not integrated).
     shares : dict or None
         Every degree of freedom's share of the limit cycle's energy, by label.
+    balance : Balance or None
+        Its limit cycle by harmonic balance (the chain's faster amplitude method; None:
+        the time domain's, or linear only).
 
     Examples
     --------
@@ -100,6 +121,7 @@ class ModeOutcome:
     mechanism: Mechanism | None = None
     group: tuple[Mode, ...] = ()
     shares: dict[str, float] | None = None
+    balance: Balance | None = None
 
     @property
     def label(self) -> str:
@@ -129,6 +151,8 @@ class ModeOutcome:
         """What its record shows, in words: a limit cycle, still growing, not settled
         (a sustained oscillation that is not a clean limit cycle), or linear analysis only."""
         if self.simulation is None:
+            if self.balance is not None:
+                return "harmonic balance" if self.balance.amplitude_m_s is not None else self.balance.note
             return "linear analysis only"
         lc = self.simulation.limit_cycle
         end = f"after {self.duration_s:.3g} s"
@@ -141,10 +165,18 @@ class ModeOutcome:
 
     @property
     def amplitude_m_s(self) -> float | None:
-        """Contact velocity amplitude [m/s] at the end of the run (None: not simulated)."""
+        """Contact velocity amplitude [m/s]: at the end of the run, or the harmonic
+        balance's (None: neither)."""
         if self.simulation is None:
-            return None
+            return None if self.balance is None else finite_or_none(self.balance.amplitude_m_s)
         return finite_or_none(self.simulation.limit_cycle.velocity_amplitude_m_s)
+
+    @property
+    def amplitude_method(self) -> str:
+        """How its amplitude was found: "time domain", "harmonic balance" or "" (none)."""
+        if self.simulation is not None:
+            return "time domain"
+        return "harmonic balance" if self.amplitude_m_s is not None else ""
 
     @property
     def tone_hz(self) -> float:
@@ -176,6 +208,7 @@ class ModeOutcome:
             "growth_rate_1_s": finite_or_none(self.growth_rate_1_s),
             "mechanism": self.mechanism,
             "amplitude_m_s": self.amplitude_m_s,
+            "amplitude_method": self.amplitude_method,
             "saturated": self.saturated,
             **self.levels(),
             **({"energy_share": self.energy_share} if self.energy_share is not None else {}),
@@ -232,6 +265,18 @@ class Verdict:
         """A field of the verdict's outcome (None without squeal)."""
         return None if self.outcome is None else self.outcome.to_dict().get(key)
 
+    @property
+    def amplitude_m_s(self) -> float | None:
+        """The squeal's contact velocity amplitude [m/s] (None: no squeal, or none found)."""
+        return None if self.outcome is None else self.outcome.amplitude_m_s
+
+    def headline(self) -> str:
+        """The verdict in a few words: "squeals in MODE by MECHANISM at F Hz" or "no squeal"."""
+        o = self.outcome
+        if not self.squeals or o is None:
+            return "no squeal"
+        return f"squeals in {o.label} by {o.mechanism or 'an instability'} at {o.tone_hz:.1f} Hz"
+
     def to_dict(self) -> dict:
         """``summary.json``'s ``verdict``."""
         o = self.outcome
@@ -244,6 +289,7 @@ class Verdict:
             "growth_rate_1_s": finite_or_none(o.growth_rate_1_s) if o else None,
             "mechanism": o.mechanism if o else None,
             "amplitude_m_s": o.amplitude_m_s if o else None,
+            "amplitude_method": o.amplitude_method if o else "",
             "saturated": o.saturated if o else False,
             **(o.levels() if o else dict.fromkeys(LEVELS)),
             "reason": self.reason,

@@ -74,6 +74,7 @@ def main(
     if unknown:  # the subcommand's own error: it points to its --help
         parser.subcommands[args.command].error(f"unrecognized arguments: {' '.join(unknown)}")
     args._started_s = started_s
+    STATE.holding = STATE.committed = STATE.retiring = False  # a new command in this process
     if not os.environ.get("DISPLAY"):
         # Without an X server VTK tries X first and warns before falling back to EGL;
         # go straight to EGL (off-screen) so the terminal stays clean.
@@ -119,7 +120,7 @@ def in_flags(message: str) -> str:
 def _status_of(exc: BaseException) -> int:
     """The exit status of a command that raised ``exc``, with its one line on stderr
     (a bug's traceback is re-raised)."""
-    if STATE.received:  # a signal stopped it, whatever the exception became on the way
+    if STATE.received and not STATE.committed:  # a signal stopped it, whatever the exception became
         print(stop_line(STATE.received[0], STATE.budget_s), file=sys.stderr)
         return STOPS[STATE.received[0]][1]
     if isinstance(exc, RequestError | DesignError):

@@ -12,6 +12,7 @@ __all__ = [
     "c22_value",
     "count",
     "finite",
+    "friction_value",
     "grid_axis",
     "microphone",
     "non_negative",
@@ -49,6 +50,20 @@ def finite(text: str) -> float:
     v = _number(text)
     if not math.isfinite(v):
         raise argparse.ArgumentTypeError(f"must be finite, got {text}")
+    return v
+
+
+def friction_value(text: str) -> float:
+    """A friction coefficient within what a wheel on a rail can have (``sections.FRICTION_RANGE``)."""
+    from ..sections import FRICTION_RANGE
+
+    v = positive(text)
+    low, high = FRICTION_RANGE
+    if not low <= v <= high:
+        raise argparse.ArgumentTypeError(
+            f"{text} is not a wheel-rail friction coefficient ({low:g} to {high:g}: 0.05-0.3 lubricated or "
+            "with a friction modifier, 0.6-0.8 clean and dry)"
+        )
     return v
 
 

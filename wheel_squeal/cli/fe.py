@@ -7,7 +7,9 @@ import time
 
 from .. import api
 from ..errors import RequestError
-from ..outputs import result_folder, write_json
+from ..folders import result_folder
+from ..outputs import write_json
+from ..plan import MESH_BYTES_PER_ELEMENT, MESH_SECONDS_PER_ELEMENT
 from ..present.summary import modes_summary
 from ..present.text import modes_table
 from ..progress import Progress
@@ -15,10 +17,6 @@ from .common import analysis_of, budget_of, context_of, design_of, modes_of, out
 from .stops import uninterrupted
 
 __all__ = ["cmd_mesh", "cmd_modes", "cmd_render"]
-
-#: gmsh per element: about 7e-5 s and 3 kB (measured on these wheels up to 2e5 elements).
-MESH_SECONDS_PER_ELEMENT = 7e-5
-MESH_BYTES_PER_ELEMENT = 3e3
 
 
 def cmd_mesh(args: argparse.Namespace) -> int:

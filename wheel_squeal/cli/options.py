@@ -21,7 +21,16 @@ from ..presets import (
     FIDELITIES,
 )
 from ..sections import NORMAL_CONTACTS
-from .arguments import angle_deg, c22_value, finite, grid_axis, microphone, non_negative, positive
+from .arguments import (
+    angle_deg,
+    c22_value,
+    finite,
+    friction_value,
+    grid_axis,
+    microphone,
+    non_negative,
+    positive,
+)
 
 __all__ = [
     "add_axis",
@@ -227,7 +236,7 @@ def add_modal_model(p: argparse.ArgumentParser) -> None:
 def add_friction_law(p: argparse.ArgumentParser) -> None:
     p.add_argument(
         "--friction",
-        type=positive,
+        type=friction_value,
         metavar="MU",
         help="the friction coefficient mu_s = mu_0 [-] (default: the design's [contact] "
         "friction_coefficient)",

@@ -7,8 +7,9 @@ from __future__ import annotations
 import argparse
 
 from ..errors import RequestError
+from ..folders import result_folder
 from ..levels import tone_sound
-from ..outputs import result_folder, write_json
+from ..outputs import write_json
 from ..present.results import write_sound_files
 from ..present.text import sound_text
 from ..sound import check_velocity_amplitude, mode_sound

@@ -11,11 +11,13 @@ from pathlib import Path
 import numpy as np
 
 from .. import api
-from ..envelope import envelope, envelope_seconds, mitigation_summary
+from ..envelope import envelope, mitigation_summary
 from ..errors import RequestError
 from ..fields import columns_of
+from ..folders import result_folder
 from ..modal_model import MODAL_MODEL_SOLVER
-from ..outputs import result_folder, write_csv, write_json
+from ..outputs import write_csv, write_json
+from ..plan import stability_request_plan
 from ..plotting import PlotWorkers
 from ..present.figures import write_compare_plot, write_envelope_plot, write_sweep_plot
 from ..present.html import compare_report, run_report
@@ -39,7 +41,7 @@ from ..present.text import (
     verdict_lines,
 )
 from ..presets import DEFAULT_ENVELOPE_CRAB_VELOCITIES, DEFAULT_SPEEDS_RPM
-from ..stability import check_stability_budget, eigenvalue_list, excitable, stability_table
+from ..stability import eigenvalue_list, excitable, stability_table
 from ..sweeps import sweep_verdicts
 from .arguments import grid_axis
 from .common import (
@@ -247,16 +249,9 @@ def cmd_stability(args: argparse.Namespace) -> int:
         ms = modes_of(args, design)
         n = len(excitable(ms, contact))
         bounds = None if args.no_bounds else "all"
-        seconds = check_stability_budget(
-            design, ms, contact, args.rotation, ctx.budget, 0 if bounds is None else n
-        )
-        if axes is not None:
-            ctx.budget.check_work(
-                f"the stability envelope ({len(axes[0])} x {len(axes[1])} points, {n} modes) "
-                "and its mitigation",
-                envelope_seconds(design, ms, contact, len(axes[0]), len(axes[1])),
-                "use fewer --envelope-crab-velocity points or a lower --fmax",
-            )
+        sizes = None if axes is None else (len(axes[0]), len(axes[1]))
+        plan = stability_request_plan(design, ms, contact, args.rotation, bounds is not None, sizes)
+        seconds = plan.check(ctx.budget, "the stability", "ask for less")
         with ctx.progress.stage(
             f"linear stability of {n} modes" + (f" (about {seconds:.2g} s)" if seconds > 2 else "")
         ):

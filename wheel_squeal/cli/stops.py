@@ -15,9 +15,9 @@ import signal
 import sys
 import threading
 import time
-from collections.abc import Iterator
-from dataclasses import dataclass, field
 from types import FrameType
+
+from ..interrupts import STATE, STOPS, OutOfTime, StopState, Terminated, uninterrupted
 
 __all__ = [
     "STATE",
@@ -31,40 +31,6 @@ __all__ = [
     "stop_line",
     "uninterrupted",
 ]
-
-
-class Terminated(KeyboardInterrupt):
-    """SIGTERM (sent by timeout, batch schedulers, systemd): stop as on Ctrl-C, so that
-    the same clean-up runs (staging folders removed, worker processes stopped)."""
-
-
-class OutOfTime(KeyboardInterrupt):
-    """The request's time budget ran out while it worked (SIGALRM, armed by :func:`run`
-    for the time left): stop as on Ctrl-C, then report the budget."""
-
-
-#: The signals that stop a command, the exception each raises in the main thread, the
-#: exit status and the line printed.
-STOPS: dict[int, tuple[type[KeyboardInterrupt], int]] = {
-    signal.SIGTERM: (Terminated, 143),
-    signal.SIGINT: (KeyboardInterrupt, 130),
-    signal.SIGALRM: (OutOfTime, 1),
-}
-
-
-@dataclass
-class StopState:
-    """This process's stop signals: those received, in order (a library that turns the
-    exception a signal raised into another one, as some do during an import, cannot hide
-    it), the time budget the alarm was armed with [s], and whether a stop is held back
-    until the work under way ends (:func:`uninterrupted`)."""
-
-    received: list[int] = field(default_factory=list)
-    budget_s: float | None = None
-    holding: bool = False
-
-
-STATE = StopState()
 
 
 #: Where Python code runs as a callback of native code (numba's LLVM object cache, through
@@ -94,20 +60,9 @@ def _on_signal(signum: int, frame: FrameType | None) -> None:
     raise STOPS[signum][0]
 
 
-@contextlib.contextmanager
-def uninterrupted() -> Iterator[None]:
-    """Hold a stop signal back until the block ends, then stop: for native libraries that
-    do not survive an exception raised between their calls (VTK's off-screen rendering
-    crashes as it unwinds). The watcher still ends the process after its grace period."""
-    STATE.holding = True
-    try:
-        yield
-    finally:
-        STATE.holding = False
-    if STATE.received:
-        raise STOPS[STATE.received[0]][0]
-
-
+#: Seconds the stop watcher waits, beyond the grace period, for an earlier result that is
+#: being removed after its replacement was committed
+COMMIT_WAIT_S = 60.0
 #: Seconds a stopped command has to clean up before it ends regardless (it may be inside
 #: a long native computation, where no Python code runs until it returns).
 TERMINATE_GRACE_S = 5.0
@@ -160,9 +115,17 @@ def install_stop_handlers() -> None:
             if got:
                 break
         time.sleep(grace_s(got[0]))
-        from ..outputs import ResultFolder
+        waited = 0.0
+        while STATE.retiring and waited < COMMIT_WAIT_S:  # let the earlier result go whole
+            time.sleep(0.05)
+            waited += 0.05
+        from ..folders import ResultFolder
 
         ResultFolder.discard_all()
+        if STATE.committed:  # the result is complete: the request ended as asked
+            with contextlib.suppress(OSError, ValueError):
+                sys.stdout.flush()
+            os._exit(0)
         with contextlib.suppress(OSError, ValueError):
             print(stop_line(got[0], STATE.budget_s), file=sys.stderr, flush=True)
         os._exit(STOPS[got[0]][1])

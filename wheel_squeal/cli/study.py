@@ -5,7 +5,7 @@ from __future__ import annotations
 import argparse
 
 from ..errors import RequestError
-from ..outputs import result_folder
+from ..folders import result_folder
 from ..progress import Progress
 from .common import budget_of, cache_of, out_of
 

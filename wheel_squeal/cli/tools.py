@@ -10,7 +10,7 @@ from geometry.files import write_atomic
 
 from ..cache import ENV_SIZE, StageCache, parse_size
 from ..errors import RequestError
-from ..outputs import result_folder
+from ..folders import result_folder
 from ..progress import Progress
 from .common import design_of, out_of
 

@@ -8,7 +8,9 @@ import argparse
 from typing import TYPE_CHECKING
 
 from ..errors import RequestError
-from ..outputs import result_folder, write_json
+from ..folders import result_folder
+from ..outputs import write_json
+from ..plan import track_plan
 from .common import context_of, design_of, out_of
 
 if TYPE_CHECKING:
@@ -25,6 +27,7 @@ def cmd_track(args: argparse.Namespace) -> int:
     design = design_of(args)
     out = out_of(args, design.name)
     ctx = context_of(args)
+    track_plan(args.points).check(ctx.budget, "the track", "")
     with result_folder(out, "track") as tmp:
         with ctx.progress.stage(f"the rail's receptances at {args.points} frequencies"):
             t = track_receptances(design, args.fmin, args.fmax, args.points)
@@ -50,8 +53,6 @@ def cmd_curve(args: argparse.Namespace) -> int:
         bogie = Bogie(args.wheelbase, args.bogie)
     except ValueError as exc:
         raise RequestError(str(exc)) from None
-    if min(args.radius) <= 0 or min(args.train_speed) <= 0:
-        raise RequestError("--radius and --train-speed take positive values")
     q = args.ground_reflection
     method: AmplitudeMethod = "time domain" if args.time_domain else "harmonic balance"
     out = out_of(args, design.name)

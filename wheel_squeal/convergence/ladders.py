@@ -144,7 +144,7 @@ def _simulate_row(row: dict, mode: Any, design: Design, contact: Any, op: Any) -
         {
             "amplitude_m_s": float(lc.velocity_amplitude_m_s),
             "time_to_saturation_s": float(lc.time_to_saturation_s),
-            "growth_rate_1_s": float(lc.growth_rate_1_s),
+            "growth_rate_1_s": float(lc.envelope_growth_rate_1_s),
             "limit_cycle_frequency_hz": float(lc.frequency_hz),
             "simulated_s": float(sim.history.t[-1]),
             "step_s": float(sim.history.step_s),
@@ -257,7 +257,7 @@ def _integrator_job(
             "seconds": dt,
             "amplitude": float(lc.velocity_amplitude_m_s),
             "tsat": float(lc.time_to_saturation_s),
-            "growth": float(lc.growth_rate_1_s),
+            "growth": float(lc.envelope_growth_rate_1_s),
             "freq": float(lc.frequency_hz),
             "step": float(hist.step_s),
             "saturated": bool(lc.saturated),

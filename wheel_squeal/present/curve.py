@@ -80,9 +80,20 @@ def _grid(rows: Sequence[dict], key: str, fill: Any = math.nan) -> np.ndarray:
     return out
 
 
-def curve_dataset(rows: Sequence[dict], attrs: dict[str, Any]) -> Any:
-    """The cases as an ``xarray.Dataset`` on the dimensions radius_m, train_speed_km_h and
-    wheel, every variable with its units (missing numbers NaN)."""
+def curve_dataset(rows: Sequence[dict], attrs: dict[str, Any] | None = None) -> Any:
+    """The cases (``CurveCase.to_record()`` rows) as an ``xarray.Dataset`` on the
+    dimensions radius_m, train_speed_km_h and wheel, every variable with its units
+    (missing numbers NaN) and ``attrs`` (the file's global attributes).
+
+    Examples
+    --------
+    >>> import wheel_squeal as ws
+    >>> from track.curving import Bogie
+    >>> cases = ws.curve(ws.load_design("railway_920_track"), [150.0], [40.0], Bogie(2.5),
+    ...                  context=ws.RunContext.of("fast"))
+    >>> curve_dataset([c.to_record() for c in cases])["squeals"].shape
+    (1, 1, 4)
+    """
     import xarray as xr
 
     radii, speeds, wheels = _axes(rows)
@@ -94,7 +105,7 @@ def curve_dataset(rows: Sequence[dict], attrs: dict[str, Any]) -> Any:
     for k in (*_GRID_VARIABLES, "radius_m", "train_speed_km_h"):
         ds[k].attrs["units"] = unit_of(k) or "1"
     ds["squeals"].attrs = {"units": "1", "long_name": "1 where the wheel squeals"}
-    ds.attrs = dict(attrs)
+    ds.attrs = dict(attrs or {})
     return ds
 
 
@@ -207,6 +218,34 @@ def write_passby_wav(
             "duration_s": duration, "peak_pa": peak, "sample_rate_hz": WAV_RATE_HZ}  # fmt: skip
 
 
+def curve_assumptions(method: str) -> tuple[str, ...]:
+    """What a curve map rests on, said in its report: the wheel, each wheel's contact, how
+    its amplitude and sound were found (``method``), the pass-by."""
+    from .html import ASSUMPTIONS
+
+    amplitude = (
+        "The amplitude of a squealing wheel is the harmonic balance of its squeal mode alone, its damping "
+        "set so that its growth rate is the full linear model's with the rail and the other modes; its "
+        "sound is that mode's radiation at the fundamental only (no harmonics, no other mode's content)."
+        if method == "harmonic balance"
+        else "The amplitude of a squealing wheel is the time domain's limit cycle from rest of the modes the "
+        "decision integrates with the rail; its sound is the radiation of the mode holding most of its "
+        "energy at each harmonic of the contact velocity."
+    )
+    return (
+        ASSUMPTIONS[0],
+        "Each wheel touches the rail at its tread with the design's load and the lateral creep its bogie's "
+        "kinematics give (2a/R at a rigid bogie's leading axle); no flange contact, no cant deficiency, no "
+        "longitudinal creep or spin.",
+        ASSUMPTIONS[2],
+        "Whether a wheel squeals is the linear stability's decision about steady sliding.",
+        amplitude,
+        "The pass-by: each wheel a point source at its centre moving past the ISO 3095 microphone (7.5 m, "
+        "1.2 m above the rail head) with its far-field directivity; the wheels add in energy (they squeal "
+        "independently); free field unless a ground is asked for.",
+    )
+
+
 def curve_report(folder: Path, design: str, rows: Sequence[dict], summary: dict[str, Any]) -> Path:
     """report.html: the cases that squeal, the loudest pass-by's bands and sound, the
     maps, the inputs."""
@@ -234,7 +273,10 @@ def curve_report(folder: Path, design: str, rows: Sequence[dict], summary: dict[
     inputs = [(k, summary[k]) for k in ("design", "wheelbase_m", "bogie", "amplitude_method")]
     inputs += [("microphone", "7.5 m from the track centre line, 1.2 m above the rail head (ISO 3095)"),
                ("ground", summary["ground"])]  # fmt: skip
-    return listing_report(folder, f"{design} in curves", "wheel-squeal curve", lines, inputs, sections)
+    return listing_report(
+        folder, f"{design} in curves", "wheel-squeal curve", lines, inputs, sections,
+        curve_assumptions(summary["amplitude_method"]),
+    )  # fmt: skip
 
 
 def write_curve_files(

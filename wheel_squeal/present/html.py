@@ -20,8 +20,8 @@ from typing import TYPE_CHECKING
 
 from geometry.files import write_atomic
 
-from ..cache import code_version
 from ..outputs import NONE
+from ..provenance import CODE_PACKAGES, code_version
 from .summary import operating_point_summary
 from .text import verdict_lines
 
@@ -125,7 +125,7 @@ def versions() -> list[tuple[str, object]]:
             out.append((name, importlib.metadata.version(name)))
         except importlib.metadata.PackageNotFoundError:
             out.append((name, "absent"))
-    out.append(("code", code_version("geometry", "fem", "reduced", "acoustics", "wheel_squeal")))
+    out.append(("code", code_version(*CODE_PACKAGES)))
     return out
 
 
@@ -157,8 +157,8 @@ def _verdict_block(lines: Sequence[str], squeals: bool) -> str:
     )
 
 
-def _assumptions() -> str:
-    return "<ul>" + "".join(f"<li>{_e(a)}</li>" for a in ASSUMPTIONS) + "</ul>"
+def _assumptions(assumptions: Sequence[str] = ASSUMPTIONS) -> str:
+    return "<ul>" + "".join(f"<li>{_e(a)}</li>" for a in assumptions) + "</ul>"
 
 
 def _write(folder: Path, text: str) -> Path:
@@ -396,15 +396,16 @@ def listing_report(
     summary_lines: Sequence[str],
     inputs: Sequence[tuple[str, object]],
     sections: Sequence[tuple[str, str]] = (),
+    assumptions: Sequence[str] = ASSUMPTIONS,
 ) -> Path:
     """A report of summary lines, further sections (title, HTML), every plot in
-    ``folder``, the inputs, the assumptions and the files."""
+    ``folder``, the inputs, the ``assumptions`` it rests on and the files."""
     body = [
         _section("Summary", "<ul>" + "".join(f"<li>{_e(x)}</li>" for x in summary_lines) + "</ul>"),
         *(_section(t, part) for t, part in sections),
         _section("Plots", *(image(p, p.stem) for p in sorted(folder.glob("*.png")))),
         _section("Inputs", _pairs(list(inputs)), _pairs(versions())),
-        _section("Assumptions and limits", _assumptions()),
+        _section("Assumptions and limits", _assumptions(assumptions)),
         _section("Files", _files(folder)),
     ]
     return _write(folder, _page(title, subtitle, body))

@@ -92,10 +92,11 @@ def squeal_report(sim: Simulation, dof: ModalDOF, label: str | None = None) -> s
             "still growing": "still growing at the end of the run",
             "not settled": "not settled: a sustained oscillation, not a clean limit cycle",
         }[sim.limit_cycle.state]
-        tsat = lc["time_to_saturation_s"]
+        tsat, grew = lc["time_to_saturation_s"], lc["envelope_growth_rate_1_s"]
         lines.append(
             f"limit cycle{of}: velocity amplitude {lc['velocity_amplitude_m_s']:.4g} m/s ({state}), "
-            f"{lc['frequency_hz']:.1f} Hz, growth rate {lc['growth_rate_1_s']:.3g} 1/s"
+            f"{lc['frequency_hz']:.1f} Hz"
+            + (f", its envelope grew at {grew:.3g} 1/s" if grew is not None and math.isfinite(grew) else "")
             + (f", saturated after {tsat:.3f} s" if tsat is not None and math.isfinite(tsat) else "")
             + (
                 f"; wheel and roller apart over {lc['contact_lost_fraction']:.0%} of the last quarter"
@@ -177,15 +178,15 @@ def _cell(value: float | None, width: int, computed: bool = True) -> str:
 
 
 def stability_text(rows: Sequence, winner: int, bounds: bool = True) -> str:
-    """The stability of every excitable mode as text, the fastest-growing one marked
-    (``bounds``: the critical damping and slope were computed)."""
+    """The stability of every excitable mode as text, the leading one (the decision's)
+    marked (``bounds``: the critical damping and slope were computed)."""
     lines = [
         f"{'#':>3} {'f [Hz]':>9} {'n':>2} {'c':>2} {'family':<15} {'sigma [1/s]':>11} "
         f"{'zeta_crit':>10} {'dmu/dz crit':>11}"
     ]
     for i, row in enumerate(rows):
         m, s = row.mode, row.stability
-        mark = " <- fastest" if i == winner else (" unstable" if s.unstable else "")
+        mark = " <- leads" if i == winner else (" unstable" if s.unstable else "")
         lines.append(
             f"{m.index:>3} {s.damped_frequency_hz:9.1f} {m.nodal_diameters:>2} {m.nodal_circles:>2} "
             f"{m.family:<15} {s.growth_rate_1_s:11.3g} {_cell(s.critical_damping_ratio, 10, bounds)} "

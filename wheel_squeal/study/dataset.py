@@ -24,10 +24,10 @@ import numpy as np
 
 from reduced.report import PLOT_DPI
 
-from ..cache import code_version
 from ..fields import unit_of
+from ..provenance import CODE_PACKAGES, code_version
 from .spec import StudySpec
-from .task import CODE_PACKAGES, FLAG_FIELDS, LABEL_FIELDS, RESULT_FIELDS
+from .task import FLAG_FIELDS, LABEL_FIELDS, RESULT_FIELDS
 
 __all__ = ["loudest", "study_dataset", "study_summary", "write_study_files"]
 
@@ -131,13 +131,16 @@ def write_study_files(ds: Any, spec: StudySpec, folder: Path) -> list[str]:
 
 #: A colour or axis scale spans at least this much (a smaller spread is drawn as it is,
 #: not stretched over the whole scale): Hz for tones, dB for levels, m/s for amplitudes
-MIN_SPAN = {"tone_hz": 5.0, "spl_dba": 2.0, "spl_db": 2.0, "amplitude_m_s": 0.01}
+MIN_SPAN = {"tone_hz": 5.0, "spl_dba": 2.0, "spl_db": 2.0, "amplitude_m_s": 0.01, "growth_rate_1_s": 1.0}
 
 
 def _level_var(ds: Any, spec: StudySpec) -> str:
-    """The level the plots show: the A-weighted SPL where sound is computed, else the
-    contact velocity amplitude."""
-    return "spl_dba" if "sound" in spec.compute else "amplitude_m_s"
+    """How loud or strong a squeal is, as the plots and the summary show it: the
+    A-weighted SPL where sound is computed, else the contact velocity amplitude of the
+    limit cycle, else (the stability alone) the linear growth rate."""
+    if "sound" in spec.compute:
+        return "spl_dba"
+    return "amplitude_m_s" if "limit_cycle" in spec.compute else "growth_rate_1_s"
 
 
 def loudest(ds: Any, spec: StudySpec) -> Any:
@@ -149,7 +152,7 @@ def loudest(ds: Any, spec: StudySpec) -> Any:
     var = _level_var(ds, spec)
     ok = ds["status"] == "ok"
     stacked = ds[[var, "tone_hz", "squeals"]].where(ok).stack(point=("crab_velocity", "rpm"))
-    level = stacked[var]
+    level = stacked[var].where(stacked["squeals"] > 0.5)  # its squealing points (a float after where)
     best = level.fillna(-np.inf).argmax("point")
     loud = level.isel(point=best).drop_vars(["point", "crab_velocity", "rpm"], errors="ignore")
     tone = stacked["tone_hz"].isel(point=best).drop_vars(["point", "crab_velocity", "rpm"], errors="ignore")
@@ -187,7 +190,7 @@ def study_summary(ds: Any, spec: StudySpec) -> list[str]:
     status = ds["status"].values.ravel()
     n, ok = status.size, int((status == "ok").sum())
     level = per["level"].values.ravel()
-    squealing = np.isfinite(level)
+    squealing = np.isfinite(level)  # its loudest squealing point (none: no squeal anywhere)
     grid = f"{ds.sizes['crab_velocity']} crabbing velocities x {ds.sizes['rpm']} speeds"
     lines = [f"{n} designs ({ok} valid) x {grid}"]
     lines.append(f"{int(squealing.sum())} of {ok} valid designs squeal somewhere on the operating grid")

@@ -20,14 +20,15 @@ import numpy as np
 
 from ..api import check_modes_budget
 from ..budget import Budget
-from ..cache import CacheMiss, StageCache, code_version, library_versions
+from ..cache import CacheMiss, StageCache
 from ..errors import RequestError
+from ..plan import estimate_study, study_plan
 from ..presets import fidelity_for
 from ..progress import Progress
-from .cost import estimate_study
+from ..provenance import CODE_PACKAGES, code_version, library_versions
 from .pool import Death, run_on_pool
 from .spec import StudySpec
-from .task import CODE_PACKAGES, CaseJob, run_case
+from .task import CaseJob, run_case
 
 __all__ = [
     "MAX_WORKER_DEATHS",
@@ -95,25 +96,16 @@ def case_results(
         scheduler = check_scheduler_address(scheduler)
     cost = estimate_study(spec)
     check_modes_budget(spec.base, fidelity_for(spec.fidelity), spec.fmax_hz, budget)
-    budget.check_work(
-        f"the results of {spec.n_cases:,} designs x {spec.n_points:,} operating points",
-        0.0,
-        "use fewer designs or operating points",
-        cost.memory_bytes,
-    )
     n_local = 1 if scheduler else local_workers(workers, progress)
     where = f"dask scheduler {scheduler}" if scheduler else f"{n_local} local process(es)"
     base = _key_base(spec)
 
     def check_time(parallel: int, count: int) -> None:
-        budget.check_work(
-            f"the study ({count:,} designs x {spec.n_points:,} operating points, about "
-            f"{cost.case_seconds:.2g} s each, on {parallel} worker(s))",
-            cost.seconds(count, parallel),
-            "use fewer designs or operating points, a faster fidelity, or more workers (a cluster)",
-        )
+        study_plan(spec, cost, parallel, count).check(budget, "the study", "ask for less")
 
-    if not scheduler and not _started(base, cache):
+    if scheduler or _started(base, cache):
+        study_plan(spec, cost, 1, 0).check(budget, "the study", "ask for less")  # its results' memory
+    else:
         check_time(n_local, spec.n_cases)  # nothing stored: refused before its cases are made
     cases = spec.cases()
     keys = [_case_key(base, c.changes) for c in cases]
@@ -131,6 +123,7 @@ def case_results(
     report = progress.counter(f"study {spec.name}", "cases")
 
     def done(i: int, result: dict) -> None:
+        budget.checkpoint(f"the study's case {i}")
         results[i] = result
         if cache is not None and not result.get("transient"):
             cache.store("study", keys[i], {"result": np.array(json.dumps(result))})

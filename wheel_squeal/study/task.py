@@ -20,11 +20,7 @@ from ..errors import BudgetError, RequestError
 from ..fields import FLAG_FIELDS, LABEL_FIELDS, RESULT_FIELDS
 from ..types import Stage
 
-__all__ = ["CODE_PACKAGES", "FLAG_FIELDS", "LABEL_FIELDS", "CaseJob", "RESULT_FIELDS", "run_case"]
-
-#: The packages whose code a case's result depends on (its cache key, the dataset's
-#: provenance).
-CODE_PACKAGES = ("geometry", "fem", "reduced", "acoustics", "wheel_squeal")
+__all__ = ["FLAG_FIELDS", "LABEL_FIELDS", "CaseJob", "RESULT_FIELDS", "run_case"]
 
 
 @dataclass(frozen=True)

@@ -1,31 +1,33 @@
-"""The cost plan of a verdict: every part of the request estimated before any of it
-runs (``budget.CostPlan``), in two steps, since which modes squeal is known only once the
-stability is solved: the stability and the remedy's bounds (:func:`stability_plan`), then
-the time domain of the modes the verdict simulates and their sound (:func:`verdict_plan`).
-"""
+"""The cost plan of a verdict (``run``, ``stability``, ``simulate``, ``compare``, a sweep's
+points): in two steps, since which modes squeal is known only once the stability is
+solved (:func:`stability_plan`, then :func:`verdict_plan`); and the ``stability``
+command's bounds and envelope (:func:`stability_request_plan`)."""
 
 from __future__ import annotations
 
 from collections.abc import Sequence
 from typing import TYPE_CHECKING, Any
 
-from .api import SIMULATION_HINT, simulation_seconds, simulation_steps
-from .budget import CostPlan
-from .design import Design
-from .remedy import bounds_seconds, remedy_seconds
-from .sound import sound_cost
-from .stability import contact_dofs, excitable, stability_seconds
+from ..api import SIMULATION_HINT, simulation_seconds, simulation_steps
+from ..budget import CostPlan
+from ..design import Design
+from ..remedy import bounds_seconds, remedy_seconds
+from ..sound import sound_cost
+from ..stability import contact_dofs, excitable, stability_seconds
 
 if TYPE_CHECKING:
     from fem.modes import Mode, ModeSet
     from reduced import ContactLaw, OperatingPoint
 
-__all__ = ["NO_REMEDY_HINT", "stability_plan", "verdict_plan"]
+__all__ = ["NO_REMEDY_HINT", "stability_plan", "stability_request_plan", "verdict_plan"]
 
 #: How a user asks for less when a verdict's parts exceed the budget.
 NO_REMEDY_HINT = "lower fmax_hz, or leave out the remedy (remedy=False) or the sound"
 
 
+# --------------------------------------------------------------------------------------
+# a verdict
+# --------------------------------------------------------------------------------------
 def stability_plan(
     design: Design, modeset: ModeSet, contact: ContactLaw, rotation: bool, remedy: bool
 ) -> CostPlan:
@@ -61,7 +63,8 @@ def verdict_plan(
     together)), the remedy's or margin's bounds among ``rows`` (``opts.remedy``) and,
     with ``sound``, each named mode's radiation."""
     plan = CostPlan()
-    for m, together in simulated:
+    balanced = getattr(opts, "amplitude", "time domain") == "harmonic balance"
+    for m, together in [] if balanced else simulated:
         dofs = contact_dofs(together, design)
         steps = simulation_steps(dofs, contact, op)
         plan.add(
@@ -75,7 +78,7 @@ def verdict_plan(
         plan.add("remedy", remedy_seconds(dofs, n_growing, opts.rotation))
         # its check: the largest group integrated once more with the remedy's damping
         biggest = max((contact_dofs(together, design) for _, together in simulated), key=len, default=None)
-        if biggest is not None:
+        if biggest is not None and not balanced:
             plan.add("the remedy checked in the time domain", simulation_seconds(biggest, contact, op))
     elif opts.remedy:
         plan.add("margin", bounds_seconds(contact_dofs(rows, design), opts.rotation))
@@ -84,4 +87,40 @@ def verdict_plan(
             cost = sound_cost(design, modeset, m, opts.listener)
             if cost is not None:
                 plan.add(f"sound of {m.label()}", cost.seconds, cost.memory_bytes)
+    return plan
+
+
+def stability_request_plan(
+    design: Design,
+    modeset: ModeSet,
+    contact: ContactLaw,
+    rotation: bool,
+    bounds: bool,
+    envelope: tuple[int, int] | None = None,
+) -> CostPlan:
+    """The ``stability`` command: every mode's stability (with each mode's bounds when
+    ``bounds``) and, with ``envelope`` (crabbing velocities, speeds), the map and both
+    mitigations."""
+    from reduced.stability import eigen_solve_bytes
+
+    from ..envelope import envelope_seconds
+
+    dofs = contact_dofs(excitable(modeset, contact), design)
+    n = len(excitable(modeset, contact))
+    plan = CostPlan()
+    what = f"the linear stability of {len(dofs)} degrees of freedom" + (
+        f" with the critical damping and friction slope of {n}" if bounds else ""
+    )
+    plan.add(
+        what,
+        stability_seconds(design, modeset, contact, rotation, n if bounds else 0),
+        eigen_solve_bytes(dofs, rotation),
+        remedy="lower fmax_hz" + (", or leave out the bounds" if bounds else ""),
+    )
+    if envelope is not None:
+        plan.add(
+            f"the stability envelope ({envelope[0]} x {envelope[1]} points, {n} modes) and its mitigation",
+            envelope_seconds(design, modeset, contact, *envelope),
+            remedy="use fewer envelope points or a lower fmax_hz",
+        )
     return plan
