@@ -15,7 +15,6 @@ from __future__ import annotations
 
 import math
 import struct
-from pathlib import Path
 
 import numpy as np
 
@@ -29,7 +28,7 @@ __all__ = [
     "line_spectrum",
     "pressure_signal",
     "resample",
-    "write_wav",
+    "wav_file_bytes",
 ]
 
 #: The WAV files' sample rate [Hz] (CD audio)
@@ -134,12 +133,12 @@ def faded(signal: np.ndarray, rate_hz: float, fade_s: float) -> np.ndarray:
     return s
 
 
-def write_wav(
-    path: str | Path, signal: np.ndarray, rate_hz: int = WAV_RATE_HZ, full_scale: float | None = None
-) -> float:
-    """Write ``signal`` as a mono 16-bit PCM WAV file, ``full_scale`` at full scale
-    (default its largest |sample|; louder samples are clipped); returns the value it
-    was divided by (0: a silent file)."""
+def wav_file_bytes(
+    signal: np.ndarray, rate_hz: int = WAV_RATE_HZ, full_scale: float | None = None
+) -> tuple[bytes, float]:
+    """``signal`` as a mono 16-bit PCM WAV file's bytes, ``full_scale`` at full scale
+    (default its largest |sample|; louder samples are clipped), and the value it was
+    divided by (0: a silent file)."""
     s = np.asarray(signal, float)
     peak = float(np.max(np.abs(s))) if len(s) else 0.0
     if full_scale is not None and full_scale > 0:
@@ -149,8 +148,7 @@ def write_wav(
         if peak == 0
         else np.round(np.clip(s / peak, -1.0, 1.0) * 32767).astype("<i2")
     )
-    Path(path).write_bytes(wav_bytes(pcm, int(rate_hz)))
-    return peak
+    return wav_bytes(pcm, int(rate_hz)), peak
 
 
 def wav_bytes(pcm: np.ndarray, rate_hz: int) -> bytes:

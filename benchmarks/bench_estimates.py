@@ -130,6 +130,32 @@ def studies() -> list[bool]:
     return oks
 
 
+def field(fidelity: str, quick: bool) -> list[bool]:
+    """The track command's receptances and fits, and curve maps of the test track's
+    wheel by the harmonic balance and in the time domain, each priced by its whole plan
+    (``wheel_squeal.curve.curve_estimate``: the modes cached, every sliding axle's
+    stability solved) before it runs."""
+    from track.curving import Bogie
+    from wheel_squeal.curve import curve, curve_estimate
+    from wheel_squeal.plan import track_plan
+    from wheel_squeal.track import track_receptances
+
+    d = ws.load_design("railway_920_track")
+    oks = []
+    t, _ = timed(partial(track_receptances, d, 20.0, 5000.0, 400))
+    oks.append(row("track", "railway_920_track, 400 frequencies and the fits", track_plan(400).seconds, t))
+    ctx = ws.RunContext.of(fidelity)
+    maps = [("harmonic balance", [100.0, 150.0, 200.0, 300.0, 600.0, 1000.0], [20.0, 40.0, 60.0])]
+    if not quick:
+        maps.append(("time domain", [100.0, 150.0, 200.0, 300.0], [20.0, 40.0, 60.0]))
+    for method, radii, speeds in maps:
+        plan = curve_estimate(d, radii, speeds, Bogie(2.5), method=method, context=ctx)  # type: ignore[arg-type]
+        t, _ = timed(partial(curve, d, radii, speeds, Bogie(2.5), method=method, context=ctx))
+        what = f"railway_920_track, {len(radii)} radii x {len(speeds)} speeds, {method}"
+        oks.append(row("curve map", what, plan.seconds, t))
+    return oks
+
+
 def main() -> int:
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("--fidelity", default="balanced")
@@ -139,6 +165,7 @@ def main() -> int:
     print("|---|---|---|---|---|---|")
     oks = designs(args.fidelity, args.quick)
     oks += large_models((50, 200, 600) if args.quick else (50, 200, 600, 1200))
+    oks += field(args.fidelity, args.quick)
     if not args.quick:
         oks += studies()
     print(f"\n{sum(oks)} of {len(oks)} estimates within a factor 2 of the measurement")

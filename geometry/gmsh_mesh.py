@@ -90,6 +90,20 @@ def _restore(handlers: dict[int, Any]) -> None:
 
 
 @contextmanager
+def _held(handlers: dict[int, Any]) -> Iterator[None]:
+    """Block the stop signals while gmsh sets its own dispositions and ours are put back
+    (a signal in between would meet gmsh's, or the default, and kill the process without
+    its clean-up); one that came meanwhile is delivered to ours on leaving."""
+    stops = {signal.SIGINT, signal.SIGTERM} & set(handlers)
+    old = signal.pthread_sigmask(signal.SIG_BLOCK, stops) if stops else None
+    try:
+        yield
+    finally:
+        if old is not None:
+            signal.pthread_sigmask(signal.SIG_SETMASK, old)
+
+
+@contextmanager
 def gmsh_session(verbose: bool) -> Iterator[Any]:
     """An initialised gmsh with one fresh model; finalised (or, if someone else had
     initialised gmsh, the model removed and the options restored) on exit."""
@@ -103,8 +117,9 @@ def gmsh_session(verbose: bool) -> Iterator[Any]:
         if owner:
             interruptible = threading.current_thread() is threading.main_thread()
             handlers = _python_handlers() if interruptible else {}
-            gmsh.initialize(readConfigFiles=False, interruptible=interruptible)
-            _restore(handlers)
+            with _held(handlers):
+                gmsh.initialize(readConfigFiles=False, interruptible=interruptible)
+                _restore(handlers)
         else:
             current = gmsh.model.getCurrent()
             for name in _OPTIONS_TOUCHED:
@@ -115,8 +130,9 @@ def gmsh_session(verbose: bool) -> Iterator[Any]:
             yield gmsh
         finally:
             if owner:
-                gmsh.finalize()
-                _restore(handlers)
+                with _held(handlers):
+                    gmsh.finalize()
+                    _restore(handlers)
             else:
                 try:
                     gmsh.model.remove()

@@ -2,12 +2,13 @@
 
 Hertz contact -> creep law (Eq. 3, 6) -> modes at the contact point driven by the
 lateral creep force (Eq. 1, 2, 4, 5) and, where they move the contact normally, by the
-Hertz normal force; the counter-body's own modes in series -> linear stability of every
-mode, with the mechanism of each growing eigenvalue (falling friction or mode
-coupling) -> time
-integration (fixed-step RK4, interpreted while a process's runs are few and short,
-numba-compiled otherwise; solve_ivp reference), optionally on a turning wheel (each pair
-two travelling waves) -> limit-cycle metrics, the mode that carries the cycle,
+Hertz normal force; the counter-body's receptance in series (``reduced.counter_body``)
+-> linear stability of every mode, with the mechanism of each growing eigenvalue
+(falling friction or mode coupling) -> time integration (fixed-step RK4, interpreted
+while a process's runs are few and short, numba-compiled otherwise; the exponential
+integrator where a counter-body's terms or a stiff contact would set RK4's step:
+``reduced.stepping``; solve_ivp reference), optionally on a turning wheel (each pair two
+travelling waves) -> limit-cycle metrics, the mode that carries the cycle,
 harmonic-balance predictor, grid sweeps, reports. Knows nothing of meshes: modes enter
 as (mass, stiffness, damping, nodal diameters) at the contact.
 All quantities are SI (m, s, kg, N, Pa, W, Hz).
@@ -15,9 +16,19 @@ All quantities are SI (m, s, kg, N, Pa, W, Hz).
 
 from ._engine import load_compiled_kernels
 from .contact import HertzContact, hertz_contact, kalker_c22
-from .counter_body import CounterBody, ModalCounterBody, ModalRoller, RigidCounterBody, counter_body
+from .counter_body import (
+    LATERAL,
+    NORMAL,
+    BodyModel,
+    CounterBody,
+    ModalCounterBody,
+    ModalRoller,
+    RigidCounterBody,
+    counter_body,
+)
 from .coupling import coupling_stiffness, two_mode_coalesces
 from .creep import FRICTION_LAWS, ContactLaw, adhesion_ratio, adhesion_ratio_slope, falling_friction_factor
+from .integrate import METHODS, choose_method, simulate
 from .limit_cycle import Cycles, LimitCycle, analytic_growth_rate, cycles, limit_cycle
 from .modal_content import ModalContent, modal_content
 from .model import (
@@ -27,7 +38,6 @@ from .model import (
     OperatingPoint,
     TimeHistory,
     choose_time_step,
-    simulate,
     simulate_reference,
 )
 from .predictor import (
@@ -63,6 +73,9 @@ __all__ = [
     "hertz_contact",
     "kalker_c22",
     "ContactLaw",
+    "BodyModel",
+    "LATERAL",
+    "NORMAL",
     "CounterBody",
     "ModalCounterBody",
     "ModalRoller",
@@ -81,6 +94,8 @@ __all__ = [
     "IntegrationError",
     "choose_time_step",
     "Integration",
+    "METHODS",
+    "choose_method",
     "simulate",
     "simulate_reference",
     "load_compiled_kernels",

@@ -20,8 +20,10 @@ import functools
 import types
 from typing import Any
 
-from . import _kernels
+from . import _exponential, _kernels
 
+#: the modules of kernels (plain Python, numba-compilable), in the order their names bind
+_MODULES = (_kernels, _exponential)
 #: the kernels, each with whether its compiled twin runs its ``prange`` loop in parallel
 _KERNELS = {
     "adhesion": False,
@@ -40,6 +42,12 @@ _KERNELS = {
     "integrate_store": False,
     "extract_cycles": False,
     "sweep_kernel": True,
+    "adhesion_slope": False,
+    "_hertz": False,
+    "_normal_force": False,
+    "_lateral_residual": False,
+    "contact_forces": False,
+    "exp_integrate": False,
 }
 
 #: scalar RK4 steps a process interprets before it loads the compiled kernels
@@ -62,9 +70,9 @@ def compiled() -> types.SimpleNamespace:
     process: each twin is the kernel's own code with its calls bound to the other twins."""
     import numba
 
-    namespace = dict(vars(_kernels), prange=numba.prange)
+    namespace = {k: v for m in _MODULES for k, v in vars(m).items()} | {"prange": numba.prange}
     for name, parallel in _KERNELS.items():
-        kernel = getattr(_kernels, name)
+        kernel = next(getattr(m, name) for m in _MODULES if hasattr(m, name))
         twin = types.FunctionType(kernel.__code__, namespace, kernel.__name__, kernel.__defaults__)
         twin.__qualname__, twin.__module__ = kernel.__qualname__, kernel.__module__
         twin.__doc__ = kernel.__doc__
@@ -92,11 +100,18 @@ def interprets(steps: int, scalar: bool, loaded: bool, interpreted_so_far: int) 
     return scalar and not loaded and interpreted_so_far + steps <= INTERPRETED_MAX_STEPS
 
 
+@functools.cache
+def interpreted() -> types.SimpleNamespace:
+    """The kernels as they are (no compiler)."""
+    return types.SimpleNamespace(**{name: getattr(next(m for m in _MODULES if hasattr(m, name)), name)
+                                    for name in _KERNELS})  # fmt: skip
+
+
 def integration_kernels(steps: int, *, scalar: bool = True) -> Any:
     """The kernels for an integration of ``steps`` RK4 steps (:func:`interprets`)."""
     if interprets(steps, scalar, is_compiled_loaded(), _INTERPRETED.steps):
         _INTERPRETED.steps += steps
-        return _kernels
+        return interpreted()
     return compiled()
 
 
@@ -104,4 +119,4 @@ def cycle_kernels(samples: int) -> Any:
     """The kernels to split a record of ``samples`` samples into cycles: interpreted while
     the compiled kernels are not loaded, up to 4 x :data:`INTERPRETED_MAX_STEPS` samples
     (a sample costs under a quarter of a scalar RK4 step interpreted)."""
-    return _kernels if not is_compiled_loaded() and samples <= 4 * INTERPRETED_MAX_STEPS else compiled()
+    return interpreted() if not is_compiled_loaded() and samples <= 4 * INTERPRETED_MAX_STEPS else compiled()

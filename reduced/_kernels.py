@@ -37,27 +37,27 @@ import math
 
 import numpy as np
 
-_LAW_W, _LAW_MUS, _LAW_K, _LAW_S1, _LAW_S2, _LAW_V0, _LAW_VC, _LAW_D0, _LAW_TAU, _LAW_UN0 = range(10)
+LAW_W, LAW_MUS, LAW_K, LAW_S1, LAW_S2, LAW_V0, LAW_VC, LAW_D0, LAW_TAU, LAW_UN0 = range(10)
 
 prange = range
 
 
 def adhesion(v, law):
     """mu((Vc + v)/V0), the signed adhesion ratio at contact velocity v in m/s (Eq. 3, 4, 6)."""
-    V0 = law[_LAW_V0]
-    zeta = (law[_LAW_VC] + v) / V0
+    V0 = law[LAW_V0]
+    zeta = (law[LAW_VC] + v) / V0
     a = abs(zeta)
-    zp = a * law[_LAW_K]
+    zp = a * law[LAW_K]
     if zp < 3.0:
         poly = zp * (1.0 - zp / 3.0 + zp * zp / 27.0)
     else:
         poly = 1.0
     s = a * V0
     if s > 0.0:
-        f = 1.0 - 0.5 * math.exp(-law[_LAW_S1] / s) - 0.5 * math.exp(-law[_LAW_S2] / s)
+        f = 1.0 - 0.5 * math.exp(-law[LAW_S1] / s) - 0.5 * math.exp(-law[LAW_S2] / s)
     else:
         f = 1.0
-    mu = law[_LAW_MUS] * poly * f
+    mu = law[LAW_MUS] * poly * f
     if zeta < 0.0:
         mu = -mu
     return mu
@@ -65,29 +65,29 @@ def adhesion(v, law):
 
 def lateral_force(v, law):
     """Q(v) = -mu((Vc + v)/V0) W in N for contact velocity v in m/s (Eq. 2-4, 6)."""
-    return -adhesion(v, law) * law[_LAW_W]
+    return -adhesion(v, law) * law[LAW_W]
 
 
 def normal_force(un, law):
     """N = W (1 + (u_n - u_n0)/delta0)^(3/2) in N at a normal approach u_n in m; 0 once
     the surfaces separate; W exactly at u_n = u_n0 or delta0 infinite."""
-    x = 1.0 + (un - law[_LAW_UN0]) / law[_LAW_D0]
+    x = 1.0 + (un - law[LAW_UN0]) / law[LAW_D0]
     if x <= 0.0:
         return 0.0
-    return law[_LAW_W] * (x * math.sqrt(x))
+    return law[LAW_W] * (x * math.sqrt(x))
 
 
 def hertz_energy(un, law):
     """The Hertz spring's energy above the static state, int_u_n0^u_n (N - W) du, in J
     (0 with a constant normal load)."""
-    d0 = law[_LAW_D0]
+    d0 = law[LAW_D0]
     if math.isinf(d0):
         return 0.0
-    d = un - law[_LAW_UN0]
+    d = un - law[LAW_UN0]
     x = 1.0 + d / d0
     if x < 0.0:
         x = 0.0
-    return law[_LAW_W] * (0.4 * d0 * (x * x * math.sqrt(x) - 1.0) - d)
+    return law[LAW_W] * (0.4 * d0 * (x * x * math.sqrt(x) - 1.0) - d)
 
 
 def _contact(y, u, p, a, b):
@@ -119,14 +119,14 @@ def _deriv(y, u, ql, p, m, c, k, a, b, law, dy, du):
     v, un = _contact(y, u, p, a, b)
     nf = normal_force(un, law)
     qs = -adhesion(v, law) * nf
-    tau = law[_LAW_TAU]
+    tau = law[LAW_TAU]
     if tau > 0.0:
         q = ql
         dq = (qs - ql) / tau
     else:
         q = qs
         dq = 0.0
-    dn = nf - law[_LAW_W]
+    dn = nf - law[LAW_W]
     power = q * v
     for i in range(n):
         dy[i] = u[i]
@@ -236,7 +236,7 @@ def _total_energy(y, u, m, k, a, b, w, phase, law, t, p):
     """The modes' energy plus the Hertz spring's at time t (p: scratch for the
     participations) [J]."""
     e = _energy(y, u, m, k)
-    if math.isinf(law[_LAW_D0]):
+    if math.isinf(law[LAW_D0]):
         return e
     _participation(w, phase, t, p)
     _v, un = _contact(y, u, p, a, b)
@@ -274,7 +274,7 @@ def integrate_store(y0, u0, m, c, k, a, b, w, phase, law, h, n_steps, store_ever
         dw, _wq, ql_end = _rk4_step(y, u, ql, m, c, k, a, b, w, phase, law, (step - 1) * h, h, scratch)
         work += dw
         e = _total_energy(y, u, m, k, a, b, w, phase, law, step * h, pe)
-        if law[_LAW_TAU] > 0.0:
+        if law[LAW_TAU] > 0.0:
             ql = ql_end
         if not math.isfinite(e):
             status = 1
@@ -377,7 +377,7 @@ def sweep_kernel(
         scratch = np.zeros((14, n))
         still = np.zeros(n)  # no rotation: participation 1
         ones = np.ones(n)
-        scalar = n == 1 and a[0] == 1.0 and b[0] == 0.0 and law[_LAW_TAU] == 0.0
+        scalar = n == 1 and a[0] == 1.0 and b[0] == 0.0 and law[LAW_TAU] == 0.0
         ql = steady_force(y, u, ones, a, b, law)
         t = np.empty(ns + 1)
         v = np.empty(ns + 1)
@@ -399,7 +399,7 @@ def sweep_kernel(
                 vv = u1
             else:
                 w, wq, ql_end = _rk4_step(y, u, ql, m, c, k, a, b, still, still, law, 0.0, h, scratch)
-                if law[_LAW_TAU] > 0.0:
+                if law[LAW_TAU] > 0.0:
                     ql = ql_end
                 e = _total_energy(y, u, m, k, a, b, still, still, law, 0.0, scratch[13])
                 vv, _un = _contact(y, u, ones, a, b)

@@ -49,7 +49,8 @@ Definitions (all on the contact-point lateral velocity v = sum_i y_i'):
 * **mean power per cycle**: mean of P (Eq. 7) over each cycle, from the running
   integral of P (trapezoid on stored samples; RK4 stage quadrature in sweeps).
 * **growth rate (analytic)**: the largest linear growth rate of steady sliding at the
-  quasi-static creepage (:func:`reduced.stability.growth_rates`; for one mode
+  quasi-static creepage, the counter-body's own eigenvalues included
+  (:func:`reduced.stability.eigen_shares`; for one mode
   sigma = -(c + W/V0 dmu/dzeta(Vc/V0)) / (2 m)), 1/s.
 """
 
@@ -62,9 +63,10 @@ from typing import Literal
 import numpy as np
 
 from . import _engine
+from .counter_body import BodyModel
 from .creep import ContactLaw
 from .model import Modes, OperatingPoint, TimeHistory, as_modes
-from .stability import LinearContact, growth_rates
+from .stability import LinearContact, eigen_shares
 
 __all__ = [
     "Cycles",
@@ -135,14 +137,19 @@ class LimitCycle:
 
 
 def analytic_growth_rate(
-    modes: Modes, contact: ContactLaw, op: OperatingPoint, wheel_speed_rad_s: float = 0.0
+    modes: Modes,
+    contact: ContactLaw,
+    op: OperatingPoint,
+    wheel_speed_rad_s: float = 0.0,
+    body: BodyModel | None = None,
 ) -> float:
     """Linear growth rate of steady sliding at the quasi-static creepage, 1/s: the
     largest real part of the coupled eigenvalues (:mod:`reduced.stability`); for one
     mode sigma = -(c + W/V0 dmu/dzeta(Vc/V0)) / (2 m) exactly (an underdamped one)."""
     modes = as_modes(modes)
     linear = LinearContact.at(contact, op)
-    return float(np.max(growth_rates(modes, [md.damping_ns_m for md in modes], linear, wheel_speed_rad_s)))
+    lam, _ = eigen_shares(modes, linear, wheel_speed_rad_s, body)
+    return float(lam.real.max())
 
 
 def cycles(history: TimeHistory) -> Cycles:
@@ -282,7 +289,7 @@ def limit_cycle(
     """Limit-cycle metrics of a TimeHistory (definitions in the module docstring)."""
     cyc = cycles(history)
     sigma = analytic_growth_rate(
-        history.modes, history.contact, history.operating_point, history.wheel_speed_rad_s
+        history.modes, history.contact, history.operating_point, history.wheel_speed_rad_s, history.body
     )
     lc = metrics_from_cycles(
         cyc,

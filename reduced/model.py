@@ -29,7 +29,7 @@ __all__ = [
     "TimeHistory",
     "IntegrationError",
     "Integration",
-    "simulate",
+    "simulate_rk4",
     "simulate_reference",
     "Coordinates",
     "as_modes",
@@ -313,6 +313,11 @@ class TimeHistory:
     wheel_speed_rad_s : Omega, the wheel's rotation (0: off), rad/s.
     coordinates : the modal coordinates (:class:`Coordinates`) of the columns of
         y_modes and v_modes.
+    t_modes : the times of y_modes and v_modes, s (None: t; the exponential
+        integrator keeps the coordinates over the record's tail only).
+    v_body : the counter-body's own lateral velocity at the contact, m/s (None: rigid).
+    body : the counter-body (``reduced.counter_body.BodyModel``; None: rigid).
+    body_states : its states over t_modes, shape (len(t_modes), its states).
     """
 
     t: np.ndarray
@@ -333,6 +338,36 @@ class TimeHistory:
     coordinates: Coordinates | None = None
     u_n: np.ndarray | None = None
     N: np.ndarray | None = None
+    t_modes: np.ndarray | None = None
+    v_body: np.ndarray | None = None
+    body: Any = None
+    body_states: np.ndarray | None = None
+
+    @property
+    def modes_time(self) -> np.ndarray:
+        """The times of y_modes and v_modes [s]."""
+        return self.t if self.t_modes is None else self.t_modes
+
+    def tail(self, seconds: float, modes_seconds: float | None = None) -> TimeHistory:
+        """The record's last ``seconds`` (every series over time cut, the rest as it is),
+        the modal coordinates' and the counter-body's states over their last
+        ``modes_seconds`` (default ``seconds``; 0: the final state): what a caller keeping
+        many records needs of each once its metrics are taken."""
+        keep = self.t >= self.t[-1] - seconds
+        tm = self.modes_time
+        keep_modes = tm >= tm[-1] - (seconds if modes_seconds is None else modes_seconds)
+
+        def cut(x: np.ndarray | None, k: np.ndarray) -> np.ndarray | None:
+            return None if x is None else np.array(x[k])
+
+        return replace(
+            self, t=self.t[keep].copy(), y=self.y[keep].copy(), v=self.v[keep].copy(),
+            creepage=self.creepage[keep].copy(), Q=self.Q[keep].copy(), P=self.P[keep].copy(),
+            u_n=cut(self.u_n, keep), N=cut(self.N, keep), v_body=cut(self.v_body, keep),
+            y_modes=self.y_modes[keep_modes].copy(), v_modes=self.v_modes[keep_modes].copy(),
+            t_modes=None if self.t_modes is None else self.t_modes[keep_modes].copy(),
+            body_states=cut(self.body_states, keep_modes),
+        )  # fmt: skip
 
     @property
     def separated(self) -> np.ndarray:
@@ -606,6 +641,9 @@ class Integration:
         Accepted ``|dE - integral of P dt|`` relative to the largest modal energy
         reached; a larger mismatch (or a non-finite state) means the step is too large
         for the dynamics.
+    method
+        "rk4", "exponential" (:mod:`reduced.stepping`) or None: the one rule
+        (:func:`reduced.integrate.choose_method`).
     """
 
     steps_per_period: int = STEPS_PER_PERIOD
@@ -615,6 +653,7 @@ class Integration:
     refine: bool = True
     max_refinements: int = 4
     energy_tolerance: float = 1e-2
+    method: str | None = None
 
 
 def _integrate(
@@ -635,7 +674,7 @@ def _integrate(
     out_y = np.empty((n_out, n_coord))
     out_u = np.empty((n_out, n_coord))
     out_q = np.full(n_out, np.nan)
-    lag = law[_kernels._LAW_TAU] > 0.0
+    lag = law[_kernels.LAW_TAU] > 0.0
     if n_coord == 1 and w[0] == 0.0 and a[0] == 1.0 and b[0] == 0.0 and not lag:
         kernels = _engine.integration_kernels(n_steps)
         status, mismatch, emax, _work, _done = kernels.integrate_store_1(
@@ -655,7 +694,7 @@ def _integrate(
     return status, mismatch, emax, out_y, out_u, out_q
 
 
-def simulate(
+def simulate_rk4(
     modes: Modes,
     contact: ContactLaw,
     operating_point: OperatingPoint,
@@ -664,9 +703,11 @@ def simulate(
     *,
     wheel_speed_rad_s: float = 0.0,
     integration: Integration | None = None,
+    body: Any = None,
     **changes: Any,
 ) -> TimeHistory:
-    """Integrate the modal squeal model with fixed-step RK4 (production path; see
+    """Integrate the modal squeal model with fixed-step RK4, the paper's explicit scheme
+    (:func:`reduced.simulate` chooses between it and the exponential integrator; see
     :mod:`reduced._engine` for when it runs compiled).
 
     Parameters
@@ -682,6 +723,7 @@ def simulate(
         and -sin(n Omega t); 0, the paper's model, leaves them out.
     integration : the step and the record (:class:`Integration`); ``changes`` replace
         its fields, as in ``simulate(..., store_every=4)``.
+    body : must be None or without terms (RK4 integrates no counter-body).
 
     Returns
     -------
@@ -696,6 +738,8 @@ def simulate(
         (very stiff or light modes over long durations: raise ``store_every``).
     """
     opts = replace(integration or Integration(), **changes)
+    if body is not None and body.terms:
+        raise ValueError("RK4 integrates no counter-body: the exponential integrator does (reduced.stepping)")
     steps_per_period, step_s, store_every = opts.steps_per_period, opts.step_s, opts.store_every
     samples_per_period, refine, max_refinements = opts.samples_per_period, opts.refine, opts.max_refinements
     energy_tolerance = opts.energy_tolerance

@@ -25,6 +25,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
+from .counter_body import BodyModel
 from .creep import ContactLaw
 from .model import ModalDOF, Modes, OperatingPoint, as_modes
 from .stability import MAX_DAMPING_RATIO, PARTNER_SHARE, LinearContact, eigen_shares
@@ -72,10 +73,15 @@ def _with_ratios(modes: Sequence[ModalDOF], zeta: np.ndarray) -> list[ModalDOF]:
 
 
 def largest_growth_rate(
-    modes: Modes, contact: ContactLaw, op: OperatingPoint, wheel_speed_rad_s: float = 0.0
+    modes: Modes,
+    contact: ContactLaw,
+    op: OperatingPoint,
+    wheel_speed_rad_s: float = 0.0,
+    body: BodyModel | None = None,
 ) -> float:
-    """The largest growth rate of every eigenvalue [1/s] (> 0: something grows)."""
-    lam, _ = eigen_shares(as_modes(modes), LinearContact.at(contact, op), wheel_speed_rad_s)
+    """The largest growth rate of every eigenvalue [1/s] (> 0: something grows), the
+    counter-body ``body``'s own included."""
+    lam, _ = eigen_shares(as_modes(modes), LinearContact.at(contact, op), wheel_speed_rad_s, body)
     return float(lam.real.max())
 
 
@@ -110,8 +116,8 @@ class DampingRemedy:
         The largest growth rate with these ratios [1/s] of the eigenvalues a wheel mode
         takes part in.
     settled : bool
-        Whether every eigenvalue decays at least at :data:`DECAY_RATE_1_S` with them
-        (False: ``reason`` says what is left).
+        Whether every eigenvalue, the counter-body's own included, decays at least at
+        :data:`DECAY_RATE_1_S` with them (False: ``reason`` says what is left).
     reason : str
     counter_body_growth_rate_1_s : float
         The largest growth rate [1/s] of the eigenvalues no adjustable mode takes part in
@@ -133,6 +139,7 @@ def damping_to_stop(
     wheel_speed_rad_s: float = 0.0,
     adjustable: Sequence[int] | None = None,
     max_rounds: int | None = None,
+    body: BodyModel | None = None,
 ) -> DampingRemedy:
     """The damping ratios with which no eigenvalue grows at ``op`` (module docstring).
 
@@ -144,10 +151,11 @@ def damping_to_stop(
     wheel_speed_rad_s : float
         Omega [rad/s] (0: no rotation).
     adjustable : sequence of int, optional
-        The degrees of freedom whose damping a remedy may raise (default all; a
-        counter-body's are not the wheel's to damp).
+        The modes whose damping a remedy may raise (default all).
     max_rounds : int, optional
         Most rounds (default twice the number of modes, plus 4).
+    body : BodyModel, optional
+        The counter-body (its own eigenvalues no damping of the wheel moves).
 
     Returns
     -------
@@ -171,7 +179,7 @@ def damping_to_stop(
     rounds = 2 * n + 4 if max_rounds is None else max_rounds
 
     def solve(z: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        return eigen_shares(_with_ratios(modes, z), linear, wheel_speed_rad_s)
+        return eigen_shares(_with_ratios(modes, z), linear, wheel_speed_rad_s, body)
 
     reason = ""
 
@@ -212,9 +220,14 @@ def damping_to_stop(
     held = wheel_held(lam, share)
     rate = float(np.max(lam.real[held], initial=-math.inf))
     own = float(np.max(lam.real[~held], initial=-math.inf))
-    settled = rate + DECAY_RATE_1_S <= 0.0
+    # settled means nothing grows: a counter-body's own growing eigenvalue unsettles it too
+    settled = max(rate, own) + DECAY_RATE_1_S <= 0.0
     if not settled and not reason:
-        reason = f"an eigenvalue still grows at {rate:.3g} 1/s after {rounds} rounds"
+        reason = (
+            f"the counter-body's own eigenvalue grows at {own:.3g} 1/s, which no damping of the wheel moves"
+            if own + DECAY_RATE_1_S > 0.0
+            else f"an eigenvalue still grows at {rate:.3g} 1/s after {rounds} rounds"
+        )
     return DampingRemedy(zeta, tuple(sorted(raised)), rate, settled, "" if settled else reason, own)
 
 
@@ -224,12 +237,13 @@ def held_growth_rates(
     op: OperatingPoint,
     wheel_speed_rad_s: float = 0.0,
     adjustable: Sequence[int] | None = None,
+    body: BodyModel | None = None,
 ) -> tuple[float, float]:
     """(the largest growth rate of the eigenvalues an ``adjustable`` mode takes part in,
     that of the others: the counter-body's own) [1/s]; -inf where there are none."""
     modes = as_modes(modes)
     rows = list(range(len(modes)) if adjustable is None else adjustable)
-    lam, share = eigen_shares(modes, LinearContact.at(contact, op), wheel_speed_rad_s)
+    lam, share = eigen_shares(modes, LinearContact.at(contact, op), wheel_speed_rad_s, body)
     held = share[rows].max(axis=0) >= PARTNER_SHARE if rows else np.zeros(len(lam), bool)
     return (
         float(np.max(lam.real[held], initial=-math.inf)),
@@ -238,7 +252,11 @@ def held_growth_rates(
 
 
 def friction_coefficient_to_stop(
-    modes: Modes, contact: ContactLaw, op: OperatingPoint, wheel_speed_rad_s: float = 0.0
+    modes: Modes,
+    contact: ContactLaw,
+    op: OperatingPoint,
+    wheel_speed_rad_s: float = 0.0,
+    body: BodyModel | None = None,
 ) -> float | None:
     """The friction coefficient mu_s (mu_0 lowered in proportion) below which nothing
     grows at ``op``, rounded down to two significant digits; None when nothing grows now
@@ -252,7 +270,7 @@ def friction_coefficient_to_stop(
             friction_coefficient=mu * scale,
             stationary_friction_coefficient=contact.stationary_friction_coefficient * scale,
         )
-        return largest_growth_rate(modes, c, op, wheel_speed_rad_s)
+        return largest_growth_rate(modes, c, op, wheel_speed_rad_s, body)
 
     if grows_at(1.0) <= 0.0:
         return None
@@ -265,7 +283,11 @@ def friction_coefficient_to_stop(
 
 
 def friction_slope_to_stop(
-    modes: Modes, contact: ContactLaw, op: OperatingPoint, wheel_speed_rad_s: float = 0.0
+    modes: Modes,
+    contact: ContactLaw,
+    op: OperatingPoint,
+    wheel_speed_rad_s: float = 0.0,
+    body: BodyModel | None = None,
 ) -> float | None:
     """The creep-curve slope dmu/dzeta at the quasi-static creepage above which nothing
     grows at ``op`` (None: nothing grows now, or no slope up to +1 stops it)."""
@@ -276,7 +298,7 @@ def friction_slope_to_stop(
 
     def grows_by(rise: float) -> float:
         lin = replace(linear, friction_damping_ns_m=scale * (now + rise))
-        lam, _ = eigen_shares(modes, lin, wheel_speed_rad_s)
+        lam, _ = eigen_shares(modes, lin, wheel_speed_rad_s, body)
         return float(lam.real.max())
 
     if grows_by(0.0) <= 0.0:
@@ -291,6 +313,7 @@ def separation_to_stop(
     op: OperatingPoint,
     pair: tuple[int, int],
     wheel_speed_rad_s: float = 0.0,
+    body: BodyModel | None = None,
 ) -> float | None:
     """For a coupled pair (indices into ``modes``), the natural frequency [Hz] the
     higher partner must reach (its stiffness raised, its mass and damping ratio kept) for
@@ -309,7 +332,7 @@ def separation_to_stop(
         moved[hi] = ModalDOF.from_damping_ratio(
             md.mass_kg, k, zeta, md.nodal_diameters, md.lateral, md.normal
         )
-        lam, share = eigen_shares(moved, linear, wheel_speed_rad_s)
+        lam, share = eigen_shares(moved, linear, wheel_speed_rad_s, body)
         involved = share[list(pair)].max(axis=0) >= PARTNER_SHARE
         return float(np.max(lam.real[involved], initial=-math.inf))
 

@@ -17,7 +17,7 @@ import numpy as np
 
 from .creep import ContactLaw, adhesion_ratio
 from .limit_cycle import LimitCycle
-from .model import OperatingPoint, TimeHistory, coordinates
+from .model import OperatingPoint, TimeHistory
 
 __all__ = [
     "counter_body_motion",
@@ -74,13 +74,8 @@ TIMESERIES_COLUMNS = ("t_s", "y_m", "v_m_s", "creepage", "Q_N", "P_W", "u_n_m", 
 
 def counter_body_velocity(history: TimeHistory) -> np.ndarray:
     """The counter-body's own lateral velocity at the contact [m/s] (a rail's, a roller's
-    mode's): its coordinates have gain -1 (the contact sees the wheel's velocity minus
-    it); 0 where it is rigid."""
-    coords = history.coordinates or coordinates(history.modes, history.wheel_speed_rad_s)
-    theirs = coords.a < 0.0
-    if not theirs.any():
-        return np.zeros(len(history.t))
-    return (history.v_modes[:, theirs] * -coords.a[theirs]).sum(axis=1)
+    mode's; the contact sees the wheel's velocity minus it); 0 where it is rigid."""
+    return np.zeros(len(history.t)) if history.v_body is None else history.v_body
 
 
 def timeseries_stride(history: TimeHistory, max_bytes: float = math.inf) -> int:

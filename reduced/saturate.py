@@ -1,6 +1,6 @@
 """A squeal simulation from rest, run until its outcome is known.
 
-:func:`simulate_to_limit_cycle` integrates the model (:func:`reduced.model.simulate`)
+:func:`simulate_to_limit_cycle` integrates the model (:func:`reduced.simulate`)
 from rest for the paper's 0.6 s, or longer when the harmonic-balance prediction says the
 oscillation needs longer to saturate (growth from the start transient to the predicted
 amplitude at the linear rate, with margin), and doubles the run while the oscillation
@@ -18,7 +18,9 @@ from collections.abc import Callable
 
 import numpy as np
 
+from .counter_body import BodyModel
 from .creep import ContactLaw
+from .integrate import choose_method, simulate
 from .limit_cycle import LimitCycle, limit_cycle
 from .model import (
     MAX_STORED_SAMPLES,
@@ -28,7 +30,6 @@ from .model import (
     TimeHistory,
     as_modes,
     highest_frequency_hz,
-    simulate,
 )
 from .predictor import predict_limit_cycle
 
@@ -64,16 +65,21 @@ def simulate_to_limit_cycle(
     wheel_speed_rad_s: float = 0.0,
     may_extend: Callable[[float], bool] | None = None,
     initial_state: tuple[np.ndarray, np.ndarray] | None = None,
+    body: BodyModel | None = None,
+    preload_body: bool = False,
 ) -> tuple[TimeHistory, LimitCycle]:
     """Integrate from rest; returns the history and its limit-cycle metrics.
 
     ``duration`` [s]: a fixed length; None chooses it as the module docstring says.
-    ``wheel_speed_rad_s``: the wheel's rotation (:func:`reduced.model.simulate`).
+    ``wheel_speed_rad_s``: the wheel's rotation (:func:`reduced.simulate`).
     ``may_extend``: asked before each longer run with its estimated time [s] (twice the
     last run's); False keeps the last record (a caller's time budget). ``initial_state``:
     (y0, v0) per coordinate instead of rest (:func:`reduced.model.preloaded_state`).
-    Raises ValueError for a ``duration`` that is not positive or whose record would not
-    fit (:func:`longest_record_s`).
+    ``body``: the counter-body in series (``preload_body``: starting in its static
+    deflection); with it, or a stiff contact, the exponential integrator runs
+    (:func:`reduced.choose_method`) and a longer run continues the last one instead
+    of starting again. Raises ValueError for a ``duration`` that is not positive or whose
+    record would not fit (:func:`longest_record_s`).
     """
     longest = longest_record_s(modes, samples_per_period, wheel_speed_rad_s)
     if duration is not None:
@@ -91,6 +97,9 @@ def simulate_to_limit_cycle(
         t = min(first, max_duration)
     else:
         t = duration
+    if choose_method(modes, contact, op, wheel_speed_rad_s, body) == "exponential":
+        return _continued(modes, contact, op, t, duration is not None, max_duration, wheel_speed_rad_s,
+                          may_extend, initial_state, body, preload_body)  # fmt: skip
     while True:
         started = time.perf_counter()
         history = simulate(
@@ -104,6 +113,41 @@ def simulate_to_limit_cycle(
         if may_extend is not None and not may_extend(2.0 * (time.perf_counter() - started)):
             return history, lc
         t *= 2
+
+
+def _continued(
+    modes: Modes,
+    contact: ContactLaw,
+    op: OperatingPoint,
+    first: float,
+    fixed: bool,
+    max_duration: float,
+    wheel_speed_rad_s: float,
+    may_extend: Callable[[float], bool] | None,
+    initial_state: tuple[np.ndarray, np.ndarray] | None,
+    body: BodyModel | None,
+    preload_body: bool,
+) -> tuple[TimeHistory, LimitCycle]:
+    """The exponential integrator's run: ``first`` seconds, then (unless ``fixed``) as
+    long again while the outcome is not known, continuing the record, to ``max_duration``."""
+    from .stepping import ExponentialRun
+
+    run = ExponentialRun(
+        as_modes(modes), contact, op, wheel_speed_rad_s, body, initial_state, preload_body,
+        first if fixed else max(first, max_duration),
+    )  # fmt: skip
+    started = time.perf_counter()
+    run.advance(first)
+    while True:
+        history = run.history()
+        lc = limit_cycle(history)
+        settled = lc.saturated or (not lc.squeal and lc.growth_rate_analytic_1_s <= 0)
+        if fixed or settled or run.t * 2 > max_duration + 1e-9:
+            return history, lc
+        if may_extend is not None and not may_extend(time.perf_counter() - started):
+            return history, lc
+        started = time.perf_counter()
+        run.advance(run.t)
 
 
 def _first_duration(

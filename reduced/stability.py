@@ -43,6 +43,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from ._numerics import find_root, one_blas_thread
+from .counter_body import NORMAL, BodyModel
 from .creep import ContactLaw, adhesion_ratio, adhesion_ratio_slope
 from .model import ModalDOF, Modes, OperatingPoint, as_modes
 
@@ -216,14 +217,31 @@ def leading_mode(
 # --------------------------------------------------------------------------------------
 # the coupled linear system
 # --------------------------------------------------------------------------------------
-def _blocks(modes: Sequence[ModalDOF], wheel_speed_rad_s: float) -> list[tuple[int, int]]:
-    """(first coordinate, number of coordinates) of each mode: 2 for a rotating pair."""
+@dataclass(frozen=True, eq=False)
+class _Layout:
+    """Where each mode's coordinates lie in the state (``blocks``: (first, count), 2 for
+    a rotating pair) and the counter-body's model after them (None: rigid)."""
+
+    blocks: list[tuple[int, int]]
+    body: BodyModel | None = None
+
+    @property
+    def coordinates(self) -> int:
+        return sum(size for _, size in self.blocks)
+
+    @property
+    def body_states(self) -> int:
+        return 0 if self.body is None else self.body.states
+
+
+def _blocks(modes: Sequence[ModalDOF], wheel_speed_rad_s: float, body: BodyModel | None = None) -> _Layout:
+    """The layout of ``modes`` (2 coordinates for a pair on a turning wheel) and ``body``."""
     out, at = [], 0
     for md in modes:
         size = 2 if (wheel_speed_rad_s != 0.0 and md.nodal_diameters >= 1) else 1
         out.append((at, size))
         at += size
-    return out
+    return _Layout(out, body if body is not None and body.states else None)
 
 
 def _state_matrix(
@@ -231,11 +249,14 @@ def _state_matrix(
     damping: np.ndarray,
     linear: LinearContact,
     wheel_speed_rad_s: float,
-    blocks: list[tuple[int, int]],
+    layout: _Layout,
 ) -> np.ndarray:
-    """A of z' = A z for the modes with dampings ``damping`` [N s/m]: z = (q, q') with a
-    steady creep force, (q, q', the lagged force) with transient creep."""
-    nq = sum(size for _, size in blocks)
+    """A of z' = A z for the modes with dampings ``damping`` [N s/m] and the counter-body:
+    z = (q, q', x) with a steady creep force, (q, q', x, the lagged force) with transient
+    creep. Linearised: the normal force dN = k_H u_n, u_n = b.q - Cn x; the lateral force
+    dQ = -g v - mu0 dN, v = a.q' + e.q - Cvt x; the modes take a dQ - b dN, the
+    counter-body -dQ laterally and +dN normally."""
+    blocks, nq, nb = layout.blocks, layout.coordinates, layout.body_states
     M, D, S = np.zeros(nq), np.zeros((nq, nq)), np.zeros((nq, nq))
     a, b, e = np.zeros(nq), np.zeros(nq), np.zeros(nq)
     for md, c, (i, size) in zip(modes, damping, blocks):
@@ -255,25 +276,44 @@ def _state_matrix(
         linear.adhesion_ratio,
         linear.relaxation_time_s,
     )
-    normal = k_h != 0.0 and bool(np.any(b))
-    if normal:
-        S += k_h * np.outer(b, b)
-    if tau == 0.0:
-        D += g * np.outer(a, a)
-        S += g * np.outer(a, e)
-        if normal:
-            S += mu0 * k_h * np.outer(a, b)
-        A = np.zeros((2 * nq, 2 * nq))
-    else:
-        # the lagged force f: tau f' = -f - g (a . q' + e . q) - mu0 k_H (b . q), on q: a f
-        A = np.zeros((2 * nq + 1, 2 * nq + 1))
-        A[nq : 2 * nq, 2 * nq] = a / M
-        A[2 * nq, :nq] = -(g * e + mu0 * k_h * b) / tau
-        A[2 * nq, nq : 2 * nq] = -g * a / tau
-        A[2 * nq, 2 * nq] = -1.0 / tau
+    n_state = 2 * nq + nb
+    # the forces as rows over z = (q, q', x): the normal one dN and the steady lateral one dQ
+    d_n, d_q = np.zeros(n_state), np.zeros(n_state)
+    A_b, B_b, C_b, Cv_b = (
+        layout.body.state_space()
+        if layout.body is not None
+        else (np.zeros((0, 0)), np.zeros((0, 2)), np.zeros((2, 0)), np.zeros((2, 0)))
+    )
+    body_normal = bool(np.any(C_b[0]))
+    if k_h != 0.0 and (bool(np.any(b)) or body_normal):
+        d_n[:nq] = k_h * b
+        if layout.body is not None:
+            d_n[2 * nq :] = -k_h * C_b[0]
+    d_q[:nq] = -g * e
+    d_q[nq : 2 * nq] = -g * a
+    if layout.body is not None:
+        d_q[2 * nq :] = g * Cv_b[1]
+    d_q -= mu0 * d_n
+    lag = tau > 0.0
+    A = np.zeros((n_state + lag, n_state + lag))
     A[:nq, nq : 2 * nq] = np.eye(nq)
     A[nq : 2 * nq, :nq] = -S / M[:, None]
     A[nq : 2 * nq, nq : 2 * nq] = -D / M[:, None]
+    A[nq : 2 * nq, :n_state] -= np.outer(b / M, d_n)
+    if layout.body is not None:
+        A[2 * nq : n_state, 2 * nq : n_state] = A_b
+        A[2 * nq : n_state, :n_state] += np.outer(B_b[:, 0], d_n)
+    if not lag:
+        A[nq : 2 * nq, :n_state] += np.outer(a / M, d_q)
+        if layout.body is not None:
+            A[2 * nq : n_state, :n_state] -= np.outer(B_b[:, 1], d_q)
+    else:
+        # the lagged force f: tau f' = -f + dQ; the modes and the counter-body take f
+        A[nq : 2 * nq, n_state] = a / M
+        if layout.body is not None:
+            A[2 * nq : n_state, n_state] = -B_b[:, 1]
+        A[n_state, :n_state] = d_q / tau
+        A[n_state, n_state] = -1.0 / tau
     return A
 
 
@@ -301,7 +341,7 @@ def _mode_eigenvalues(
     damping: np.ndarray,
     linear: LinearContact | float,
     wheel_speed_rad_s: float,
-    blocks: list[tuple[int, int]],
+    blocks: _Layout,
 ) -> tuple[np.ndarray, list[list[int]]]:
     """Eigenvalues with Im >= 0, and for each mode the ones assigned to it."""
     lam, assigned, _ = _eigen_shares(modes, damping, linear, wheel_speed_rad_s, blocks)
@@ -313,7 +353,7 @@ def _eigen_shares(
     damping: np.ndarray,
     linear: LinearContact | float,
     wheel_speed_rad_s: float,
-    blocks: list[tuple[int, int]],
+    blocks: _Layout,
 ) -> tuple[np.ndarray, list[list[int]], np.ndarray]:
     """:func:`_mode_eigenvalues` and each mode's share of each eigenvalue's vibration
     energy, shape (modes, eigenvalues)."""
@@ -321,18 +361,22 @@ def _eigen_shares(
     A = _state_matrix(modes, damping, linear, wheel_speed_rad_s, blocks)
     lam, vec = _eigen(A, linear.relaxation_time_s)
     assert vec is not None
-    nq = sum(size for _, size in blocks)
+    nq = blocks.coordinates
     q = vec[:nq]
-    k = np.concatenate([[md.stiffness_n_m] * size for md, (_, size) in zip(modes, blocks)])
-    m = np.concatenate([[md.mass_kg] * size for md, (_, size) in zip(modes, blocks)])
+    k = np.concatenate([[md.stiffness_n_m] * size for md, (_, size) in zip(modes, blocks.blocks)])
+    m = np.concatenate([[md.mass_kg] * size for md, (_, size) in zip(modes, blocks.blocks)])
     energy = (k[:, None] + m[:, None] * np.abs(lam[None, :]) ** 2) * np.abs(q) ** 2  # (nq, n_lambda)
-    per_mode = np.array([energy[i : i + size].sum(axis=0) for i, size in blocks])  # (modes, n_lambda)
-    share = per_mode / np.maximum(per_mode.sum(axis=0, keepdims=True), 1e-300)
-    capacity = [size for _, size in blocks]
+    per_mode = [energy[i : i + size].sum(axis=0) for i, size in blocks.blocks]  # (modes, n_lambda)
+    if blocks.body is not None:  # the counter-body as one more participant
+        x = vec[2 * nq : 2 * nq + blocks.body_states]
+        per_mode.append((blocks.body.energy_weights()[:, None] * np.abs(x) ** 2).sum(axis=0))
+    per = np.array(per_mode)
+    share = per / np.maximum(per.sum(axis=0, keepdims=True), 1e-300)
+    capacity = [size for _, size in blocks.blocks]
     assigned: list[list[int]] = [[] for _ in modes]
     taken = np.zeros(len(lam), dtype=bool)
     left = min(sum(capacity), len(lam))
-    for flat in np.argsort(-share, axis=None):
+    for flat in np.argsort(-share[: len(modes)], axis=None):
         i, j = divmod(int(flat), share.shape[1])
         if not taken[j] and len(assigned[i]) < capacity[i]:
             assigned[i].append(j)
@@ -344,14 +388,15 @@ def _eigen_shares(
 
 
 def eigen_shares(
-    modes: Modes, linear: LinearContact, wheel_speed_rad_s: float = 0.0
+    modes: Modes, linear: LinearContact, wheel_speed_rad_s: float = 0.0, body: BodyModel | None = None
 ) -> tuple[np.ndarray, np.ndarray]:
-    """The eigenvalues with Im >= 0 [1/s] of the modes on the linearised contact, and each
-    mode's share of each one's vibration energy, shape (modes, eigenvalues): one eigen-solve."""
+    """The eigenvalues with Im >= 0 [1/s] of the modes on the linearised contact (with the
+    counter-body ``body``), and each mode's share of each one's vibration energy, shape
+    (modes (and the counter-body), eigenvalues): one eigen-solve."""
     modes = as_modes(modes)
     damping = np.array([md.damping_ns_m for md in modes])
     lam, _, share = _eigen_shares(
-        modes, damping, linear, wheel_speed_rad_s, _blocks(modes, wheel_speed_rad_s)
+        modes, damping, linear, wheel_speed_rad_s, _blocks(modes, wheel_speed_rad_s, body)
     )
     return lam, share
 
@@ -361,7 +406,7 @@ def _mechanisms(
     damping: np.ndarray,
     linear: LinearContact,
     wheel_speed_rad_s: float,
-    blocks: list[tuple[int, int]],
+    blocks: _Layout,
     lam: np.ndarray,
 ) -> list[Mechanism | None]:
     """What makes each eigenvalue of ``lam`` grow, decided by the limits: the same
@@ -372,7 +417,8 @@ def _mechanisms(
     grows = lam.real > 0.0
     if not np.any(grows):
         return [None] * len(lam)
-    if not linear.couples(modes):
+    body_normal = blocks.body is not None and bool(np.any(blocks.body.direction == NORMAL))
+    if not (linear.couples(modes) or (body_normal and linear.normal_stiffness_n_m and linear.adhesion_ratio)):
         return ["falling friction" if x else None for x in grows]  # no coupling term
     limits: tuple[tuple[Mechanism, LinearContact], ...] = (
         ("falling friction", replace(linear, adhesion_ratio=0.0)),
@@ -393,13 +439,18 @@ def _mechanisms(
 
 
 def growth_rates(
-    modes: Modes, damping: ArrayLike, linear: LinearContact | float, wheel_speed_rad_s: float = 0.0
+    modes: Modes,
+    damping: ArrayLike,
+    linear: LinearContact | float,
+    wheel_speed_rad_s: float = 0.0,
+    body: BodyModel | None = None,
 ) -> np.ndarray:
     """sigma [1/s] of each mode for dampings ``damping`` [N s/m] and the linearised
     contact ``linear`` (a :class:`LinearContact`, or the friction damping g [N s/m] of
-    the paper's lateral contact)."""
+    the paper's lateral contact), with the counter-body ``body``: its own slowest-decaying
+    eigenvalue each."""
     modes = as_modes(modes)
-    blocks = _blocks(modes, wheel_speed_rad_s)
+    blocks = _blocks(modes, wheel_speed_rad_s, body)
     lam, assigned = _mode_eigenvalues(modes, np.asarray(damping, float), linear, wheel_speed_rad_s, blocks)
     return np.array([max((lam[j].real for j in js), default=-math.inf) for js in assigned])
 
@@ -441,7 +492,12 @@ def _bound_indices(bounds: Bounds, n: int) -> set[int]:
 
 
 def critical_damping_ratio(
-    modes: Modes, contact: ContactLaw, op: OperatingPoint, i: int, wheel_speed_rad_s: float = 0.0
+    modes: Modes,
+    contact: ContactLaw,
+    op: OperatingPoint,
+    i: int,
+    wheel_speed_rad_s: float = 0.0,
+    body: BodyModel | None = None,
 ) -> float:
     """The modal damping ratio of mode ``i`` above which it is stable at ``op``, the
     other modes at their damping (0 if it is stable without damping): a root of its
@@ -455,7 +511,7 @@ def critical_damping_ratio(
     def sigma_at_zeta(zeta: float) -> float:
         d = damping.copy()
         d[i] = 2.0 * zeta * crit_c
-        return float(growth_rates(modes, d, linear, wheel_speed_rad_s)[i])
+        return float(growth_rates(modes, d, linear, wheel_speed_rad_s, body)[i])
 
     g = linear.friction_damping_ns_m * modes[i].lateral ** 2
     zeta_sep = -g / (2.0 * crit_c)  # the separated-mode value: the first bracket
@@ -463,7 +519,12 @@ def critical_damping_ratio(
 
 
 def critical_friction_slope(
-    modes: Modes, contact: ContactLaw, op: OperatingPoint, i: int, wheel_speed_rad_s: float = 0.0
+    modes: Modes,
+    contact: ContactLaw,
+    op: OperatingPoint,
+    i: int,
+    wheel_speed_rad_s: float = 0.0,
+    body: BodyModel | None = None,
 ) -> float:
     """The friction slope dmu/dzeta at the quasi-static creepage above which mode ``i``
     is stable at ``op`` (a root of its growth rate, as :func:`critical_damping_ratio`)."""
@@ -474,7 +535,7 @@ def critical_friction_slope(
 
     def sigma_at_slope(slope: float) -> float:
         lin = replace(linear, friction_damping_ns_m=scale * slope)
-        return float(growth_rates(modes, damping, lin, wheel_speed_rad_s)[i])
+        return float(growth_rates(modes, damping, lin, wheel_speed_rad_s, body)[i])
 
     slope_sep = -modes[i].damping_ns_m / scale
     width = abs(slope_sep) + 1e-3
@@ -487,6 +548,7 @@ def linear_stability(
     op: OperatingPoint,
     wheel_speed_rad_s: float = 0.0,
     bounds: Bounds = None,
+    body: BodyModel | None = None,
 ) -> StabilityResult:
     """The linear stability of every mode at ``op`` (see the module docstring).
 
@@ -502,7 +564,7 @@ def linear_stability(
     wanted = _bound_indices(bounds, len(modes))
     linear = LinearContact.at(contact, op)
     damping = np.array([md.damping_ns_m for md in modes])
-    blocks = _blocks(modes, wheel_speed_rad_s)
+    blocks = _blocks(modes, wheel_speed_rad_s, body)
     lam, assigned, share = _eigen_shares(modes, damping, linear, wheel_speed_rad_s, blocks)
     mechanisms = _mechanisms(modes, damping, linear, wheel_speed_rad_s, blocks, lam)
     result = []
@@ -515,8 +577,8 @@ def linear_stability(
         sigma, fd = float(lam[j].real), float(abs(lam[j].imag)) / (2 * math.pi)
         zeta_crit = slope_crit = math.nan
         if i in wanted and modes[i].lateral != 0.0:  # else the friction's slope cannot act on it
-            zeta_crit = critical_damping_ratio(modes, contact, op, i, wheel_speed_rad_s)
-            slope_crit = critical_friction_slope(modes, contact, op, i, wheel_speed_rad_s)
+            zeta_crit = critical_damping_ratio(modes, contact, op, i, wheel_speed_rad_s, body)
+            slope_crit = critical_friction_slope(modes, contact, op, i, wheel_speed_rad_s, body)
         partners = [i] + [int(k) for k in np.argsort(-share[:, j]) if k != i and share[k, j] >= PARTNER_SHARE]
         result.append(ModeStability(sigma, fd, zeta_crit, slope_crit, mechanisms[j], tuple(partners)))
     return StabilityResult(
@@ -558,32 +620,38 @@ EIGEN_BYTES_PER_STATE2 = 48.0
 MITIGATION_ROUNDS_PER_MODE = 0.8
 
 
-def _states(modes: Sequence[ModalDOF], rotation: bool) -> int:
-    """The size of the state matrix: 2 per mode, 4 per rotating pair."""
-    return sum(4 if (rotation and md.nodal_diameters >= 1) else 2 for md in modes)
+def _states(modes: Sequence[ModalDOF], rotation: bool, body_states: int = 0) -> int:
+    """The size of the state matrix: 2 per mode, 4 per rotating pair, and the
+    counter-body's states."""
+    return sum(4 if (rotation and md.nodal_diameters >= 1) else 2 for md in modes) + body_states
 
 
-def eigen_solve_seconds(modes: Sequence[ModalDOF], rotation: bool = False) -> float:
-    """The estimated time of one eigen-solve of the coupled system of ``modes`` [s]."""
-    n = _states(modes, rotation)
+def eigen_solve_seconds(modes: Sequence[ModalDOF], rotation: bool = False, body_states: int = 0) -> float:
+    """The estimated time of one eigen-solve of the coupled system of ``modes`` and a
+    counter-body of ``body_states`` states [s]."""
+    n = _states(modes, rotation, body_states)
     fixed, square, cubic = EIGEN_SECONDS
     return fixed + square * n**2 + cubic * n**3
 
 
-def eigen_solve_bytes(modes: Sequence[ModalDOF], rotation: bool = False) -> float:
-    """The estimated peak memory of one eigen-solve of the coupled system of ``modes``
-    [bytes] (:data:`EIGEN_BYTES_PER_STATE2`)."""
-    return EIGEN_BYTES_PER_STATE2 * _states(modes, rotation) ** 2
+def eigen_solve_bytes(modes: Sequence[ModalDOF], rotation: bool = False, body_states: int = 0) -> float:
+    """The estimated peak memory of one eigen-solve of the coupled system of ``modes`` and
+    a counter-body of ``body_states`` states [bytes] (:data:`EIGEN_BYTES_PER_STATE2`)."""
+    return EIGEN_BYTES_PER_STATE2 * _states(modes, rotation, body_states) ** 2
 
 
 def stability_seconds(
-    modes: Sequence[ModalDOF], rotation: bool = False, bounds: int = 0, coupled: bool = True
+    modes: Sequence[ModalDOF],
+    rotation: bool = False,
+    bounds: int = 0,
+    coupled: bool = True,
+    body_states: int = 0,
 ) -> float:
     """The estimated time of :func:`linear_stability` with ``bounds`` modes' bounds [s]:
     one eigen-solve, the two limits that name the mechanisms where the contact can couple
     modes (``coupled``: some mode moves it normally under a Hertz spring), and
     :func:`bound_solves` per bound."""
-    one = eigen_solve_seconds(modes, rotation)
+    one = eigen_solve_seconds(modes, rotation, body_states)
     limits = 2 * EIGENVALUES_ONLY * one if coupled else 0.0
     return one + limits + one * bound_solves(len(modes)) * bounds
 
@@ -621,12 +689,13 @@ def stability_map(
     rolling_speeds_m_s: ArrayLike,
     rolling_radius_m: float | None = None,
     candidates: int | None = None,
+    body: BodyModel | None = None,
 ) -> StabilityMap:
-    """Growth rate, winning mode and its frequency over crabbing velocities [m/s] x
+    """Growth rate, leading mode and its frequency over crabbing velocities [m/s] x
     rolling speeds [m/s], one eigen-solve per point; ``rolling_radius_m``: the radius
     of a turning wheel (Omega = V0 / R), None for the paper's model (no rotation);
-    ``candidates``: the winner is one of the first this many modes (default all: the
-    ones after them are the counter-body's)."""
+    ``candidates``: the leading mode is one of the first this many modes (default all);
+    ``body``: the counter-body."""
     modes = as_modes(modes)
     k = len(modes) if candidates is None else int(candidates)
     vcs = np.asarray(crabbing_velocities_m_s, float)
@@ -637,7 +706,7 @@ def stability_map(
     growth, freq = np.empty(shape), np.empty(shape)
     winner = np.empty(shape, dtype=np.int64)
     for j, (v0, omega) in enumerate(zip(speeds, omegas)):
-        blocks = _blocks(modes, omega)
+        blocks = _blocks(modes, omega, body)
         for i, vc in enumerate(vcs):
             linear = LinearContact.at(contact, OperatingPoint(float(v0), float(vc)))
             lam, assigned, share = _eigen_shares(modes, damping, linear, omega, blocks)
@@ -693,7 +762,12 @@ PARTICIPATION = 0.1
 
 
 def _damping_to_stop(
-    modes: Sequence[ModalDOF], linear: LinearContact, omega: float, i: int, zeta_now: float
+    modes: Sequence[ModalDOF],
+    linear: LinearContact,
+    omega: float,
+    i: int,
+    zeta_now: float,
+    body: BodyModel | None = None,
 ) -> float:
     """The damping ratio of mode ``i`` (above ``zeta_now``) at which no eigenvalue in
     whose motion it takes part (:data:`PARTICIPATION`) grows: bisection on their largest
@@ -701,7 +775,7 @@ def _damping_to_stop(
     leaves one growing). Used where two close modes trade their eigenvalues."""
     crit_c = math.sqrt(modes[i].stiffness_n_m * modes[i].mass_kg)
     damping = np.array([md.damping_ns_m for md in modes])
-    blocks = _blocks(modes, omega)
+    blocks = _blocks(modes, omega, body)
 
     def largest(zeta: float) -> float:
         d = damping.copy()
@@ -727,7 +801,9 @@ def mitigation_rounds(n_modes: int) -> int:
     return 4 * n_modes + 4
 
 
-def mitigation_seconds(modes: Modes, n_crab_velocities: int, n_speeds: int, rotation: bool = False) -> float:
+def mitigation_seconds(
+    modes: Modes, n_crab_velocities: int, n_speeds: int, rotation: bool = False, body_states: int = 0
+) -> float:
     """The estimated time of :func:`mitigation` [s]: a damping bound per mode at the
     worst point and a friction-slope bound per mode and speed, then rounds of one map of
     the envelope and one bound each (:data:`MITIGATION_ROUNDS_PER_MODE` per mode, as
@@ -736,7 +812,7 @@ def mitigation_seconds(modes: Modes, n_crab_velocities: int, n_speeds: int, rota
     rounds = MITIGATION_ROUNDS_PER_MODE * len(modes)
     bounds = len(modes) * (1 + n_speeds) + rounds
     solves = bounds * bound_solves(len(modes)) / 2 + rounds * n_crab_velocities * n_speeds
-    return eigen_solve_seconds(modes, rotation) * solves
+    return eigen_solve_seconds(modes, rotation, body_states) * solves
 
 
 def mitigation(
@@ -746,6 +822,7 @@ def mitigation(
     rolling_speeds_m_s: ArrayLike,
     rolling_radius_m: float | None = None,
     max_rounds: int | None = None,
+    body: BodyModel | None = None,
 ) -> Mitigation:
     """The damping per mode and the friction slope that stop squeal over the envelope
     of crabbing velocities x rolling speeds [m/s] (``rolling_radius_m``: a turning
@@ -765,7 +842,9 @@ def mitigation(
     worst = min(points, key=lambda p: g_at[p].friction_damping_ns_m)
     zeta = np.array(
         [
-            critical_damping_ratio(modes, contact, OperatingPoint(worst[1], worst[0]), i, omegas[worst[1]])
+            critical_damping_ratio(
+                modes, contact, OperatingPoint(worst[1], worst[0]), i, omegas[worst[1]], body
+            )
             for i in range(len(modes))
         ]
     )
@@ -775,18 +854,18 @@ def mitigation(
     for _ in range(rounds):
         damped = [d.with_damping_ratio(z * (1 + MITIGATION_MARGIN)) for d, z in zip(modes, zeta)]
         damping = np.array([d.damping_ns_m for d in damped])
-        sigma = {p: growth_rates(damped, damping, g_at[p], omegas[p[1]]) for p in points}
+        sigma = {p: growth_rates(damped, damping, g_at[p], omegas[p[1]], body) for p in points}
         p, i = max(((p, int(np.argmax(s))) for p, s in sigma.items()), key=lambda pi: sigma[pi[0]][pi[1]])
         if sigma[p][i] <= 0.0:
             settled = True
             break
         op = OperatingPoint(p[1], p[0])
-        new = critical_damping_ratio(damped, contact, op, i, omegas[p[1]])
+        new = critical_damping_ratio(damped, contact, op, i, omegas[p[1]], body)
         if not new > zeta[i] * (1 + 2 * MITIGATION_MARGIN):
             # two close modes trade their eigenvalues as one's damping changes, so the
             # mode's own growth rate is no longer a decreasing function of it: find
             # instead the damping at which no eigenvalue grows at this point
-            new = _damping_to_stop(damped, g_at[p], omegas[p[1]], i, zeta[i])
+            new = _damping_to_stop(damped, g_at[p], omegas[p[1]], i, zeta[i], body)
         zeta[i] = new  # each round raises one bound, never lowers it
         where[i] = p
         reason = (
@@ -797,7 +876,7 @@ def mitigation(
     zeta[zeta < ROUNDOFF_DAMPING_RATIO] = 0.0  # the root finder's round-off: none needed
     slopes = {
         v0: max(
-            critical_friction_slope(modes, contact, OperatingPoint(v0, float(vcs[-1])), i, omegas[v0])
+            critical_friction_slope(modes, contact, OperatingPoint(v0, float(vcs[-1])), i, omegas[v0], body)
             for i in range(len(modes))
         )
         for v0 in speeds.tolist()

@@ -5,7 +5,7 @@ chunks of a few cases per thread so that memory stays bounded and a long sweep c
 report progress; each time history is reduced on the fly to its cycles and then to
 LimitCycle metrics with the same definitions as :func:`reduced.limit_cycle.limit_cycle`.
 A case whose integration is flagged unstable (non-finite state or energy balance
-violated) is re-run through :func:`reduced.model.simulate`, which refines the step.
+violated) is re-run through :func:`reduced.model.simulate_rk4`, which refines the step.
 """
 
 from __future__ import annotations
@@ -29,7 +29,7 @@ from .model import (
     highest_frequency_hz,
     law_vector,
     mode_arrays,
-    simulate,
+    simulate_rk4,
 )
 
 
@@ -185,7 +185,7 @@ def sweep_points(
             op = ops[i]
             if status[i] != 0 or mismatch[i] > energy_tolerance * emax[i] + 1e-300:
                 lc = limit_cycle(
-                    simulate(
+                    simulate_rk4(
                         modes, contact, op, duration,
                         steps_per_period=steps_per_period, energy_tolerance=energy_tolerance,
                     )

@@ -270,3 +270,10 @@ def test_no_api_message_names_a_command_line_flag():
                 if isinstance(text, str) and flag.search(text):
                     hits.append(f"{rel}:{node.lineno}: {text[:60]!r}")
     assert hits == [], hits
+
+
+def test_every_package_of_the_tool_is_in_the_code_a_result_depends_on():
+    """A study's cache key and a report's provenance hash CODE_PACKAGES: a package left out
+    would let a change in it reuse stale cached cases."""
+    tops = {p.name for p in ROOT.iterdir() if (p / "__init__.py").is_file()} - {"designs", "tests"}
+    assert tops == set(CODE_PACKAGES)

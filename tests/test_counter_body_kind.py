@@ -1,8 +1,9 @@
 """A new counter-body kind is one section class and one physics class.
 
 A block on a spring under the contact (a stand-in for any counter-body with a normal
-mode) is written here as a ``CounterBodySection`` subclass and a ``reduced.CounterBody``
-implementation, registered by its kind, and nothing else: a design file with
+mode) is written here as a ``CounterBodySection`` subclass whose ``model()`` is its
+receptance at the contact (``reduced.BodyModel``), registered by its kind, and nothing
+else: a design file with
 ``[counter_body] kind = "block"`` then loads, writes and hashes, and the chain's
 stability sees its degree of freedom. The check that it is wired through, not merely
 accepted: the block's eigenvalues are the roller's with the same normal mode (the same
@@ -22,22 +23,9 @@ from conftest import COUPLED_PAIR_TOML
 import wheel_squeal as ws
 from geometry import DesignError
 from geometry.schema import spec
-from reduced import ModalDOF
+from reduced import NORMAL, BodyModel
 from wheel_squeal import sections
 from wheel_squeal.chain import ChainOptions
-
-
-@dataclass(frozen=True)
-class BlockOnSpring:
-    """The physics: a mass on a spring and dashpot under the contact, along its normal."""
-
-    mass_kg: float
-    stiffness_n_m: float
-    damping_ratio: float
-
-    def dofs(self) -> list[ModalDOF]:
-        f_hz = math.sqrt(self.stiffness_n_m / self.mass_kg) / (2 * math.pi)
-        return [ModalDOF.from_frequency(self.mass_kg, f_hz, self.damping_ratio, 0, lateral=0.0, normal=-1.0)]
 
 
 @dataclass(frozen=True)
@@ -60,11 +48,10 @@ class Block(sections.CounterBodySection):
     def contact_radii(self) -> tuple[float, float]:
         return self.radius, self.crown_radius
 
-    def body(self) -> BlockOnSpring:
-        return BlockOnSpring(self.mass_kg, self.stiffness_n_m, self.damping_ratio)
-
-    def dof_labels(self) -> list[str]:
-        return ["block normal"]
+    def model(self) -> BodyModel:
+        """The physics: a mass on a spring and dashpot under the contact, along its normal."""
+        f_hz = math.sqrt(self.stiffness_n_m / self.mass_kg) / (2 * math.pi)
+        return BodyModel.from_modes([(NORMAL, f_hz, self.damping_ratio, self.mass_kg)], "the block")
 
 
 @pytest.fixture

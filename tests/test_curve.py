@@ -125,6 +125,21 @@ def test_the_passby_signal_has_the_passby_level_and_the_doppler_shift():
     assert measured == pytest.approx(f / (1 - speed * cos_beta / c), rel=2e-3)
 
 
+def test_two_wheels_of_one_tone_sound_as_loud_as_their_levels_say():
+    """The two wheels of an axle squealing at one tone, 1.5 m apart: the signal's largest
+    mean square over 20 ms is the pass-by's largest (their energy sum) within 5 % (the
+    window, and the two arrivals' retarded times differing by a few ms), not up to twice
+    it as a sum in phase would be."""
+    speed, f = 30.0, 500.0
+    near = _source(HALF_TRACK_M, f=f)
+    far = PassbySource(0.0, -HALF_TRACK_M, 0.46, f, np.ones(181), ANGLES, 0)
+    t, p = passby_pressure([near, far], speed, 8.0, 48000.0)
+    ref = passby([near, far], speed)
+    window = int(0.02 * 48000.0)
+    running = np.convolve(p**2, np.ones(window) / window, mode="valid")
+    assert running.max() == pytest.approx(ref.mean_square_pa2.max(), rel=0.05)
+
+
 def test_band_maxima_sum_the_tones_of_each_band():
     """Two equal tones in one third-octave band are 3 dB above either alone; a band with
     no tone is -inf; A-weighting applies each tone's own weight."""
@@ -194,3 +209,24 @@ def test_the_railway_wheel_squeals_in_tight_curves_and_not_in_wide_ones(tmp_path
         )
     for name in ("occurrence.png", "lpamax.png", "passby.wav", "report.html"):
         assert (tmp_path / "c" / name).stat().st_size > 1000, name
+
+
+@pytest.mark.slow  # the fast preset's modes and the rail's fits (about 6 s cold)
+def test_a_curve_case_reads_as_the_api_documents_it():
+    """A case's repr is a line, not its meshes; its analysis's verdict carries the amplitude
+    the case reports; its record makes curve.nc's dataset without further attributes."""
+    import wheel_squeal as ws
+    from track.curving import Bogie
+    from wheel_squeal.present.curve import curve_dataset
+
+    cases = ws.curve(ws.load_design("railway_920_track"), [150.0], [40.0], Bogie(2.5),
+                     context=ws.RunContext.of("fast"))  # fmt: skip
+    lead = cases[0]
+    text = repr(lead)
+    assert text.startswith("CurveCase(") and len(text) < 400 and "\n" not in text, text
+    v = lead.analysis.verdict
+    record = lead.to_record()
+    assert v.squeals and v.amplitude_m_s == pytest.approx(record["amplitude_m_s"], rel=1e-12)
+    ds = curve_dataset([c.to_record() for c in cases])
+    assert ds["squeals"].shape == (1, 1, 4)
+    assert int(ds["squeals"].sum()) == sum(c.analysis.verdict.squeals for c in cases)

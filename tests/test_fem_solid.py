@@ -231,6 +231,7 @@ def test_count_sign_changes():
     assert count_sign_changes(np.array([1.0, -1.0, 1.0])) == 2
 
 
+@pytest.mark.slow  # the curved P2 solid's modes to 3 kHz (the module's fixture, about 5 s)
 def test_against_axisymmetric(p2):
     """3-D P2 (CI mesh) vs the axisymmetric-harmonic solver (its default mesh): same
     modes below 3 kHz, same labels, frequencies within the two discretisation errors.

@@ -570,7 +570,7 @@ def test_measured_damping_that_cannot_be_applied_is_refused(tmp_path, text, word
             ],
             "more than its frequency",
         ),  # fmt: skip
-        (["run", "--rpm", "1e-9", "--fidelity", "fast"], "RK4 steps"),
+        (["run", "--rpm", "1e-9", "--fidelity", "fast"], "squeal model of ("),
         (["stability", "--envelope-rpm", "400", "--fidelity", "fast"], "with --envelope"),
         (["calibrate", "--free", "nonsense", "--target-frequency", "1143"], "not a design parameter"),
     ],

@@ -287,15 +287,16 @@ def test_run_default_writes_the_full_report(tmp_path):
     assert v["amplitude_m_s"] == s["limit_cycle"]["velocity_amplitude_m_s"] and v["saturated"] is True
     assert s["cache"]["hits"] == []
 
-    # only the crabbing velocity changes: mesh, modes and mode views come from the cache; the
-    # sound is radiated at this point's own tone (the limit cycle's frequency moves with Vc)
+    # only the crabbing velocity changes: mesh, modes, mode views and the sound come from the
+    # cache (the limit cycle's frequency moves with Vc, within 1 % of the mode's natural
+    # frequency, where the mode is radiated: levels.RADIATION_SNAP)
     out2 = tmp_path / "run2"
     r = cli(
         "run", "--crab-velocity", "0.3", "--out", str(out2), "--quiet", "--cache-dir", str(tmp_path / "cache")
     )
     assert r.returncode == 0, r.stderr
     s2 = json.loads((out2 / "summary.json").read_text())
-    assert s2["cache"] == {"hits": ["modes", "views"], "misses": ["sound"]}
+    assert s2["cache"] == {"hits": ["modes", "sound", "sound-at", "views"], "misses": []}
     assert s2["verdict"]["tone_hz"] != s["verdict"]["tone_hz"]
     assert s2["modes"] == s["modes"] and s2["selected_mode"] == s["selected_mode"]
     assert s2["operating_point"]["crabbing_velocity_m_s"] == 0.3

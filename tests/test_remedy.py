@@ -49,6 +49,22 @@ def test_one_mode_gets_the_closed_form_damping(law, op_fig6):
     assert found.growth_rate_1_s <= -DECAY_RATE_1_S
 
 
+def test_a_growing_counter_body_eigenvalue_is_never_settled(law, op_fig6):
+    """A counter-body mode whose own damping is half the contact's negative damping grows
+    at about -(c + g) / (2 m) with the wheel far from it in frequency (300 Hz against
+    1143 Hz: within 5 %, the wheel's coupling); no damping of the wheel moves it, so the
+    remedy is not settled and says why: never "no mode grows" beside it."""
+    g = r.friction_damping_ns_m(law, op_fig6)
+    m, f = 100.0, 300.0
+    c = -g / 2
+    body = r.BodyModel.from_modes([(r.LATERAL, f, c / (2 * m * 2 * math.pi * f), m)], "a test body")
+    found = damping_to_stop([TABLE1], law, op_fig6, body=body)
+    expected = -(c + g) / (2 * m)
+    assert found.counter_body_growth_rate_1_s == pytest.approx(expected, rel=0.05)
+    assert not found.settled and "counter-body's own eigenvalue grows" in found.reason
+    assert found.growth_rate_1_s <= -DECAY_RATE_1_S  # the wheel's own mode is damped all the same
+
+
 def _coalesced_pair(law, op):
     """Two modes 2 % apart coupled through the normal contact (the mode-coupling case of
     the coupled-pair modal model, on a constant friction law)."""

@@ -155,6 +155,7 @@ def test_contact_aligned_pair_is_rotation_invariant(modeset):
     assert np.allclose(u / u.max(), np.cos(3 * th[rim]), atol=1e-9)
 
 
+@pytest.mark.slow  # an off-screen render (about 2 s)
 def test_render_mode_png(modeset, tmp_path):
     from PIL import Image
 

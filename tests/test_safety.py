@@ -654,3 +654,57 @@ def test_default_run_writes_into_results_of_the_working_folder(sandbox, tmp_path
             "velocity_amplitude_m_s"
         ]
     )
+
+
+# --------------------------------------------------------------------------------------
+# a stop signal at the commit and at the WAV's write
+# --------------------------------------------------------------------------------------
+def _run_stopped_at(target: str, args: list[str]) -> tuple[int, str]:
+    """The command line in a fresh process whose ``target`` (module:function) sends it
+    SIGTERM as it is entered: (exit status, stderr)."""
+    import subprocess
+    import sys
+
+    module, name = target.split(":")
+    code = (
+        f"import os, signal, sys; sys.path.insert(0, {str(ROOT)!r}); import {module} as m\n"
+        f"real = m.{name}\n"
+        f"def stopped(*a, **k):\n"
+        f"    os.kill(os.getpid(), signal.SIGTERM)\n"
+        f"    return real(*a, **k)\n"
+        f"m.{name} = stopped\n"
+        f"sys.argv = ['pipeline.py', *{[str(a) for a in args]!r}]\n"
+        f"import pipeline; pipeline.run(prog='pipeline.py')\n"
+    )
+    p = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=300)
+    return p.returncode, p.stderr
+
+
+@pytest.mark.slow  # two commands (about 2 s each)
+def test_a_stop_at_the_commit_ends_nothing(tmp_path):
+    """A SIGTERM as the earlier result is being removed (the new one already in place):
+    the command completes, exit 0, the new result whole and nothing left beside --out."""
+    out = tmp_path / "sim"
+    args = ["simulate", *TABLE1_MODE_ARGS, "--rpm", "800", "--crab-velocity", "0.39", "--duration", "0.2"]
+    first = run_cli(*args, "--quiet", "--out", out)
+    assert first.returncode == 0, first.stderr
+    before = json.loads((out / "summary.json").read_text())
+    status, err = _run_stopped_at("wheel_squeal.folders:_remove", [*args, "--quiet", "--out", out])
+    assert status == 0 and "Traceback" not in err, err
+    after = json.loads((out / "summary.json").read_text())
+    assert after.keys() == before.keys() and (out / "timeseries.csv").stat().st_size > 0
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["sim"]
+
+
+@pytest.mark.slow  # one run of the Table 1 wheel from the cache (about 8 s)
+def test_a_stop_at_the_wav_write_is_one_line_and_keeps_the_earlier_result(tmp_path):
+    out = tmp_path / "run"
+    with result_folder(out, "test") as tmp:
+        (tmp / "old.txt").write_text("old")
+    status, err = _run_stopped_at(
+        "wheel_squeal.present.files:write_wav", ["run", "--design", "table1", "--quiet", "--out", out]
+    )
+    lines = [ln for ln in err.splitlines() if ln.strip() and not ln.startswith("warning:")]
+    assert status == 143 and lines == ["terminated"], err
+    assert sorted(p.name for p in out.iterdir()) == sorted([MARKER, "old.txt"])
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["run"]

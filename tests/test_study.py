@@ -282,6 +282,10 @@ def test_invalid_sampled_designs_are_reported_not_fatal(tmp_path):
     assert all("web_thickness" in x for x in bad)
     assert np.isnan(ds["growth_rate_1_s"].values[status == "invalid"]).all()
     assert np.isfinite(ds["growth_rate_1_s"].values[status == "ok"]).all()
+    # the stability alone: the summary counts the designs study.nc says squeal
+    squeal = ds["squeals"].where(ds["status"] == "ok").max(["crab_velocity", "rpm"]).values > 0.5
+    ok = int((status == "ok").sum())
+    assert f"{int(squeal.sum())} of {ok} valid designs squeal" in r.stdout + r.stderr
 
 
 def test_without_the_study_extra_one_line_says_what_to_install(tmp_path):

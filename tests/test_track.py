@@ -1,6 +1,6 @@
-"""The track: the rail on supports against closed forms, its fit by passive modal terms,
-and a wheel mode on the rail against the root of the frequency-domain characteristic
-equation."""
+"""The track: the rail on supports against closed forms, its fit by a passive rational
+function without feedthrough, and the roots of the wheel on the fitted rail against the
+roots of the characteristic equation with the rail model's own receptance."""
 
 from __future__ import annotations
 
@@ -22,7 +22,7 @@ from track import (
     pinned_pinned_frequency_hz,
     receptance,
 )
-from track.fit import fit_receptance, level
+from track.fit import fit_receptance
 
 #: The pad alone as a continuous support [N/m^2]: 300 MN/m per 0.6 m, loss factor 0.25
 PAD_ONLY = 300e6 * (1 + 0.25j) / 0.6
@@ -91,61 +91,133 @@ def test_the_receptance_is_passive_and_of_the_published_size():
     assert 0.5e-8 < lateral[0] < 2e-8 and 0.5e-9 < lateral[1] < 2e-9
 
 
-def test_the_fit_is_passive_and_close_over_the_band():
-    """Every term a positive mass, spring and damper (so the fit is passive); its rms
-    error over the band within 25 % of the receptance's level (the hysteretic supports
-    are not exactly causal, and the fit cannot follow the sharpest band edges: measured
-    13-20 %)."""
-    f = np.geomspace(20, 6000, 300)
-    for beam, support in ((UIC60_VERTICAL, TEST_TRACK_VERTICAL), (UIC60_LATERAL, TEST_TRACK_LATERAL)):
+def _exact_root(s, g, wheel, alpha, tol=1e-10):
+    """The root of 1 + g s (H_wheel(s) + alpha(s)) = 0 nearest ``s`` by Newton's method
+    (``wheel``: (m, c, k) per mode, each seen laterally at the contact), None where it
+    does not converge."""
+
+    def d(x):
+        return 1 + g * x * (sum(1 / (m * x * x + c * x + k) for m, c, k in wheel) + alpha(x))
+
+    for _ in range(60):
+        h = 1e-6 * abs(s)
+        slope = (d(s + h) - d(s - h)) / (2 * h)
+        if slope == 0 or not np.isfinite(slope):
+            return None
+        step = d(s) / slope
+        s = s - step
+        if abs(step) < tol * abs(s):
+            return s
+    return None
+
+
+def _rail_alpha(beam, support, at=0.5):
+    return lambda s: receptance(beam, support, [s / (2j * math.pi)], at, complex_frequency=True)[0]
+
+
+#: A root of the fitted rail matches the rail model's own within 1 % in frequency and 5 %
+#: in growth; a growth near zero, where a relative tolerance means nothing, within a
+#: damping ratio of 0.001 (the issue's misfit was 0.003)
+ROOT_FREQUENCY, ROOT_GROWTH, ROOT_DAMPING = 0.01, 0.05, 0.001
+
+
+def _matches(fit_root, exact_root) -> bool:
+    w = abs(exact_root.imag)
+    return (
+        abs(fit_root.imag - exact_root.imag) <= ROOT_FREQUENCY * w
+        and abs(fit_root.real - exact_root.real) <= ROOT_GROWTH * abs(exact_root.real) + ROOT_DAMPING * w
+    )
+
+
+def test_the_fit_is_stable_passive_and_without_feedthrough():
+    """Both directions of the test track at midspan fitted over 2-8000 Hz: every pole in
+    the left half-plane, Im(alpha) <= 0 from a decade below to a decade above the band
+    (passive), the leading coefficients summing to zero (no feedthrough: the counter-body
+    model takes it), and the error in the weights' norm under 2 % (measured 0.97 % and
+    0.28 %). Where the weights are small (below 50 Hz, and above 1 kHz where the rail's
+    receptance is small beside a wheel mode's) the relative error is larger: what it does
+    to the contact is checked by the roots below, not by a bound on it here."""
+    f = np.geomspace(2, 8000, 391)
+    for direction, (beam, support) in enumerate(
+        ((UIC60_VERTICAL, TEST_TRACK_VERTICAL), (UIC60_LATERAL, TEST_TRACK_LATERAL))
+    ):
         alpha = receptance(beam, support, f, 0.5)
         fit = fit_receptance(f, alpha)
-        assert (fit.modal_mass_kg > 0).all() and (fit.damping_ratio > 0).all()
-        assert (fit(f).imag <= 0).all()
-        error = np.abs(fit(f) - alpha) / level(f, alpha)
-        assert np.sqrt(np.mean(error**2)) < 0.25
-        assert fit.poles < 40
+        assert (fit.poles.real < 0).all()
+        grid = np.geomspace(0.2, 80000, 4000)
+        assert (fit(grid).imag <= 0).all()
+        body = r.BodyModel.from_rational([(direction, fit.poles, fit.residues)])  # no feedthrough, or refused
+        s = 2j * math.pi * f
+        assert np.allclose(body.receptance(s, direction), fit(f), rtol=1e-9)
+        assert fit.weighted_error < 0.02
 
 
 def test_a_wheel_mode_on_the_rail_grows_at_the_frequency_domain_root():
     """The Table 1 mode on the lateral test track at midspan (constant normal load): the
-    eigenvalue of the squeal model with the rail's fitted terms is the root of
-    1 + g s (H_wheel(s) + alpha_fit(s)) = 0 to 1e-9, and the rail's effect on the growth
-    rate (the difference from the rigid roller's) is the one the exact receptance gives
-    (the finite model at the complex root) within 10 % (the fit's error there: 3 %)."""
+    eigenvalue of the linear model with the rail's fitted state space is the root of
+    1 + g s (H_wheel(s) + alpha_fit(s)) = 0 to 1e-9 (the two forms agree), and the root
+    with the rail's own receptance (the finite model at complex frequency) within 1 % in
+    frequency and 5 % in growth."""
     law, op = table1_law(), r.OperatingPoint.from_rpm(800, 0.213, 0.39)
     m, k, c = 3.1, 1.6e8, 42.0
-    f = np.geomspace(20, 6000, 300)
+    f = np.geomspace(2, 8000, 391)
     fit = fit_receptance(f, receptance(UIC60_LATERAL, TEST_TRACK_LATERAL, f, 0.5))
-    rail = r.ModalCounterBody((), tuple(zip(fit.frequency_hz, fit.damping_ratio, fit.modal_mass_kg))).dofs()
-    result = r.linear_stability([r.ModalDOF(m, k, c), *rail], law, op)
+    body = r.BodyModel.from_rational([(r.LATERAL, fit.poles, fit.residues)], "the rail")
+    result = r.linear_stability([r.ModalDOF(m, k, c)], law, op, body=body)
     lam = result.eigenvalues[int(np.argmax(result.eigenvalues.real))]
-    rigid = r.linear_stability([r.ModalDOF(m, k, c)], law, op).eigenvalues
-    rigid = rigid[int(np.argmax(rigid.real))]
     g = result.friction_damping_ns_m
-
-    def root(alpha, s):
-        def d(x):
-            return 1 + g * x * (1 / (m * x * x + c * x + k) + alpha(x))
-
-        for _ in range(50):
-            h = 1e-6 * abs(s)
-            step = d(s) / ((d(s + h) - d(s - h)) / (2 * h))
-            s -= step
-            if abs(step) < 1e-12 * abs(s):
-                break
-        return s
-
-    fitted = root(lambda s: fit(s / (2j * math.pi)), lam)
+    fitted = _exact_root(lam, g, [(m, c, k)], lambda x: complex(fit(x / (2j * math.pi))[0]))
     assert fitted == pytest.approx(lam, rel=1e-9)
-    exact = root(
-        lambda s: receptance(
-            UIC60_LATERAL, TEST_TRACK_LATERAL, [s / (2j * math.pi)], 0.5, complex_frequency=True
-        )[0],
-        lam,
-    )
-    assert lam.imag == pytest.approx(exact.imag, rel=1e-6)
-    assert lam.real - rigid.real == pytest.approx(exact.real - rigid.real, rel=0.1)
+    exact = _exact_root(lam, g, [(m, c, k)], _rail_alpha(UIC60_LATERAL, TEST_TRACK_LATERAL))
+    assert exact is not None and _matches(lam, exact), (lam, exact)
+
+
+@pytest.mark.slow  # the shipped wheel's modes, the rail's fits and some 40 Newton solves (about 4 s)
+def test_every_root_the_contact_reaches_matches_the_rail_models_own():
+    """railway_920_track at 300 m and 30 km/h, constant normal load (the contact's
+    steepest falling friction on this track, g = -29.4 kN s/m): every growing root of the
+    wheel's 31 modes with the fitted rail, and of the rail alone under a rigid wheel, is
+    a root of the characteristic equation with the rail model's own receptance, within 1 %
+    in frequency and 5 % in growth (a damping ratio of 0.001 near zero); Newton's method
+    from starts over the right half-plane finds no growing exact root the fit misses; and
+    the fit has no lightly damped term below the band the contact destabilises (no growing
+    root below 20 Hz)."""
+    import wheel_squeal as ws
+    from wheel_squeal.stability import body_of, excitable, mode_dofs
+
+    design = ws.load_design("railway_920_track").replace(normal_contact="constant")
+    modes = ws.compute_modes(design, "balanced")
+    contact = ws.contact_law(design)
+    op = r.OperatingPoint(8.333044, 0.069443)  # the issue's 300 m, 30 km/h
+    dofs = mode_dofs(excitable(modes, contact), design)
+    body = body_of(design)
+    alpha = _rail_alpha(UIC60_LATERAL, TEST_TRACK_LATERAL)
+    for wheel in (dofs, []):
+        result = r.linear_stability(wheel, contact, op, body=body) if wheel else None
+        if wheel:
+            lam = result.eigenvalues
+        else:
+            lam = r.linear_stability([r.ModalDOF(1e9, 1e20, 0.0)], contact, op, body=body).eigenvalues
+        g = r.friction_damping_ns_m(contact, op)
+        # a mode's lateral receptance at the contact: its participation squared over its
+        # modal impedance (the normal load constant, its normal motion feeds nothing back)
+        mck = [
+            (d.mass_kg / d.lateral**2, d.damping_ns_m / d.lateral**2, d.stiffness_n_m / d.lateral**2)
+            for d in wheel
+        ]
+        # in the fit's band: the rigid wheel's stand-in (a 50 kHz mode) is no root to check
+        growing = [x for x in lam if x.real > 0 and 0 < x.imag < 2 * math.pi * 8000]
+        assert all(x.imag / (2 * math.pi) > 20 for x in growing), growing
+        for x in growing:
+            exact = _exact_root(x, g, mck, alpha)
+            assert exact is not None and _matches(x, exact), (x, exact)
+        if wheel:  # no growing exact root away from the fit's: Newton from starts near each band
+            for f0 in (60, 150, 220, 260, 320, 450, 600, 900):
+                for sigma in (50.0, 200.0, 400.0):
+                    exact = _exact_root(complex(sigma, 2 * math.pi * f0), g, mck, alpha)
+                    if exact is None or exact.real <= 0 or exact.imag <= 0:
+                        continue
+                    assert any(_matches(x, exact) for x in growing), exact
 
 
 # -- the track as a counter-body of a design -------------------------------------------------

@@ -16,7 +16,6 @@ The command line: ``wheel-squeal --help`` (:mod:`wheel_squeal.cli`).
 """
 
 from .api import (
-    Simulation,
     build_mesh,
     compute_modes,
     contact_law,
@@ -26,7 +25,6 @@ from .api import (
     operating_point,
     pick_mode,
     shipped_designs,
-    simulate,
 )
 from .budget import Budget
 from .cache import CacheMiss, StageCache
@@ -42,6 +40,7 @@ from .modal_model import explicit_modes, load_modal_model
 from .present.text import analysis_text, verdict_lines
 from .presets import DEFAULT_DESIGN, DEFAULT_FIDELITY, FIDELITIES, Fidelity, fidelity_for
 from .progress import Progress
+from .simulation import Simulation, simulate
 from .sound import Sound, mode_sound
 from .stability import StabilityTable, stability_table
 from .sweeps import VerdictGrid, sweep_verdicts

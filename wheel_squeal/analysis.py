@@ -148,6 +148,24 @@ class Analysis:
             f"{self.options.stop_after!r}: {self.verdict.headline()})"
         )
 
+    def tail(self, seconds: float) -> Analysis:
+        """The analysis with every record it holds (the squeal model's, the microphone
+        signal) cut to its last ``seconds``, its metrics kept: what a map of many
+        analyses keeps of each."""
+        from dataclasses import replace
+
+        def cut(o: ModeOutcome | None) -> ModeOutcome | None:
+            if o is None:
+                return None
+            sound = o.sound
+            if sound is not None and sound.signal is not None:
+                sound = replace(sound, signal=sound.signal.tail(seconds))
+            simulation = o.simulation.tail(seconds) if o.simulation is not None else None
+            return replace(o, simulation=simulation, sound=sound)
+
+        v = self.verdict
+        return replace(self, verdict=replace(v, outcome=cut(v.outcome), named=cut(v.named), pick=cut(v.pick)))
+
     @property
     def rows(self) -> list[ModeStabilityRow]:
         return self.table.rows

@@ -13,12 +13,9 @@ and are estimated against a :class:`~wheel_squeal.budget.Budget` before they sta
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
-from dataclasses import dataclass
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
-from .budget import Budget
 from .design import Design
 from .errors import RequestError
 from .modes import (
@@ -42,16 +39,13 @@ from .sections import C22_RANGE
 if TYPE_CHECKING:
     from fem.modes import Mode
     from reduced import ContactLaw, HertzContact, ModalDOF, OperatingPoint
-    from reduced.model import Modes
 
 __all__ = [
-    "Simulation",
     "build_mesh",
     "check_named_modes",
     "check_modes_budget",
     "compute_modes",
     "contact_law",
-    "counter_body_dofs",
     "hertz_of",
     "load_design",
     "modal_dof",
@@ -59,10 +53,6 @@ __all__ = [
     "modes_cache_key",
     "operating_point",
     "pick_mode",
-    "simulate",
-    "simulation_seconds",
-    "simulation_steps",
-    "SIMULATION_HINT",
     "shipped_designs",
 ]
 
@@ -154,13 +144,6 @@ def modal_dof(mode: Mode, design: Design) -> ModalDOF:
         return ModalDOF.from_damping_ratio(mode.modal_mass, mode.modal_stiffness, zeta, mode.nodal_diameters)
     lateral_mass = mode.modal_mass if math.isfinite(mode.modal_mass) else None
     return ModalDOF.from_components(mode.frequency_hz, zeta, phi_t, phi_n, mode.nodal_diameters, lateral_mass)
-
-
-def counter_body_dofs(design: Design) -> list:
-    """The counter-body's degrees of freedom at the contact (``reduced.ModalDOF``, seen
-    with gain -1: the contact feels the wheel's motion relative to the counter-body's),
-    none where it is rigid (the design's [counter_body] section)."""
-    return design.counter_body.dofs()
 
 
 def hertz_of(design: Design) -> HertzContact:
@@ -278,130 +261,3 @@ def operating_point(
         return OperatingPoint.from_angle_of_attack(v0, angle_of_attack_rad)
     vc = DEFAULT_CRAB_VELOCITY_M_S if crabbing_velocity_m_s is None else crabbing_velocity_m_s
     return OperatingPoint(v0, vc)
-
-
-@dataclass
-class Simulation:
-    """A time-domain run and its limit-cycle metrics (plain objects from ``reduced``)."""
-
-    history: Any
-    limit_cycle: Any
-    contact: Any
-    operating_point: Any
-
-    def summary(self) -> dict:
-        """JSON-ready {limit_cycle, operating_point, contact} (SI units, NaN -> None); the
-        limit cycle says over which share of its last quarter the wheel and the roller
-        lost contact (N = 0)."""
-        from reduced import summary_dicts
-
-        out = summary_dicts(self.limit_cycle, self.operating_point, self.contact)
-        separated = self.history.separated
-        out["limit_cycle"]["contact_lost_fraction"] = float(separated[3 * len(separated) // 4 :].mean())
-        return out
-
-
-def simulate(
-    dof: Modes,
-    contact: ContactLaw,
-    op: OperatingPoint,
-    duration: float | None = None,
-    wheel_speed_rad_s: float = 0.0,
-    budget: Budget | None = None,
-    preloaded: Sequence[int] = (),
-) -> Simulation:
-    """Integrate the squeal model from rest (``reduced.simulate_to_limit_cycle``): one
-    mode or several together (a list), ``duration`` [s] fixed or None to run until the
-    outcome is known, on a wheel turning at ``wheel_speed_rad_s`` (0: the paper's model);
-    the degrees of freedom ``preloaded`` (a track's) start in their static deflection
-    under the steady creep force (``reduced.model.preloaded_state``).
-    The RK4 steps are counted first and the run refused beyond ``budget`` (default:
-    :meth:`Budget.from_environment`): a very low rolling speed makes the contact stiff
-    and the step tiny."""
-    from reduced import longest_record_s, simulate_to_limit_cycle
-    from reduced.model import MAX_STORED_SAMPLES
-    from reduced.saturate import FIRST_DURATION_S
-    from reduced.sweep import sweep_steps
-
-    dofs: list[ModalDOF] = list(dof) if isinstance(dof, list | tuple) else [dof]  # type: ignore[list-item]
-    for d in dofs:
-        split = d.nodal_diameters * abs(wheel_speed_rad_s)
-        if split >= d.angular_frequency_rad_s:
-            raise RequestError(
-                f"a mode of {d.frequency_hz:.4g} Hz with {d.nodal_diameters} nodal diameters on a wheel "
-                f"turning at {wheel_speed_rad_s:.4g} rad/s would split by +-{split / (2 * math.pi):.4g} Hz, "
-                "more than its frequency: give the mode's true nodal diameters"
-            )
-    if duration is not None:
-        if not (math.isfinite(duration) and duration > 0):
-            raise RequestError(f"duration must be positive, got {duration:g}")
-        longest = longest_record_s(dof, wheel_speed_rad_s=wheel_speed_rad_s)
-        if duration > longest:
-            raise RequestError(
-                f"duration {duration:g} s is too long to record: at most {longest:.3g} s "
-                "fit (48 samples per period of the highest mode, 10 million samples)"
-            )
-    first = duration or FIRST_DURATION_S
-    steps = sweep_steps(dof, contact, op, first)
-    if steps < MIN_RECORD_STEPS:
-        raise RequestError(
-            f"duration {first:g} s is {steps} RK4 step(s) of {first / steps:.3g} s: a record needs "
-            f"at least {MIN_RECORD_STEPS} ({MIN_RECORD_STEPS * first / steps:.3g} s)"
-        )
-    budget = budget or Budget.from_environment()
-    budget.check_sweep(
-        1,
-        steps,
-        len(dofs),
-        1,
-        SIMULATION_HINT,
-        stored_steps=MAX_STORED_SAMPLES,
-    )
-
-    def may_extend(seconds: float) -> bool:
-        # a longer run only where it fits the time left (else the record stays as it is,
-        # reported as still growing: a result, not a refusal)
-        return seconds < 0.8 * budget.seconds_left()
-
-    try:
-        initial = None
-        if preloaded:
-            from reduced.model import preloaded_state
-
-            initial = preloaded_state(dof, contact, op, preloaded, wheel_speed_rad_s)
-        history, lc = simulate_to_limit_cycle(
-            dof, contact, op, duration, wheel_speed_rad_s=wheel_speed_rad_s, may_extend=may_extend,
-            initial_state=initial,
-        )  # fmt: skip
-    except ValueError as exc:  # the model refuses what it cannot integrate, in its own words
-        raise RequestError(str(exc)) from None
-    return Simulation(history, lc, contact, op)
-
-
-#: The fewest RK4 steps a simulated record may have (its analysis needs samples).
-MIN_RECORD_STEPS = 16
-
-
-#: What makes a squeal model's run cheaper
-SIMULATION_HINT = "a higher rolling speed (the contact stiffens as it falls) or a shorter duration"
-
-
-def simulation_steps(
-    dof: Modes, contact: ContactLaw, op: OperatingPoint, duration: float | None = None
-) -> int:
-    """The RK4 steps of :func:`simulate`'s first run."""
-    from reduced.saturate import FIRST_DURATION_S
-    from reduced.sweep import sweep_steps
-
-    return sweep_steps(dof, contact, op, duration or FIRST_DURATION_S)
-
-
-def simulation_seconds(
-    dof: Modes, contact: ContactLaw, op: OperatingPoint, duration: float | None = None
-) -> float:
-    """The estimated time of :func:`simulate`'s first run [s] (a longer run follows only
-    where the time left allows it)."""
-    from .budget import SWEEP_SECONDS_PER_STEP
-
-    n = len(dof) if isinstance(dof, list | tuple) else 1
-    return simulation_steps(dof, contact, op, duration) * n * SWEEP_SECONDS_PER_STEP

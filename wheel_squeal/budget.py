@@ -55,6 +55,10 @@ ENV_MAX_SECONDS = "WHEEL_SQUEAL_MAX_SECONDS"
 SWEEP_SECONDS_PER_STEP = 1.7e-7
 #: Bytes a running sweep case keeps per RK4 step (time, velocity, two power integrals).
 SWEEP_BYTES_PER_STEP = 32
+#: One step of the exponential integrator (``reduced.stepping``), compiled: per block (a
+#: mode's coordinate, a counter-body's term) and for the contact's forces [s] (measured on
+#: railway_920_track with the rail's 32 terms, ``benchmarks/bench_stepping.py``)
+EXPONENTIAL_SECONDS_PER_STEP = (2.5e-8, 2e-7)
 
 
 def available_memory() -> float:

@@ -19,7 +19,7 @@ from dataclasses import fields, replace
 from typing import TYPE_CHECKING, Any, get_args
 
 from .analysis import STAGES, Analysis, ChainOptions
-from .api import contact_law, operating_point, simulate
+from .api import contact_law, operating_point
 from .context import RunContext
 from .decision import modes_of_eigenvalue
 from .design import Design
@@ -29,9 +29,10 @@ from .outcomes import Outcomes
 from .plan import NO_REMEDY_HINT, stability_plan, verdict_plan
 from .presets import Fidelity, fidelity_for
 from .remedy import margin_of, remedy_design, remedy_of
+from .simulation import simulate
 from .stability import (
     StabilityTable,
-    contact_dofs,
+    body_of,
     excitable,
     mode_dofs,
     stability_table,
@@ -123,7 +124,6 @@ def analyse(
             budget=ctx.budget,
         )
     timings["modes"] = time.perf_counter() - t0
-    ctx.budget.checkpoint("the modes")
     t0 = time.perf_counter()
     contact = contact_law(design, opts.c22, opts.friction_law)
     if table is None:
@@ -295,8 +295,8 @@ class _Chain(Outcomes):
             damped = remedy_design(self.design, r["paste"])
             with self.ctx.progress.stage("the remedy checked in the time domain"):
                 sim = simulate(
-                    contact_dofs(group, damped), self.contact, self.op, self.opts.duration, self.omega,
-                    self.ctx.budget, self.preloaded(group),
+                    mode_dofs(group, damped), self.contact, self.op, self.opts.duration, self.omega,
+                    self.ctx.budget, body_of(damped), damped.counter_body.PRELOADED,
                 )  # fmt: skip
             r["time_domain"] = sim.limit_cycle.state
             if sim.limit_cycle.squeal:

@@ -19,7 +19,7 @@ from geometry.design import MAX_LENGTH_M
 from geometry.schema import Fields, spec
 
 if TYPE_CHECKING:
-    from reduced import CounterBody, ModalDOF
+    from reduced import BodyModel
 
 __all__ = [
     "COUNTER_BODIES",
@@ -56,9 +56,9 @@ def check_positive(owner: str, name: str, value: float, *, length: bool = False)
 class CounterBodySection(Fields):
     """What the wheel rolls on, as a design file gives it: ``KIND`` names it in
     ``[counter_body] kind = ...``; :meth:`contact_radii` are its surface's radii at the
-    contact (Hertz); :meth:`body` is its physics (``reduced.CounterBody``: degrees of
-    freedom in series with the contact); :meth:`dof_labels` name those degrees of
-    freedom. ``HASH_KEY``: the key of its values in a design's content hash."""
+    contact (Hertz); :meth:`model` is its physics (``reduced.BodyModel``: its receptance
+    at the contact, in series with it), named by its ``model().name``. ``HASH_KEY``: the
+    key of its values in a design's content hash."""
 
     TABLE: ClassVar[str] = "counter_body"
     KIND: ClassVar[str] = ""
@@ -71,20 +71,14 @@ class CounterBodySection(Fields):
         """(radius along rolling, radius across) of its surface at the contact [m]."""
         raise NotImplementedError
 
-    def body(self) -> CounterBody:
+    def model(self) -> BodyModel:
+        """Its receptance at the contact (``reduced.BodyModel``; no terms: rigid)."""
         raise NotImplementedError
 
-    def dofs(self) -> list[ModalDOF]:
-        """Its degrees of freedom at the contact (``reduced.ModalDOF``, gains -1)."""
-        return self.body().dofs()
-
-    def dof_count(self) -> int:
-        """How many degrees of freedom :meth:`dofs` gives (for a cost plan: a bound where
-        finding them is itself work)."""
-        return len(self.dofs())
-
-    def dof_labels(self) -> list[str]:
-        raise NotImplementedError
+    def states(self) -> int:
+        """The states :meth:`model` gives (for a cost plan: a bound where finding them is
+        itself work)."""
+        return self.model().states
 
     def summary(self) -> dict[str, Any]:
         """JSON-ready: its kind and values."""
@@ -165,23 +159,18 @@ class Roller(CounterBodySection):
     def contact_radii(self) -> tuple[float, float]:
         return self.rolling_radius, self.crown_radius
 
-    def body(self) -> CounterBody:
-        from reduced import ModalRoller, RigidCounterBody
+    def model(self) -> BodyModel:
+        from reduced import ModalRoller
 
-        normal, lateral = self.modal("normal"), self.modal("lateral")
-        return RigidCounterBody() if normal is None and lateral is None else ModalRoller(normal, lateral)
-
-    def dof_labels(self) -> list[str]:
-        return [f"roller {d}" for d in ("normal", "lateral") if self.modal(d) is not None]
+        return ModalRoller(self.modal("normal"), self.modal("lateral")).model()
 
 
 #: Where the wheel touches the rail in the sleeper bay, by name (a fraction of the span
 #: from a sleeper otherwise)
 RAIL_POSITIONS = {"support": 0.0, "midspan": 0.5}
-#: The band the rail's receptance is fitted over [Hz] and its frequencies per decade
-TRACK_FIT_BAND_HZ, TRACK_FIT_POINTS_PER_DECADE = (20.0, 6000.0), 100
-#: The most modal terms the fits of both directions take together (a cost plan's bound)
-TRACK_FIT_MAX_TERMS = 60
+#: The band the rail's receptance is fitted over [Hz] (a decade below the lowest squeal
+#: and beyond the modes' band) and its frequencies per decade
+TRACK_FIT_BAND_HZ, TRACK_FIT_POINTS_PER_DECADE = (2.0, 8000.0), 100
 
 
 def _rail(default: float | None, unit: str, doc: str, plausible: tuple[float, float]) -> Any:
@@ -326,33 +315,26 @@ class Track(CounterBodySection):
     def contact_radii(self) -> tuple[float, float]:
         return math.inf, self.head_radius  # a straight rail: flat along rolling
 
-    def dof_count(self) -> int:
+    def states(self) -> int:
         if _track_fits.cache_info().currsize:  # fitted in this process: the count itself
-            return len(self.dofs())
-        return TRACK_FIT_MAX_TERMS
+            return self.model().states
+        from track.fit import POLE_PAIRS
+
+        return 2 * 2 * POLE_PAIRS  # at most: two directions of pairs
 
     def fits(self) -> tuple[Any, Any]:
-        """The rail's receptances at the contact fitted by modal terms (``track.ModalFit``,
-        vertical and lateral) over :data:`TRACK_FIT_BAND_HZ`."""
+        """The rail's receptances at the contact fitted by rational functions
+        (``track.fit.RationalFit``, vertical and lateral) over :data:`TRACK_FIT_BAND_HZ`."""
         return _track_fits(self)
 
-    def body(self) -> CounterBody:
-        from reduced import ModalCounterBody
+    def model(self) -> BodyModel:
+        from reduced import LATERAL, NORMAL, BodyModel
 
         vertical, lateral = self.fits()
-
-        def terms(fit: Any) -> tuple[tuple[float, float, float], ...]:
-            return tuple(
-                zip(fit.frequency_hz.tolist(), fit.damping_ratio.tolist(), fit.modal_mass_kg.tolist())
-            )
-
-        return ModalCounterBody(terms(vertical), terms(lateral))
-
-    def dof_labels(self) -> list[str]:
-        vertical, lateral = self.fits()
-        return [f"rail normal {f:.0f} Hz" for f in vertical.frequency_hz] + [
-            f"rail lateral {f:.0f} Hz" for f in lateral.frequency_hz
-        ]
+        return BodyModel.from_rational(
+            [(NORMAL, vertical.poles, vertical.residues), (LATERAL, lateral.poles, lateral.residues)],
+            "the rail",
+        )
 
 
 @functools.lru_cache(maxsize=8)

@@ -23,21 +23,30 @@ from typing import TYPE_CHECKING, Any
 
 from .analysis import Analysis, ChainOptions
 from .api import contact_law
+from .budget import CostPlan
 from .chain import AMPLITUDE_METHODS
 from .design import Design
 from .errors import RequestError
 from .outputs import finite_or_none
-from .plan import CurveSize, check_curve_files, curve_plan, time_domain_axle_seconds
+from .plan import CurveSize, check_curve_files, curve_plan, squealing_axles
 from .stability import excitable, mode_dofs
 from .types import AmplitudeMethod
 
 if TYPE_CHECKING:
     from acoustics.passby import PassbyResult, PassbySource
+    from fem.modes import ModeSet
     from track.curving import Bogie, WheelKinematics
 
     from .context import RunContext
 
-__all__ = ["AMPLITUDE_METHODS", "AxleSound", "BogiePassby", "CurveCase", "curve"]
+__all__ = ["AMPLITUDE_METHODS", "AxleSound", "BogiePassby", "CurveCase", "curve", "curve_estimate"]
+
+
+#: What a map keeps of each time-domain record once its metrics and sound are taken: the
+#: contact's last this many seconds and the final state (a whole record, a few seconds
+#: of the rail's and the modes' states at the integrator's step, is tens of MB: a map of
+#: hundreds would not fit)
+KEPT_RECORD_S = 0.05
 
 
 @dataclass(frozen=True)
@@ -84,6 +93,20 @@ class CurveCase:
     analysis: Analysis
     sound: AxleSound | None = None
     passby: BogiePassby | None = None
+
+    def __repr__(self) -> str:  # one line: the meshes and records stay out of a notebook's view
+        v = self.analysis.verdict
+        said = (
+            f"squeals in {v.get('mode')} at {v.get('tone_hz'):.1f} Hz by {v.get('mechanism')}"
+            if v.squeals
+            else "no squeal"
+        )
+        level = self.to_record()["passby_lpamax_dba"]
+        heard = f", L_pAmax {level:.1f} dB(A)" if level is not None else ""
+        return (
+            f"CurveCase(R={self.radius_m:g} m, V={self.train_speed_km_h:g} km/h, "
+            f"{self.wheel.axle} {self.wheel.rail}: {said}{heard})"
+        )
 
     @property
     def index(self) -> int:
@@ -227,55 +250,13 @@ def curve(
 
     from acoustics.passby import passby
     from reduced import OperatingPoint
-    from track.curving import check_curve, wheel_kinematics
+    from track.curving import wheel_kinematics
 
-    from .api import compute_modes
     from .chain import analyse
     from .context import RunContext
 
-    if design.counter_body.KIND != "track":
-        raise RequestError(
-            f"{design.name} rolls on a {design.counter_body.KIND}: a curve needs a design on a track"
-        )
-    if ground_reflection is not None and not 0.0 <= ground_reflection <= 1.0:
-        raise RequestError(
-            f"ground reflection {ground_reflection:g}: a reflection factor from 0 (absorbing) to 1 (rigid)"
-        )
-    if method not in AMPLITUDE_METHODS:
-        raise RequestError(f"amplitude method {method!r}: one of {', '.join(AMPLITUDE_METHODS)}")
     ctx = context or RunContext.of("balanced")
-    size = _size(radii_m, train_speeds_km_h, bogie)
-    plan_of = functools.partial(
-        curve_plan, design, size, method == "time domain", ctx.fidelity, ctx.fmax_hz,
-        passbys=1 if ground_reflection is None else 2,
-    )  # fmt: skip
-    plan_of().check(ctx.budget, "the curve map", "")  # before the modes: counts alone
-    check_curve_files(size, ctx.budget.max_file_bytes)
-    tightest, slowest, fastest = (
-        min(radii_m, default=1.0),
-        min(train_speeds_km_h, default=1.0),
-        max(train_speeds_km_h, default=1.0),
-    )
-    try:  # the tightest curve at the slowest and fastest speed bound every other
-        check_curve(float(tightest), float(slowest), bogie)
-        check_curve(float(tightest), float(fastest), bogie)
-    except ValueError as exc:
-        raise RequestError(str(exc)) from None
-    modes = compute_modes(design, ctx.fidelity, fmax_hz=ctx.fmax_hz, cache=ctx.cache, progress=ctx.progress,
-                          budget=ctx.budget)  # fmt: skip
-    contact = contact_law(design)
-    wheel = excitable(modes, contact)
-    td = None
-    if method == "time domain":
-        ops = [  # the slowest: the squeal model's step is shortest there
-            OperatingPoint(w.rolling_speed_m_s, w.crabbing_velocity_m_s)
-            for w in wheel_kinematics(float(tightest), float(slowest), bogie)
-            if w.crabbing_velocity_m_s != 0.0
-        ]
-        td = time_domain_axle_seconds(design, wheel, contact, ops)
-    plan_of(wheel_dofs=mode_dofs(wheel, design), time_domain_seconds=td).check(
-        ctx.budget, "the curve map", ""
-    )
+    modes, _ = _planned(design, radii_m, train_speeds_km_h, bogie, method, ctx, ground_reflection, True)
     options = ChainOptions(mode="model", stop_after="sound", remedy=False, amplitude=method)
     cases: list[CurveCase] = []
     for radius in radii_m:
@@ -287,7 +268,7 @@ def curve(
                 if w.axle not in by_axle:
                     op = OperatingPoint(w.rolling_speed_m_s, w.crabbing_velocity_m_s)
                     a = analyse(design, op=op, options=options, context=ctx, modes=modes)
-                    by_axle[w.axle] = (a, axle_sound(a))
+                    by_axle[w.axle] = (a.tail(KEPT_RECORD_S), axle_sound(a))
                 a, s = by_axle[w.axle]
                 group.append(CurveCase(float(radius), float(speed), w, a, s))
             sources, owners = bogie_sources(group, bogie, design.rolling_radius)
@@ -302,56 +283,95 @@ def curve(
     return cases
 
 
+def curve_estimate(
+    design: Design,
+    radii_m: Sequence[float],
+    train_speeds_km_h: Sequence[float],
+    bogie: Bogie,
+    *,
+    method: AmplitudeMethod = "harmonic balance",
+    context: RunContext | None = None,
+    ground_reflection: float | None = None,
+) -> CostPlan:
+    """What :func:`curve` would take (``budget.CostPlan``: its parts' seconds and
+    bytes), from the wheel's modes and every sliding axle's linear stability, without
+    refusing anything (``benchmarks/bench_estimates.py`` sets it beside the time taken)."""
+    from .context import RunContext
+
+    ctx = context or RunContext.of("balanced")
+    return _planned(design, radii_m, train_speeds_km_h, bogie, method, ctx, ground_reflection, False)[1]
+
+
+def _planned(
+    design: Design,
+    radii_m: Sequence[float],
+    train_speeds_km_h: Sequence[float],
+    bogie: Bogie,
+    method: AmplitudeMethod,
+    ctx: RunContext,
+    ground_reflection: float | None,
+    check: bool,
+) -> tuple[ModeSet, CostPlan]:
+    """The request checked and priced in its three steps (``plan.curve_plan``), each
+    refused beyond the budget before the next where ``check``: (the modes, the plan)."""
+    from reduced import OperatingPoint
+    from track.curving import check_curve, wheel_kinematics
+
+    from .api import compute_modes
+    from .modes import modes_cache_key
+    from .sound import radiation_cached
+
+    if design.counter_body.KIND != "track":
+        raise RequestError(
+            f"{design.name} rolls on a {design.counter_body.KIND}: a curve needs a design on a track"
+        )
+    if ground_reflection is not None and not 0.0 <= ground_reflection <= 1.0:
+        raise RequestError(
+            f"ground reflection {ground_reflection:g}: a reflection factor from 0 (absorbing) to 1 (rigid)"
+        )
+    if method not in AMPLITUDE_METHODS:
+        raise RequestError(f"amplitude method {method!r}: one of {', '.join(AMPLITUDE_METHODS)}")
+    size = _size(radii_m, train_speeds_km_h, bogie)
+    plan_of = functools.partial(
+        curve_plan, design, size, method == "time domain", ctx.fidelity, ctx.fmax_hz,
+        passbys=1 if ground_reflection is None else 2,
+    )  # fmt: skip
+
+    def checked(plan: CostPlan) -> CostPlan:
+        if check:
+            plan.check(ctx.budget, "the curve map", "")
+        return plan
+
+    checked(plan_of())  # before the modes: counts alone
+    check_curve_files(size, ctx.budget.max_file_bytes)
+    tightest = float(min(radii_m, default=1.0))
+    try:  # the tightest curve at the slowest and fastest speed bound every other
+        for speed in (min(train_speeds_km_h, default=1.0), max(train_speeds_km_h, default=1.0)):
+            check_curve(tightest, float(speed), bogie)
+    except ValueError as exc:
+        raise RequestError(str(exc)) from None
+    modes = compute_modes(design, ctx.fidelity, fmax_hz=ctx.fmax_hz, cache=ctx.cache, progress=ctx.progress,
+                          budget=ctx.budget)  # fmt: skip
+    contact = contact_law(design)
+    wheel_dofs = mode_dofs(excitable(modes, contact), design)
+    checked(plan_of(wheel_dofs=wheel_dofs))
+    sliding = [  # each axle's operating point (the wheels of an axle share it)
+        OperatingPoint(w.rolling_speed_m_s, w.crabbing_velocity_m_s)
+        for r in radii_m
+        for v in train_speeds_km_h
+        for w in wheel_kinematics(float(r), float(v), bogie)
+        if w.crabbing_velocity_m_s != 0.0 and w.rail == "inner"
+    ]
+    key = modes_cache_key(design, ctx.fidelity, ctx.fmax_hz)
+    with ctx.progress.stage(f"linear stability of {len(sliding):,} sliding axles"):
+        squealing = squealing_axles(
+            design, modes, contact, sliding, method == "time domain",
+            lambda m, f: radiation_cached(ctx.cache, key, m, f),
+        )  # fmt: skip
+    return modes, checked(plan_of(wheel_dofs=wheel_dofs, squealing=squealing))
+
+
 def _size(radii_m: Sequence[float], train_speeds_km_h: Sequence[float], bogie: Bogie) -> CurveSize:
     """The map's size: its curves, and the bogie's axles that slide (a rigid bogie's
     trailing axle runs radially)."""
     return CurveSize(len(radii_m), len(train_speeds_km_h), 2, 1 if bogie.kind == "rigid" else 2)
-
-
-#: Rudd's rule of thumb: squeal in curves tighter than about this many wheelbases
-RUDD_WHEELBASES = 100.0
-#: The lateral creepage above which field measurements find squeal (about 0.0045)
-FIELD_CREEPAGE_THRESHOLD = 0.0045
-#: CNOSSOS-EU's squeal correction to rolling noise: (upper radius [m], +dB) by class
-CNOSSOS_CLASSES = ((300.0, 8.0), (500.0, 5.0))
-
-
-def _squeals_by(c: CurveCase, coupling: bool) -> bool:
-    v = c.analysis.verdict
-    return v.squeals and (v.get("mechanism") == "mode coupling") == coupling
-
-
-def findings(cases: Sequence[CurveCase], bogie: Bogie) -> list[str]:
-    """Where squeal stops, per train speed, beside the field's anchors: the largest radius
-    at which a wheel squeals by falling friction and its lateral creepage, against
-    Rudd's 100 wheelbases, the field's creepage threshold and CNOSSOS-EU's classes; and
-    any squeal by mode coupling, which a falling branch does not explain."""
-    out = []
-    rudd = RUDD_WHEELBASES * bogie.wheelbase_m
-    # a rigid bogie's leading axle reaches the threshold at R = 2a / threshold
-    at_threshold = bogie.wheelbase_m / FIELD_CREEPAGE_THRESHOLD
-    anchors = (
-        f"the field's creepage threshold {FIELD_CREEPAGE_THRESHOLD} is reached at R = {at_threshold:.0f} m "
-        f"for this wheelbase; Rudd's rule: below about {rudd:.0f} m; CNOSSOS-EU: +8 dB below 300 m, "
-        "+5 dB to 500 m"
-    )
-    for speed in dict.fromkeys(c.train_speed_km_h for c in cases):
-        mine = [c for c in cases if c.train_speed_km_h == speed]
-        friction = [c for c in mine if _squeals_by(c, coupling=False)]
-        coupling = sorted({c.radius_m for c in mine if _squeals_by(c, coupling=True)})
-        if friction:
-            top = max(friction, key=lambda c: c.radius_m)
-            wider = [c.radius_m for c in mine if c.radius_m > top.radius_m and not c.analysis.verdict.squeals]
-            stops = f"and not from {min(wider):g} m" if wider else "up to the widest curve asked"
-            out.append(
-                f"{speed:g} km/h: falling-friction squeal up to R = {top.radius_m:g} m {stops} "
-                f"(lateral creepage there {top.wheel.lateral_creepage:.4f}; {anchors})"
-            )
-        else:
-            out.append(f"{speed:g} km/h: no falling-friction squeal at any radius asked ({anchors})")
-        if coupling:
-            radii = ", ".join(f"{r:g}" for r in coupling)
-            out.append(
-                f"{speed:g} km/h: mode coupling makes a wheel squeal at R = {radii} m, whatever the creepage"
-            )
-    return out

@@ -15,7 +15,7 @@ import numpy as np
 from .design import Design
 from .outputs import bound_or_none, needed_or_none
 from .presets import rpm_to_speed
-from .stability import contact_dofs, excitable
+from .stability import body_of, excitable, mode_dofs
 
 if TYPE_CHECKING:
     from fem.modes import Mode, ModeSet
@@ -28,12 +28,12 @@ __all__ = ["Envelope", "Mitigation", "envelope", "envelope_seconds", "mitigation
 def _map_inputs(
     design: Design, modeset: ModeSet, contact: ContactLaw, rpms: Sequence[float] | np.ndarray, rotation: bool
 ) -> tuple[list[Mode], list[ModalDOF], np.ndarray, float | None]:
-    """What ``reduced``'s maps take: the excitable modes, the degrees of freedom the
-    contact sees (theirs, then the roller's), the rolling speeds [m/s] of ``rpms``, and
-    the rolling radius when rotation is modelled."""
+    """What ``reduced``'s maps take: the excitable modes, their degrees of freedom at the
+    contact, the rolling speeds [m/s] of ``rpms``, and the rolling radius when rotation
+    is modelled (the counter-body: :func:`~wheel_squeal.stability.body_of`)."""
     modes = excitable(modeset, contact)
     speeds = np.array([rpm_to_speed(float(r), design.rolling_radius) for r in rpms])
-    return modes, contact_dofs(modes, design), speeds, design.rolling_radius if rotation else None
+    return modes, mode_dofs(modes, design), speeds, design.rolling_radius if rotation else None
 
 
 @dataclass(frozen=True)
@@ -93,7 +93,9 @@ def envelope(
     from reduced import stability_map
 
     modes, dofs, speeds, radius = _map_inputs(design, modeset, contact, rpms, rotation)
-    m = stability_map(dofs, contact, crab_velocities, speeds, radius, candidates=len(modes))
+    m = stability_map(
+        dofs, contact, crab_velocities, speeds, radius, candidates=len(modes), body=body_of(design)
+    )
     rpms = np.asarray(rpms, float)
     return Envelope(
         m.crabbing_velocities_m_s, rpms, m.growth_rate_1_s, m.winner, m.damped_frequency_hz, modes
@@ -167,7 +169,7 @@ def mitigation(
     from reduced import mitigation as find
 
     modes, dofs, speeds, radius = _map_inputs(design, modeset, contact, rpms, rotation)
-    result = find(dofs, contact, crab_velocities, speeds, radius)
+    result = find(dofs, contact, crab_velocities, speeds, radius, body=body_of(design))
     return Mitigation(modes, result, np.asarray(rpms, float))
 
 
@@ -196,9 +198,11 @@ def envelope_seconds(
     """The estimated time of the map and both mitigations (rotation off and on) [s]."""
     from reduced.stability import eigen_solve_seconds, mitigation_seconds
 
-    dofs = contact_dofs(excitable(modeset, contact), design)
+    dofs = mode_dofs(excitable(modeset, contact), design)
     points = n_crab_velocities * n_speeds
+    body = design.counter_body.states()
     return sum(
-        points * eigen_solve_seconds(dofs, rot) + mitigation_seconds(dofs, n_crab_velocities, n_speeds, rot)
+        points * eigen_solve_seconds(dofs, rot, body)
+        + mitigation_seconds(dofs, n_crab_velocities, n_speeds, rot, body)
         for rot in (False, True)
     )

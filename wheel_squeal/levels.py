@@ -24,8 +24,8 @@ import numpy as np
 if TYPE_CHECKING:
     from fem.modes import Mode, ModeSet
 
-    from .api import Simulation
     from .design import Design
+    from .simulation import Simulation
     from .sound import Sound
 
 __all__ = [
@@ -71,6 +71,12 @@ class MicrophoneSignal:
     cycle_pa: np.ndarray
     cycle_rate_hz: float
     window: tuple[float, float, int]
+
+    def tail(self, seconds: float) -> MicrophoneSignal:
+        """The signal over the run's last ``seconds`` (the limit cycle's periods kept)."""
+        keep = self.t >= self.t[-1] - seconds
+        return MicrophoneSignal(self.t[keep].copy(), self.p[keep].copy(), self.cycle_pa, self.cycle_rate_hz,
+                                self.window)  # fmt: skip
 
     def wav_samples(self) -> np.ndarray:
         """The pressure over the run at the WAV file's sample rate [Pa], its last
@@ -125,6 +131,18 @@ def harmonic_velocities(
     amps = harmonic_amplitudes(samples, count, k_max)
     k, share = harmonics_holding(amps, float(np.var(samples)), HARMONIC_ENERGY_SHARE)
     return tuple(range(1, k + 1)), amps[:k], share, (start, end, count), samples
+
+
+#: A squeal within this fraction of its radiating mode's natural frequency is radiated at
+#: that frequency (one solve per mode and harmonic, cached, whatever tone each operating
+#: point squeals at: 0.0003 dB on the Table 1 mode 0.001 % from it); further away, at its
+#: own tone (the shape vibrating at the limit cycle's frequency, far from resonance)
+RADIATION_SNAP = 0.01
+
+
+def radiation_frequency_hz(tone_hz: float, natural_hz: float) -> float:
+    """The frequency [Hz] a squeal at ``tone_hz`` is radiated at (:data:`RADIATION_SNAP`)."""
+    return natural_hz if abs(tone_hz / natural_hz - 1.0) <= RADIATION_SNAP else tone_hz
 
 
 def tone_sound(sound: Sound, tone_hz: float | None = None) -> SquealSound:
@@ -291,8 +309,8 @@ def squeal_sound(
     **radiation: Any,
 ) -> SquealSound:
     """The :class:`SquealSound` of ``mode`` squealing as ``simulation`` says, heard at
-    ``tone_hz`` [Hz]: its harmonics radiated at k times ``mode_frequency_hz`` (the tone
-    itself for a squeal: its shape vibrating at the limit cycle's frequency) through
+    ``tone_hz`` [Hz]: its harmonics radiated at k times ``mode_frequency_hz``
+    (:func:`radiation_frequency_hz`: the mode's natural frequency near it, else the tone) through
     :func:`wheel_squeal.sound.mode_sound` (``radiation``: its keywords: listener,
     travelling, fidelity, fmax_hz, cache, budget, memo), and the microphone signal of the
     whole run (each band of the contact velocity's spectrum through its harmonic's

@@ -18,6 +18,7 @@ from .budget import MAX_FILE_BYTES, Budget
 from .cache import CacheMiss, StageCache
 from .design import Design, as_design
 from .errors import RequestError
+from .interrupts import uninterrupted
 from .presets import DEFAULT_FIDELITY, DEFAULT_FMAX_HZ, FIDELITIES, Fidelity, fidelity_for
 from .progress import Progress
 from .provenance import code_version, library_versions
@@ -80,7 +81,10 @@ def build_mesh(
         except CacheMiss:
             pass
     mesher = gmsh_mesh.mesh_profile if dim == 2 else gmsh_mesh.mesh_wheel
-    mesh = mesher(design.wheel, size=size, elements_through_web=elements_through_web, order=order)
+    # gmsh calls back into Python to size the mesh: a stop raised in that callback would
+    # be swallowed and printed by ctypes, so it waits for the mesh (a second or two)
+    with uninterrupted():
+        mesh = mesher(design.wheel, size=size, elements_through_web=elements_through_web, order=order)
     if cache is not None:
         cache.store(f"mesh{dim}d", key, mesh.to_arrays())
     return mesh

@@ -14,18 +14,20 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from .analysis import ChainOptions
-from .api import simulate
 from .context import RunContext
 from .decision import decide, eigenvalue_of, group_label, modes_of_eigenvalue
 from .design import Design
 from .errors import RequestError
-from .levels import squeal_sound
-from .stability import StabilityTable, contact_dofs, dof_labels, named_mode, wheel_speed_rad_s
+from .levels import radiation_frequency_hz, squeal_sound
+from .simulation import simulate
+from .stability import StabilityTable, body_of, dof_labels, mode_dofs, named_mode, wheel_speed_rad_s
 from .verdict import COUPLING_ONLY, Balance, ModeOutcome, wave_of
 
 if TYPE_CHECKING:
     from fem.modes import Mode, ModeSet
-    from reduced import ContactLaw, OperatingPoint
+    from reduced import BodyModel, ContactLaw, ModalDOF, OperatingPoint
+
+    from .simulation import Simulation
 
 __all__ = ["Outcomes"]
 
@@ -108,22 +110,15 @@ class Outcomes:
         from rest: the mode that carries its limit cycle, with every share."""
         from reduced import modal_content
 
-        dofs = contact_dofs(group, self.design)
+        dofs = mode_dofs(group, self.design)
+        body = body_of(self.design)
         self.ctx.budget.checkpoint(f"the squeal model of {group_label(group)}")
         with self.ctx.progress.stage(f"squeal model of {group_label(group)}"):
-            sim = simulate(
-                dofs,
-                self.contact,
-                self.op,
-                self.opts.duration,
-                self.omega,
-                self.ctx.budget,
-                self.preloaded(group),
-            )
+            sim = self.simulate(dofs, body)
         labels = dof_labels(group, self.design)
         shares: dict[str, float] | None = None
         carrier, carried = group[0], None
-        if len(dofs) > 1:
+        if len(dofs) > 1 or body is not None:
             content = modal_content(sim.history)
             shares = {lab: float(x) for lab, x in zip(labels, content.energy_share)}
             carrier, carried = self.carrier(group, content.energy_share)
@@ -134,12 +129,14 @@ class Outcomes:
             base, wave=wave, simulation=sim, group=tuple(group), shares=shares, energy_share=carried
         )
 
-    def preloaded(self, group: tuple[Mode, ...]) -> range:
-        """The counter-body's degrees of freedom among ``group``'s (they follow the
-        wheel's) where it starts in its static deflection (a track)."""
-        if not self.design.counter_body.PRELOADED:
-            return range(0)
-        return range(len(group), len(contact_dofs(group, self.design)))
+    def simulate(self, dofs: list[ModalDOF], body: BodyModel | None) -> Simulation:
+        """The time domain of ``dofs`` with the counter-body ``body`` from rest (a
+        track's in its static deflection under the steady creep force: loaded long
+        before the squeal starts)."""
+        return simulate(
+            dofs, self.contact, self.op, self.opts.duration, self.omega, self.ctx.budget, body,
+            self.design.counter_body.PRELOADED,
+        )  # fmt: skip
 
     def carrier(self, group: tuple[Mode, ...], energy_share: np.ndarray) -> tuple[Mode, float]:
         """The mode that carries a limit cycle of ``group``, and its share of the energy:
@@ -172,7 +169,7 @@ class Outcomes:
             return replace(o, sound=self.balanced_sound(o))
         with self.ctx.progress.stage(f"sound of {o.label}"):
             s = squeal_sound(
-                self.design, self.modeset, shape, o.tone_hz,
+                self.design, self.modeset, shape, radiation_frequency_hz(o.tone_hz, shape.frequency_hz),
                 o.simulation, o.tone_hz, listener=self.opts.listener, travelling=o.wave != "standing",
                 fidelity=self.ctx.fidelity.name, fmax_hz=self.ctx.fmax_hz, cache=self.ctx.cache,
                 budget=self.ctx.budget, memo=self.ctx.memo,
@@ -180,15 +177,16 @@ class Outcomes:
         return replace(o, sound=s)
 
     def balanced_sound(self, o: ModeOutcome) -> Any:
-        """The sound of a harmonic balance's limit cycle: the mode's radiation at its
-        natural frequency (one solve per mode, kept for the process: ``ctx.memo``) at the
+        """The sound of a harmonic balance's limit cycle: the mode's radiation
+        (``levels.radiation_frequency_hz``; kept for the process: ``ctx.memo``) at the
         balance's amplitude, heard at the tone; the fundamental only."""
         from .levels import tone_sound
         from .sound import mode_sound
 
         assert o.amplitude_m_s is not None
         s = mode_sound(
-            self.design, self.modeset, o.mode, o.mode.frequency_hz, o.amplitude_m_s,
+            self.design, self.modeset, o.mode, radiation_frequency_hz(o.tone_hz, o.mode.frequency_hz),
+            o.amplitude_m_s,
             listener=self.opts.listener, travelling=o.wave != "standing", fidelity=self.ctx.fidelity.name,
             fmax_hz=self.ctx.fmax_hz, cache=self.ctx.cache, budget=self.ctx.budget, memo=self.ctx.memo,
         )  # fmt: skip

@@ -33,10 +33,13 @@ RAIL_FIELDS: dict[str, tuple[str, str]] = {
     "counter_body_effect_1_s": ("1/s", "on a track: what the rail adds to the fastest growth rate"),
     "counter_body_growth_rate_1_s": ("1/s", "the counter-body's own eigenvalue's growth (null: none)"),
     "frequency_range_hz": ("Hz", "the frequency grid's ends"),
-    "max_relative_error": ("", "the fit's largest error relative to the receptance's third-octave level"),
+    "max_relative_error": ("", "the fit's largest |fit - alpha| / |alpha| over the band (largest where the "
+                           "weights are small: below 50 Hz, above 1 kHz)"),
     "pinned_pinned_lateral_hz": ("Hz", "the lateral pinned-pinned frequency (a simply supported bay)"),
     "pinned_pinned_vertical_hz": ("Hz", "the vertical pinned-pinned frequency (a simply supported bay)"),
-    "poles": ("-", "the modal terms of the fit"),
+    "states": ("-", "the rational fit's states (two per complex pole pair)"),
+    "weighted_error": ("", "the fit's largest error in the norm of its weights (towards the rail's "
+                       "mobility), relative"),
     "position": ("-", "where in the sleeper bay the contact is"),
     "angle_of_attack_rad": ("rad", "the angle of attack psi (2a/R at a rigid bogie's leading axle)"),
     "radius_m": ("m", "the curve's radius"),

@@ -22,7 +22,7 @@ from geometry.schema import toml_value
 from .design import Design
 from .outputs import bound_or_none, needed_or_none
 from .sections import mode_key
-from .stability import ModeStabilityRow, contact_dofs, wheel_speed_rad_s
+from .stability import ModeStabilityRow, body_of, mode_dofs, wheel_speed_rad_s
 
 if TYPE_CHECKING:
     from fem.modes import Mode
@@ -31,21 +31,23 @@ if TYPE_CHECKING:
 __all__ = ["bounds_seconds", "margin_of", "remedy_design", "remedy_of", "remedy_seconds", "remedy_toml"]
 
 
-def bounds_seconds(dofs: Sequence[ModalDOF], rotation: bool = False) -> float:
+def bounds_seconds(dofs: Sequence[ModalDOF], rotation: bool = False, body_states: int = 0) -> float:
     """The estimated time of one mode's critical damping and friction slope among
-    ``dofs`` [s] (the margin of a quiet point)."""
+    ``dofs`` and a counter-body of ``body_states`` states [s] (the margin of a quiet point)."""
     from reduced.stability import bound_solves, eigen_solve_seconds
 
-    return bound_solves(len(dofs)) * eigen_solve_seconds(dofs, rotation)
+    return bound_solves(len(dofs)) * eigen_solve_seconds(dofs, rotation, body_states)
 
 
-def remedy_seconds(dofs: Sequence[ModalDOF], n_growing: int, rotation: bool = False) -> float:
-    """The estimated time of :func:`remedy_of` among ``dofs`` with ``n_growing`` growing
-    eigenvalues [s]."""
+def remedy_seconds(
+    dofs: Sequence[ModalDOF], n_growing: int, rotation: bool = False, body_states: int = 0
+) -> float:
+    """The estimated time of :func:`remedy_of` among ``dofs`` and a counter-body of
+    ``body_states`` states with ``n_growing`` growing eigenvalues [s]."""
     from reduced.remedy import remedy_solves
     from reduced.stability import eigen_solve_seconds
 
-    return remedy_solves(len(dofs), n_growing) * eigen_solve_seconds(dofs, rotation)
+    return remedy_solves(len(dofs), n_growing) * eigen_solve_seconds(dofs, rotation, body_states)
 
 
 def damping_key(mode: Mode) -> str:
@@ -113,8 +115,9 @@ def remedy_of(
 
     modes = [r.mode for r in rows]
     omega = wheel_speed_rad_s(design, op, rotation)
-    dofs = contact_dofs(modes, design)
-    found = damping_to_stop(dofs, contact, op, omega, adjustable=range(len(modes)))
+    dofs = mode_dofs(modes, design)
+    body = body_of(design)
+    found = damping_to_stop(dofs, contact, op, omega, adjustable=range(len(modes)), body=body)
     by_key: dict[str, float] = {}
     damping, damping_now = {}, {}
     for k in found.raised:
@@ -124,17 +127,20 @@ def remedy_of(
         key = damping_key(m)
         by_key[key] = max(by_key.get(key, 0.0), float(found.damping_ratio[k]))
     pasted = remedy_design(design, by_key)
-    rate, own = held_growth_rates(contact_dofs(modes, pasted), contact, op, omega, range(len(modes)))
+    rate, own = held_growth_rates(mode_dofs(modes, pasted), contact, op, omega, range(len(modes)), body)
     # found aims at DECAY_RATE_1_S; once pasted (a (n, c) key damps every family alike)
     # it must leave nothing growing
-    settled = found.settled and rate < 0.0
-    mu = friction_coefficient_to_stop(dofs, contact, op, omega)
-    slope = friction_slope_to_stop(dofs, contact, op, omega)
+    settled = found.settled and max(rate, own) < 0.0
+    unsettled = found.reason or (
+        f"with the table pasted an eigenvalue grows at {max(rate, own):.3g} 1/s" if not settled else ""
+    )
+    mu = friction_coefficient_to_stop(dofs, contact, op, omega, body)
+    slope = friction_slope_to_stop(dofs, contact, op, omega, body)
     separations = []
     for mechanism, members in mechanisms:
         pair = [k for k in members if k < len(modes)][:2]
         if mechanism in ("mode coupling", "both") and len(pair) == 2:
-            f = separation_to_stop(dofs, contact, op, (pair[0], pair[1]), omega)
+            f = separation_to_stop(dofs, contact, op, (pair[0], pair[1]), omega, body)
             hi = max(pair, key=lambda k: modes[k].frequency_hz)
             lo = min(pair, key=lambda k: modes[k].frequency_hz)
             separations.append(
@@ -158,7 +164,7 @@ def remedy_of(
         "paste": by_key,
         "counter_body_growth_rate_1_s": own if own > 0.0 else None,
     }
-    out["words"] = remedy_words(out, "" if settled else found.reason)
+    out["words"] = remedy_words(out, unsettled)
     return out
 
 
@@ -177,9 +183,6 @@ def remedy_words(r: dict[str, Any], unsettled: str = "") -> str:
             f"a creep curve falling less steeply than dmu/dzeta = {slope:.3g} at the quasi-static "
             f"creepage (now {r['friction_slope_now']:.3g})"
         )
-    own = r.get("counter_body_growth_rate_1_s")
-    if own:
-        parts[0] += f" (the counter-body's own eigenvalue grows at {own:.3g} 1/s: no wheel damping moves it)"
     for s in r["separations"]:
         if s["frequency_hz"] is not None:
             parts.append(
@@ -234,8 +237,8 @@ def _bounds(
     if not (math.isnan(known.critical_damping_ratio) or math.isnan(known.critical_friction_slope)):
         return known, design.damping_ratio_of(rows[i].mode), slope_now
     omega = wheel_speed_rad_s(design, op, rotation)
-    dofs = contact_dofs([r.mode for r in rows], design)
-    result = linear_stability(dofs, contact, op, omega, bounds=[i])
+    dofs = mode_dofs([r.mode for r in rows], design)
+    result = linear_stability(dofs, contact, op, omega, bounds=[i], body=body_of(design))
     return result.modes[i], design.damping_ratio_of(rows[i].mode), slope_now
 
 

@@ -63,12 +63,16 @@ def mode_surface(
 
 
 def sound_cost(
-    design: Design, modeset: ModeSet, mode: Mode, listener: Listener | None = None
+    design: Design,
+    modeset: ModeSet,
+    mode: Mode,
+    listener: Listener | None = None,
+    frequency_hz: float | None = None,
 ) -> RadiationCost | None:
-    """The estimated cost of radiating ``mode`` at its natural frequency
-    (``acoustics.RadiationCost``), None where nothing would be radiated (a modal model's
-    modes have no shapes, a mode that does not move the contact laterally does not squeal
-    through it)."""
+    """The estimated cost of radiating ``mode`` at ``frequency_hz`` (default its natural
+    frequency; a harmonic at a multiple) (``acoustics.RadiationCost``), None where nothing
+    would be radiated (a modal model's modes have no shapes, a mode that does not move the
+    contact laterally does not squeal through it)."""
     from acoustics import AIR, radiation_cost
 
     from .modal_model import MODAL_MODEL_SOLVER
@@ -76,7 +80,23 @@ def sound_cost(
     if modeset.solver == MODAL_MODEL_SOLVER or not abs(float(mode.contact_lateral[0])) > 0:
         return None
     air = listener.air if listener is not None else AIR
-    return radiation_cost(mode_surface(modeset, mode, mode.frequency_hz), mode.frequency_hz, air)
+    f = mode.frequency_hz if frequency_hz is None else frequency_hz
+    return radiation_cost(mode_surface(modeset, mode, f), f, air)
+
+
+def radiation_cached(
+    cache: StageCache | None,
+    modes_key: dict[str, Any],
+    mode: Mode,
+    frequency_hz: float,
+    air: Air | None = None,
+) -> bool:
+    """Whether ``cache`` holds ``mode``'s radiation at ``frequency_hz`` (no solve to price)."""
+    from acoustics import AIR
+
+    if cache is None:
+        return False
+    return cache.path("sound", radiation_key(modes_key, mode, frequency_hz, air or AIR)).is_file()
 
 
 def contact_velocity_phase(mode: Mode) -> complex:

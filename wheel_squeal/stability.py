@@ -28,14 +28,14 @@ from .outputs import bound_or_none
 
 if TYPE_CHECKING:
     from fem.modes import Mode, ModeSet
-    from reduced import ContactLaw, ModalDOF, ModeStability, OperatingPoint, StabilityResult
+    from reduced import BodyModel, ContactLaw, ModalDOF, ModeStability, OperatingPoint, StabilityResult
 
 
 __all__ = [
     "ModeStabilityRow",
     "NamedMode",
     "StabilityTable",
-    "contact_dofs",
+    "body_of",
     "dof_labels",
     "eigenvalue_list",
     "excitable",
@@ -71,18 +71,18 @@ def mode_dofs(modes: Sequence[Mode], design: Design) -> list[ModalDOF]:
     return [modal_dof(m, design) for m in modes]
 
 
-def contact_dofs(modes: Sequence[Mode], design: Design) -> list[ModalDOF]:
-    """Every degree of freedom the contact sees: the FE modes (first, in order), then
-    the roller's modes ([roller]; none for a rigid roller)."""
-    from .api import counter_body_dofs
-
-    return mode_dofs(modes, design) + counter_body_dofs(design)
+def body_of(design: Design) -> BodyModel | None:
+    """The counter-body in series with the contact (``reduced.BodyModel``), None where it
+    is rigid and fixed."""
+    body = design.counter_body.model()
+    return body if body.terms else None
 
 
 def dof_labels(modes: Sequence[Mode], design: Design) -> list[str]:
-    """The label of every degree of freedom :func:`contact_dofs` gives: the modes', then
-    the counter-body's."""
-    return [m.label() for m in modes] + design.counter_body.dof_labels()
+    """The label of every participant of an eigenvalue or a limit cycle: the modes', then
+    the counter-body's where it moves (its name, "the rail")."""
+    body = body_of(design)
+    return [m.label() for m in modes] + ([body.name] if body is not None else [])
 
 
 @dataclass(frozen=True)
@@ -208,10 +208,10 @@ def stability_table(
     if not modes:
         raise RequestError("no mode below fmax is seen at the contact: nothing can squeal there")
     omega = wheel_speed_rad_s(design, op, rotation)
-    dofs = contact_dofs(modes, design)
+    dofs = mode_dofs(modes, design)
     if bounds == "all":
         bounds = range(len(modes))
-    result = linear_stability(dofs, contact, op, omega, bounds=bounds)
+    result = linear_stability(dofs, contact, op, omega, bounds=bounds, body=body_of(design))
     labels = tuple(dof_labels(modes, design))
     rows = [ModeStabilityRow(m, s, tuple(labels[k] for k in s.partners)) for m, s in zip(modes, result.modes)]
     return StabilityTable(rows, result, labels, omega)
@@ -247,9 +247,9 @@ def stability_seconds(
     """The estimated time of :func:`stability_table` with ``bounds`` modes' bounds [s]."""
     from reduced.stability import stability_seconds as seconds
 
-    dofs = contact_dofs(excitable(modeset, contact), design)
+    dofs = mode_dofs(excitable(modeset, contact), design)
     coupled = contact.normal_stiffness_n_m > 0 and any(d.normal != 0.0 for d in dofs)
-    return seconds(dofs, rotation, bounds, coupled)
+    return seconds(dofs, rotation, bounds, coupled, design.counter_body.states())
 
 
 class NamedMode(NamedTuple):

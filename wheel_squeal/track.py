@@ -32,7 +32,8 @@ class TrackReceptances:
     pinned_pinned_hz : dict
         The simply supported span's first bending frequency, vertical and lateral [Hz].
     fits : dict
-        Per direction at the contact's position: the modal fit's poles and its error.
+        Per direction at the contact's position: the rational fit's states, its band, its
+        error in the weights' norm and its largest relative error (``track.fit``).
     """
 
     frequency_hz: np.ndarray
@@ -90,8 +91,9 @@ def track_receptances(
     vertical_fit, lateral_fit = body.fits()
     fits = {
         name: {
-            "poles": fit.poles,
+            "states": fit.order,
             "band_hz": list(fit.band_hz),
+            "weighted_error": fit.weighted_error,
             "max_relative_error": fit.max_relative_error,
             "position": body.position,
         }

@@ -23,6 +23,7 @@ from typing import Any
 from .. import api
 from ..design import Design
 from ..presets import DEFAULT_CRAB_VELOCITY_M_S, DEFAULT_FMAX_HZ, DEFAULT_RPM
+from ..simulation import simulate
 from .measure import REPEAT_BELOW_S, REPEATS, measure, measure_repeated
 
 __all__ = ["COLUMNS", "FERung", "fe_ladder", "integrator_ladder"]
@@ -138,7 +139,7 @@ def _fe_job(design: Design, rung: FERung, mode: str) -> Callable[[], dict]:
 def _simulate_row(row: dict, mode: Any, design: Design, contact: Any, op: Any) -> None:
     """Fill the limit-cycle columns of an FE row from the production simulation."""
     dof = api.modal_dof(mode, design)
-    sim = api.simulate(dof, contact, op)
+    sim = simulate(dof, contact, op)
     lc = sim.limit_cycle
     row.update(
         {

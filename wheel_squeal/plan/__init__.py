@@ -11,7 +11,9 @@ squeal model its steps); this module adds those up per command:
 - the ``stability`` command's bounds and envelope (:func:`stability_request_plan`);
 - ``mesh`` (:func:`mesh_plan`), ``track`` (:func:`track_plan`);
 - ``curve``: radii x speeds x wheels, their verdicts, the time domain's steps, the sound
-  solves, the pass-by, the memory it keeps and the files it writes (:func:`curve_plan`);
+  solves, the pass-by, the memory it keeps and the files it writes (:func:`curve_plan`),
+  in three steps: on counts, with the modes, and with each sliding axle's stability
+  (:func:`squealing_axles`);
 - ``study``: its cases on the workers found (:func:`study_plan`).
 
 The constants that are not a stage's own are measured on this project's shipped designs
@@ -25,7 +27,7 @@ curves), :mod:`.study`.
 from __future__ import annotations
 
 from .fe import MESH_BYTES_PER_ELEMENT, MESH_SECONDS_PER_ELEMENT, mesh_plan
-from .field import CurveSize, check_curve_files, curve_plan, time_domain_axle_seconds, track_plan
+from .field import CurveSize, SquealingAxles, check_curve_files, curve_plan, squealing_axles, track_plan
 from .study import StudyCost, estimate_study, study_plan
 from .verdict import NO_REMEDY_HINT, stability_plan, stability_request_plan, verdict_plan
 
@@ -34,6 +36,7 @@ __all__ = [
     "MESH_SECONDS_PER_ELEMENT",
     "NO_REMEDY_HINT",
     "CurveSize",
+    "SquealingAxles",
     "StudyCost",
     "check_curve_files",
     "curve_plan",
@@ -41,8 +44,8 @@ __all__ = [
     "mesh_plan",
     "stability_plan",
     "stability_request_plan",
+    "squealing_axles",
     "study_plan",
-    "time_domain_axle_seconds",
     "track_plan",
     "verdict_plan",
 ]

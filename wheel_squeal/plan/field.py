@@ -5,23 +5,23 @@ it keeps and the files it writes)."""
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
-from ..api import simulation_seconds
 from ..budget import CostPlan
 from ..design import Design
-from ..stability import contact_dofs
+from ..simulation import simulation_bytes, simulation_seconds
+from ..stability import body_of, mode_dofs
 from .fe import estimated_modes, radiation_seconds
 
 if TYPE_CHECKING:
-    from fem.modes import Mode
+    from fem.modes import Mode, ModeSet
     from reduced import ContactLaw, ModalDOF, OperatingPoint
 
     from ..presets import Fidelity
 
-__all__ = ["CurveSize", "check_curve_files", "curve_plan", "time_domain_axle_seconds", "track_plan"]
+__all__ = ["CurveSize", "SquealingAxles", "check_curve_files", "curve_plan", "squealing_axles", "track_plan"]
 
 #: One receptance of the rail at one frequency (a banded solve of the finite rail, 160
 #: bays of 10 elements) [s], and the modal fits of both directions (once per track) [s]:
@@ -55,11 +55,17 @@ CURVE_SECONDS_PER_CURVE = 0.025
 CURVE_BYTES_PER_CURVE = 1.0e6
 #: Bytes of curve.csv and of curve.nc per row (one wheel at one radius and speed)
 CURVE_FILE_BYTES_PER_ROW = 500
-#: Modes whose radiation a curve map solves (each squealing mode once): one or two
+#: Before the stability is solved: the modes whose radiation a curve map solves (each
+#: squealing mode once), and their frequency as a fraction of the band's top (the modes
+#: that squeal are mostly the low ones). Once it is solved, the modes that lead are known
+#: and each is priced at its own frequency (:func:`squealing_axles`).
 RADIATED_MODES = 2
-#: The frequency of a radiated mode, as a fraction of the band's top: the modes that
-#: squeal are the low ones (the (2,0) of a railway wheel at 330 Hz below 5 kHz)
 RADIATED_FRACTION = 0.1
+#: A sliding axle's time domain over its first run's estimate: the run is continued
+#: (doubled) until its outcome is known, and the record's setup and analysis come on top
+#: (measured 7.3 over a map of 100 curves of railway_920_track, 100-300 m and 20-60 km/h;
+#: benchmarks/bench_estimates.py checks it)
+RECORD_EXTENSION = 7.0
 #: The curve's record per wheel: that many (the WHEELS of ``track.curving``)
 WHEELS_PER_BOGIE = 4
 
@@ -89,49 +95,112 @@ def curve_plan(
     *,
     passbys: int = 1,
     wheel_dofs: Sequence[ModalDOF] | None = None,
-    time_domain_seconds: float | None = None,
+    squealing: SquealingAxles | None = None,
 ) -> CostPlan:
     """The ``curve`` command: every radius x speed x wheel (``size``), by the harmonic
     balance or the ``time_domain``, with ``passbys`` pass-bys per curve (free field and
     over a ground).
 
-    Before the modes are solved ``wheel_dofs`` is None and the modes are counted from the
-    FE's estimate (``fem.cost``): a request far beyond the budget is refused before any
-    work. With the wheel's excitable modes (``wheel_dofs``) and the time domain's seconds
-    per sliding axle (``time_domain_seconds``, from the modes: :func:`time_domain_axle_seconds`)
-    the plan is the one the map runs by."""
+    In three steps, each refusing what the budget cannot hold before the next: on counts
+    alone (``wheel_dofs`` None: the modes counted from the FE's estimate), with the
+    wheel's excitable modes (``wheel_dofs``), and with the linear stability of every
+    sliding axle (``squealing``, :func:`squealing_axles`): the axles the time domain
+    integrates and the modes whose sound is solved, each at its own cost."""
     from reduced import ModalDOF
     from reduced.stability import eigen_solve_seconds
 
     if wheel_dofs is None:
         wheel_dofs = [ModalDOF(1.0, 1.0, 0.0)] * estimated_modes(design, fidelity, fmax_hz)
-    body = [ModalDOF(1.0, 1.0, 0.0)] * design.counter_body.dof_count()
+    body = design.counter_body.states()
     coupled = design.contact.normal_contact == "hertz"
-    every = eigen_solve_seconds([*wheel_dofs, *body])
+    every = eigen_solve_seconds(wheel_dofs, body_states=body)
     rigid = eigen_solve_seconds(wheel_dofs) if body else 0.0
     verdict = every * (1.0 + (1.4 if coupled else 0.0)) + rigid
     plan = CostPlan()
     hint = "ask for fewer radii or train speeds"
     n_axles = size.curves * size.axles
+    # every sliding axle's is solved once more first, to price the rest (squealing_axles)
+    solves = n_axles * verdict + size.curves * size.sliding_axles * every
     plan.add(
-        f"{n_axles:,} axles' stability ({len(wheel_dofs)} modes, {len(body)} of the counter-body's)",
-        n_axles * verdict,
+        f"{n_axles:,} axles' stability ({len(wheel_dofs)} modes, {body} states of the counter-body)",
+        solves,
         remedy=hint,
     )
     plan.add(
         f"{size.curves:,} curves' amplitudes and pass-bys", size.curves * passbys * CURVE_SECONDS_PER_CURVE
     )
     plan.add(f"the {size.curves:,} curves' records", 0.0, size.curves * CURVE_BYTES_PER_CURVE, remedy=hint)
-    radiated = radiation_seconds(design, fidelity, fmax_hz, RADIATED_FRACTION)
-    plan.add("the sound of the squealing modes", RADIATED_MODES * radiated)
-    if time_domain:
-        per_axle = time_domain_seconds if time_domain_seconds is not None else 0.0
+    if squealing is None:
+        radiated = radiation_seconds(design, fidelity, fmax_hz, RADIATED_FRACTION)
+        plan.add("the sound of the squealing modes", RADIATED_MODES * radiated)
+        return plan
+    for label, (seconds, memory) in squealing.sounds.items():
+        plan.add(f"the sound of {label}", seconds, memory)
+    if time_domain and squealing.time_domain_s:
         plan.add(
-            f"the time domain of {size.curves * size.sliding_axles:,} sliding axles",
-            size.curves * size.sliding_axles * per_axle,
+            f"the time domain of {len(squealing.time_domain_s):,} squealing axles",
+            sum(squealing.time_domain_s),
+            squealing.record_bytes,
             remedy="leave out the time domain (the harmonic balance is the fast method), or " + hint,
         )
     return plan
+
+
+@dataclass(frozen=True)
+class SquealingAxles:
+    """What a curve map's linear stability says it will compute: each growing axle's time
+    domain [s] (its first run's estimate times :data:`RECORD_EXTENSION`), the largest
+    record's memory [bytes] (one at a time) and the sound
+    of each mode that leads somewhere, by label: (seconds, bytes) of its radiation (left
+    out where the cache holds it); with the time domain every harmonic the record may
+    need too (up to ``levels.MAX_HARMONICS`` and ``levels.MAX_HARMONIC_HZ``: a bound, a
+    clean limit cycle needs fewer)."""
+
+    time_domain_s: tuple[float, ...]
+    sounds: dict[str, tuple[float, float]]
+    record_bytes: float = 0.0
+
+
+def squealing_axles(
+    design: Design,
+    modeset: ModeSet,
+    contact: ContactLaw,
+    ops: Sequence[OperatingPoint],
+    time_domain: bool,
+    cached: Callable[[Mode, float], bool],
+) -> SquealingAxles:
+    """The linear stability of each sliding axle at ``ops`` (the decision's first step:
+    ``wheel_squeal.stability.stability_table``) priced as :class:`SquealingAxles` says;
+    ``cached(mode, frequency_hz)`` tells a radiation the cache holds."""
+    from ..levels import MAX_HARMONIC_HZ, MAX_HARMONICS
+    from ..presets import MAX_MULTIMODE
+    from ..sound import sound_cost
+    from ..stability import stability_table
+
+    body = body_of(design)
+    seconds: list[float] = []
+    sounds: dict[str, tuple[float, float]] = {}
+    record = 0.0  # one record at a time: a map keeps each one's tail only
+    for op in ops:
+        table = stability_table(design, modeset, contact, op)
+        if not table.grows:
+            continue
+        lead = table.rows[table.fastest].mode
+        if time_domain:
+            group = mode_dofs([r.mode for r in table.rows][:MAX_MULTIMODE], design)
+            seconds.append(RECORD_EXTENSION * simulation_seconds(group, contact, op, body=body))
+            record = max(record, simulation_bytes(group, contact, op, body=body))
+        # the record's harmonics are known once it runs: price every one it may need
+        top = max(1, min(MAX_HARMONICS, int(MAX_HARMONIC_HZ / lead.frequency_hz))) if time_domain else 1
+        for k in range(1, top + 1):
+            label = lead.label() if k == 1 else f"{lead.label()}'s harmonic {k}"
+            f = k * lead.frequency_hz
+            if label in sounds or cached(lead, f):
+                continue
+            cost = sound_cost(design, modeset, lead, frequency_hz=f)
+            if cost is not None:
+                sounds[label] = (cost.seconds, cost.memory_bytes)
+    return SquealingAxles(tuple(seconds), sounds, record)
 
 
 def check_curve_files(size: CurveSize, max_file_bytes: float) -> None:
@@ -145,15 +214,3 @@ def check_curve_files(size: CurveSize, max_file_bytes: float) -> None:
             f"curve.nc of about {rows * CURVE_FILE_BYTES_PER_ROW / 1e6:,.0f} MB each, beyond the "
             f"{max_file_bytes / 1e6:.0f} MB a file may take: ask for fewer radii or speeds"
         )
-
-
-def time_domain_axle_seconds(
-    design: Design, modes: Sequence[Mode], contact: ContactLaw, ops: Sequence[OperatingPoint]
-) -> float:
-    """The time domain of one sliding axle, the largest over ``ops`` [s]: the decision
-    integrates at most ``presets.MAX_MULTIMODE`` modes of the growing eigenvalues (here
-    the lowest excitable ones) with the counter-body, from rest, for the first run."""
-    from ..presets import MAX_MULTIMODE
-
-    group = contact_dofs(list(modes)[:MAX_MULTIMODE], design)
-    return max((simulation_seconds(group, contact, op) for op in ops), default=0.0)

@@ -8,12 +8,12 @@ from __future__ import annotations
 from collections.abc import Sequence
 from typing import TYPE_CHECKING, Any
 
-from ..api import SIMULATION_HINT, simulation_seconds, simulation_steps
 from ..budget import CostPlan
 from ..design import Design
 from ..remedy import bounds_seconds, remedy_seconds
+from ..simulation import SIMULATION_HINT, simulation_seconds, simulation_steps
 from ..sound import sound_cost
-from ..stability import contact_dofs, excitable, stability_seconds
+from ..stability import body_of, excitable, mode_dofs, stability_seconds
 
 if TYPE_CHECKING:
     from fem.modes import Mode, ModeSet
@@ -36,14 +36,18 @@ def stability_plan(
     from reduced.stability import eigen_solve_bytes
 
     plan = CostPlan()
-    dofs = contact_dofs(excitable(modeset, contact), design)
+    dofs = mode_dofs(excitable(modeset, contact), design)
+    body = design.counter_body.states()
     plan.add(
-        f"stability of {len(dofs)} degrees of freedom",
+        f"stability of {len(dofs)} modes" + (f" and {body} states of the counter-body" if body else ""),
         stability_seconds(design, modeset, contact, rotation),
-        eigen_solve_bytes(dofs, rotation),
+        eigen_solve_bytes(dofs, rotation, body),
     )
     if remedy:
-        plan.add("remedy or margin", max(bounds_seconds(dofs, rotation), remedy_seconds(dofs, 1, rotation)))
+        plan.add(
+            "remedy or margin",
+            max(bounds_seconds(dofs, rotation, body), remedy_seconds(dofs, 1, rotation, body)),
+        )
     return plan
 
 
@@ -64,24 +68,27 @@ def verdict_plan(
     with ``sound``, each named mode's radiation."""
     plan = CostPlan()
     balanced = getattr(opts, "amplitude", "time domain") == "harmonic balance"
+    body = body_of(design)
+    states = 0 if body is None else body.states
     for m, together in [] if balanced else simulated:
-        dofs = contact_dofs(together, design)
-        steps = simulation_steps(dofs, contact, op)
+        dofs = mode_dofs(together, design)
+        steps = simulation_steps(dofs, contact, op, body=body)
         plan.add(
-            f"squeal model of {m.label()} ({steps:,} RK4 steps)",
-            simulation_seconds(dofs, contact, op),
+            f"squeal model of {m.label()} ({steps:,} steps)",
+            simulation_seconds(dofs, contact, op, body=body),
             remedy=SIMULATION_HINT,
         )
     if opts.remedy and growing:
-        dofs = contact_dofs(rows, design)
+        dofs = mode_dofs(rows, design)
         n_growing = len(simulated[-1][1]) if simulated else 1
-        plan.add("remedy", remedy_seconds(dofs, n_growing, opts.rotation))
+        plan.add("remedy", remedy_seconds(dofs, n_growing, opts.rotation, states))
         # its check: the largest group integrated once more with the remedy's damping
-        biggest = max((contact_dofs(together, design) for _, together in simulated), key=len, default=None)
+        biggest = max((mode_dofs(together, design) for _, together in simulated), key=len, default=None)
         if biggest is not None and not balanced:
-            plan.add("the remedy checked in the time domain", simulation_seconds(biggest, contact, op))
+            checked = simulation_seconds(biggest, contact, op, body=body)
+            plan.add("the remedy checked in the time domain", checked)
     elif opts.remedy:
-        plan.add("margin", bounds_seconds(contact_dofs(rows, design), opts.rotation))
+        plan.add("margin", bounds_seconds(mode_dofs(rows, design), opts.rotation, states))
     if sound:
         for m, _ in simulated:
             cost = sound_cost(design, modeset, m, opts.listener)
@@ -105,16 +112,17 @@ def stability_request_plan(
 
     from ..envelope import envelope_seconds
 
-    dofs = contact_dofs(excitable(modeset, contact), design)
-    n = len(excitable(modeset, contact))
+    dofs = mode_dofs(excitable(modeset, contact), design)
+    n = len(dofs)
+    body = design.counter_body.states()
     plan = CostPlan()
-    what = f"the linear stability of {len(dofs)} degrees of freedom" + (
+    what = f"the linear stability of {n} modes and {body} counter-body states" + (
         f" with the critical damping and friction slope of {n}" if bounds else ""
     )
     plan.add(
         what,
         stability_seconds(design, modeset, contact, rotation, n if bounds else 0),
-        eigen_solve_bytes(dofs, rotation),
+        eigen_solve_bytes(dofs, rotation, body),
         remedy="lower fmax_hz" + (", or leave out the bounds" if bounds else ""),
     )
     if envelope is not None:

@@ -205,9 +205,10 @@ def write_passby_wav(
     Doppler shift; 16-bit, normalised to its peak pressure [Pa], which is returned with
     the duration)."""
     from acoustics.passby import MICROPHONE_DISTANCE_M, passby_pressure
-    from acoustics.signal import WAV_RATE_HZ, faded, write_wav
+    from acoustics.signal import WAV_RATE_HZ, faded
 
     from ..curve import bogie_sources
+    from .files import write_wav
 
     speed = group[0].train_speed_km_h / 3.6
     sources, _ = bogie_sources(group, bogie, rolling_radius_m)
@@ -291,7 +292,7 @@ def write_curve_files(
     summary.json without its cases."""
     from acoustics.passby import GROUND_DEPTH_M, MICROPHONE_DISTANCE_M, MICROPHONE_HEIGHT_M
 
-    from ..curve import findings
+    from ..curve_findings import findings
     from ..fields import columns_of
     from ..outputs import write_csv, write_json
 

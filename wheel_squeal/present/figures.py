@@ -16,9 +16,9 @@ from ..outputs import NONE
 from ..sweeps import VerdictGrid
 
 if TYPE_CHECKING:
-    from ..api import Simulation
     from ..envelope import Envelope
     from ..measured import Measured
+    from ..simulation import Simulation
     from ..verdict import ModeOutcome
 
 __all__ = [

@@ -10,17 +10,25 @@ import numpy as np
 if TYPE_CHECKING:
     from ..levels import SquealSound
 
-__all__ = ["write_pressure_vtu", "write_squeal_wav"]
+__all__ = ["write_pressure_vtu", "write_squeal_wav", "write_wav"]
 
 
 def write_squeal_wav(path: Path, sound: SquealSound) -> float:
     """squeal.wav: the microphone pressure over the run at 44.1 kHz, 16 bit, faded in and
     out, the limit cycle's peak at full scale; returns that peak [Pa] (summary.json has
     the levels)."""
-    from acoustics.signal import WAV_RATE_HZ, write_wav
-
     assert sound.signal is not None  # a squeal's sound keeps its record
-    return write_wav(path, sound.signal.wav_samples(), WAV_RATE_HZ, sound.signal.wav_full_scale_pa())
+    return write_wav(path, sound.signal.wav_samples(), sound.signal.wav_full_scale_pa())
+
+
+def write_wav(path: Path, signal: np.ndarray, full_scale: float | None = None) -> float:
+    """A WAV file of ``signal`` [Pa] at 44.1 kHz, 16 bit, written in one call
+    (``acoustics.signal.wav_file_bytes``); returns the pressure at full scale [Pa]."""
+    from acoustics.signal import WAV_RATE_HZ, wav_file_bytes
+
+    data, peak = wav_file_bytes(signal, WAV_RATE_HZ, full_scale)
+    path.write_bytes(data)
+    return peak
 
 
 def write_pressure_vtu(path: Path, sound: SquealSound) -> Path:

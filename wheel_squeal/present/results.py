@@ -15,9 +15,9 @@ from .files import write_pressure_vtu, write_squeal_wav
 from .sound_figures import write_sound_plot, write_spectrum_plot
 
 if TYPE_CHECKING:
-    from ..api import Simulation
     from ..chain import Analysis
     from ..levels import SquealSound
+    from ..simulation import Simulation
 
 __all__ = ["write_remedy_toml", "write_run_files", "write_simulation_files", "write_sound_files"]
 

@@ -12,8 +12,8 @@ import numpy as np
 from reduced.report import PLOT_DPI
 
 if TYPE_CHECKING:
-    from ..api import Simulation
     from ..levels import SquealSound
+    from ..simulation import Simulation
 
 __all__ = [
     "DIRECTIVITY_RANGE_DB",

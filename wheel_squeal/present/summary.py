@@ -116,14 +116,13 @@ def analysis_summary(a: Analysis, max_file_bytes: float = MAX_FILE_BYTES) -> dic
         out["limit_cycle"] = sim["limit_cycle"]
         from reduced.report import TIMESERIES_COLUMNS, timeseries_stride
 
-        if a.design.counter_body.dofs():
+        body = o.simulation.history.body
+        if body is not None:
             from reduced.report import counter_body_motion
 
-            shares = o.shares or {}
-            own = set(a.design.counter_body.dof_labels())
             out["counter_body_motion"] = {
                 **counter_body_motion(o.simulation.history),
-                "counter_body_energy_share": sum(v for k, v in shares.items() if k in own),
+                "counter_body_energy_share": (o.shares or {}).get(body.name, 0.0),
             }
         out["timeseries_csv"] = {
             "columns": list(TIMESERIES_COLUMNS),

@@ -18,8 +18,8 @@ if TYPE_CHECKING:
     from fem.modes import Mode
     from reduced import ModalDOF
 
-    from ..api import Simulation
     from ..chain import Analysis
+    from ..simulation import Simulation
     from ..verdict import ModeOutcome, Verdict
 
 __all__ = [

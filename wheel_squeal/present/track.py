@@ -97,7 +97,7 @@ def track_text(t: TrackReceptances) -> str:
     for d, fit in t.fits.items():
         band = f"{fit['band_hz'][0]:g}-{fit['band_hz'][1]:g} Hz"
         lines.append(
-            f"{d} fit at the contact ({fit['position']}): {fit['poles']} modal terms over {band}, "
-            f"largest error {fit['max_relative_error']:.0%} of the level"
+            f"{d} fit at the contact ({fit['position']}): {fit['states']} states over {band}, "
+            f"error {fit['weighted_error']:.1%} weighted towards the rail's mobility"
         )
     return "\n".join(lines)

@@ -1,0 +1,66 @@
+"""What a curve map says beside the field's anchors: where squeal stops at each train
+speed, against Rudd's rule of thumb, the lateral creepage above which field measurements
+find squeal, and CNOSSOS-EU's squeal classes."""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    from track.curving import Bogie
+
+    from .curve import CurveCase
+
+__all__ = ["CNOSSOS_CLASSES", "FIELD_CREEPAGE_THRESHOLD", "RUDD_WHEELBASES", "findings"]
+
+#: Rudd's rule of thumb: squeal in curves tighter than about this many wheelbases
+RUDD_WHEELBASES = 100.0
+#: The lateral creepage above which field measurements find squeal (about 0.0045)
+FIELD_CREEPAGE_THRESHOLD = 0.0045
+#: CNOSSOS-EU's squeal correction to rolling noise: (upper radius [m], +dB) by class
+CNOSSOS_CLASSES = ((300.0, 8.0), (500.0, 5.0))
+
+
+def _squeals_by(c: CurveCase, coupling: bool) -> bool:
+    v = c.analysis.verdict
+    return v.squeals and (v.get("mechanism") == "mode coupling") == coupling
+
+
+def findings(cases: Sequence[CurveCase], bogie: Bogie) -> list[str]:
+    """Where squeal stops, per train speed, beside the field's anchors: the largest radius
+    at which a wheel squeals by falling friction and its lateral creepage, against
+    Rudd's 100 wheelbases, the field's creepage threshold and CNOSSOS-EU's classes; and
+    any squeal by mode coupling, which a falling branch does not explain."""
+    out = []
+    rudd = RUDD_WHEELBASES * bogie.wheelbase_m
+    lower = [0.0, *(r for r, _ in CNOSSOS_CLASSES[:-1])]
+    cnossos = ", ".join(
+        f"+{db:g} dB {'below' if lo == 0.0 else 'to'} {r:g} m" for lo, (r, db) in zip(lower, CNOSSOS_CLASSES)
+    )
+    # a rigid bogie's leading axle reaches the threshold at R = 2a / threshold
+    at_threshold = bogie.wheelbase_m / FIELD_CREEPAGE_THRESHOLD
+    anchors = (
+        f"the field's creepage threshold {FIELD_CREEPAGE_THRESHOLD} is reached at R = {at_threshold:.0f} m "
+        f"for this wheelbase; Rudd's rule: below about {rudd:.0f} m; CNOSSOS-EU: {cnossos}"
+    )
+    for speed in dict.fromkeys(c.train_speed_km_h for c in cases):
+        mine = [c for c in cases if c.train_speed_km_h == speed]
+        friction = [c for c in mine if _squeals_by(c, coupling=False)]
+        coupling = sorted({c.radius_m for c in mine if _squeals_by(c, coupling=True)})
+        if friction:
+            top = max(friction, key=lambda c: c.radius_m)
+            wider = [c.radius_m for c in mine if c.radius_m > top.radius_m and not c.analysis.verdict.squeals]
+            stops = f"and not from {min(wider):g} m" if wider else "up to the widest curve asked"
+            out.append(
+                f"{speed:g} km/h: falling-friction squeal up to R = {top.radius_m:g} m {stops} "
+                f"(lateral creepage there {top.wheel.lateral_creepage:.4f}; {anchors})"
+            )
+        else:
+            out.append(f"{speed:g} km/h: no falling-friction squeal at any radius asked ({anchors})")
+        if coupling:
+            radii = ", ".join(f"{r:g}" for r in coupling)
+            out.append(
+                f"{speed:g} km/h: mode coupling makes a wheel squeal at R = {radii} m, whatever the creepage"
+            )
+    return out
