@@ -102,10 +102,14 @@ def pressure_signal(
     around it (module docstring); bands without a transfer are left out. ``periodic``:
     the record is whole periods of a periodic signal (its spectrum is then exact); else
     it is padded with as many zeros, so that its end does not wrap onto its start."""
+    from scipy.fft import next_fast_len
+
     x = np.asarray(x, float)
     n = len(x)
     dt = float(t[1] - t[0])
-    size = n if periodic else 2 * n
+    # padded to a length of small prime factors: a record's own length may hold a large
+    # prime, which makes its transform many times slower
+    size = n if periodic else next_fast_len(2 * n, real=True)
     spec = np.fft.rfft(x, size)
     f = np.fft.rfftfreq(size, dt)
     out = np.zeros_like(spec)

@@ -16,6 +16,7 @@ from __future__ import annotations
 import argparse
 import sys
 import time
+from dataclasses import replace
 from functools import partial
 from pathlib import Path
 
@@ -142,7 +143,10 @@ def field(fidelity: str, quick: bool) -> list[bool]:
 
     d = ws.load_design("railway_920_track")
     oks = []
-    t, _ = timed(partial(track_receptances, d, 20.0, 5000.0, 400))
+    # a track this process has not fitted yet (the fits are kept per track in a process)
+    track = replace(d.counter_body, sleeper_mass=d.counter_body.sleeper_mass + 1e-6)
+    unfitted = replace(d, counter_body=track)
+    t, _ = timed(partial(track_receptances, unfitted, 20.0, 5000.0, 400))
     oks.append(row("track", "railway_920_track, 400 frequencies and the fits", track_plan(400).seconds, t))
     ctx = ws.RunContext.of(fidelity)
     maps = [("harmonic balance", [100.0, 150.0, 200.0, 300.0, 600.0, 1000.0], [20.0, 40.0, 60.0])]

@@ -9,7 +9,7 @@ while a process's runs are few and short, numba-compiled otherwise; the exponent
 integrator where a counter-body's terms or a stiff contact would set RK4's step:
 ``reduced.stepping``; solve_ivp reference), optionally on a turning wheel (each pair two
 travelling waves) -> limit-cycle metrics, the mode that carries the cycle,
-harmonic-balance predictor, grid sweeps, reports. Knows nothing of meshes: modes enter
+harmonic-balance predictor, grid sweeps, the record's summaries. Knows nothing of meshes: modes enter
 as (mass, stiffness, damping, nodal diameters) at the contact.
 All quantities are SI (m, s, kg, N, Pa, W, Hz).
 """
@@ -47,11 +47,7 @@ from .predictor import (
     mean_power_per_cycle,
     predict_limit_cycle,
 )
-from .report import (
-    summary_dicts,
-    write_time_history_plots,
-    write_timeseries_csv,
-)
+from .report import summary_dicts, timeseries_table
 from .saturate import longest_record_s, simulate_to_limit_cycle
 from .stability import (
     LinearContact,
@@ -126,6 +122,5 @@ __all__ = [
     "Mitigation",
     "mitigation",
     "summary_dicts",
-    "write_timeseries_csv",
-    "write_time_history_plots",
+    "timeseries_table",
 ]

@@ -15,6 +15,8 @@ import numpy as np
 import pytest
 from conftest import DESIGNS, TABLE1_MODE_ARGS, run_cli, run_here
 
+from wheel_squeal.levels import RADIATION_STEP
+
 SHIPPED = sorted(p.stem for p in DESIGNS.glob("*.toml"))
 
 
@@ -90,7 +92,8 @@ def _wav(path: Path) -> tuple[np.ndarray, int]:
 def test_the_tone_the_wav_the_spectrum_and_the_sound_agree(tmp_path):
     """railway_920 at 11.1 m/s, 10 mrad: the limit cycle settles far from every natural
     frequency; the verdict's tone, the WAV's strongest frequency, the microphone
-    spectrum's peak and the radiated sound's frequency agree within one FFT bin of the WAV."""
+    spectrum's peak agree within one FFT bin of the WAV, and the radiated sound's
+    frequency within half its grid step (``levels.RADIATION_STEP``)."""
     r = run_cli(
         "run", "--design", "railway_920", "--speed", "11.1", "--crab-velocity", "0.111", "--render", "none",
         "--quiet", "--out", tmp_path / "r",
@@ -103,7 +106,8 @@ def test_the_tone_the_wav_the_spectrum_and_the_sound_agree(tmp_path):
     freqs = np.fft.rfftfreq(len(x), 1.0 / rate)
     bin_hz = rate / len(x)
     assert abs(freqs[np.argmax(spectrum)] - tone) <= bin_hz
-    assert abs(s["sound"]["frequency_hz"] - tone) <= bin_hz
+    # the field is solved on a grid of 1 % steps through the mode's natural frequency
+    assert abs(s["sound"]["frequency_hz"] / tone - 1) <= RADIATION_STEP / 2
     assert abs(s["sound"]["tone_hz"] - tone) <= bin_hz
     # no 330.9 Hz (the (2,0) mode's natural frequency) anywhere in what is heard
     assert abs(s["sound"]["frequency_hz"] - 330.9) > 50

@@ -277,3 +277,18 @@ def test_every_package_of_the_tool_is_in_the_code_a_result_depends_on():
     would let a change in it reuse stale cached cases."""
     tops = {p.name for p in ROOT.iterdir() if (p / "__init__.py").is_file()} - {"designs", "tests"}
     assert tops == set(CODE_PACKAGES)
+
+
+def test_the_models_write_no_files_and_draw_no_figures():
+    """The squeal model, the acoustics and the track compute and return records; the
+    application's presenters write and draw them."""
+    import re
+
+    writes = re.compile(r"savefig|matplotlib|write_text|write_bytes|\.write\(|open\([^)]*['\"][wa]")
+    found = {
+        str(f.relative_to(ROOT)): m.group(0)
+        for pkg in ("reduced", "acoustics", "track")
+        for f in sorted((ROOT / pkg).rglob("*.py"))
+        if (m := writes.search(f.read_text()))
+    }
+    assert found == {}

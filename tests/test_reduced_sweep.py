@@ -6,6 +6,12 @@ import numpy as np
 import pytest
 
 import reduced as r
+from wheel_squeal.present.time_history import (
+    TIMESERIES_ROW_BYTES,
+    timeseries_stride,
+    write_time_history_plots,
+    write_timeseries_csv,
+)
 
 MODE = r.ModalDOF(3.1, 1.6e8, 42.0)
 RADIUS = 0.213
@@ -113,7 +119,7 @@ def test_report_files_and_json(tmp_path, law, grid):
     lc0 = r.limit_cycle(r.simulate(MODE, law, r.OperatingPoint.from_rpm(800, RADIUS, 0.0), 0.05))
     assert math.isnan(r.summary_dicts(lc0, op, law)["limit_cycle"]["frequency_hz"])
 
-    csv = r.write_timeseries_csv(hist, tmp_path)
+    csv = write_timeseries_csv(hist, tmp_path)
     lines = csv.read_text().splitlines()
     assert (
         lines[0] == "t_s,y_m,v_m_s,creepage,Q_N,P_W,u_n_m,N_N,v_counter_body_m_s"
@@ -122,13 +128,13 @@ def test_report_files_and_json(tmp_path, law, grid):
     assert data.shape == (len(hist.t), 9)
     np.testing.assert_allclose(data[:, 2], hist.v, rtol=1e-8, atol=1e-12)
     # under a size limit: every k-th sample (summary.json says k), the file within the limit
-    limit = len(hist.t) * r.report.TIMESERIES_ROW_BYTES / 7.5
-    small = r.write_timeseries_csv(hist, tmp_path, "small.csv", max_bytes=limit)
-    assert small.stat().st_size <= limit and r.report.timeseries_stride(hist, limit) == 8
+    limit = len(hist.t) * TIMESERIES_ROW_BYTES / 7.5
+    small = write_timeseries_csv(hist, tmp_path, "small.csv", max_bytes=limit)
+    assert small.stat().st_size <= limit and timeseries_stride(hist, limit) == 8
     np.testing.assert_allclose(
         np.loadtxt(small, delimiter=",", skiprows=1)[:, 2], hist.v[::8], rtol=1e-8, atol=1e-12
     )
-    pngs = r.write_time_history_plots(hist, tmp_path)
+    pngs = write_time_history_plots(hist, tmp_path)
     names = {p.name for p in pngs}
     assert {
         "creep_curve.png",

@@ -133,16 +133,18 @@ def harmonic_velocities(
     return tuple(range(1, k + 1)), amps[:k], share, (start, end, count), samples
 
 
-#: A squeal within this fraction of its radiating mode's natural frequency is radiated at
-#: that frequency (one solve per mode and harmonic, cached, whatever tone each operating
-#: point squeals at: 0.0003 dB on the Table 1 mode 0.001 % from it); further away, at its
-#: own tone (the shape vibrating at the limit cycle's frequency, far from resonance)
-RADIATION_SNAP = 0.01
+#: A squeal is radiated at the frequency nearest its tone on a grid of this relative step
+#: through its radiating mode's natural frequency: one solve per mode, harmonic and grid
+#: point, cached, whatever tone each operating point squeals at (within half a step of
+#: the tone: 0.0003 dB on the Table 1 mode, whose tone is 0.001 % from the grid point)
+RADIATION_STEP = 0.01
 
 
 def radiation_frequency_hz(tone_hz: float, natural_hz: float) -> float:
-    """The frequency [Hz] a squeal at ``tone_hz`` is radiated at (:data:`RADIATION_SNAP`)."""
-    return natural_hz if abs(tone_hz / natural_hz - 1.0) <= RADIATION_SNAP else tone_hz
+    """The frequency [Hz] a squeal at ``tone_hz`` is radiated at (:data:`RADIATION_STEP`):
+    ``natural_hz`` (1 + step)^k, the k nearest the tone."""
+    ratio = math.log1p(RADIATION_STEP)
+    return natural_hz * math.exp(ratio * round(math.log(tone_hz / natural_hz) / ratio))
 
 
 def tone_sound(sound: Sound, tone_hz: float | None = None) -> SquealSound:
@@ -310,7 +312,7 @@ def squeal_sound(
 ) -> SquealSound:
     """The :class:`SquealSound` of ``mode`` squealing as ``simulation`` says, heard at
     ``tone_hz`` [Hz]: its harmonics radiated at k times ``mode_frequency_hz``
-    (:func:`radiation_frequency_hz`: the mode's natural frequency near it, else the tone) through
+    (:func:`radiation_frequency_hz`: within half a per cent of the tone) through
     :func:`wheel_squeal.sound.mode_sound` (``radiation``: its keywords: listener,
     travelling, fidelity, fmax_hz, cache, budget, memo), and the microphone signal of the
     whole run (each band of the contact velocity's spectrum through its harmonic's

@@ -135,6 +135,15 @@ def context_of(args: argparse.Namespace) -> RunContext:
     return ctx
 
 
+def record_bytes_of(args: argparse.Namespace) -> float:
+    """What timeseries.csv may hold: every sample (``--full-record``) up to the size any
+    file may take, else ``present.time_history.TIMESERIES_BYTES``."""
+    from ..present.time_history import TIMESERIES_BYTES
+
+    most = context_of(args).budget.max_file_bytes
+    return most if getattr(args, "full_record", False) else min(TIMESERIES_BYTES, most)
+
+
 def listener_of(args: argparse.Namespace, design: Design) -> Listener:
     """The command's ``--microphone``, ``--air-density`` and ``--sound-speed``, checked
     before any work (:func:`wheel_squeal.listener.microphone_for`, ``air_for``)."""

@@ -198,6 +198,15 @@ def add_rotation(p: argparse.ArgumentParser) -> None:
     )
 
 
+def add_record(p: argparse.ArgumentParser) -> None:
+    p.add_argument(
+        "--full-record",
+        action="store_true",
+        help="timeseries.csv with every sample of the record (up to the 200 MB a file may "
+        "take; default: every k-th sample within 20 MB, summary.json gives k)",
+    )
+
+
 def add_microphone(p: argparse.ArgumentParser) -> None:
     p.add_argument(
         "--microphone",

@@ -33,6 +33,7 @@ from .options import (
     add_modal_model,
     add_operating,
     add_out,
+    add_record,
     add_remedy,
     add_rotation,
 )
@@ -102,6 +103,7 @@ def _add_run_command(sub: argparse._SubParsersAction) -> None:
     add_rotation(p)
     add_remedy(p)
     add_microphone(p)
+    add_record(p)
     p.add_argument(
         "--multimode",
         type=count,
@@ -140,6 +142,7 @@ def _add_simulate_command(sub: argparse._SubParsersAction) -> None:
     p.add_argument(
         "--nodal-diameters", type=int, default=0, help="the --mass mode's nodal diameters (for --rotation)"
     )
+    add_record(p)
 
 
 def _add_sweep_command(sub: argparse._SubParsersAction) -> None:

@@ -52,6 +52,7 @@ from .common import (
     operating_point_of,
     options_of,
     out_of,
+    record_bytes_of,
     speeds_or_rpm,
     write_files,
 )
@@ -75,7 +76,7 @@ def cmd_run(args: argparse.Namespace, plots: PlotWorkers) -> int:
         a = analysis_of(args, design)
         ctx = context_of(args)
         with ctx.progress.stage("report"):
-            write_run_files(tmp, a, plots, ctx.budget.max_file_bytes)
+            write_run_files(tmp, a, plots, record_bytes_of(args))
         o = a.outcome
         if a.modeset.solver != MODAL_MODEL_SOLVER:  # a modal model has no shapes to draw
             shown = [o.mode.index] if o is not None else []
@@ -88,7 +89,7 @@ def cmd_run(args: argparse.Namespace, plots: PlotWorkers) -> int:
         with ctx.progress.stage("plots"):
             plots.draw()
         summary = {
-            **analysis_summary(a, ctx.budget.max_file_bytes),
+            **analysis_summary(a, record_bytes_of(args)),
             "timings_s": {**ctx.progress.timings, "total": time.perf_counter() - t0},
             "cache": {"hits": ctx.cache.hits, "misses": ctx.cache.misses} if ctx.cache else None,
         }
@@ -106,11 +107,11 @@ def cmd_simulate(args: argparse.Namespace, plots: PlotWorkers) -> int:
         a = analysis_of(args, design, stop_after="limit_cycle", remedy=False)
         o = a.outcome
         if o is not None and o.simulation is not None:
-            write_simulation_files(tmp, o.simulation, plots, context_of(args).budget.max_file_bytes)
+            write_simulation_files(tmp, o.simulation, plots, record_bytes_of(args))
         write_json(
             tmp / "summary.json",
             {
-                **analysis_summary(a, context_of(args).budget.max_file_bytes),
+                **analysis_summary(a, record_bytes_of(args)),
                 "timings_s": context_of(args).progress.timings,
             },
         )

@@ -24,9 +24,9 @@ if TYPE_CHECKING:
 __all__ = ["CurveSize", "SquealingAxles", "check_curve_files", "curve_plan", "squealing_axles", "track_plan"]
 
 #: One receptance of the rail at one frequency (a banded solve of the finite rail, 160
-#: bays of 10 elements) [s], and the modal fits of both directions (once per track) [s]:
-#: measured 0.47 ms and 1.5 s.
-RECEPTANCE_SECONDS, TRACK_FIT_SECONDS = 5e-4, 1.5
+#: bays of 10 elements) [s], and the rational fits of both directions (once per track) [s]:
+#: measured 0.53 ms, and 0.7-1.4 s.
+RECEPTANCE_SECONDS, TRACK_FIT_SECONDS = 5e-4, 1.0
 #: Bytes per frequency the track command keeps and writes (four complex receptances, the
 #: CSV row, the figure's points)
 TRACK_BYTES_PER_FREQUENCY = 400
@@ -151,8 +151,10 @@ class SquealingAxles:
     """What a curve map's linear stability says it will compute: each growing axle's time
     domain [s] (its first run's estimate times :data:`RECORD_EXTENSION`), the largest
     record's memory [bytes] (one at a time) and the sound
-    of each mode that leads somewhere, by label: (seconds, bytes) of its radiation (left
-    out where the cache holds it); with the time domain every harmonic the record may
+    of each mode that leads somewhere at the frequency it would be radiated at
+    (``levels.radiation_frequency_hz`` of its linear frequency), by label: (seconds,
+    bytes) of its radiation (left out where the cache holds it); with the time domain
+    every harmonic the record may
     need too (up to ``levels.MAX_HARMONICS`` and ``levels.MAX_HARMONIC_HZ``: a bound, a
     clean limit cycle needs fewer)."""
 
@@ -172,7 +174,7 @@ def squealing_axles(
     """The linear stability of each sliding axle at ``ops`` (the decision's first step:
     ``wheel_squeal.stability.stability_table``) priced as :class:`SquealingAxles` says;
     ``cached(mode, frequency_hz)`` tells a radiation the cache holds."""
-    from ..levels import MAX_HARMONIC_HZ, MAX_HARMONICS
+    from ..levels import MAX_HARMONIC_HZ, MAX_HARMONICS, radiation_frequency_hz
     from ..presets import MAX_MULTIMODE
     from ..sound import sound_cost
     from ..stability import stability_table
@@ -185,16 +187,18 @@ def squealing_axles(
         table = stability_table(design, modeset, contact, op)
         if not table.grows:
             continue
-        lead = table.rows[table.fastest].mode
+        row = table.rows[table.fastest]
+        lead = row.mode
+        radiated = radiation_frequency_hz(row.stability.damped_frequency_hz, lead.frequency_hz)
         if time_domain:
             group = mode_dofs([r.mode for r in table.rows][:MAX_MULTIMODE], design)
             seconds.append(RECORD_EXTENSION * simulation_seconds(group, contact, op, body=body))
             record = max(record, simulation_bytes(group, contact, op, body=body))
         # the record's harmonics are known once it runs: price every one it may need
-        top = max(1, min(MAX_HARMONICS, int(MAX_HARMONIC_HZ / lead.frequency_hz))) if time_domain else 1
+        top = max(1, min(MAX_HARMONICS, int(MAX_HARMONIC_HZ / radiated))) if time_domain else 1
         for k in range(1, top + 1):
-            label = lead.label() if k == 1 else f"{lead.label()}'s harmonic {k}"
-            f = k * lead.frequency_hz
+            f = k * radiated
+            label = f"{lead.label()} at {f:.0f} Hz"
             if label in sounds or cached(lead, f):
                 continue
             cost = sound_cost(design, modeset, lead, frequency_hz=f)

@@ -40,8 +40,12 @@ class StudyShape(Protocol):
 SIMULATION_SECONDS_PER_POINT = 0.012
 #: The same where the base design names its squeal mode: that mode is simulated as asked
 #: wherever it grows, and a named mode that grows slowly runs long (to 4.8 s) before its
-#: outcome is known: measured 72 ms per point on rim_web_grid (Table 1 names (3,0)).
-NAMED_SIMULATION_SECONDS_PER_POINT = 0.05
+#: outcome is known: measured 72 ms per point on rim_web_grid and 94 ms on smoke (Table 1
+#: names (3,0)).
+NAMED_SIMULATION_SECONDS_PER_POINT = 0.08
+#: With sound, a squealing point's microphone signal, harmonics and levels beyond the
+#: radiation solves: measured 18 ms per point on smoke.
+SIGNAL_SECONDS_PER_POINT = 0.02
 #: Bytes the results hold per case and operating point (the per-point fields, the mode
 #: label, and their copies in the Dataset, the CSV and NetCDF writers).
 RESULT_BYTES_PER_POINT = 400
@@ -95,7 +99,7 @@ def estimate_study(spec: StudyShape) -> StudyCost:
         seconds += points * (NAMED_SIMULATION_SECONDS_PER_POINT if named else SIMULATION_SECONDS_PER_POINT)
     if "sound" in spec.compute:
         one = radiation_seconds(spec.base, fid, spec.fmax_hz, STUDY_RADIATED_FRACTION)
-        seconds += min(STUDY_RADIATED_MODES, points) * one
+        seconds += min(STUDY_RADIATED_MODES, points) * one + points * SIGNAL_SECONDS_PER_POINT
     return StudyCost(seconds, spec.n_cases * points * RESULT_BYTES_PER_POINT, solve)
 
 

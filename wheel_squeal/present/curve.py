@@ -121,7 +121,7 @@ def write_curve_maps(folder: Path, rows: Sequence[dict]) -> list[str]:
     from matplotlib.colors import ListedColormap
     from matplotlib.figure import Figure
 
-    from reduced.report import PLOT_DPI
+    from .canvas import PLOT_DPI
 
     radii, speeds, wheels = _axes(rows)
     mechanism = _grid(rows, "mechanism", "")

@@ -10,10 +10,9 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from reduced.report import PLOT_DPI
-
 from ..outputs import NONE
 from ..sweeps import VerdictGrid
+from .canvas import PLOT_DPI
 
 if TYPE_CHECKING:
     from ..envelope import Envelope

@@ -8,11 +8,11 @@ from __future__ import annotations
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from ..budget import MAX_FILE_BYTES
 from ..plotting import PlotWorkers
 from .figures import plot_times, write_mode_growth_plot, write_shares_plot
 from .files import write_pressure_vtu, write_squeal_wav
 from .sound_figures import write_sound_plot, write_spectrum_plot
+from .time_history import TIMESERIES_BYTES
 
 if TYPE_CHECKING:
     from ..chain import Analysis
@@ -40,14 +40,13 @@ def write_remedy_toml(directory: Path, a: Analysis) -> None:
 
 
 def write_simulation_files(
-    directory: Path, sim: Simulation, plots: PlotWorkers, max_file_bytes: float = MAX_FILE_BYTES
+    directory: Path, sim: Simulation, plots: PlotWorkers, record_bytes: float = TIMESERIES_BYTES
 ) -> None:
-    """``timeseries.csv`` (at most ``max_file_bytes``) and the Fig. 4, 6-10 counterparts
+    """``timeseries.csv`` (at most ``record_bytes``) and the Fig. 4, 6-10 counterparts
     (PNG) of a simulation, queued on ``plots``, one job per file."""
-    from reduced import write_time_history_plots, write_timeseries_csv
-    from reduced.report import TIME_HISTORY_FIGURES
+    from .time_history import TIME_HISTORY_FIGURES, write_time_history_plots, write_timeseries_csv
 
-    plots.submit(write_timeseries_csv, sim.history, directory, "timeseries.csv", max_file_bytes)
+    plots.submit(write_timeseries_csv, sim.history, directory, "timeseries.csv", record_bytes)
     for figure in TIME_HISTORY_FIGURES:
         plots.submit(write_time_history_plots, sim.history, directory, plot_times(sim), (figure,))
 
@@ -77,7 +76,7 @@ def write_sound_files(
 
 
 def write_run_files(
-    directory: Path, a: Analysis, plots: PlotWorkers, max_file_bytes: float = MAX_FILE_BYTES
+    directory: Path, a: Analysis, plots: PlotWorkers, record_bytes: float = TIMESERIES_BYTES
 ) -> None:
     """What ``run`` writes beside its summary, report and mode views: the limit cycle's
     record and figures, the squeal's sound, the modes that grew together (multimode.png)
@@ -85,7 +84,7 @@ def write_run_files(
     write_remedy_toml(directory, a)
     o = a.outcome
     if o is not None and o.simulation is not None:
-        write_simulation_files(directory, o.simulation, plots, max_file_bytes)
+        write_simulation_files(directory, o.simulation, plots, record_bytes)
     heard = a.verdict.outcome
     if heard is not None and heard.sound is not None:
         write_sound_files(directory, heard.sound, plots, heard.simulation)

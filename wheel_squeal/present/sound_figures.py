@@ -9,7 +9,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from reduced.report import PLOT_DPI
+from .canvas import PLOT_DPI
 
 if TYPE_CHECKING:
     from ..levels import SquealSound

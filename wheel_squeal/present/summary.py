@@ -5,10 +5,10 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING, Any
 
-from ..budget import MAX_FILE_BYTES
 from ..design import Design
 from ..outputs import finite_or_none
 from ..presets import Fidelity, rpm_to_speed
+from .time_history import TIMESERIES_BYTES, timeseries_stride
 
 if TYPE_CHECKING:
     from fem.modes import Mode, ModeSet
@@ -82,11 +82,11 @@ def contact_summary(design: Design, contact: ContactLaw, op: OperatingPoint) -> 
     }
 
 
-def analysis_summary(a: Analysis, max_file_bytes: float = MAX_FILE_BYTES) -> dict[str, Any]:
+def analysis_summary(a: Analysis, record_bytes: float = TIMESERIES_BYTES) -> dict[str, Any]:
     """``summary.json`` of the chain: the verdict first, then what it rests on (the
     modes, every mode's stability and every eigenvalue, the contact, the operating point,
     the decision, the limit cycle and its sound, and what timeseries.csv holds when it
-    is written within ``max_file_bytes``)."""
+    is written within ``record_bytes``)."""
     from ..api import modal_dof
     from ..stability import eigenvalue_list
 
@@ -114,7 +114,7 @@ def analysis_summary(a: Analysis, max_file_bytes: float = MAX_FILE_BYTES) -> dic
     if o is not None and o.simulation is not None:
         sim = o.simulation.summary()
         out["limit_cycle"] = sim["limit_cycle"]
-        from reduced.report import TIMESERIES_COLUMNS, timeseries_stride
+        from reduced.report import TIMESERIES_COLUMNS
 
         body = o.simulation.history.body
         if body is not None:
@@ -127,7 +127,7 @@ def analysis_summary(a: Analysis, max_file_bytes: float = MAX_FILE_BYTES) -> dic
         out["timeseries_csv"] = {
             "columns": list(TIMESERIES_COLUMNS),
             "what": "the squeal model's time history at the contact point, SI units",
-            "sample_stride": timeseries_stride(o.simulation.history, max_file_bytes),
+            "sample_stride": timeseries_stride(o.simulation.history, record_bytes),
         }
         out["contact"] |= sim["contact"]  # the creep law's values beside the contact's point
         out["modal_parameters"] = dof_summary(modal_dof(o.mode, a.design))

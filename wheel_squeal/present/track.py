@@ -32,7 +32,7 @@ def pad_peak_hz(t: TrackReceptances) -> float:
 def write_receptance_plot(path: Path, t: TrackReceptances) -> Path:
     from matplotlib.figure import Figure
 
-    from reduced.report import PLOT_DPI
+    from .canvas import PLOT_DPI
 
     fig = Figure(figsize=(10, 6.5))
     mag, phase = fig.subplots(2, 1, sharex=True)

@@ -22,9 +22,8 @@ from typing import Any
 
 import numpy as np
 
-from reduced.report import PLOT_DPI
-
 from ..fields import unit_of
+from ..present.canvas import PLOT_DPI
 from ..provenance import CODE_PACKAGES, code_version
 from .spec import StudySpec
 from .task import FLAG_FIELDS, LABEL_FIELDS, RESULT_FIELDS
