@@ -44,6 +44,7 @@ _KERNELS = {
     "sweep_kernel": True,
     "adhesion_slope": False,
     "_hertz": False,
+    "_safeguarded": False,
     "_normal_force": False,
     "_lateral_residual": False,
     "contact_forces": False,

@@ -96,6 +96,20 @@ def _hertz(un, law):
     return law[LAW_W] * x * r, 1.5 * law[LAW_W] * r / d0
 
 
+def _safeguarded(x, step, r, lo, hi):
+    """Newton's step from ``x`` kept within the bracket [lo, hi] of an increasing
+    residual, which ``r`` (the residual at x) narrows; halfway where the step leaves it.
+    Returns (the next x, lo, hi)."""
+    if r > 0.0:
+        hi = x
+    else:
+        lo = x
+    nxt = x + step
+    if not (lo < nxt < hi):
+        nxt = 0.5 * (lo + hi)
+    return nxt, lo, hi
+
+
 def _normal_force(qd, un_free, gnq, gnn, dn_guess, law):
     """dN = N - W [N] meeting the Hertz law at the step's end for the lateral force ``qd``
     the blocks feel: the root of dN + W - N_hertz(un_free + gnq qd + gnn dN), increasing
@@ -121,14 +135,7 @@ def _normal_force(qd, un_free, gnq, gnn, dn_guess, law):
         if abs(step) <= FORCE_TOLERANCE * W:
             dn = dn + step
             break
-        if r > 0.0:
-            hi = dn
-        else:
-            lo = dn
-        nxt = dn + step
-        if not (lo < nxt < hi):
-            nxt = 0.5 * (lo + hi)
-        dn = nxt
+        dn, lo, hi = _safeguarded(dn, step, r, lo, hi)
     nh, dnh = _hertz(base + gnn * dn, law)
     slope = 1.0 - dnh * gnn
     return dn, dnh * gnq / slope
@@ -179,16 +186,9 @@ def contact_forces(v_free, un_free, gvq, gvn, gnq, gnn, qd_free, beta1, qs_guess
         step = -r / dr if dr != 0.0 else 0.0
         if abs(step) <= FORCE_TOLERANCE * W and dr != 0.0:
             return qs + step, dn, it + 1
-        if r > 0.0:
-            hi = qs
-        else:
-            lo = qs
-        nxt = qs + step
-        if not (lo < nxt < hi):
-            nxt = 0.5 * (lo + hi)
+        qs, lo, hi = _safeguarded(qs, step, r, lo, hi)
         if hi - lo <= FORCE_TOLERANCE * W:
-            return nxt, dn, it + 1
-        qs = nxt
+            return qs, dn, it + 1
     return qs, dn, -1
 
 

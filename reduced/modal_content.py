@@ -3,7 +3,7 @@ spectrum of the contact velocity over the end of the record."""
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -22,12 +22,29 @@ class ModalContent:
     coordinate's mean), time-averaged over the window, the counter-body's last where it
     moves; carrier : the mode with the
     largest share; peak_frequency_hz : the strongest frequency of the contact velocity
-    there, Hz (in the frame of the contact); window_s : the window's (start, end), s."""
+    there, Hz (in the frame of the contact); mode_frequency_hz : each mode's strongest
+    frequency there (of its own coordinates' velocity), Hz (the tone a mode squeals at
+    where several share a record that is not one periodic motion); window_s : the
+    window's (start, end), s."""
 
     energy_share: np.ndarray
     carrier: int
     peak_frequency_hz: float
     window_s: tuple[float, float]
+    mode_frequency_hz: np.ndarray = field(default_factory=lambda: np.zeros(0))
+
+
+def _peak_hz(x: np.ndarray, dt: float) -> float:
+    """The strongest frequency of the columns of ``x`` together (their power spectra
+    summed, Hann window), interpolated between the bins on a log scale [Hz]."""
+    x = np.atleast_2d(x.T).T if x.ndim == 1 else x
+    x = x - x.mean(axis=0)
+    spec = np.sqrt((np.abs(np.fft.rfft(x * np.hanning(len(x))[:, None], axis=0)) ** 2).sum(axis=1))
+    k = int(np.argmax(spec[1:])) + 1
+    if 1 <= k < len(spec) - 1:  # parabolic interpolation of the peak on a log scale
+        a, b, c = np.log(spec[k - 1 : k + 2] + 1e-300)
+        k = k + 0.5 * (a - c) / (a - 2 * b + c) if (a - 2 * b + c) != 0 else k
+    return k / (len(x) * dt)
 
 
 def modal_content(history: TimeHistory) -> ModalContent:
@@ -49,14 +66,9 @@ def modal_content(history: TimeHistory) -> ModalContent:
         body_energy = 0.5 * float((history.body.energy_weights() * x**2).mean(axis=0).sum())
         per_mode = np.append(per_mode, body_energy)
     share = per_mode / per_mode.sum() if per_mode.sum() > 0 else per_mode
-    sel = t >= t[-1] - span
-    v = history.v[sel] - history.v[sel].mean()
-    spec = np.abs(np.fft.rfft(v * np.hanning(len(v))))
-    dt = float(t[1] - t[0])
-    k = int(np.argmax(spec[1:])) + 1
-    if 1 <= k < len(spec) - 1:  # parabolic interpolation of the peak on a log scale
-        a, b, c = np.log(spec[k - 1 : k + 2] + 1e-300)
-        k = k + 0.5 * (a - c) / (a - 2 * b + c) if (a - 2 * b + c) != 0 else k
-    peak = k / (len(v) * dt)
     carrier = int(np.argmax(share[: len(history.modes)]))
-    return ModalContent(share, carrier, float(peak), (float(t[sel][0]), float(t[-1])))
+    dt_modes = float(tm[1] - tm[0])
+    own = np.array([_peak_hz(u[:, coords.mode == i], dt_modes) for i in range(len(history.modes))])
+    sel = t >= t[-1] - span
+    peak = _peak_hz(history.v[sel][:, None], float(t[1] - t[0]))
+    return ModalContent(share, carrier, float(peak), (float(t[sel][0]), float(t[-1])), own)

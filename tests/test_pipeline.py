@@ -190,6 +190,28 @@ def test_cache_clear_only_removes_cache_entries(tmp_path):
 # ---------------------------------------------------------------------------------------
 # only what the request needs
 # ---------------------------------------------------------------------------------------
+def test_an_unchanged_request_reads_its_record_back(tmp_path):
+    """The same squeal model twice with one cache: the second reads the record (a cache
+    hit of the record stage) and its limit cycle is the first's to the bit; another
+    crabbing velocity integrates again."""
+    from wheel_squeal.simulation import simulate
+
+    cache = ws.StageCache(tmp_path / "c")
+    design = ws.load_design()
+    mode = ws.modal_dof(ws.explicit_modes(3.1, 1.6e8, 42).modes[0], design)
+    law, op = ws.contact_law(design), ws.operating_point(design)
+    first = simulate(mode, law, op, 0.3, cache=cache)
+    again = simulate(mode, law, op, 0.3, cache=cache)
+    assert cache.hits == ["record"]
+    assert np.array_equal(first.history.v, again.history.v)
+    assert first.limit_cycle.velocity_amplitude_m_s == again.limit_cycle.velocity_amplitude_m_s
+    other = simulate(mode, law, ws.operating_point(design, crabbing_velocity_m_s=0.3), 0.3, cache=cache)
+    assert (
+        cache.hits == ["record"]
+        and other.limit_cycle.velocity_amplitude_m_s != first.limit_cycle.velocity_amplitude_m_s
+    )
+
+
 def test_simulate_with_explicit_modal_parameters_builds_no_mesh(tmp_path, monkeypatch):
     import geometry.gmsh_mesh
 
@@ -244,7 +266,8 @@ def test_simulate_with_explicit_modal_parameters_builds_no_mesh(tmp_path, monkey
         assert times[0] == 0.2 and end_s - 5 / 1143.0 - 0.01 <= times[-1] <= end_s, (stem, times, end_s)
     for png in ["creep_curve", "velocity_history"]:
         assert (out / f"{png}.png").stat().st_size > 10_000, png
-    assert not (tmp_path / "c").exists(), "no cache entry for a run without FE"
+    # no FE: the cache holds the record alone (a second run reads it back)
+    assert sorted(p.name for p in (tmp_path / "c").iterdir() if p.is_dir()) == ["record"]
 
 
 @pytest.mark.slow
@@ -496,3 +519,42 @@ def test_plot_workers_write_in_other_processes_and_report_errors(tmp_path):
             plots.draw()
         plots.submit(_write_pid, tmp_path / "never.txt")
     assert not (tmp_path / "never.txt").exists()  # leaving the block discards the queue
+
+
+@pytest.mark.slow  # three runs of the coupled pair (about 8 s)
+def test_an_unchanged_run_puts_its_result_back_and_a_changed_one_does_not(tmp_path):
+    """The same ``run`` twice: the second takes the whole result from the cache (every
+    file as it was, summary.json's timings and cache use its own, the same words); the
+    modal model's file changed (one value), it is computed again."""
+    from conftest import COUPLED_PAIR_TOML, run_here
+
+    model = tmp_path / "pair.toml"
+    model.write_text(COUPLED_PAIR_TOML)
+    args = [
+        "run",
+        "--modal-model",
+        model,
+        "--friction-law",
+        "constant",
+        "--cache-dir",
+        tmp_path / "c",
+        "--quiet",
+    ]
+    first = run_here(*args, "--out", tmp_path / "a")
+    again = run_here(*args, "--out", tmp_path / "b")
+    assert first.returncode == again.returncode == 0, again.stderr
+    assert first.stdout.splitlines()[:-1] == again.stdout.splitlines()[:-1]  # the files line: its own time
+    a, b = (json.loads((tmp_path / x / "summary.json").read_text()) for x in "ab")
+    assert b["cache"] == {"hits": ["result"], "misses": []} and "result" not in a["cache"]["hits"]
+    assert {k: v for k, v in a.items() if k not in ("timings_s", "cache")} == {
+        k: v for k, v in b.items() if k not in ("timings_s", "cache")
+    }
+    names = sorted(p.name for p in (tmp_path / "a").iterdir())
+    assert names == sorted(p.name for p in (tmp_path / "b").iterdir())
+    for name in names:
+        if name not in ("summary.json", ".wheel-squeal-result"):
+            assert (tmp_path / "a" / name).read_bytes() == (tmp_path / "b" / name).read_bytes(), name
+    model.write_text(COUPLED_PAIR_TOML.replace("0.001", "0.0011", 1))
+    changed = run_here(*args, "--out", tmp_path / "c2")
+    assert changed.returncode == 0
+    assert "result" not in json.loads((tmp_path / "c2" / "summary.json").read_text())["cache"]["hits"]

@@ -235,7 +235,9 @@ def level(f: np.ndarray, alpha: np.ndarray) -> np.ndarray:
 
 def fit_receptance(frequencies_hz: ArrayLike, alpha: ArrayLike, pole_pairs: int = POLE_PAIRS) -> RationalFit:
     """Fit ``alpha`` [m/N] (complex, exp(+i w t), at ``frequencies_hz`` [Hz], ascending) by
-    a stable, passive rational function without feedthrough (module docstring).
+    a stable, passive rational function without feedthrough (module docstring); its small
+    dense problems on one BLAS thread (their threads would gain nothing alone and fight
+    those of other processes on a busy machine).
 
     Examples
     --------
@@ -247,6 +249,13 @@ def fit_receptance(frequencies_hz: ArrayLike, alpha: ArrayLike, pole_pairs: int 
     >>> fit.max_relative_error < 1e-3
     True
     """
+    from threadpoolctl import threadpool_limits
+
+    with threadpool_limits(limits=1, user_api="blas"):
+        return _fit(frequencies_hz, alpha, pole_pairs)
+
+
+def _fit(frequencies_hz: ArrayLike, alpha: ArrayLike, pole_pairs: int) -> RationalFit:
     f = np.asarray(frequencies_hz, float)
     h = np.asarray(alpha, complex)
     s = 2j * math.pi * f

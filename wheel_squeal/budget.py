@@ -39,6 +39,7 @@ __all__ = [
     "DEFAULT_MAX_SECONDS",
     "MAX_FILE_BYTES",
     "MEMORY_FRACTION",
+    "machine_slowdown",
 ]
 
 DEFAULT_MAX_DOFS = 2_000_000
@@ -102,6 +103,24 @@ def _limit(value: float | None, env: str, default: float, what: str) -> float:
     return float(value)
 
 
+def machine_slowdown() -> float:
+    """How much slower than on a quiet machine work runs now: the processes wanting a
+    core per core this process may use, at least 1. Wanting a core: the 1-minute load
+    average plus this process (the average lags a process just started), or the processes
+    runnable at this instant where that is more (requests started together, before the
+    average has seen them). An estimate measured alone holds on a busy machine times
+    this (three requests at once on two cores take about twice as long each)."""
+    cores = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1)
+    try:
+        load = os.getloadavg()[0] + 1.0
+    except (AttributeError, OSError):
+        return 1.0
+    with contextlib.suppress(OSError, ValueError, IndexError):
+        with open("/proc/loadavg") as f:  # "0.50 0.40 0.30 3/120 4567": runnable/threads
+            load = max(load, float(f.read().split()[3].split("/")[0]))
+    return max(1.0, load / cores)
+
+
 def _human_time(seconds: float) -> str:
     if seconds < 90:
         return f"{seconds:.2g} s"
@@ -126,6 +145,7 @@ class Budget:
     max_memory_bytes: float = math.inf
     started_s: float = field(default_factory=time.monotonic, compare=False)
     max_file_bytes: float = MAX_FILE_BYTES
+    slowdown: float = 1.0
 
     def elapsed_s(self) -> float:
         """Seconds since the request began."""
@@ -148,16 +168,19 @@ class Budget:
     @classmethod
     def from_environment(cls, max_dofs: float | None = None, max_seconds: float | None = None) -> Budget:
         """The budget of this machine: explicit limits, else the environment, else the
-        defaults; memory from what is available now."""
+        defaults; memory from what is available now, and its load now
+        (:func:`machine_slowdown`)."""
         return cls(
             _limit(max_dofs, ENV_MAX_DOFS, DEFAULT_MAX_DOFS, "max_dofs"),
             _limit(max_seconds, ENV_MAX_SECONDS, DEFAULT_MAX_SECONDS, "max_seconds"),
             MEMORY_FRACTION * available_memory(),
+            slowdown=machine_slowdown(),
         )
 
     def check_solve(self, what: str, dofs: float, memory_bytes: float, seconds: float, remedy: str) -> None:
         """Refuse a modal solve of ``dofs`` DOFs estimated at ``memory_bytes`` and
         ``seconds``; ``what`` names the request, ``remedy`` the cheaper alternative."""
+        seconds *= self.slowdown
         cost = (
             f"{what} would need about {dofs:,.0f} DOFs, {_human_bytes(memory_bytes)} "
             f"and {_human_time(seconds)}"
@@ -192,9 +215,12 @@ class Budget:
         return seconds
 
     def check_work(self, what: str, seconds: float, remedy: str, memory_bytes: float = 0.0) -> float:
-        """Refuse ``what`` (a phrase naming the work) estimated at ``seconds`` and
-        ``memory_bytes``; returns the estimated run time [s]."""
-        cost = f"{what} would take about {_human_time(seconds)}" + (
+        """Refuse ``what`` (a phrase naming the work) estimated at ``seconds`` on a quiet
+        machine (times :attr:`slowdown` on this one now) and ``memory_bytes``; returns the
+        estimated run time [s]."""
+        seconds *= self.slowdown
+        busy = f" on this machine's load (x{self.slowdown:.2g})" if self.slowdown > 1.1 else ""
+        cost = f"{what} would take about {_human_time(seconds)}{busy}" + (
             f" and {_human_bytes(memory_bytes)}" if memory_bytes else ""
         )
         self._check_memory(cost, memory_bytes, remedy)

@@ -80,6 +80,10 @@ class CounterBodySection(Fields):
         itself work)."""
         return self.model().states
 
+    def model_seconds(self) -> float:
+        """What making :meth:`model` takes in this process [s] (for a cost plan)."""
+        return 0.0
+
     def summary(self) -> dict[str, Any]:
         """JSON-ready: its kind and values."""
         return {"kind": self.KIND, **self.to_mapping()}
@@ -171,6 +175,9 @@ RAIL_POSITIONS = {"support": 0.0, "midspan": 0.5}
 #: The band the rail's receptance is fitted over [Hz] (a decade below the lowest squeal
 #: and beyond the modes' band) and its frequencies per decade
 TRACK_FIT_BAND_HZ, TRACK_FIT_POINTS_PER_DECADE = (2.0, 8000.0), 100
+#: The receptances on that grid and the rational fits of both directions, once per track
+#: in a process [s]: measured 0.7-1.4 s
+TRACK_FIT_SECONDS = 1.0
 
 
 def _rail(default: float | None, unit: str, doc: str, plausible: tuple[float, float]) -> Any:
@@ -314,6 +321,9 @@ class Track(CounterBodySection):
 
     def contact_radii(self) -> tuple[float, float]:
         return math.inf, self.head_radius  # a straight rail: flat along rolling
+
+    def model_seconds(self) -> float:
+        return 0.0 if _track_fits.cache_info().currsize else TRACK_FIT_SECONDS
 
     def states(self) -> int:
         if _track_fits.cache_info().currsize:  # fitted in this process: the count itself

@@ -19,6 +19,7 @@ from .decision import decide, eigenvalue_of, group_label, modes_of_eigenvalue
 from .design import Design
 from .errors import RequestError
 from .levels import radiation_frequency_hz, squeal_sound
+from .outputs import finite_or_none
 from .simulation import simulate
 from .stability import StabilityTable, body_of, dof_labels, mode_dofs, named_mode, wheel_speed_rad_s
 from .verdict import COUPLING_ONLY, Balance, ModeOutcome, wave_of
@@ -117,17 +118,19 @@ class Outcomes:
             sim = self.simulate(dofs, body)
         labels = dof_labels(group, self.design)
         shares: dict[str, float] | None = None
-        carrier, carried = group[0], None
+        carrier, carried, tone = group[0], None, None
         if len(dofs) > 1 or body is not None:
             content = modal_content(sim.history)
             shares = {lab: float(x) for lab, x in zip(labels, content.energy_share)}
             carrier, carried = self.carrier(group, content.energy_share)
+            tone = finite_or_none(float(content.mode_frequency_hz[group.index(carrier)]))
         base = self.linear(carrier)
         f = float(sim.limit_cycle.frequency_hz)
         wave = wave_of(carrier, f if math.isfinite(f) else base.damped_frequency_hz, self.omega)
         return replace(
-            base, wave=wave, simulation=sim, group=tuple(group), shares=shares, energy_share=carried
-        )
+            base, wave=wave, simulation=sim, group=tuple(group), shares=shares, energy_share=carried,
+            carrier_tone_hz=tone,
+        )  # fmt: skip
 
     def simulate(self, dofs: list[ModalDOF], body: BodyModel | None) -> Simulation:
         """The time domain of ``dofs`` with the counter-body ``body`` from rest (a
@@ -135,7 +138,7 @@ class Outcomes:
         before the squeal starts)."""
         return simulate(
             dofs, self.contact, self.op, self.opts.duration, self.omega, self.ctx.budget, body,
-            self.design.counter_body.PRELOADED,
+            self.design.counter_body.PRELOADED, self.ctx.cache,
         )  # fmt: skip
 
     def carrier(self, group: tuple[Mode, ...], energy_share: np.ndarray) -> tuple[Mode, float]:

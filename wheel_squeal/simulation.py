@@ -9,6 +9,7 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
 from .budget import Budget
+from .cache import StageCache
 from .errors import RequestError
 
 if TYPE_CHECKING:
@@ -62,12 +63,14 @@ def simulate(
     budget: Budget | None = None,
     body: BodyModel | None = None,
     preload_body: bool = False,
+    cache: StageCache | None = None,
 ) -> Simulation:
     """Integrate the squeal model from rest (``reduced.simulate_to_limit_cycle``): one
     mode or several together (a list), ``duration`` [s] fixed or None to run until the
     outcome is known, on a wheel turning at ``wheel_speed_rad_s`` (0: the paper's model),
     with the counter-body ``body`` in series (``preload_body``: it starts in its static
-    deflection under the steady creep force, a track's). Its steps are counted first
+    deflection under the steady creep force, a track's); an unchanged request's record
+    is read from ``cache`` (:mod:`wheel_squeal.records`). Its steps are counted first
     (:func:`simulation_seconds`) and the run refused beyond ``budget`` (default:
     :meth:`Budget.from_environment`)."""
     from reduced import longest_record_s, simulate_to_limit_cycle
@@ -98,6 +101,14 @@ def simulate(
             f"duration {first:g} s is {steps} step(s) of {first / steps:.3g} s: a record needs "
             f"at least {MIN_RECORD_STEPS} ({MIN_RECORD_STEPS * first / steps:.3g} s)"
         )
+    from reduced import limit_cycle
+
+    from .records import load_record, record_key, store_record
+
+    key = record_key(dofs, contact, op, duration, wheel_speed_rad_s, body, preload_body)
+    kept = load_record(cache, key, dofs, contact, op, wheel_speed_rad_s, body) if cache is not None else None
+    if kept is not None:
+        return Simulation(kept, limit_cycle(kept), contact, op)
     budget = budget or Budget.from_environment()
     budget.check_work(
         f"the squeal model ({steps:,} steps)",
@@ -106,10 +117,15 @@ def simulate(
         simulation_bytes(dofs, contact, op, body, wheel_speed_rad_s),
     )
 
+    cut_short: list[bool] = []
+
     def may_extend(seconds: float) -> bool:
         # a longer run only where it fits the time left (else the record stays as it is,
-        # reported as still growing: a result, not a refusal)
-        return seconds < 0.8 * budget.seconds_left()
+        # reported as still growing: a result, not a refusal, and not kept)
+        fits = seconds < 0.8 * budget.seconds_left()
+        if not fits:
+            cut_short.append(True)
+        return fits
 
     try:
         history, lc = simulate_to_limit_cycle(
@@ -118,6 +134,8 @@ def simulate(
         )  # fmt: skip
     except ValueError as exc:  # the model refuses what it cannot integrate, in its own words
         raise RequestError(str(exc)) from None
+    if cache is not None and not cut_short:
+        store_record(cache, key, history)
     return Simulation(history, lc, contact, op)
 
 

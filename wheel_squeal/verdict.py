@@ -101,6 +101,9 @@ class ModeOutcome:
     balance : Balance or None
         Its limit cycle by harmonic balance (the chain's faster amplitude method; None:
         the time domain's, or linear only).
+    carrier_tone_hz : float or None
+        In a multi-mode record, its own coordinates' strongest frequency [Hz]: the tone
+        where the record is not one periodic motion (``reduced.modal_content``).
 
     Examples
     --------
@@ -122,6 +125,7 @@ class ModeOutcome:
     group: tuple[Mode, ...] = ()
     shares: dict[str, float] | None = None
     balance: Balance | None = None
+    carrier_tone_hz: float | None = None
 
     @property
     def label(self) -> str:
@@ -183,6 +187,10 @@ class ModeOutcome:
         """The tone a fixed microphone hears [Hz]: the limit cycle's frequency where it
         squeals, else the linear frequency."""
         if self.simulation is not None and self.squeals:
+            # several modes in a record that is not one periodic motion: the tone of the
+            # mode named for it (a zero-crossing count would follow whichever dominates)
+            if self.carrier_tone_hz is not None and self.simulation.limit_cycle.state == "not settled":
+                return self.carrier_tone_hz
             f = finite_or_none(self.simulation.limit_cycle.frequency_hz)
             if f is not None:
                 return f

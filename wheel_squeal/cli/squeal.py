@@ -11,6 +11,7 @@ from pathlib import Path
 import numpy as np
 
 from .. import api
+from ..design import Design
 from ..envelope import envelope, mitigation_summary
 from ..errors import RequestError
 from ..fields import columns_of
@@ -41,11 +42,13 @@ from ..present.text import (
     verdict_lines,
 )
 from ..presets import DEFAULT_ENVELOPE_CRAB_VELOCITIES, DEFAULT_SPEEDS_RPM
+from ..result_cache import restore_result, result_key, store_result
 from ..stability import eigenvalue_list, excitable, stability_table
 from ..sweeps import sweep_verdicts
 from .arguments import grid_axis
 from .common import (
     analysis_of,
+    cache_of,
     context_of,
     design_of,
     modes_of,
@@ -72,32 +75,42 @@ def cmd_run(args: argparse.Namespace, plots: PlotWorkers) -> int:
     design = design_of(args)
     out = out_of(args, design.name)
     t0 = time.perf_counter()
+    key = result_key("run", vars(args), design.content_hash())
     with result_folder(out, "run") as tmp:
-        a = analysis_of(args, design)
-        ctx = context_of(args)
-        with ctx.progress.stage("report"):
-            write_run_files(tmp, a, plots, record_bytes_of(args))
-        o = a.outcome
-        if a.modeset.solver != MODAL_MODEL_SOLVER:  # a modal model has no shapes to draw
-            shown = [o.mode.index] if o is not None else []
-            indices = {"selected": shown, "none": [], "all": list(range(len(a.modeset.modes)))}[args.render]
-            with ctx.progress.stage("mode views"), uninterrupted():
-                views = api.mode_views(
-                    design, a.fidelity, ctx.fmax_hz, a.modeset, indices, ctx.cache, ctx.budget.max_file_bytes
-                )
-            write_files(tmp, views)
-        with ctx.progress.stage("plots"):
-            plots.draw()
-        summary = {
-            **analysis_summary(a, record_bytes_of(args)),
-            "timings_s": {**ctx.progress.timings, "total": time.perf_counter() - t0},
-            "cache": {"hits": ctx.cache.hits, "misses": ctx.cache.misses} if ctx.cache else None,
-        }
-        write_json(tmp / "summary.json", summary)
-        run_report(tmp, a)
-    print(analysis_text(a))
+        text = restore_result(cache_of(args), key, tmp, {"total": time.perf_counter() - t0})
+        if text is None:
+            text = _run(args, design, tmp, plots, t0)
+            store_result(cache_of(args), key, tmp, text)
+    print(text)
     print(f"files: {out}/ ({files_in(out)})  [{time.perf_counter() - t0:.1f} s]")
     return 0
+
+
+def _run(args: argparse.Namespace, design: Design, tmp: Path, plots: PlotWorkers, t0: float) -> str:
+    """``run``'s files in ``tmp``; returns what it says (the verdict and its reasons)."""
+    a = analysis_of(args, design)
+    ctx = context_of(args)
+    with ctx.progress.stage("report"):
+        write_run_files(tmp, a, plots, record_bytes_of(args))
+    o = a.outcome
+    if a.modeset.solver != MODAL_MODEL_SOLVER:  # a modal model has no shapes to draw
+        shown = [o.mode.index] if o is not None else []
+        indices = {"selected": shown, "none": [], "all": list(range(len(a.modeset.modes)))}[args.render]
+        with ctx.progress.stage("mode views"), uninterrupted():
+            views = api.mode_views(
+                design, a.fidelity, ctx.fmax_hz, a.modeset, indices, ctx.cache, ctx.budget.max_file_bytes
+            )
+        write_files(tmp, views)
+    with ctx.progress.stage("plots"):
+        plots.draw()
+    summary = {
+        **analysis_summary(a, record_bytes_of(args)),
+        "timings_s": {**ctx.progress.timings, "total": time.perf_counter() - t0},
+        "cache": {"hits": ctx.cache.hits, "misses": ctx.cache.misses} if ctx.cache else None,
+    }
+    write_json(tmp / "summary.json", summary)
+    run_report(tmp, a)
+    return analysis_text(a)
 
 
 def cmd_simulate(args: argparse.Namespace, plots: PlotWorkers) -> int:

@@ -27,7 +27,7 @@ def cmd_track(args: argparse.Namespace) -> int:
     design = design_of(args)
     out = out_of(args, design.name)
     ctx = context_of(args)
-    track_plan(args.points).check(ctx.budget, "the track", "")
+    track_plan(args.points, design.counter_body.model_seconds()).check(ctx.budget, "the track", "")
     with result_folder(out, "track") as tmp:
         with ctx.progress.stage(f"the rail's receptances at {args.points} frequencies"):
             t = track_receptances(design, args.fmin, args.fmax, args.points)

@@ -24,17 +24,17 @@ if TYPE_CHECKING:
 __all__ = ["CurveSize", "SquealingAxles", "check_curve_files", "curve_plan", "squealing_axles", "track_plan"]
 
 #: One receptance of the rail at one frequency (a banded solve of the finite rail, 160
-#: bays of 10 elements) [s], and the rational fits of both directions (once per track) [s]:
-#: measured 0.53 ms, and 0.7-1.4 s.
-RECEPTANCE_SECONDS, TRACK_FIT_SECONDS = 5e-4, 1.0
+#: bays of 10 elements) [s]: measured 0.53 ms
+RECEPTANCE_SECONDS = 5e-4
 #: Bytes per frequency the track command keeps and writes (four complex receptances, the
 #: CSV row, the figure's points)
 TRACK_BYTES_PER_FREQUENCY = 400
 
 
-def track_plan(points: int) -> CostPlan:
+def track_plan(points: int, fits_seconds: float) -> CostPlan:
     """The ``track`` command: the rail's four receptances at ``points`` frequencies and
-    the fits the squeal model takes."""
+    the fits the squeal model takes (``fits_seconds``: the counter-body's
+    ``model_seconds``)."""
     plan = CostPlan()
     plan.add(
         f"the rail's receptances at {points:,} frequencies (vertical and lateral, at a sleeper and midspan)",
@@ -42,7 +42,7 @@ def track_plan(points: int) -> CostPlan:
         TRACK_BYTES_PER_FREQUENCY * points,
         remedy="ask for fewer frequencies",
     )
-    plan.add("the fits of the rail's receptances", TRACK_FIT_SECONDS)
+    plan.add("the fits of the rail's receptances", fits_seconds)
     return plan
 
 

@@ -38,6 +38,8 @@ def stability_plan(
     plan = CostPlan()
     dofs = mode_dofs(excitable(modeset, contact), design)
     body = design.counter_body.states()
+    if design.counter_body.model_seconds():
+        plan.add(f"the {design.counter_body.KIND}'s model", design.counter_body.model_seconds())
     plan.add(
         f"stability of {len(dofs)} modes" + (f" and {body} states of the counter-body" if body else ""),
         stability_seconds(design, modeset, contact, rotation),

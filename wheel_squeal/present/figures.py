@@ -231,20 +231,24 @@ def write_shares_plot(path: Path, o: ModeOutcome) -> Path:
     assert o.simulation is not None and o.shares is not None
     h = o.simulation.history
     coords = h.coordinates
+    tm = h.modes_time  # the exponential integrator keeps the coordinates over the tail
     f_low = min(m.frequency_hz for m in o.group)
-    block = max(1, int(round(1.0 / (f_low * float(h.t[1] - h.t[0])))))  # one lowest period
-    n = len(h.t) // block * block
+    block = max(1, int(round(1.0 / (f_low * float(tm[1] - tm[0])))))  # one lowest period
+    n = len(tm) // block * block
     fig = Figure(figsize=(8.5, 4.5))
     ax = fig.subplots()
     fig.subplots_adjust(left=0.1, right=0.66, bottom=0.12, top=0.9)
-    t = h.t[:n].reshape(-1, block).mean(axis=1)
+    t = tm[:n].reshape(-1, block).mean(axis=1)
     for i, (label, share) in enumerate(o.shares.items()):
         cols = np.flatnonzero(coords.mode == i) if coords is not None else np.array([i])
         speed = np.sqrt((h.v_modes[:n, cols] ** 2).sum(axis=1))
         envelope = speed.reshape(-1, block).max(axis=1)
         ax.semilogy(t, np.maximum(envelope, 1e-12), lw=1.2, label=f"{label}: {share:.1%}")
+    span = "" if h.t_modes is None else f" (the record's last {tm[-1] - tm[0]:.2g} s)"
     ax.set(
-        xlabel="time (s)", ylabel="modal velocity envelope (m/s)", title=f"{o.label} carries the limit cycle"
+        xlabel="time (s)",
+        ylabel="modal velocity envelope (m/s)",
+        title=f"{o.label} carries the limit cycle{span}",
     )
     ax.legend(title="share of the final energy", fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0))
     ax.grid(alpha=0.3, which="both")
