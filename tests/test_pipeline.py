@@ -319,7 +319,8 @@ def test_run_default_writes_the_full_report(tmp_path):
     )
     assert r.returncode == 0, r.stderr
     s2 = json.loads((out2 / "summary.json").read_text())
-    assert s2["cache"] == {"hits": ["modes", "sound", "sound-at", "views"], "misses": []}
+    assert s2["cache"]["hits"] == ["modes", "sound", "sound-at", "views"]
+    assert set(s2["cache"]["misses"]) == {"result", "record"}  # a new operating point: a new limit cycle
     assert s2["verdict"]["tone_hz"] != s["verdict"]["tone_hz"]
     assert s2["modes"] == s["modes"] and s2["selected_mode"] == s["selected_mode"]
     assert s2["operating_point"]["crabbing_velocity_m_s"] == 0.3
