@@ -20,7 +20,7 @@ import numpy as np
 
 from ._numerics import elliptic_ke, find_root
 
-__all__ = ["HertzContact", "hertz_contact", "kalker_c22"]
+__all__ = ["HertzContact", "KalkerCoefficients", "hertz_contact", "kalker_c22", "kalker_coefficients"]
 
 
 @dataclass(frozen=True)
@@ -260,3 +260,87 @@ def kalker_c22(a_over_b: float, poissons_ratio: float) -> float:
     u = g - 1.0 if g <= 1.0 else 1.0 - 1.0 / g
     per_nu = np.array([np.interp(u, _KALKER_U, _KALKER_C22[:, j]) for j in range(3)])
     return float(np.interp(nu, _KALKER_NU, per_nu))
+
+
+# Kalker's longitudinal C11 and lateral-spin C23 coefficients (the same table: Kalker 1967;
+# Johnson 1985, Table 8.1; Iwnicki (ed.) 2006, Handbook of Railway Vehicle Dynamics, ch. 4),
+# in the rows and columns of C22 above. At nu = 0, C11 = C22 (Kalker).
+_KALKER_C11 = np.array(
+    [
+        [2.51, 3.31, 4.85],
+        [2.59, 3.37, 4.81],
+        [2.68, 3.44, 4.80],
+        [2.78, 3.53, 4.82],
+        [2.88, 3.62, 4.83],
+        [2.98, 3.72, 4.91],
+        [3.09, 3.81, 4.97],
+        [3.19, 3.91, 5.05],
+        [3.29, 4.01, 5.12],
+        [3.40, 4.12, 5.20],
+        [3.51, 4.22, 5.30],
+        [3.65, 4.36, 5.42],
+        [3.82, 4.54, 5.58],
+        [4.06, 4.78, 5.80],
+        [4.37, 5.10, 6.11],
+        [4.84, 5.57, 6.57],
+        [5.57, 6.34, 7.34],
+        [6.96, 7.78, 8.82],
+        [10.7, 11.7, 12.9],
+    ]
+)
+_KALKER_C23 = np.array(
+    [
+        [0.334, 0.473, 0.731],
+        [0.483, 0.603, 0.809],
+        [0.607, 0.715, 0.889],
+        [0.720, 0.823, 0.977],
+        [0.827, 0.929, 1.07],
+        [0.930, 1.03, 1.18],
+        [1.03, 1.14, 1.29],
+        [1.13, 1.25, 1.40],
+        [1.23, 1.36, 1.51],
+        [1.33, 1.47, 1.63],
+        [1.44, 1.59, 1.77],
+        [1.58, 1.75, 1.94],
+        [1.76, 1.95, 2.18],
+        [2.01, 2.23, 2.50],
+        [2.35, 2.62, 2.96],
+        [2.88, 3.24, 3.70],
+        [3.79, 4.32, 5.01],
+        [5.72, 6.63, 7.89],
+        [12.2, 14.6, 18.0],
+    ]
+)
+
+
+@dataclass(frozen=True)
+class KalkerCoefficients:
+    """Kalker's linear creep coefficients of one ellipse [-]: the longitudinal force is
+    G a b C11 xi_x, the lateral G a b C22 xi_y + G (a b)^(3/2) C23 phi (spin phi [1/m])."""
+
+    c11: float
+    c22: float
+    c23: float
+
+
+def kalker_coefficients(a_over_b: float, poissons_ratio: float) -> KalkerCoefficients:
+    """C11, C22 and C23 for an ellipse of aspect ``a_over_b`` (rolling over lateral),
+    clamped to Kalker's table (0.1 to 10), interpolated as :func:`kalker_c22`.
+
+    Examples
+    --------
+    >>> k = kalker_coefficients(1.0, 0.25)
+    >>> k.c11, k.c22, k.c23
+    (4.12, 3.67, 1.47)
+    """
+    g = min(max(float(a_over_b), 0.1), 10.0)
+    nu = float(poissons_ratio)
+    if not (0.0 <= nu <= 0.5):
+        raise ValueError(f"poissons_ratio must lie in [0, 0.5], got {nu!r}")
+    u = g - 1.0 if g <= 1.0 else 1.0 - 1.0 / g
+
+    def read(table: np.ndarray) -> float:
+        per_nu = np.array([np.interp(u, _KALKER_U, table[:, j]) for j in range(3)])
+        return round(float(np.interp(nu, _KALKER_NU, per_nu)), 12)
+
+    return KalkerCoefficients(read(_KALKER_C11), read(_KALKER_C22), read(_KALKER_C23))

@@ -194,7 +194,7 @@ def receptance(
     --------
     >>> from track import UIC60_VERTICAL, TEST_TRACK_VERTICAL
     >>> a = receptance(UIC60_VERTICAL, TEST_TRACK_VERTICAL, [100.0])
-    >>> 1e-9 < abs(a[0]) < 1e-8
+    >>> bool(1e-9 < abs(a[0]) < 1e-8)
     True
     """
     f = np.atleast_1d(np.asarray(frequencies_hz, dtype=complex if complex_frequency else float))
