@@ -24,7 +24,7 @@ import numpy as np  # noqa: E402
 
 import reduced as r  # noqa: E402
 import wheel_squeal as ws  # noqa: E402
-from wheel_squeal.stability import contact_dofs, excitable  # noqa: E402
+from wheel_squeal.stability import body_of, excitable, mode_dofs  # noqa: E402
 
 #: the modes the benchmark takes (the issue's size)
 MODES = 30
@@ -48,25 +48,26 @@ def main() -> None:
     design = ws.load_design(args.design).replace(contact_angle=math.radians(args.angle))
     law = ws.contact_law(design)
     modes = ws.compute_modes(design, "balanced", fmax_hz=12000.0)
-    dofs = contact_dofs(excitable(modes, law)[:MODES], design)
+    dofs = mode_dofs(excitable(modes, law)[:MODES], design)
+    body = body_of(design)
     normal = sum(d.normal != 0.0 for d in dofs)
     constant = dataclasses.replace(law, hertz_approach_m=math.inf)
     op = ws.operating_point(design)
-    both = median_seconds(lambda: r.linear_stability(dofs, law, op), args.repeat)
-    lateral = median_seconds(lambda: r.linear_stability(dofs, constant, op), args.repeat)
+    both = median_seconds(lambda: r.linear_stability(dofs, law, op, body=body), args.repeat)
+    lateral = median_seconds(lambda: r.linear_stability(dofs, constant, op, body=body), args.repeat)
     points = [
         r.OperatingPoint.from_rpm(rpm, design.rolling_radius, vc)
         for vc in np.linspace(0.0, 0.6, 50)
         for rpm in (400.0, 600.0, 800.0)
     ]
-    envelope = median_seconds(lambda: [r.linear_stability(dofs, law, p) for p in points], 3)
+    envelope = median_seconds(lambda: [r.linear_stability(dofs, law, p, body=body) for p in points], 3)
     grid = median_seconds(
         lambda: r.stability_map(
             dofs, law, np.linspace(0.0, 0.6, 50), [p.rolling_speed_m_s for p in points[:3]]
         ),
         3,
     )
-    res = r.linear_stability(dofs, law, op)
+    res = r.linear_stability(dofs, law, op, body=body)
     mechanisms = sorted({m for m in res.mechanisms if m})
     print(
         f"design {design.name} at {args.angle:g} deg: {len(dofs)} modes, {normal} move the contact normally"

@@ -33,7 +33,7 @@ SPEEDS_KM_H = (20.0, 40.0, 60.0, 80.0, 100.0)
 
 def one_by_one(design: ws.Design, bogie: Bogie, ctx: ws.RunContext) -> int:
     """Every wheel case as its own request; returns how many squeal."""
-    options = ws.ChainOptions(mode="model", stop_after="stability", remedy=False)
+    options = ws.ChainOptions(mode="model", stop_after="sound", remedy=False, amplitude="harmonic balance")
     modes = ws.compute_modes(design, ctx.fidelity, fmax_hz=ctx.fmax_hz, cache=ctx.cache)
     squealing = 0
     for radius in RADII_M:
@@ -41,7 +41,7 @@ def one_by_one(design: ws.Design, bogie: Bogie, ctx: ws.RunContext) -> int:
             for w in wheel_kinematics(radius, speed, bogie):
                 op = OperatingPoint(w.rolling_speed_m_s, w.crabbing_velocity_m_s)
                 a = ws.analyse(design, op=op, options=options, context=ctx, modes=modes)
-                case = CurveCase(radius, speed, w, a, axle_sound(a, "harmonic balance", ctx))
+                case = CurveCase(radius, speed, w, a, axle_sound(a))
                 sources, _ = bogie_sources([case], bogie, design.rolling_radius)
                 if sources:
                     passby(sources, speed / 3.6)
