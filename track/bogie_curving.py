@@ -39,7 +39,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-from typing import Any, Literal
+from typing import Any
 
 import numpy as np
 from scipy.optimize import least_squares
@@ -47,12 +47,10 @@ from scipy.optimize import least_squares
 from reduced.contact import hertz_contact, kalker_coefficients
 
 from .contact_geometry import ContactGeometry, ContactPoint
-from .curving import GRAVITY_M_S2, RAIL_SPACING_M, WHEELS
+from .curving import GRAVITY_M_S2, RAIL_SPACING_M, WHEELS, Axle, Rail
 
 __all__ = ["CurvingError", "Vehicle", "WheelContact", "steady_curving"]
 
-Axle = Literal["leading", "trailing"]
-Rail = Literal["inner", "outer"]
 
 #: The wheelset's shifts tabulated for the contact geometry [m]
 SHIFT_STEP_M = 5.0e-5
@@ -239,7 +237,7 @@ def _side_forces(
         fx, ft = fx * scale, ft * scale
         normal = max((vertical_n - sign * ft * math.sin(gamma)) / math.cos(gamma), 0.0)
     lateral = -sign * normal * math.sin(gamma) + ft * math.cos(gamma)
-    details = (normal, fx, xi_x, xi_y, spin, h, k.c22, min(z, 3.0) / 3.0 if z < 3.0 else 1.0)
+    details = (normal, fx, xi_x, xi_y, spin, h, k.c22, math.hypot(fx, ft) / limit)
     return lateral, fx, -sign * y_c * fx, details
 
 
