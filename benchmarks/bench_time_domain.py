@@ -63,8 +63,21 @@ def command(args: list[str], cache: Path) -> tuple[float, float]:
 
 def with_modes(cache: Path, design: str) -> None:
     """A cache holding the design's FE modes and their views only."""
-    subprocess.run([*PIPELINE, "modes", "--design", design, "--quiet", "--cache-dir", str(cache),
-                    "--out", str(cache.parent / "modes")], check=True, capture_output=True)  # fmt: skip
+    subprocess.run(
+        [
+            *PIPELINE,
+            "modes",
+            "--design",
+            design,
+            "--quiet",
+            "--cache-dir",
+            str(cache),
+            "--out",
+            str(cache.parent / "modes"),
+        ],
+        check=True,
+        capture_output=True,
+    )
     for stage in cache.iterdir():
         if stage.is_dir() and stage.name not in ("modes", "mesh2d", "views"):
             shutil.rmtree(stage)

@@ -104,8 +104,9 @@ def interprets(steps: int, scalar: bool, loaded: bool, interpreted_so_far: int) 
 @functools.cache
 def interpreted() -> types.SimpleNamespace:
     """The kernels as they are (no compiler)."""
-    return types.SimpleNamespace(**{name: getattr(next(m for m in _MODULES if hasattr(m, name)), name)
-                                    for name in _KERNELS})  # fmt: skip
+    return types.SimpleNamespace(
+        **{name: getattr(next(m for m in _MODULES if hasattr(m, name)), name) for name in _KERNELS}
+    )
 
 
 def integration_kernels(steps: int, *, scalar: bool = True) -> Any:

@@ -193,9 +193,34 @@ def contact_forces(v_free, un_free, gvq, gvn, gnq, gnn, qd_free, beta1, qs_guess
 
 
 def exp_integrate(
-    s, phi, ga, gb, in_q, in_n, w, phase, out_td, out_tv, out_nd, c_wheel, law,
-    lag, t0, q_d, q_s, d_n, h, n_steps, store_every, out, tail_every, tail_s, tail_t, tail_at, row0,
-):  # fmt: skip
+    s,
+    phi,
+    ga,
+    gb,
+    in_q,
+    in_n,
+    w,
+    phase,
+    out_td,
+    out_tv,
+    out_nd,
+    c_wheel,
+    law,
+    lag,
+    t0,
+    q_d,
+    q_s,
+    d_n,
+    h,
+    n_steps,
+    store_every,
+    out,
+    tail_every,
+    tail_s,
+    tail_t,
+    tail_at,
+    row0,
+):
     """Advance the blocks ``s`` (n, 2) by ``n_steps`` steps of ``h`` [s] from time ``t0``
     with the contact forces at t0 (``q_d``: the lateral force the blocks feel, ``q_s``:
     its steady value, ``d_n``: N - W), in place (module docstring); ``lag`` = (alpha,

@@ -96,8 +96,14 @@ class BodyModel:
                     f"BodyModel: the {('normal', 'lateral')[d]} terms' leading coefficients sum to "
                     f"{lead:.3g}, not 0: its velocity would answer a force at once"
                 )
-        digest = (self.order.tobytes(), self.direction.tobytes(), self.a0.tobytes(), self.a1.tobytes(),
-                  self.b0.tobytes(), self.b1.tobytes())  # fmt: skip
+        digest = (
+            self.order.tobytes(),
+            self.direction.tobytes(),
+            self.a0.tobytes(),
+            self.a1.tobytes(),
+            self.b0.tobytes(),
+            self.b1.tobytes(),
+        )
         object.__setattr__(self, "_hash", hash(digest))
 
     def __hash__(self) -> int:
@@ -155,9 +161,14 @@ class BodyModel:
                     b0.append(-2 * (r * np.conj(p)).real)
                     b1.append(2 * r.real)
         return cls(
-            np.array(order, dtype=np.int64), np.array(direction, dtype=np.int64), np.array(a0, float),
-            np.array(a1, float), np.array(b0, float), np.array(b1, float), name,
-        )  # fmt: skip
+            np.array(order, dtype=np.int64),
+            np.array(direction, dtype=np.int64),
+            np.array(a0, float),
+            np.array(a1, float),
+            np.array(b0, float),
+            np.array(b1, float),
+            name,
+        )
 
     # -- what it is ---------------------------------------------------------------------
     @property

@@ -77,9 +77,15 @@ def simulate(
         raise ValueError(f"method {method!r}: one of {', '.join(METHODS)}")
     if method == "rk4":
         return simulate_rk4(
-            modes, contact, operating_point, duration, initial_state, wheel_speed_rad_s=wheel_speed_rad_s,
-            integration=opts, body=body,
-        )  # fmt: skip
+            modes,
+            contact,
+            operating_point,
+            duration,
+            initial_state,
+            wheel_speed_rad_s=wheel_speed_rad_s,
+            integration=opts,
+            body=body,
+        )
     start = None
     if initial_state is not None:
         start = (np.asarray(initial_state[0], float), np.asarray(initial_state[1], float))

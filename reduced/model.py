@@ -361,13 +361,21 @@ class TimeHistory:
             return None if x is None else np.array(x[k])
 
         return replace(
-            self, t=self.t[keep].copy(), y=self.y[keep].copy(), v=self.v[keep].copy(),
-            creepage=self.creepage[keep].copy(), Q=self.Q[keep].copy(), P=self.P[keep].copy(),
-            u_n=cut(self.u_n, keep), N=cut(self.N, keep), v_body=cut(self.v_body, keep),
-            y_modes=self.y_modes[keep_modes].copy(), v_modes=self.v_modes[keep_modes].copy(),
+            self,
+            t=self.t[keep].copy(),
+            y=self.y[keep].copy(),
+            v=self.v[keep].copy(),
+            creepage=self.creepage[keep].copy(),
+            Q=self.Q[keep].copy(),
+            P=self.P[keep].copy(),
+            u_n=cut(self.u_n, keep),
+            N=cut(self.N, keep),
+            v_body=cut(self.v_body, keep),
+            y_modes=self.y_modes[keep_modes].copy(),
+            v_modes=self.v_modes[keep_modes].copy(),
             t_modes=None if self.t_modes is None else self.t_modes[keep_modes].copy(),
             body_states=cut(self.body_states, keep_modes),
-        )  # fmt: skip
+        )
 
     @property
     def separated(self) -> np.ndarray:

@@ -85,6 +85,15 @@ def timeseries_table(history: TimeHistory) -> np.ndarray:
     u_n = zero if history.u_n is None else history.u_n
     normal = zero + history.contact.normal_load_n if history.N is None else history.N
     return np.column_stack(
-        [history.t, history.y, history.v, history.creepage, history.Q, history.P, u_n, normal,
-         counter_body_velocity(history)]
-    )  # fmt: skip
+        [
+            history.t,
+            history.y,
+            history.v,
+            history.creepage,
+            history.Q,
+            history.P,
+            u_n,
+            normal,
+            counter_body_velocity(history),
+        ]
+    )

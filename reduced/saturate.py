@@ -98,8 +98,19 @@ def simulate_to_limit_cycle(
     else:
         t = duration
     if choose_method(modes, contact, op, wheel_speed_rad_s, body) == "exponential":
-        return _continued(modes, contact, op, t, duration is not None, max_duration, wheel_speed_rad_s,
-                          may_extend, initial_state, body, preload_body)  # fmt: skip
+        return _continued(
+            modes,
+            contact,
+            op,
+            t,
+            duration is not None,
+            max_duration,
+            wheel_speed_rad_s,
+            may_extend,
+            initial_state,
+            body,
+            preload_body,
+        )
     while True:
         started = time.perf_counter()
         history = simulate(
@@ -133,9 +144,15 @@ def _continued(
     from .stepping import ExponentialRun
 
     run = ExponentialRun(
-        as_modes(modes), contact, op, wheel_speed_rad_s, body, initial_state, preload_body,
+        as_modes(modes),
+        contact,
+        op,
+        wheel_speed_rad_s,
+        body,
+        initial_state,
+        preload_body,
         first if fixed else max(first, max_duration),
-    )  # fmt: skip
+    )
     started = time.perf_counter()
     run.advance(first)
     while True:

@@ -269,10 +269,34 @@ class ExponentialRun:
         kernels = _engine.integration_kernels(steps * self.blocks.n, scalar=False)
         b = self.blocks
         status, done, rows, self.tail_at, q_d, q_s, d_n, worst = kernels.exp_integrate(
-            self.s, self.phi, self.ga, self.gb, b.in_q, b.in_n, b.w, b.phase, b.out_td, b.out_tv, b.out_nd,
-            b.c_wheel, self.law, self.lag, self.t, self.q_d, self.q_s, self.d_n, self.h, steps,
-            self.store_every, self.out, self.tail_every, self.tail_s, self.tail_t, self.tail_at, self.rows,
-        )  # fmt: skip
+            self.s,
+            self.phi,
+            self.ga,
+            self.gb,
+            b.in_q,
+            b.in_n,
+            b.w,
+            b.phase,
+            b.out_td,
+            b.out_tv,
+            b.out_nd,
+            b.c_wheel,
+            self.law,
+            self.lag,
+            self.t,
+            self.q_d,
+            self.q_s,
+            self.d_n,
+            self.h,
+            steps,
+            self.store_every,
+            self.out,
+            self.tail_every,
+            self.tail_s,
+            self.tail_t,
+            self.tail_at,
+            self.rows,
+        )
         self.q_d, self.q_s, self.d_n = float(q_d), float(q_s), float(d_n)
         self.rows += int(rows)
         self.newton_max = max(self.newton_max, int(worst))

@@ -219,8 +219,9 @@ def test_a_curve_case_reads_as_the_api_documents_it():
     from track.curving import Bogie
     from wheel_squeal.present.curve import curve_dataset
 
-    cases = ws.curve(ws.load_design("railway_920_track"), [150.0], [40.0], Bogie(2.5),
-                     context=ws.RunContext.of("fast"))  # fmt: skip
+    cases = ws.curve(
+        ws.load_design("railway_920_track"), [150.0], [40.0], Bogie(2.5), context=ws.RunContext.of("fast")
+    )
     lead = cases[0]
     text = repr(lead)
     assert text.startswith("CurveCase(") and len(text) < 400 and "\n" not in text, text

@@ -144,7 +144,7 @@ def test_the_coupled_pair_has_one_leading_mode_everywhere_it_is_written(tmp_path
     path.write_text(COUPLED_PAIR_TOML)
     r = run_here(
         "stability", "--modal-model", path, "--friction-law", "constant", "--out", tmp_path / "s", "--quiet"
-    )  # fmt: skip
+    )
     assert r.returncode == 0, r.stderr
     s = json.loads((tmp_path / "s" / "summary.json").read_text())
     winner, verdict = s["winner"], s["verdict"]
@@ -178,8 +178,13 @@ def test_a_balanced_amplitude_is_the_verdicts(tmp_path):
     """With the harmonic balance the verdict carries the balance's amplitude (not None),
     and says so."""
     design = ws.load_design("table1")
-    a = ws.analyse(design, modes=ws.explicit_modes(3.1, 1.6e8, 42), amplitude="harmonic balance",
-                   stop_after="limit_cycle", remedy=False)  # fmt: skip
+    a = ws.analyse(
+        design,
+        modes=ws.explicit_modes(3.1, 1.6e8, 42),
+        amplitude="harmonic balance",
+        stop_after="limit_cycle",
+        remedy=False,
+    )
     v = a.verdict
     assert v.squeals and v.outcome is not None and v.outcome.balance is not None
     assert v.amplitude_m_s == pytest.approx(v.outcome.balance.amplitude_m_s, rel=1e-12)

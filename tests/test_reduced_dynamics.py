@@ -286,8 +286,9 @@ def test_the_exponential_integrator_meets_rk4_with_a_counter_body(law, op_fig6):
     k = mass * (2 * math.pi * f) ** 2
     as_dof = r.ModalDOF(mass, k, 2 * zeta * math.sqrt(k * mass), 0, -1.0, 0.0)
     rk4 = r.limit_cycle(r.simulate([wheel, as_dof], law, op_fig6, 0.6, method="rk4"))
-    run = ExponentialRun((wheel,), law, op_fig6, body=r.BodyModel.from_modes([(r.LATERAL, f, zeta, mass)]),
-                         max_duration_s=0.6)  # fmt: skip
+    run = ExponentialRun(
+        (wheel,), law, op_fig6, body=r.BodyModel.from_modes([(r.LATERAL, f, zeta, mass)]), max_duration_s=0.6
+    )
     run.advance(0.6)
     exp = r.limit_cycle(run.history())
     alone = r.limit_cycle(r.simulate(wheel, law, op_fig6, 0.6, method="rk4"))

@@ -99,9 +99,14 @@ def geometry():
 
 def _curving(geometry, radius_m, speed_km_h, vehicle, cant_mm=0.0):
     return steady_curving(
-        geometry, vehicle, radius_m, speed_km_h, wheel_load_n=WHEEL_LOAD_N, friction_coefficient=0.3,
+        geometry,
+        vehicle,
+        radius_m,
+        speed_km_h,
+        wheel_load_n=WHEEL_LOAD_N,
+        friction_coefficient=0.3,
         cant_mm=cant_mm,
-    )  # fmt: skip
+    )
 
 
 def _unbalanced_force_n(radius_m, speed_km_h, cant_mm=0.0):

@@ -189,7 +189,7 @@ def _sources(
             DIRECTIVITY_ANGLES,
             sound.nodal_diameters,
             float(a_weighting_db(f)),
-        )  # fmt: skip
+        )
         for f, d in sound.tones
     ]
 
@@ -333,9 +333,14 @@ def _planned(
         raise RequestError(f"amplitude method {method!r}: one of {', '.join(AMPLITUDE_METHODS)}")
     size = _size(radii_m, train_speeds_km_h, bogie)
     plan_of = functools.partial(
-        curve_plan, design, size, method == "time domain", ctx.fidelity, ctx.fmax_hz,
+        curve_plan,
+        design,
+        size,
+        method == "time domain",
+        ctx.fidelity,
+        ctx.fmax_hz,
         passbys=1 if ground_reflection is None else 2,
-    )  # fmt: skip
+    )
 
     def checked(plan: CostPlan) -> CostPlan:
         if check:
@@ -350,8 +355,9 @@ def _planned(
             check_curve(tightest, float(speed), bogie)
     except ValueError as exc:
         raise RequestError(str(exc)) from None
-    modes = compute_modes(design, ctx.fidelity, fmax_hz=ctx.fmax_hz, cache=ctx.cache, progress=ctx.progress,
-                          budget=ctx.budget)  # fmt: skip
+    modes = compute_modes(
+        design, ctx.fidelity, fmax_hz=ctx.fmax_hz, cache=ctx.cache, progress=ctx.progress, budget=ctx.budget
+    )
     contact = contact_law(design)
     wheel_dofs = mode_dofs(excitable(modes, contact), design)
     checked(plan_of(wheel_dofs=wheel_dofs))
@@ -365,9 +371,13 @@ def _planned(
     key = modes_cache_key(design, ctx.fidelity, ctx.fmax_hz)
     with ctx.progress.stage(f"linear stability of {len(sliding):,} sliding axles"):
         squealing = squealing_axles(
-            design, modes, contact, sliding, method == "time domain",
+            design,
+            modes,
+            contact,
+            sliding,
+            method == "time domain",
             lambda m, f: radiation_cached(ctx.cache, key, m, f),
-        )  # fmt: skip
+        )
     return modes, checked(plan_of(wheel_dofs=wheel_dofs, squealing=squealing))
 
 

@@ -82,8 +82,9 @@ class MicrophoneSignal:
     def tail(self, seconds: float) -> MicrophoneSignal:
         """The signal over the run's last ``seconds`` (the limit cycle's periods kept)."""
         keep = self.t >= self.t[-1] - seconds
-        return MicrophoneSignal(self.t[keep].copy(), self.p[keep].copy(), self.cycle_pa, self.cycle_rate_hz,
-                                self.window)  # fmt: skip
+        return MicrophoneSignal(
+            self.t[keep].copy(), self.p[keep].copy(), self.cycle_pa, self.cycle_rate_hz, self.window
+        )
 
     def wav_samples(self) -> np.ndarray:
         """The pressure over the run at the WAV file's sample rate [Pa], its last

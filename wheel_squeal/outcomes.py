@@ -128,18 +128,30 @@ class Outcomes:
         f = float(sim.limit_cycle.frequency_hz)
         wave = wave_of(carrier, f if math.isfinite(f) else base.damped_frequency_hz, self.omega)
         return replace(
-            base, wave=wave, simulation=sim, group=tuple(group), shares=shares, energy_share=carried,
+            base,
+            wave=wave,
+            simulation=sim,
+            group=tuple(group),
+            shares=shares,
+            energy_share=carried,
             carrier_tone_hz=tone,
-        )  # fmt: skip
+        )
 
     def simulate(self, dofs: list[ModalDOF], body: BodyModel | None) -> Simulation:
         """The time domain of ``dofs`` with the counter-body ``body`` from rest (a
         track's in its static deflection under the steady creep force: loaded long
         before the squeal starts)."""
         return simulate(
-            dofs, self.contact, self.op, self.opts.duration, self.omega, self.ctx.budget, body,
-            self.design.counter_body.PRELOADED, self.ctx.cache,
-        )  # fmt: skip
+            dofs,
+            self.contact,
+            self.op,
+            self.opts.duration,
+            self.omega,
+            self.ctx.budget,
+            body,
+            self.design.counter_body.PRELOADED,
+            self.ctx.cache,
+        )
 
     def carrier(self, group: tuple[Mode, ...], energy_share: np.ndarray) -> tuple[Mode, float]:
         """The mode that carries a limit cycle of ``group``, and its share of the energy:
@@ -172,11 +184,20 @@ class Outcomes:
             return replace(o, sound=self.balanced_sound(o))
         with self.ctx.progress.stage(f"sound of {o.label}"):
             s = squeal_sound(
-                self.design, self.modeset, shape, radiation_frequency_hz(o.tone_hz, shape.frequency_hz),
-                o.simulation, o.tone_hz, listener=self.opts.listener, travelling=o.wave != "standing",
-                fidelity=self.ctx.fidelity.name, fmax_hz=self.ctx.fmax_hz, cache=self.ctx.cache,
-                budget=self.ctx.budget, memo=self.ctx.memo,
-            )  # fmt: skip
+                self.design,
+                self.modeset,
+                shape,
+                radiation_frequency_hz(o.tone_hz, shape.frequency_hz),
+                o.simulation,
+                o.tone_hz,
+                listener=self.opts.listener,
+                travelling=o.wave != "standing",
+                fidelity=self.ctx.fidelity.name,
+                fmax_hz=self.ctx.fmax_hz,
+                cache=self.ctx.cache,
+                budget=self.ctx.budget,
+                memo=self.ctx.memo,
+            )
         return replace(o, sound=s)
 
     def balanced_sound(self, o: ModeOutcome) -> Any:
@@ -188,11 +209,19 @@ class Outcomes:
 
         assert o.amplitude_m_s is not None
         s = mode_sound(
-            self.design, self.modeset, o.mode, radiation_frequency_hz(o.tone_hz, o.mode.frequency_hz),
+            self.design,
+            self.modeset,
+            o.mode,
+            radiation_frequency_hz(o.tone_hz, o.mode.frequency_hz),
             o.amplitude_m_s,
-            listener=self.opts.listener, travelling=o.wave != "standing", fidelity=self.ctx.fidelity.name,
-            fmax_hz=self.ctx.fmax_hz, cache=self.ctx.cache, budget=self.ctx.budget, memo=self.ctx.memo,
-        )  # fmt: skip
+            listener=self.opts.listener,
+            travelling=o.wave != "standing",
+            fidelity=self.ctx.fidelity.name,
+            fmax_hz=self.ctx.fmax_hz,
+            cache=self.ctx.cache,
+            budget=self.ctx.budget,
+            memo=self.ctx.memo,
+        )
         return tone_sound(s, o.tone_hz)
 
     def radiating(self, o: ModeOutcome) -> Mode:

@@ -24,8 +24,21 @@ __all__ = ["RECORD_STAGE", "load_record", "record_key", "store_record"]
 #: The cache's stage of the records
 RECORD_STAGE = "record"
 #: The record's series an entry keeps (the rest is the request's own)
-SERIES = ("t", "y", "v", "y_modes", "v_modes", "creepage", "Q", "P", "u_n", "N", "t_modes", "v_body",
-          "body_states")  # fmt: skip
+SERIES = (
+    "t",
+    "y",
+    "v",
+    "y_modes",
+    "v_modes",
+    "creepage",
+    "Q",
+    "P",
+    "u_n",
+    "N",
+    "t_modes",
+    "v_body",
+    "body_states",
+)
 
 
 def _body_digest(body: BodyModel | None) -> str:

@@ -129,9 +129,15 @@ def simulate(
 
     try:
         history, lc = simulate_to_limit_cycle(
-            dof, contact, op, duration, wheel_speed_rad_s=wheel_speed_rad_s, may_extend=may_extend,
-            body=body, preload_body=preload_body,
-        )  # fmt: skip
+            dof,
+            contact,
+            op,
+            duration,
+            wheel_speed_rad_s=wheel_speed_rad_s,
+            may_extend=may_extend,
+            body=body,
+            preload_body=preload_body,
+        )
     except ValueError as exc:  # the model refuses what it cannot integrate, in its own words
         raise RequestError(str(exc)) from None
     if cache is not None and not cut_short:

@@ -275,9 +275,14 @@ def curve_report(folder: Path, design: str, rows: Sequence[dict], summary: dict[
     inputs += [("microphone", "7.5 m from the track centre line, 1.2 m above the rail head (ISO 3095)"),
                ("ground", summary["ground"])]  # fmt: skip
     return listing_report(
-        folder, f"{design} in curves", "wheel-squeal curve", lines, inputs, sections,
+        folder,
+        f"{design} in curves",
+        "wheel-squeal curve",
+        lines,
+        inputs,
+        sections,
         curve_assumptions(summary["amplitude_method"]),
-    )  # fmt: skip
+    )
 
 
 def write_curve_files(
