@@ -195,7 +195,6 @@ def _flank_reach_m(geometry: ContactGeometry) -> float:
 @dataclass(frozen=True)
 class _Scene:
     geometry: ContactGeometry
-    vehicle: Vehicle
     radius_m: float
     speed_m_s: float
     unbalanced_m_s2: float
@@ -307,7 +306,6 @@ def steady_curving(
     unbalanced = speed * speed / radius_m - GRAVITY_M_S2 * cant_mm * 1e-3 / RAIL_SPACING_M
     scene = _Scene(
         geometry,
-        vehicle,
         float(radius_m),
         speed,
         unbalanced,
