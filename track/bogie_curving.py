@@ -46,14 +46,12 @@ from scipy.optimize import least_squares
 
 from reduced.contact import hertz_contact, kalker_coefficients
 
-from .contact_geometry import ContactGeometry, ContactPoint
+from .contact_geometry import SHIFT_STEP_M, ContactGeometry, ContactPoint
 from .curving import GRAVITY_M_S2, RAIL_SPACING_M, WHEELS, Axle, Rail
 
 __all__ = ["CurvingError", "Vehicle", "WheelContact", "steady_curving"]
 
 
-#: The wheelset's shifts tabulated for the contact geometry [m]
-SHIFT_STEP_M = 5.0e-5
 #: The equilibrium is solved when every force is within this fraction of the wheel load
 FORCE_TOLERANCE = 1.0e-4
 
@@ -157,39 +155,24 @@ class _Table:
 
 
 def _table(geometry: ContactGeometry) -> _Table:
-    cached = getattr(geometry, "_curving_table", None)
-    if cached is not None:
-        return cached
-    reach = _flank_reach_m(geometry)
-    shifts = np.arange(-reach, reach + 0.5 * SHIFT_STEP_M, SHIFT_STEP_M)
-    contacts, flanged, values = [], [], []
-    for y in shifts:
-        p = geometry.position(float(y))
-        contacts.append((p.outer[0], p.inner[0]))
-        flanged.append((any(c.on_flange for c in p.outer), any(c.on_flange for c in p.inner)))
-        values.append(
+    positions = geometry.tabulated
+    shifts = np.array([p.lateral_shift_m for p in positions])
+    contacts = tuple((p.outer[0], p.inner[0]) for p in positions)
+    flanged = tuple((any(c.on_flange for c in p.outer), any(c.on_flange for c in p.inner)) for p in positions)
+    values = [
+        [
             [
-                [
-                    c.lateral_position_m,
-                    c.rolling_radius_m,
-                    c.contact_angle_rad,
-                    c.wheel_curvature_1_m,
-                    c.rail_curvature_1_m,
-                ]
-                for c in (p.outer[0], p.inner[0])
+                c.lateral_position_m,
+                c.rolling_radius_m,
+                c.contact_angle_rad,
+                c.wheel_curvature_1_m,
+                c.rail_curvature_1_m,
             ]
-        )
-    t = _Table(shifts, tuple(contacts), tuple(flanged), np.array(values))
-    object.__setattr__(geometry, "_curving_table", t)
-    return t
-
-
-def _flank_reach_m(geometry: ContactGeometry) -> float:
-    """The shift at which the outer contact is steepest on the flank: beyond, the wheel climbs."""
-    start = geometry.flange_clearance_m()
-    shifts = start + np.arange(0, 41) * 5e-5
-    angles = [geometry.position(float(y)).outer[0].contact_angle_rad for y in shifts]
-    return float(shifts[int(np.argmax(angles))])
+            for c in pair
+        ]
+        for pair in contacts
+    ]
+    return _Table(shifts, contacts, flanged, np.array(values))
 
 
 @dataclass(frozen=True)

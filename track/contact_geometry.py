@@ -25,6 +25,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from functools import cached_property
 from typing import Literal
 
 import numpy as np
@@ -34,6 +35,7 @@ from .profiles import Profile, s1002, uic60
 
 __all__ = [
     "FLANGE_ANGLE_DEG",
+    "SHIFT_STEP_M",
     "ContactGeometry",
     "ContactPoint",
     "WheelsetPosition",
@@ -51,6 +53,8 @@ TOUCH_M = 1.0e-4
 SEPARATE_M = 0.005
 #: A contact steeper than this is on the flange [deg]
 FLANGE_ANGLE_DEG = 45.0
+#: The step of :attr:`ContactGeometry.tabulated`'s shifts [m]
+SHIFT_STEP_M = 5.0e-5
 #: The largest roll of a wheelset the settling searches [rad]
 MAX_ROLL_RAD = 0.05
 
@@ -268,6 +272,22 @@ class ContactGeometry:
             mid = 0.5 * (lo + hi)
             lo, hi = (lo, mid) if flanged(mid) else (mid, hi)
         return hi
+
+    def flank_reach_m(self) -> float:
+        """The shift at which the outer contact is steepest on the flank [m]: beyond it the
+        wheel climbs its flange."""
+        shifts = self.flange_clearance_m() + np.arange(0, 41) * SHIFT_STEP_M
+        angles = [self.position(float(y)).outer[0].contact_angle_rad for y in shifts]
+        return float(shifts[int(np.argmax(angles))])
+
+    @cached_property
+    def tabulated(self) -> tuple[WheelsetPosition, ...]:
+        """The wheelset at every :data:`SHIFT_STEP_M` between the flanks' reaches (worked
+        out once per geometry; what a curving solve interpolates)."""
+        reach = self.flank_reach_m()
+        return tuple(
+            self.position(float(y)) for y in np.arange(-reach, reach + 0.5 * SHIFT_STEP_M, SHIFT_STEP_M)
+        )
 
     def equivalent_conicity(self, amplitude_m: float, points: int = 64) -> float:
         """The equivalent conicity at ``amplitude_m`` (harmonic linearisation of the rolling
