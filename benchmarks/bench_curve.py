@@ -1,9 +1,9 @@
 """The curve command's speed: railway_920 on the test track, 20 curve radii x 5 train
-speeds x the 4 wheels of a rigid bogie (verdict, harmonic-balance amplitude, sound and
-pass-by level of every wheel) with a warm cache (the FE modes on disk, the squeal
-modes' radiation kept in the run), target under 30 s; against the same 400 wheel cases
-run one by one (each its own analysis, amplitude and pass-by, nothing shared between
-the two wheels of an axle). Medians of repeated runs in the same process.
+speeds x the 4 wheels of its bogie (the steady curving, each contact's verdict,
+harmonic-balance amplitude, sound and pass-by level of every wheel) with a warm cache (the
+FE modes on disk, the squeal modes' radiation kept in the run), target under 30 s; against
+the same 400 wheel cases run one by one (each its own curving, analyses, amplitude and
+pass-by). Medians of repeated runs in the same process.
 
     .venv/bin/python benchmarks/bench_curve.py [--repeat 3]
 """
@@ -23,26 +23,39 @@ from bench_coupling import median_seconds  # noqa: E402  (the same medians, a sc
 
 import wheel_squeal as ws  # noqa: E402
 from acoustics.passby import passby  # noqa: E402
-from reduced import OperatingPoint  # noqa: E402
-from track.curving import Bogie, wheel_kinematics  # noqa: E402
-from wheel_squeal.curve import CurveCase, axle_sound, bogie_sources  # noqa: E402
+from track.bogie_curving import steady_curving  # noqa: E402
+from wheel_squeal.curve import CurveCase, axle_sound, bogie_sources, contact_geometry, wheel_sites  # noqa: E402
 
 RADII_M = tuple(float(r) for r in np.round(np.geomspace(100.0, 2000.0, 20)))
 SPEEDS_KM_H = (20.0, 30.0, 40.0, 50.0, 60.0)  # within 3 m/s^2 unbalanced at 100 m
 
 
-def one_by_one(design: ws.Design, bogie: Bogie, ctx: ws.RunContext) -> int:
+def one_by_one(design: ws.Design, ctx: ws.RunContext) -> int:
     """Every wheel case as its own request; returns how many squeal."""
     options = ws.ChainOptions(mode="model", stop_after="sound", remedy=False, amplitude="harmonic balance")
-    modes = ws.compute_modes(design, ctx.fidelity, fmax_hz=ctx.fmax_hz, cache=ctx.cache)
+    vehicle = design.vehicle.vehicle()
+    geometry = contact_geometry(design)  # the wheel on its rail once: a profile's table, not a request's
     squealing = 0
     for radius in RADII_M:
         for speed in SPEEDS_KM_H:
-            for w in wheel_kinematics(radius, speed, bogie):
-                op = OperatingPoint(w.rolling_speed_m_s, w.crabbing_velocity_m_s)
-                a = ws.analyse(design, op=op, options=options, context=ctx, modes=modes)
-                case = CurveCase(radius, speed, w, a, axle_sound(a))
-                sources, _ = bogie_sources([case], bogie, design.rolling_radius)
+            for index in range(4):
+                wheel = steady_curving(
+                    geometry,
+                    vehicle,
+                    radius,
+                    speed,
+                    wheel_load_n=design.contact.normal_load,
+                    friction_coefficient=design.contact.friction_coefficient,
+                )[index]
+                analyses = tuple(
+                    ws.analyse(s.design, op=s.op, options=options, context=ctx)
+                    for s in wheel_sites(design, wheel, speed)
+                )
+                case = CurveCase(radius, speed, wheel, analyses)
+                sound = axle_sound(case.analysis)
+                if sound is not None:
+                    case = CurveCase(radius, speed, wheel, analyses, sound)
+                sources, _ = bogie_sources([case], vehicle.wheelbase_m, design.rolling_radius)
                 if sources:
                     passby(sources, speed / 3.6)
                     squealing += 1
@@ -54,18 +67,17 @@ def main() -> None:
     ap.add_argument("--repeat", type=int, default=3)
     args = ap.parse_args()
     design = ws.load_design("railway_920_track")
-    bogie = Bogie(2.5)
     ctx = ws.RunContext.of("balanced")
-    ws.curve(design, RADII_M[:1], SPEEDS_KM_H[:1], bogie, context=ctx)  # warm: modes, fits, radiation
+    ws.curve(design, RADII_M[:1], SPEEDS_KM_H[:1], context=ctx)  # warm: modes, fits, radiation
     cases: list = []
 
     def row() -> None:
-        cases[:] = ws.curve(design, RADII_M, SPEEDS_KM_H, bogie, context=ctx)
+        cases[:] = ws.curve(design, RADII_M, SPEEDS_KM_H, context=ctx)
 
     t_row = median_seconds(row, args.repeat)
     n = len(cases)
     heard = sum(c.analysis.verdict.squeals for c in cases)
-    t_one = median_seconds(lambda: one_by_one(design, bogie, ctx), args.repeat)
+    t_one = median_seconds(lambda: one_by_one(design, ctx), args.repeat)
     print(f"railway_920 on the test track: {len(RADII_M)} radii x {len(SPEEDS_KM_H)} speeds x 4 wheels "
           f"= {n} cases, {heard} squeal")  # fmt: skip
     print(f"curve, warm cache: {t_row:.1f} s (median of {args.repeat}); target < 30 s")

@@ -144,7 +144,6 @@ def field(fidelity: str, quick: bool) -> list[bool]:
     wheel by the harmonic balance and in the time domain, each priced by its whole plan
     (``wheel_squeal.curve.curve_estimate``: the modes cached, every sliding axle's
     stability solved) before it runs."""
-    from track.curving import Bogie
     from wheel_squeal.counter_bodies import TRACK_FIT_SECONDS
     from wheel_squeal.curve import curve, curve_estimate
     from wheel_squeal.plan import track_plan
@@ -163,8 +162,8 @@ def field(fidelity: str, quick: bool) -> list[bool]:
     if not quick:
         maps.append(("time domain", [100.0, 150.0, 200.0, 300.0], [20.0, 40.0, 60.0]))
     for method, radii, speeds in maps:
-        plan = curve_estimate(d, radii, speeds, Bogie(2.5), method=method, context=ctx)  # type: ignore[arg-type]
-        t, _ = timed(partial(curve, d, radii, speeds, Bogie(2.5), method=method, context=ctx))
+        plan = curve_estimate(d, radii, speeds, method=method, context=ctx)  # type: ignore[arg-type]
+        t, _ = timed(partial(curve, d, radii, speeds, method=method, context=ctx))
         what = f"railway_920_track, {len(radii)} radii x {len(speeds)} speeds, {method}"
         oks.append(row("curve map", what, plan.seconds, t))
     return oks

@@ -18,16 +18,31 @@ import math
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
+import numpy as np
+
 from .outline import MAX_CONTACT_ANGLE_DEG
 
 if TYPE_CHECKING:
     from .design import WheelDesign
+    from .outline import Outline
 
-__all__ = ["ContactFrame", "ContactPointError", "contact_frame", "largest_contact_angle_rad"]
+__all__ = [
+    "ContactFrame",
+    "ContactPointError",
+    "contact_frame",
+    "frame_on_running_surface",
+    "largest_contact_angle_rad",
+]
 
 #: Angles below this [rad] are the apex's exactly (an outline's normal computed as
 #: (1, 1e-17) must not tilt the frame by rounding).
 ZERO_ANGLE_RAD = 1e-12
+#: The axial step [m] of the differences that give the running surface's slope and curvature
+#: (well below the smallest fillet a wheel's running surface has, a few mm)
+SURFACE_STEP_M = 2.0e-5
+#: A running surface curved less than this [1/m] (a radius over 1 km, the differences'
+#: round-off on a straight cone) is straight across
+FLAT_CURVATURE_1_M = 1.0e-3
 #: The contact stays this fraction of the crown arc's reach inside the tread's edge
 #: (a contact on the rim's corner has no single normal).
 EDGE_MARGIN = 0.999
@@ -130,3 +145,28 @@ def contact_frame(wheel: WheelDesign, contact_angle_rad: float = 0.0) -> Contact
         )
     rt = wheel.crown_radius
     return ContactFrame(wheel.rolling_radius - rt * (1.0 - math.cos(g)), rt * math.sin(g), g, rt)
+
+
+def frame_on_running_surface(outline: Outline, z_m: float) -> ContactFrame:
+    """The contact frame on an outline's running surface (its largest radius,
+    ``Outline.outer_radius``) at the axial position ``z_m`` [m]: the point, the angle of
+    its outward normal, atan(-dr/dz), and its transverse radius of curvature (negative
+    where the surface is concave, as in a flange root's fillet). Anywhere on the tread or
+    the flange: where a curving puts the contact, not where a design may put its own.
+
+    Examples
+    --------
+    >>> import wheel_squeal as ws
+    >>> f = frame_on_running_surface(ws.load_design("railway_920_track").wheel.profile, 0.0)
+    >>> round(f.r_m, 4), round(math.degrees(f.angle_rad), 2)  # the 1:20 cone
+    (0.46, 2.86)
+    """
+    h = SURFACE_STEP_M
+    r_minus, r, r_plus = outline.outer_radius(np.array([z_m - h, z_m, z_m + h]))
+    if not np.isfinite([r_minus, r, r_plus]).all():
+        raise ContactPointError(f"z = {z_m:.4g} m is not on the wheel's running surface")
+    slope = (r_plus - r_minus) / (2.0 * h)
+    second = (r_plus - 2.0 * r + r_minus) / (h * h)
+    curvature = -second / (1.0 + slope * slope) ** 1.5  # convex positive
+    crown = 1.0 / curvature if abs(curvature) > FLAT_CURVATURE_1_M else math.inf
+    return ContactFrame(float(r), float(z_m), math.atan(-slope), crown)

@@ -192,6 +192,30 @@ class Outline:
             raise OutlineError(f"no material at r = {r:.6g} m")
         return float(zs.min()), float(zs.max())
 
+    def outer_radius(self, z: np.ndarray) -> np.ndarray:
+        """The largest radius of the outline at each axial position ``z`` [m] (nan where no
+        segment crosses it): the running surface, tread and flange, across the rim."""
+        z = np.atleast_1d(np.asarray(z, dtype=float))
+        best = np.full(z.shape, -np.inf)
+        for i in range(self.n_segments):
+            p, q = self.ends(i)
+            a = self.arc(i)
+            if a is None:
+                if q[1] == p[1]:
+                    continue  # a face across the axis: its radii belong to the segments beside it
+                t = (z - p[1]) / (q[1] - p[1])
+                best = np.where((t >= 0) & (t <= 1), np.maximum(best, p[0] + t * (q[0] - p[0])), best)
+                continue
+            (cr, cz), radius, start, sweep = a
+            dz = z - cz
+            across = np.sqrt(np.clip(radius * radius - dz * dz, 0.0, None))
+            for r in (cr + across, cr - across):
+                phi = np.arctan2(dz, r - cr)
+                turned = np.mod((phi - start) * math.copysign(1.0, sweep), 2 * math.pi)
+                on = (np.abs(dz) <= radius) & (turned <= abs(sweep) + 1e-12)
+                best = np.where(on, np.maximum(best, r), best)
+        return np.where(np.isfinite(best), best, np.nan)
+
     # -- where things are -------------------------------------------------------------
     def contains(self, xy: np.ndarray) -> np.ndarray:
         """Whether each (r, z) point [m] lies inside the material (even-odd rule on the

@@ -19,7 +19,7 @@ ALLOWED = {
     "reduced": set(),
     "fem": {"geometry"},
     "acoustics": {"geometry"},
-    "track": {"reduced"},  # the contact mechanics of each wheel's contact
+    "track": {"geometry", "reduced"},  # a wheel's running surface; each contact's mechanics
     "designs": set(),
     "wheel_squeal": {"geometry", "fem", "reduced", "acoustics", "track", "designs"},
     "pipeline": {"wheel_squeal"},

@@ -36,7 +36,7 @@ def _refused(args, tmp_path, word: str, seconds: float = 2.0) -> str:
 )
 def test_a_curve_map_far_beyond_the_budget_is_refused_at_once_with_its_estimate(tmp_path, radii, speeds):
     line = _refused([*CURVE, "--radius", radii, "--train-speed", speeds], tmp_path, "would take")
-    assert "axles' stability" in line and "fewer radii or train speeds" in line
+    assert "contacts' stability" in line and "fewer radii or train speeds" in line
     assert "--no-remedy" not in line  # a flag the curve command does not have
 
 

@@ -114,19 +114,17 @@ def _unbalanced_force_n(radius_m, speed_km_h, cant_mm=0.0):
     return 4 * WHEEL_LOAD_N / 9.81 * (v * v / radius_m - 9.81 * cant_mm * 1e-3 / 1.5)
 
 
-@pytest.mark.slow
 def test_a_free_wheelset_on_a_wide_curve_runs_radially_and_rolls_purely(geometry):
     """Zero yaw stiffness on 3000 m: every wheelset finds the shift whose rolling radius
     difference matches the curvature; angle of attack and longitudinal creepage under 2e-4."""
     wheels = _curving(geometry, 3000.0, 40.0, Vehicle(primary_yaw_stiffness_n_m_rad=0.0))
     for w in wheels:
-        assert abs(w.angle_of_attack_rad) < 2e-4 and abs(w.longitudinal_creepage) < 2e-4, w
+        assert abs(w.angle_of_attack_rad) < 2e-4 and abs(w.main.longitudinal_creepage) < 2e-4, w
         assert not w.flange_contact
     lead = wheels[0]
     assert lead.lateral_shift_m > 0  # outward, toward the larger radius on the outer wheel
 
 
-@pytest.mark.slow
 def test_a_stiff_bogie_flanges_at_the_geometric_angle_of_attack(geometry):
     """A yaw stiffness of 1e10 N m/rad at 150 m: the leading outer wheel on its flange (over
     45 deg) at an angle of attack within 30 % of 2a/R; the outer wheels loaded more (cant
@@ -146,7 +144,6 @@ def test_a_stiff_bogie_flanges_at_the_geometric_angle_of_attack(geometry):
     assert total == pytest.approx(_unbalanced_force_n(150.0, 40.0), rel=0.05)
 
 
-@pytest.mark.slow
 def test_cant_moves_the_load_and_the_lateral_force(geometry):
     """At the balancing speed of a cant the wheels carry their static load and the lateral
     forces sum to nothing; above it the outer wheels carry more."""

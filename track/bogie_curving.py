@@ -38,26 +38,37 @@ would need more than the flank gives, the wheelset would climb its flange: refus
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
-from scipy.optimize import least_squares
+from scipy.optimize import brentq, least_squares
 
 from reduced.contact import hertz_contact, kalker_coefficients
 
 from .contact_geometry import SHIFT_STEP_M, ContactGeometry, ContactPoint
-from .curving import GRAVITY_M_S2, RAIL_SPACING_M, WHEELS, Axle, Rail
+from .curving import GRAVITY_M_S2, MAX_ANGLE_OF_ATTACK_RAD, RAIL_SPACING_M, WHEELS, Axle, Rail
 
-__all__ = ["CurvingError", "Vehicle", "WheelContact", "steady_curving"]
+__all__ = ["ContactState", "CurvingError", "Vehicle", "WheelContact", "steady_curving"]
 
 
+#: The least share of the friction coefficient the lateral creep force keeps where the
+#: longitudinal creep force saturates the contact (the creep law's sharing is smooth, never
+#: a hard zero)
+LEAST_LATERAL_FRICTION = 0.05
+#: The conicity a first guess of the pure-rolling shift takes (a worn profile's order)
+CONICITY_GUESS = 0.15
+#: Where no start finds the equilibrium, it is followed from a wider curve to the one asked,
+#: through these multiples of its radius
+CONTINUATION_RADII = np.array([4.0, 2.5, 1.8, 1.4, 1.2, 1.1, 1.0])
 #: The equilibrium is solved when every force is within this fraction of the wheel load
 FORCE_TOLERANCE = 1.0e-4
 
 
-class CurvingError(ValueError):
-    """The bogie has no steady equilibrium in this curve (it would climb its flange)."""
+class CurvingError(RuntimeError):
+    """No steady equilibrium of the bogie was found in this curve, or it would climb its
+    flange: a failed computation, said in one line."""
 
 
 @dataclass(frozen=True)
@@ -84,26 +95,18 @@ class Vehicle:
 
 
 @dataclass(frozen=True)
-class WheelContact:
-    """One wheel in a curve, at its own contact.
+class ContactState:
+    """One contact of a wheel with its rail in steady curving.
 
     Attributes
     ----------
-    axle, rail : str
-    lateral_shift_m : float
-        The wheelset's, positive toward the outer rail [m].
-    angle_of_attack_rad : float
-    contact : ContactPoint
-        Where it touches (the first of its contacts).
-    flange_contact : bool
-        Whether one of its contacts is on the flange.
-    wheel_load_n : float
-        The rail's vertical force on the wheel [N].
+    point : ContactPoint
+        Where it touches: on the wheel (``wheel_lateral_m``), its rolling radius, contact
+        angle and curvatures.
     normal_force_n : float
-        The contact's normal force [N].
-    lateral_force_n : float
-        The rail's lateral force on the wheel, positive toward the curve's centre [N].
+        Its normal force [N].
     longitudinal_force_n : float
+        The rail's longitudinal creep force on the wheel there [N].
     longitudinal_creepage, lateral_creepage : float
         In the contact plane [-].
     spin_creepage_1_m : float
@@ -117,15 +120,8 @@ class WheelContact:
         The share of the wheel load on this contact (below 1 in a two-point contact).
     """
 
-    axle: Axle
-    rail: Rail
-    lateral_shift_m: float
-    angle_of_attack_rad: float
-    contact: ContactPoint
-    flange_contact: bool
-    wheel_load_n: float
+    point: ContactPoint
     normal_force_n: float
-    lateral_force_n: float
     longitudinal_force_n: float
     longitudinal_creepage: float
     lateral_creepage: float
@@ -138,41 +134,114 @@ class WheelContact:
 
     @property
     def contact_angle_rad(self) -> float:
-        return self.contact.contact_angle_rad
+        return self.point.contact_angle_rad
+
+    @property
+    def on_flange(self) -> bool:
+        return self.point.on_flange
 
     @property
     def longitudinal_force_share(self) -> float:
         """|F_x| / N: the adhesion the longitudinal creep force takes [-]."""
         return abs(self.longitudinal_force_n) / self.normal_force_n
 
+    def lateral_friction_coefficient(self, friction_coefficient: float) -> float:
+        """The friction left to the lateral creep force [-]: the longitudinal force takes
+        its share of the adhesion both share, sqrt(mu^2 - (F_x / N)^2) (at least
+        :data:`LEAST_LATERAL_FRICTION` of mu, where the longitudinal creep saturates)."""
+        left = friction_coefficient**2 - self.longitudinal_force_share**2
+        return max(math.sqrt(max(left, 0.0)), LEAST_LATERAL_FRICTION * friction_coefficient)
+
+    @property
+    def crabbing_velocity_fraction(self) -> float:
+        """|xi_y|: the lateral sliding speed in the contact plane over the rolling speed [-]."""
+        return abs(self.lateral_creepage)
+
+
+@dataclass(frozen=True)
+class WheelContact:
+    """One wheel in a curve, at its own contacts.
+
+    Attributes
+    ----------
+    axle, rail : str
+    lateral_shift_m : float
+        The wheelset's, positive toward the outer rail [m].
+    angle_of_attack_rad : float
+    contacts : tuple of ContactState
+        Its contacts: one, or the tread's and the flange's in a two-point contact.
+    wheel_load_n : float
+        The rail's vertical force on the wheel, all its contacts [N].
+    lateral_force_n : float
+        The rail's lateral force on the wheel, all its contacts, positive toward the
+        curve's centre [N].
+    """
+
+    axle: Axle
+    rail: Rail
+    lateral_shift_m: float
+    angle_of_attack_rad: float
+    contacts: tuple[ContactState, ...]
+    wheel_load_n: float
+    lateral_force_n: float
+
+    @property
+    def flange_contact(self) -> bool:
+        """Whether one of its contacts is on the flange."""
+        return any(c.on_flange for c in self.contacts)
+
+    @property
+    def main(self) -> ContactState:
+        """The contact that describes the wheel in one row: the flange's where it touches
+        (the steepest), else the tread's."""
+        return max(self.contacts, key=lambda c: abs(c.contact_angle_rad))
+
+    @property
+    def contact_angle_rad(self) -> float:
+        return self.main.contact_angle_rad
+
 
 @dataclass(frozen=True)
 class _Table:
     shifts_m: np.ndarray
     contacts: tuple[tuple[ContactPoint, ...], ...]  # per shift: outer's, inner's first contacts
-    flanged: tuple[tuple[bool, bool], ...]
-    values: np.ndarray = field(repr=False)  # shift x side x (y_c, r, gamma, kappa_w, kappa_r)
+    # shift x side x (y_c, r, gamma, a and b at 1 N, C11, C22, C23): a Hertz ellipse keeps
+    # its shape under any load and its semi-axes grow as N^(1/3)
+    values: np.ndarray = field(repr=False)
 
 
-def _table(geometry: ContactGeometry) -> _Table:
+def _table(geometry: ContactGeometry, youngs_modulus_pa: float, poissons_ratio: float) -> _Table:
     positions = geometry.tabulated
     shifts = np.array([p.lateral_shift_m for p in positions])
     contacts = tuple((p.outer[0], p.inner[0]) for p in positions)
-    flanged = tuple((any(c.on_flange for c in p.outer), any(c.on_flange for c in p.inner)) for p in positions)
-    values = [
-        [
-            [
-                c.lateral_position_m,
-                c.rolling_radius_m,
-                c.contact_angle_rad,
-                c.wheel_curvature_1_m,
-                c.rail_curvature_1_m,
-            ]
-            for c in pair
-        ]
-        for pair in contacts
-    ]
-    return _Table(shifts, contacts, flanged, np.array(values))
+    values = []
+    for pair in contacts:
+        sides = []
+        for c in pair:
+            h = hertz_contact(
+                c.rolling_radius_m / math.cos(c.contact_angle_rad),
+                c.relative_transverse_radius_m,
+                math.inf,
+                math.inf,
+                youngs_modulus_pa,
+                poissons_ratio,
+                1.0,
+            )
+            k = kalker_coefficients(h.a_over_b, poissons_ratio)
+            sides.append(
+                [
+                    c.lateral_position_m,
+                    c.rolling_radius_m,
+                    c.contact_angle_rad,
+                    h.semi_axis_a_m,
+                    h.semi_axis_b_m,
+                    k.c11,
+                    k.c22,
+                    k.c23,
+                ]
+            )
+        values.append(sides)
+    return _Table(shifts, contacts, np.array(values))
 
 
 @dataclass(frozen=True)
@@ -190,36 +259,41 @@ class _Scene:
 def _side_forces(
     scene: _Scene, row: np.ndarray, sign: int, vertical_n: float, psi: float, excess: float
 ) -> tuple[float, float, float, tuple[Any, ...]]:
-    """One wheel's contact forces: (lateral global, longitudinal, yaw moment, details)."""
-    y_c, r, gamma, k_w, k_r = row
+    """One wheel's contact forces: (lateral global, longitudinal, yaw moment, details).
+
+    The normal force N carries the vertical load with the creep force's vertical part,
+    N cos(gamma) + sign F_t(N) sin(gamma) = W, where F_t grows with N (the ellipse's area
+    as N^(2/3), the saturation's limit as mu N): solved by bracketing, since on a flank
+    (mu tan(gamma) near 1) a fixed-point iteration converges slowly or not at all."""
+    y_c, r, gamma, a1, b1, c11, c22, c23 = row
     r0 = scene.geometry.rolling_radius_m
     xi_x = (1.0 + sign * y_c / scene.radius_m) - (1.0 + excess) * r / r0
     xi_y = -psi / math.cos(gamma)
     spin = math.sin(gamma) / r
     g_mod = scene.youngs_modulus_pa / (2.0 * (1.0 + scene.poissons_ratio))
-    transverse = max(k_w + k_r, 1e-3)  # a conformal contact's ellipse: a long, finite one
-    normal = vertical_n / math.cos(gamma)
-    for _ in range(4):  # the creep force's vertical part changes the normal force
-        h = hertz_contact(
-            r / math.cos(gamma),
-            1.0 / transverse,
-            math.inf,
-            math.inf,
-            scene.youngs_modulus_pa,
-            scene.poissons_ratio,
-            max(normal, 1.0),
-        )
-        ab = h.semi_axis_a_m * h.semi_axis_b_m
-        k = kalker_coefficients(h.a_over_b, scene.poissons_ratio)
-        fx = -g_mod * ab * k.c11 * xi_x
-        ft = -g_mod * ab * k.c22 * xi_y + sign * g_mod * ab**1.5 * k.c23 * spin
+    cos_g, sin_g = math.cos(gamma), math.sin(gamma)
+
+    def forces(normal: float) -> tuple[float, float, float]:
+        grow = max(normal, 1.0) ** (1.0 / 3.0)
+        ab = a1 * b1 * grow * grow
+        fx = -g_mod * ab * c11 * xi_x
+        ft = -g_mod * ab * c22 * xi_y + sign * g_mod * ab**1.5 * c23 * spin
         limit = scene.friction_coefficient * max(normal, 1.0)
         z = math.hypot(fx, ft) / limit
         scale = (1.0 - z / 3.0 + z * z / 27.0) if z < 3.0 else 1.0 / z
-        fx, ft = fx * scale, ft * scale
-        normal = max((vertical_n - sign * ft * math.sin(gamma)) / math.cos(gamma), 0.0)
-    lateral = -sign * normal * math.sin(gamma) + ft * math.cos(gamma)
-    details = (normal, fx, xi_x, xi_y, spin, h, k.c22, math.hypot(fx, ft) / limit)
+        return fx * scale, ft * scale, z * scale
+
+    def imbalance(normal: float) -> float:
+        return normal * cos_g + sign * forces(normal)[1] * sin_g - vertical_n
+
+    low, high = 0.0, vertical_n / cos_g
+    while imbalance(high) < 0.0 and high < 1e3 * vertical_n / cos_g:
+        high *= 2.0
+    normal = brentq(imbalance, low, high, xtol=1e-9 * max(vertical_n, 1.0)) if imbalance(high) > 0 else high
+    fx, ft, used = forces(normal)
+    lateral = -sign * normal * sin_g + ft * cos_g
+    grow = max(normal, 1.0) ** (1.0 / 3.0)
+    details = (normal, fx, xi_x, xi_y, spin, (a1 * grow, b1 * grow), c22, used)
     return lateral, fx, -sign * y_c * fx, details
 
 
@@ -285,52 +359,77 @@ def steady_curving(
     CurvingError
         Where the wheelset would climb its flange or no equilibrium is found.
     """
-    speed = train_speed_km_h / 3.6
-    unbalanced = speed * speed / radius_m - GRAVITY_M_S2 * cant_mm * 1e-3 / RAIL_SPACING_M
-    scene = _Scene(
-        geometry,
-        float(radius_m),
-        speed,
-        unbalanced,
-        float(wheel_load_n),
-        float(friction_coefficient),
-        float(youngs_modulus_pa),
-        float(poissons_ratio),
-    )
-    table = _table(geometry)
+    table = _table(geometry, float(youngs_modulus_pa), float(poissons_ratio))
+    reach = table.shifts_m[-1]
+
+    def problem(radius: float) -> tuple[_Scene, float, Callable[[np.ndarray], np.ndarray]]:
+        speed = train_speed_km_h / 3.6
+        unbalanced = speed * speed / radius - GRAVITY_M_S2 * cant_mm * 1e-3 / RAIL_SPACING_M
+        scene = _Scene(
+            geometry,
+            float(radius),
+            speed,
+            unbalanced,
+            float(wheel_load_n),
+            float(friction_coefficient),
+            float(youngs_modulus_pa),
+            float(poissons_ratio),
+        )
+        transfer = mass_per_wheelset * unbalanced * vehicle.centre_of_gravity_height_m / RAIL_SPACING_M
+
+        def residuals(x: np.ndarray) -> np.ndarray:
+            y1, p1, e1, y2, p2, e2, yf, pf = x * scale
+            out = []
+            frame_lat, frame_yaw = 2.0 * mass_per_wheelset * unbalanced, 0.0
+            for (y, p, e), xi in zip(((y1, p1, e1), (y2, p2, e2)), x_axle):
+                spring = k_y * (yf + xi * pf + a * a / (2.0 * radius) - y)
+                moment = k_psi * (pf + xi / radius - p)
+                lat, mom, lon, _ = _wheelset(scene, table, y, p, e, transfer)
+                out += [lat + spring, mom + moment, lon]
+                frame_lat -= spring
+                frame_yaw -= moment + xi * spring
+            out += [frame_lat, frame_yaw / a]
+            return np.array(out) / wheel_load_n
+
+        return scene, transfer, residuals
+
+    def equilibrium(radius: float, first: tuple[np.ndarray, ...] = ()) -> Any:
+        """The first equilibrium found from ``first`` and the usual starts (a steady curving
+        has one), else the closest; None where every start ran off to a huge yaw."""
+        psi = a / radius
+        pure = min(reach, geometry.rolling_radius_m * 0.5 * RAIL_SPACING_M / (radius * CONICITY_GUESS))
+        starts = (
+            *first,
+            np.array([0.0, psi, 0.0, 0.0, -psi, 0.0, 0.0, 0.0]) / scale,  # both axles equally yawed
+            np.array([reach, 2 * psi, 0.0, 0.0, 0.0, 0.0, 0.0, psi]) / scale,  # the leading one flanging
+            np.array([pure, psi, 0.0, pure, -psi, 0.0, pure, 0.0]) / scale,  # both near pure rolling
+        )
+        residuals = problem(radius)[2]
+        best = None
+        for start in starts:
+            sol = least_squares(residuals, start, xtol=1e-12, ftol=1e-14, gtol=1e-14, max_nfev=2000)
+            if max(abs(sol.x[1]), abs(sol.x[4])) * scale > MAX_ANGLE_OF_ATTACK_RAD:
+                continue  # saturated creep forces balance at any huge yaw too: not a curving
+            if best is None or sol.cost < best.cost:
+                best = sol
+            if np.max(np.abs(sol.fun)) <= FORCE_TOLERANCE:
+                break
+        return best
+
     a = 0.5 * vehicle.wheelbase_m
     x_axle = (a, -a)
     mass_per_wheelset = 2.0 * wheel_load_n / GRAVITY_M_S2
-    transfer = mass_per_wheelset * unbalanced * vehicle.centre_of_gravity_height_m / RAIL_SPACING_M
     k_y, k_psi = vehicle.primary_lateral_stiffness_n_m, vehicle.primary_yaw_stiffness_n_m_rad
     scale = 1e-3  # the unknowns in mm, mrad and per mille
-
-    def residuals(x: np.ndarray) -> np.ndarray:
-        y1, p1, e1, y2, p2, e2, yf, pf = x * scale
-        out = []
-        frame_lat, frame_yaw = 2.0 * mass_per_wheelset * unbalanced, 0.0
-        for (y, p, e), xi in zip(((y1, p1, e1), (y2, p2, e2)), x_axle):
-            spring = k_y * (yf + xi * pf + a * a / (2.0 * radius_m) - y)
-            moment = k_psi * (pf + xi / radius_m - p)
-            lat, mom, lon, _ = _wheelset(scene, table, y, p, e, transfer)
-            out += [lat + spring, mom + moment, lon]
-            frame_lat -= spring
-            frame_yaw -= moment + xi * spring
-        out += [frame_lat, frame_yaw / a]
-        return np.array(out) / wheel_load_n
-
-    psi = a / radius_m
-    symmetric = np.array([0.0, psi, 0.0, 0.0, -psi, 0.0, 0.0, 0.0])  # both axles equally yawed
-    flanging = np.array(
-        [table.shifts_m[-1], 2 * psi, 0.0, 0.0, 0.0, 0.0, 0.0, psi]
-    )  # the leading one flanging
-    best = min(
-        (
-            least_squares(residuals, start / scale, xtol=1e-12, ftol=1e-14, gtol=1e-14, max_nfev=2000)
-            for start in (symmetric, flanging)
-        ),
-        key=lambda sol: sol.cost,
-    )
+    best = equilibrium(float(radius_m))
+    if best is None or np.max(np.abs(best.fun)) > FORCE_TOLERANCE:
+        # continuation: from a wider curve, where the equilibrium is easy, to this one
+        best = None
+        for radius in float(radius_m) * CONTINUATION_RADII:
+            best = equilibrium(radius, () if best is None else (best.x,))
+    if best is None:
+        raise CurvingError(f"no steady curving found at R = {radius_m:g} m, {train_speed_km_h:g} km/h")
+    scene, transfer, _ = problem(float(radius_m))
     if np.max(np.abs(best.fun)) > FORCE_TOLERANCE:
         raise CurvingError(
             f"no steady curving found at R = {radius_m:g} m, {train_speed_km_h:g} km/h "
@@ -346,29 +445,33 @@ def steady_curving(
         _, _, _, sides = _wheelset(scene, table, y, p, e, transfer)
         side, sign = (0, 1) if rail == "outer" else (1, -1)
         contacts = sides[side]
-        # the wheel's contact: the flange's where it touches, else the tread's
-        share, k, row, _, d = max(contacts, key=lambda c: (table.flanged[c[1]][side], c[0]))
-        normal, _, xi_x, xi_y, spin, h, c22, used = d
+        states = []
+        for share, k, _, _, d in contacts:
+            normal, fx, xi_x, xi_y, spin, (semi_a, semi_b), c22, used = d
+            states.append(
+                ContactState(
+                    point=table.contacts[k][side],
+                    normal_force_n=float(normal),
+                    longitudinal_force_n=float(fx),
+                    longitudinal_creepage=float(xi_x),
+                    lateral_creepage=float(xi_y),
+                    spin_creepage_1_m=float(spin),
+                    semi_axis_a_m=float(semi_a),
+                    semi_axis_b_m=float(semi_b),
+                    c22=float(c22),
+                    adhesion_used=float(used),
+                    load_share=float(share),
+                )
+            )
         wheels.append(
             WheelContact(
                 axle=axle,
                 rail=rail,
                 lateral_shift_m=float(y),
                 angle_of_attack_rad=float(p),
-                contact=table.contacts[k][side],
-                flange_contact=any(table.flanged[c[1]][side] for c in contacts),
+                contacts=tuple(states),
                 wheel_load_n=float(scene.wheel_load_n + sign * transfer),
-                normal_force_n=float(normal),
                 lateral_force_n=float(-sum(c[3] for c in contacts)),
-                longitudinal_force_n=float(d[1]),
-                longitudinal_creepage=float(xi_x),
-                lateral_creepage=float(xi_y),
-                spin_creepage_1_m=float(spin),
-                semi_axis_a_m=h.semi_axis_a_m,
-                semi_axis_b_m=h.semi_axis_b_m,
-                c22=float(c22),
-                adhesion_used=float(used),
-                load_share=float(share),
             )
         )
     return tuple(wheels)

@@ -31,10 +31,11 @@ from typing import Literal
 import numpy as np
 from scipy.optimize import brentq
 
+from geometry.outline import MAX_CONTACT_ANGLE_DEG
+
 from .profiles import Profile, s1002, uic60
 
 __all__ = [
-    "FLANGE_ANGLE_DEG",
     "SHIFT_STEP_M",
     "ContactGeometry",
     "ContactPoint",
@@ -51,8 +52,9 @@ TAPING_LINE_FROM_FLANGE_BACK_M = 0.070
 TOUCH_M = 1.0e-4
 #: Two contact points of one wheel lie at least this far apart across it [m]
 SEPARATE_M = 0.005
-#: A contact steeper than this is on the flange [deg]
-FLANGE_ANGLE_DEG = 45.0
+#: The smallest relative transverse curvature of a contact [1/m]: a conformal contact (a
+#: worn wheel's flange root on the rail's gauge corner) is a long ellipse, not an infinite one
+CONFORMAL_CURVATURE_1_M = 1.0e-3
 #: The step of :attr:`ContactGeometry.tabulated`'s shifts [m]
 SHIFT_STEP_M = 5.0e-5
 #: The largest roll of a wheelset the settling searches [rad]
@@ -96,8 +98,14 @@ class ContactPoint:
 
     @property
     def on_flange(self) -> bool:
-        """True where the contact is steeper than :data:`FLANGE_ANGLE_DEG`."""
-        return abs(self.contact_angle_rad) > math.radians(FLANGE_ANGLE_DEG)
+        """True where the contact is steeper than :data:`MAX_CONTACT_ANGLE_DEG`."""
+        return abs(self.contact_angle_rad) > math.radians(MAX_CONTACT_ANGLE_DEG)
+
+    @property
+    def relative_transverse_radius_m(self) -> float:
+        """1 / (wheel's + rail's transverse curvature) [m]: the Hertz ellipse's relative
+        radius across rolling (a conformal contact's a long, finite one)."""
+        return 1.0 / max(self.wheel_curvature_1_m + self.rail_curvature_1_m, CONFORMAL_CURVATURE_1_M)
 
     @property
     def spin_1_m(self) -> float:
@@ -253,7 +261,7 @@ class ContactGeometry:
 
     def _steep(self, i: int, roll_rad: float, sign: int) -> bool:
         gamma = math.atan(-self._wheel_slope[i]) + sign * roll_rad
-        return abs(gamma) > math.radians(FLANGE_ANGLE_DEG)
+        return abs(gamma) > math.radians(MAX_CONTACT_ANGLE_DEG)
 
     def flange_clearance_m(self) -> float:
         """The lateral shift at which the outer wheel's flange first touches [m] (where the

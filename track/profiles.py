@@ -24,7 +24,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["Profile", "cone_wheel", "profile_from_points", "s1002", "uic60"]
+from geometry.outline import Outline
+
+__all__ = ["Profile", "cone_wheel", "profile_from_points", "running_surface", "s1002", "uic60"]
 
 #: Points a built-in profile is sampled at (0.05 mm apart on S1002's 130 mm)
 SAMPLES = 2601
@@ -213,3 +215,27 @@ def cone_wheel(half_angle_rad: float, half_width_m: float = 0.06, samples: int =
     lambda)."""
     s = np.linspace(-half_width_m, half_width_m, samples)
     return Profile(f"cone {half_angle_rad:g} rad", s, -s * math.tan(half_angle_rad))
+
+
+#: A wheel's running surface is read across the rim this far below the taping line's radius
+#: [m]: deeper than a flange's back reaches above its rim, shallower than the web
+RIM_DEPTH_M = 0.02
+#: The running surface stops this far inside the rim's faces [m] (a face has no single height)
+FACE_INSET_M = 1.0e-4
+
+
+def running_surface(outline: Outline, rolling_radius_m: float, samples: int = SAMPLES) -> Profile:
+    """A wheel profile from a design's outline: its largest radius across the rim
+    (``Outline.outer_radius``) over the taping line's, with z (the outline's axial
+    coordinate, 0 at the taping line, the flange toward -z) as the lateral coordinate s.
+
+    Examples
+    --------
+    >>> import wheel_squeal as ws
+    >>> p = running_surface(ws.load_design("railway_920_track").wheel.profile, 0.46)
+    >>> round(1e3 * float(p.height_m.max()), 1)  # the flange's height [mm]
+    28.0
+    """
+    low, high = outline.axial_extent(rolling_radius_m - RIM_DEPTH_M)
+    s = np.linspace(low + FACE_INSET_M, high - FACE_INSET_M, samples)
+    return Profile("running surface", s, outline.outer_radius(s) - rolling_radius_m)

@@ -150,14 +150,19 @@ def hertz_of(design: Design) -> HertzContact:
     """The Hertz contact (``reduced.HertzContact``) of the design's wheel on its
     counter-body at its contact point: the wheel's radius of curvature along rolling is
     r / cos(angle) there (``geometry.contact.ContactFrame``), across it the tread's crown;
-    the counter-body's are its section's ``contact_radii``."""
+    the counter-body's are its section's ``contact_radii`` (where a curving put the
+    contact, its :class:`~wheel_squeal.design.ContactSite` gives the relative curvature
+    across)."""
     from reduced import hertz_contact
 
     frame = design.contact_frame
     along, across = design.counter_body.contact_radii()
+    crown = frame.crown_radius_m
+    if design.contact_site is not None:  # the curving's relative curvature holds the rail's
+        crown, along, across = design.contact_site.relative_transverse_radius_m, math.inf, math.inf
     return hertz_contact(
         frame.rolling_curvature_radius_m,
-        frame.crown_radius_m,
+        crown,
         along,
         across,
         design.wheel.youngs_modulus,

@@ -1,17 +1,22 @@
-"""A wheel design in curves: for each curve radius, train speed and wheel of a two-axle
-bogie, the kinematics (``track.curving``), the chain's verdict at that operating point,
-the squealing wheels' amplitude and sound, and the level of the bogie's pass-by at the
-ISO 3095 position (``acoustics.passby``).
+"""A wheel design in curves: for each curve radius and train speed, the bogie's steady
+curving (``track.bogie_curving``: each wheel's contacts, load, creepages and forces), the
+chain's verdict at each wheel's own contacts, the squealing wheels' amplitude and sound,
+and the level of the bogie's pass-by at the ISO 3095 position (``acoustics.passby``).
 
-The two wheels of an axle share its angle of attack and, here, its tread contact and its
-load (no flange contact, no cant deficiency: ``track.curving``): one analysis per axle
-answers for both; the inner and outer wheels differ in the pass-by, on the rails nearer
-and farther from the microphone (on the curve's outer side).
+Each contact of a wheel (the tread's; on a flanging wheel the flange's too) is analysed as
+the design at that contact (:class:`~wheel_squeal.design.ContactSite`: the modes read
+there, the Hertz ellipse of that contact's curvatures under its normal force, Kalker's C22
+of that ellipse, the friction the longitudinal creep force leaves to the lateral one) at
+the wheel's rolling speed and the contact's lateral sliding speed. A wheel's verdict is the
+one of its contacts whose squeal grows fastest (``reduced.stability.leading_mode`` inside
+each); the contacts are not coupled through the wheel's modes. Flanging noise, the
+broad-band noise of the flange's rubbing, is not modelled: the rows where a flange touches
+say so.
 
 The amplitude and sound of a squealing wheel are the chain's, by one of its two methods
 (:data:`wheel_squeal.types.AmplitudeMethod`, ``ChainOptions.amplitude``): the harmonic
 balance of the squeal mode (the default here: fast, the fundamental radiated) or the
-time domain (every harmonic radiated, seconds per squealing axle).
+time domain (every harmonic radiated, seconds per squealing contact).
 """
 
 from __future__ import annotations
@@ -19,27 +24,38 @@ from __future__ import annotations
 import functools
 from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
-from .analysis import Analysis, ChainOptions
+from .analysis import ChainOptions
 from .api import contact_law
 from .budget import CostPlan
 from .chain import AMPLITUDE_METHODS
+from .curve_case import AxleSound, BogiePassby, CurveCase, axle_sound, bogie_sources
 from .design import Design
 from .errors import RequestError
-from .outputs import finite_or_none
 from .plan import CurveSize, check_curve_files, curve_plan, squealing_axles
 from .stability import excitable, mode_dofs
 from .types import AmplitudeMethod
 
 if TYPE_CHECKING:
-    from acoustics.passby import PassbyResult, PassbySource
     from fem.modes import ModeSet
-    from track.curving import Bogie, WheelKinematics
+    from reduced import ContactLaw, OperatingPoint
+    from track.bogie_curving import ContactState, Vehicle, WheelContact
+    from track.contact_geometry import ContactGeometry
 
     from .context import RunContext
 
-__all__ = ["AMPLITUDE_METHODS", "AxleSound", "BogiePassby", "CurveCase", "curve", "curve_estimate"]
+__all__ = [
+    "AMPLITUDE_METHODS",
+    "AxleSound",
+    "BogiePassby",
+    "ContactSiteAnalysis",
+    "CurveCase",
+    "contact_geometry",
+    "curve",
+    "curve_estimate",
+    "wheel_sites",
+]
 
 
 #: What a map keeps of each time-domain record once its metrics and sound are taken: the
@@ -49,182 +65,89 @@ __all__ = ["AMPLITUDE_METHODS", "AxleSound", "BogiePassby", "CurveCase", "curve"
 KEPT_RECORD_S = 0.05
 
 
-@dataclass(frozen=True)
-class AxleSound:
-    """What an axle's squeal sends to the pass-by: its contact velocity amplitude [m/s]
-    and how it was found, each radiated tone [Hz] with its far-field directivity |D|
-    [Pa m] at that amplitude, the harmonic balance's distortion (the contact force's
-    rms beyond its fundamental over the modal force; under 0.1 the amplitude is within
-    a few per cent of the time domain's) and a note where something was left out."""
-
-    method: AmplitudeMethod
-    amplitude_m_s: float | None = None
-    tones: tuple[tuple[float, Any], ...] = ()
-    nodal_diameters: int = 0
-    distortion: float | None = None
-    note: str = ""
+#: A contact carrying less than this share of its wheel's load is not analysed (it is
+#: the first touch of a two-point contact, about to lift)
+LEAST_LOAD_SHARE = 0.01
 
 
 @dataclass(frozen=True)
-class BogiePassby:
-    """The bogie's pass-by at one radius and train speed: free field, and over the ground
-    (None: not asked), with which source is whose wheel."""
+class ContactSiteAnalysis:
+    """One contact of a wheel in a curve: the design at that contact
+    (:class:`~wheel_squeal.design.ContactSite`), its operating point and contact law."""
 
-    free: PassbyResult
-    ground: PassbyResult | None
-    owners: tuple[int, ...]
-
-    def wheel_levels(self, wheel: int) -> tuple[float, float, float, float] | None:
-        """(L_pmax, L_pAmax, SEL, SEL_A) [dB] of one wheel (its index in
-        ``track.curving.WHEELS``) alone in free field; None where it is silent."""
-        idx = [i for i, w in enumerate(self.owners) if w == wheel]
-        return self.free.levels_of(idx) if idx else None
+    state: ContactState
+    design: Design
+    op: OperatingPoint
+    law: ContactLaw
 
 
-@dataclass(frozen=True)
-class CurveCase:
-    """One wheel at one radius and train speed: its kinematics, the chain's analysis, its
-    squeal's amplitude and sound (None: silent) and the bogie's pass-by it takes part in
-    (None: no wheel of the bogie squeals audibly)."""
+def contact_geometry(design: Design) -> ContactGeometry:
+    """The design's wheel (its outline's running surface) on its rail (UIC60 at 1:40):
+    where each wheel of a wheelset touches for each lateral shift (``track.contact_geometry``)."""
+    from track.contact_geometry import ContactGeometry
+    from track.profiles import running_surface
 
-    radius_m: float
-    train_speed_km_h: float
-    wheel: WheelKinematics
-    analysis: Analysis
-    sound: AxleSound | None = None
-    passby: BogiePassby | None = None
-
-    def __repr__(self) -> str:  # one line: the meshes and records stay out of a notebook's view
-        v = self.analysis.verdict
-        said = (
-            f"squeals in {v.get('mode')} at {v.get('tone_hz'):.1f} Hz by {v.get('mechanism')}"
-            if v.squeals
-            else "no squeal"
+    outline = design.wheel.profile
+    if outline is None:
+        raise RequestError(
+            f"{design.name} is a parametric wheel: a curve needs its running surface and flange, "
+            "a design with a [profile] outline"
         )
-        level = self.to_record()["passby_lpamax_dba"]
-        heard = f", L_pAmax {level:.1f} dB(A)" if level is not None else ""
-        return (
-            f"CurveCase(R={self.radius_m:g} m, V={self.train_speed_km_h:g} km/h, "
-            f"{self.wheel.axle} {self.wheel.rail}: {said}{heard})"
+    r0 = design.rolling_radius
+    return ContactGeometry(wheel=running_surface(outline, r0), rolling_radius_m=r0)
+
+
+def wheel_sites(design: Design, wheel: WheelContact, train_speed_km_h: float) -> list[ContactSiteAnalysis]:
+    """Each contact of ``wheel`` as the design there (module docstring); contacts with
+    less than :data:`LEAST_LOAD_SHARE` of the wheel's load left out."""
+    from dataclasses import replace
+
+    from geometry.contact import frame_on_running_surface
+    from reduced import OperatingPoint
+
+    from .design import ContactSite
+
+    assert design.wheel.profile is not None  # contact_geometry refused a parametric wheel
+    speed = train_speed_km_h / 3.6
+    mu = design.contact.friction_coefficient
+    sites = []
+    for c in wheel.contacts:
+        if c.load_share < LEAST_LOAD_SHARE:
+            continue
+        frame = frame_on_running_surface(design.wheel.profile, c.point.wheel_lateral_m)
+        at = design.replace(
+            normal_load=c.normal_force_n, c22=c.c22, friction_coefficient=c.lateral_friction_coefficient(mu)
         )
-
-    @property
-    def index(self) -> int:
-        from track.curving import WHEELS
-
-        return WHEELS.index((self.wheel.axle, self.wheel.rail))
-
-    def to_record(self) -> dict[str, Any]:
-        """curve.csv's row and summary.json's case."""
-        v, w, s, p = self.analysis.verdict, self.wheel, self.sound, self.passby
-        mine = p.wheel_levels(self.index) if p is not None else None
-        bogie = (p.free.lpmax_db, p.free.lpamax_dba, p.free.sel_db, p.free.sel_dba) if p is not None else None
-        ground = p.ground.lpamax_dba if p is not None and p.ground is not None else None
-        return {
-            "radius_m": self.radius_m,
-            "train_speed_km_h": self.train_speed_km_h,
-            "axle": w.axle,
-            "rail": w.rail,
-            "angle_of_attack_rad": w.angle_of_attack_rad,
-            "lateral_creepage": w.lateral_creepage,
-            "crabbing_velocity_m_s": w.crabbing_velocity_m_s,
-            "rolling_speed_m_s": w.rolling_speed_m_s,
-            "squeals": v.squeals,
-            "verdict_mode": v.get("mode") or "",
-            "mechanism": v.get("mechanism") or "",
-            "tone_hz": v.get("tone_hz"),
-            "growth_rate_1_s": v.get("growth_rate_1_s"),
-            "amplitude_m_s": s.amplitude_m_s if s is not None else None,
-            "amplitude_method": s.method if s is not None and s.amplitude_m_s is not None else "",
-            "harmonic_distortion": s.distortion if s is not None else None,
-            "amplitude_note": s.note if s is not None else "",
-            "passby_lpamax_dba": finite_or_none(mine[1]) if mine else None,
-            "passby_sel_dba": finite_or_none(mine[3]) if mine else None,
-            "bogie_lpmax_db": finite_or_none(bogie[0]) if bogie else None,
-            "bogie_lpamax_dba": finite_or_none(bogie[1]) if bogie else None,
-            "bogie_sel_dba": finite_or_none(bogie[3]) if bogie else None,
-            "bogie_lpamax_ground_dba": finite_or_none(ground) if ground is not None else None,
-        }
-
-
-def axle_sound(a: Analysis) -> AxleSound | None:
-    """What one axle's analysis sends to the pass-by (None: it does not squeal audibly):
-    its outcome's amplitude, method and each radiated tone's directivity at it."""
-    from .verdict import LOWEST_SQUEAL_HZ
-
-    o = a.verdict.outcome
-    if not a.verdict.squeals or o is None or not o.tone_hz >= LOWEST_SQUEAL_HZ:
-        return None
-    method: AmplitudeMethod = "time domain" if o.simulation is not None else "harmonic balance"
-    balance = o.balance
-    note = balance.note if balance is not None else ""
-    distortion = balance.distortion if balance is not None else None
-    if o.sound is None:
-        why = "a modal model's modes do not radiate" if o.amplitude_m_s is not None else ""
-        return AxleSound(method, o.amplitude_m_s, (), o.mode.nodal_diameters, distortion, note or why)
-    tones = tuple(
-        (float(f), h.velocity_amplitude_m_s * h.radiation.directivity_pa_m)
-        for h, f in zip(o.sound.harmonics, o.sound.frequencies_hz)
-    )
-    return AxleSound(method, o.amplitude_m_s, tones, o.mode.nodal_diameters, distortion, note)
-
-
-def _sources(
-    sound: AxleSound, wheel: WheelKinematics, wheelbase_m: float, rolling_radius_m: float
-) -> list[PassbySource]:
-    """The wheel as pass-by sources, one per radiated tone."""
-    from acoustics.farfield import DIRECTIVITY_ANGLES
-    from acoustics.levels import a_weighting_db
-    from acoustics.passby import HALF_TRACK_M, PassbySource
-
-    along = 0.5 * wheelbase_m if wheel.axle == "leading" else -0.5 * wheelbase_m
-    across = HALF_TRACK_M if wheel.rail == "outer" else -HALF_TRACK_M  # the microphone outside the curve
-    return [
-        PassbySource(
-            along,
-            across,
-            rolling_radius_m,
-            f,
-            d,
-            DIRECTIVITY_ANGLES,
-            sound.nodal_diameters,
-            float(a_weighting_db(f)),
-        )
-        for f, d in sound.tones
-    ]
-
-
-def bogie_sources(cases: Sequence[CurveCase], bogie: Bogie, rolling_radius_m: float) -> tuple[list, list]:
-    """The pass-by sources of one radius and speed's four wheels, and whose each is."""
-    sources: list[PassbySource] = []
-    owners: list[int] = []
-    for c in cases:
-        if c.sound is not None:
-            mine = _sources(c.sound, c.wheel, bogie.wheelbase_m, rolling_radius_m)
-            sources += mine
-            owners += [c.index] * len(mine)
-    return sources, owners
+        at = replace(at, contact_site=ContactSite(frame, c.point.relative_transverse_radius_m))
+        op = OperatingPoint(speed, speed * c.crabbing_velocity_fraction)
+        sites.append(ContactSiteAnalysis(c, at, op, contact_law(at)))
+    return sites
 
 
 def curve(
     design: Design,
     radii_m: Sequence[float],
     train_speeds_km_h: Sequence[float],
-    bogie: Bogie,
     *,
+    cant_mm: float = 0.0,
+    vehicle: Vehicle | None = None,
     method: AmplitudeMethod = "harmonic balance",
     context: RunContext | None = None,
     ground_reflection: float | None = None,
 ) -> list[CurveCase]:
-    """Every wheel of ``bogie`` at every radius and train speed (module docstring).
+    """Every wheel of the design's bogie at every radius and train speed (module docstring).
 
     Parameters
     ----------
     design : Design
-        The wheel and what it rolls on (a track).
+        The wheel (an outline with its flange) and what it rolls on (a track); its
+        ``[vehicle]`` the bogie.
     radii_m, train_speeds_km_h : sequence of float
         Curve radii [m] and train speeds [km/h].
-    bogie : track.curving.Bogie
+    cant_mm : float
+        The curves' installed cant [mm] (with the speed, the cant deficiency).
+    vehicle : track.bogie_curving.Vehicle, optional
+        The bogie instead of the design's ``[vehicle]``.
     method : {"harmonic balance", "time domain"}
         How a squealing wheel's amplitude is found (module docstring).
     ground_reflection : float, optional
@@ -240,82 +163,97 @@ def curve(
     Examples
     --------
     >>> import wheel_squeal as ws
-    >>> from track.curving import Bogie
-    >>> cases = ws.curve(ws.load_design("railway_920_track"), [150.0], [40.0], Bogie(2.5),
-    ...                  context=ws.RunContext.of("fast"))
-    >>> [(c.wheel.axle, c.wheel.rail, c.analysis.verdict.squeals) for c in cases][:2]
-    [('leading', 'inner', True), ('leading', 'outer', True)]
+    >>> d = ws.load_design("railway_920_track")
+    >>> cases = ws.curve(d, [150.0], [40.0], context=ws.RunContext.of("fast"))
+    >>> [(c.wheel.axle, c.wheel.rail, c.wheel.flange_contact) for c in cases][:2]
+    [('leading', 'inner', False), ('leading', 'outer', True)]
     """
     from dataclasses import replace
 
     from acoustics.passby import passby
-    from reduced import OperatingPoint
-    from track.curving import wheel_kinematics
 
     from .chain import analyse
     from .context import RunContext
 
     ctx = context or RunContext.of("balanced")
-    modes, _ = _planned(design, radii_m, train_speeds_km_h, bogie, method, ctx, ground_reflection, True)
+    vehicle = vehicle or design.vehicle.vehicle()
+    modes, _, curvings = _planned(
+        design, radii_m, train_speeds_km_h, vehicle, cant_mm, method, ctx, ground_reflection, True
+    )
     options = ChainOptions(mode="model", stop_after="sound", remedy=False, amplitude=method)
     cases: list[CurveCase] = []
-    for radius in radii_m:
-        for speed in train_speeds_km_h:
-            ctx.budget.checkpoint(f"the curve of {float(radius):g} m at {float(speed):g} km/h")
-            by_axle: dict[str, tuple[Analysis, AxleSound | None]] = {}
-            group = []
-            for w in wheel_kinematics(float(radius), float(speed), bogie):
-                if w.axle not in by_axle:
-                    op = OperatingPoint(w.rolling_speed_m_s, w.crabbing_velocity_m_s)
-                    a = analyse(design, op=op, options=options, context=ctx, modes=modes)
-                    by_axle[w.axle] = (a.tail(KEPT_RECORD_S), axle_sound(a))
-                a, s = by_axle[w.axle]
-                group.append(CurveCase(float(radius), float(speed), w, a, s))
-            sources, owners = bogie_sources(group, bogie, design.rolling_radius)
-            if sources:
-                free = passby(sources, speed / 3.6)
-                ground = None
-                if ground_reflection is not None:
-                    ground = passby(sources, speed / 3.6, reflection=ground_reflection)
-                bp = BogiePassby(free, ground, tuple(owners))
-                group = [replace(c, passby=bp) for c in group]
-            cases += group
+    for (radius, speed), wheels in curvings.items():
+        ctx.budget.checkpoint(f"the curve of {radius:g} m at {speed:g} km/h")
+        group = []
+        for wheel, sites in wheels:
+            analyses = tuple(
+                analyse(s.design, op=s.op, options=options, context=ctx, modes=_moved(modes, s.design))
+                for s in sites
+            )
+            case = CurveCase(radius, speed, wheel, tuple(a.tail(KEPT_RECORD_S) for a in analyses))
+            group.append(replace(case, sound=axle_sound(analyses[case.deciding])))
+        sources, owners = bogie_sources(group, vehicle.wheelbase_m, design.rolling_radius)
+        if sources:
+            free = passby(sources, speed / 3.6)
+            ground = None
+            if ground_reflection is not None:
+                ground = passby(sources, speed / 3.6, reflection=ground_reflection)
+            bp = BogiePassby(free, ground, tuple(owners))
+            group = [replace(c, passby=bp) for c in group]
+        cases += group
     return cases
+
+
+def _moved(modes: ModeSet, at: Design) -> ModeSet:
+    """The design's modes read at a contact site."""
+    from fem.moved_contact import modes_at_contact
+
+    return modes_at_contact(modes, at.contact_frame)
 
 
 def curve_estimate(
     design: Design,
     radii_m: Sequence[float],
     train_speeds_km_h: Sequence[float],
-    bogie: Bogie,
     *,
+    cant_mm: float = 0.0,
+    vehicle: Vehicle | None = None,
     method: AmplitudeMethod = "harmonic balance",
     context: RunContext | None = None,
     ground_reflection: float | None = None,
 ) -> CostPlan:
     """What :func:`curve` would take (``budget.CostPlan``: its parts' seconds and
-    bytes), from the wheel's modes and every sliding axle's linear stability, without
-    refusing anything (``benchmarks/bench_estimates.py`` sets it beside the time taken)."""
+    bytes), from the wheel's modes, the curving and every contact's linear stability,
+    without refusing anything (``benchmarks/bench_estimates.py`` sets it beside the time
+    taken)."""
     from .context import RunContext
 
     ctx = context or RunContext.of("balanced")
-    return _planned(design, radii_m, train_speeds_km_h, bogie, method, ctx, ground_reflection, False)[1]
+    vehicle = vehicle or design.vehicle.vehicle()
+    return _planned(
+        design, radii_m, train_speeds_km_h, vehicle, cant_mm, method, ctx, ground_reflection, False
+    )[1]
+
+
+Curvings = dict[tuple[float, float], list[tuple["WheelContact", list[ContactSiteAnalysis]]]]
 
 
 def _planned(
     design: Design,
     radii_m: Sequence[float],
     train_speeds_km_h: Sequence[float],
-    bogie: Bogie,
+    vehicle: Vehicle,
+    cant_mm: float,
     method: AmplitudeMethod,
     ctx: RunContext,
     ground_reflection: float | None,
     check: bool,
-) -> tuple[ModeSet, CostPlan]:
+) -> tuple[ModeSet, CostPlan, Curvings]:
     """The request checked and priced in its three steps (``plan.curve_plan``), each
-    refused beyond the budget before the next where ``check``: (the modes, the plan)."""
-    from reduced import OperatingPoint
-    from track.curving import check_curve, wheel_kinematics
+    refused beyond the budget before the next where ``check``: (the modes, the plan, each
+    curve's wheels and their contact sites)."""
+    from track.bogie_curving import steady_curving
+    from track.curving import check_curve
 
     from .api import compute_modes
     from .modes import modes_cache_key
@@ -331,7 +269,7 @@ def _planned(
         )
     if method not in AMPLITUDE_METHODS:
         raise RequestError(f"amplitude method {method!r}: one of {', '.join(AMPLITUDE_METHODS)}")
-    size = _size(radii_m, train_speeds_km_h, bogie)
+    size = CurveSize(len(radii_m), len(train_speeds_km_h))
     plan_of = functools.partial(
         curve_plan,
         design,
@@ -349,39 +287,45 @@ def _planned(
 
     checked(plan_of())  # before the modes: counts alone
     check_curve_files(size, ctx.budget.max_file_bytes)
-    tightest = float(min(radii_m, default=1.0))
-    try:  # the tightest curve at the slowest and fastest speed bound every other
-        for speed in (min(train_speeds_km_h, default=1.0), max(train_speeds_km_h, default=1.0)):
-            check_curve(tightest, float(speed), bogie)
+    try:
+        for r in radii_m:
+            for v in train_speeds_km_h:
+                check_curve(float(r), float(v), vehicle.wheelbase_m, cant_mm)
     except ValueError as exc:
         raise RequestError(str(exc)) from None
+    geometry = contact_geometry(design)
     modes = compute_modes(
         design, ctx.fidelity, fmax_hz=ctx.fmax_hz, cache=ctx.cache, progress=ctx.progress, budget=ctx.budget
     )
     contact = contact_law(design)
     wheel_dofs = mode_dofs(excitable(modes, contact), design)
     checked(plan_of(wheel_dofs=wheel_dofs))
-    sliding = [  # each axle's operating point (the wheels of an axle share it)
-        OperatingPoint(w.rolling_speed_m_s, w.crabbing_velocity_m_s)
-        for r in radii_m
-        for v in train_speeds_km_h
-        for w in wheel_kinematics(float(r), float(v), bogie)
-        if w.crabbing_velocity_m_s != 0.0 and w.rail == "inner"
+    curvings: Curvings = {}
+    with ctx.progress.stage(f"steady curving of {size.curves:,} curves"):
+        for r in radii_m:
+            for v in train_speeds_km_h:
+                wheels = steady_curving(
+                    geometry,
+                    vehicle,
+                    float(r),
+                    float(v),
+                    wheel_load_n=design.contact.normal_load,
+                    friction_coefficient=design.contact.friction_coefficient,
+                    cant_mm=cant_mm,
+                    youngs_modulus_pa=design.wheel.youngs_modulus,
+                    poissons_ratio=design.wheel.poissons_ratio,
+                )
+                curvings[(float(r), float(v))] = [(w, wheel_sites(design, w, float(v))) for w in wheels]
+    sites = [
+        (s.design, _moved(modes, s.design), s.law, s.op)
+        for wheels in curvings.values()
+        for _, mine in wheels
+        for s in mine
+        if s.op.crabbing_velocity_m_s != 0.0
     ]
     key = modes_cache_key(design, ctx.fidelity, ctx.fmax_hz)
-    with ctx.progress.stage(f"linear stability of {len(sliding):,} sliding axles"):
+    with ctx.progress.stage(f"linear stability at {len(sites):,} sliding contacts"):
         squealing = squealing_axles(
-            design,
-            modes,
-            contact,
-            sliding,
-            method == "time domain",
-            lambda m, f: radiation_cached(ctx.cache, key, m, f),
+            sites, method == "time domain", lambda m, f: radiation_cached(ctx.cache, key, m, f)
         )
-    return modes, checked(plan_of(wheel_dofs=wheel_dofs, squealing=squealing))
-
-
-def _size(radii_m: Sequence[float], train_speeds_km_h: Sequence[float], bogie: Bogie) -> CurveSize:
-    """The map's size: its curves, and the bogie's axles that slide (a rigid bogie's
-    trailing axle runs radially)."""
-    return CurveSize(len(radii_m), len(train_speeds_km_h), 2, 1 if bogie.kind == "rigid" else 2)
+    return modes, checked(plan_of(wheel_dofs=wheel_dofs, squealing=squealing)), curvings

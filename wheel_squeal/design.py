@@ -9,6 +9,7 @@ section of the one schema (``geometry.schema``):
     [damping]                         every mode's ratio    (Damping)
     [squeal]                          what the rig showed   (Squeal: ``mode``,
     [squeal.damping]                  and measured ratios by mode, in Damping)
+    [vehicle]                         the bogie in curves   (VehicleSection)
 
 Every key is checked and missing ones take the Table 1 values; a mistake is one
 ``geometry.DesignError``. A number is also known by one flat name (:data:`FIELDS`:
@@ -41,6 +42,7 @@ from .sections import (
     Damping,
     Roller,
     Squeal,
+    VehicleSection,
     counter_body_from_file,
     mode_key,
 )
@@ -52,6 +54,7 @@ __all__ = [
     "FIELDS",
     "FIELD_UNITS",
     "Contact",
+    "ContactSite",
     "Damping",
     "Design",
     "Roller",
@@ -65,6 +68,7 @@ _PARTS: tuple[tuple[str, type[Fields]], ...] = (
     ("contact", Contact),
     ("damping", Damping),
     ("squeal", Squeal),
+    ("vehicle", VehicleSection),
 )
 
 #: Every numeric field of a design by its flat name: (section attribute, field name).
@@ -99,6 +103,17 @@ _WORDS = {
 
 
 @dataclass(frozen=True)
+class ContactSite:
+    """Where a curving puts a wheel's contact, instead of the design's own contact point:
+    the frame on the running surface (``geometry.contact.frame_on_running_surface``) and
+    the transverse radius of the wheel's and the rail's relative curvature there [m] (the
+    Hertz ellipse's across the rolling direction; the rail's own radius is in it)."""
+
+    frame: ContactFrame
+    relative_transverse_radius_m: float
+
+
+@dataclass(frozen=True)
 class Design:
     """A design: the wheel and the squeal model's inputs (see the module docstring).
 
@@ -115,6 +130,10 @@ class Design:
         Every mode's damping ratio, and measured ones by mode.
     squeal : Squeal
         The mode the rig was seen to squeal in ("": none).
+    vehicle : VehicleSection
+        The bogie it runs in through curves.
+    contact_site : ContactSite, optional
+        Where a curving has put the contact (None: the design's own contact point).
 
     Examples
     --------
@@ -131,6 +150,8 @@ class Design:
     contact: Contact = field(default_factory=Contact)
     damping: Damping = field(default_factory=Damping)
     squeal: Squeal = field(default_factory=Squeal)
+    vehicle: VehicleSection = field(default_factory=VehicleSection)
+    contact_site: ContactSite | None = None
 
     def __post_init__(self) -> None:
         self.contact_frame  # noqa: B018 (an angle the tread cannot take is refused here)
@@ -143,7 +164,10 @@ class Design:
     def contact_frame(self) -> ContactFrame:
         """Where the wheel touches its counter-body and the contact's frame there
         (``geometry.contact``: the tread apex unless [contact] contact_angle moves it;
-        an outline's contact point sets its own)."""
+        an outline's contact point sets its own; a curving's :class:`ContactSite`
+        replaces it)."""
+        if self.contact_site is not None:
+            return self.contact_site.frame
         try:
             return contact_frame(self.wheel, self.contact.contact_angle)
         except ContactPointError as exc:
@@ -220,10 +244,25 @@ class Design:
             self, wheel=self.wheel.scaled(factor), counter_body=self.counter_body.scaled(factor)
         )
 
+    @property
+    def own(self) -> Design:
+        """The design at its own contact point (without a curving's :class:`ContactSite`):
+        what its modes are solved and cached for."""
+        return self if self.contact_site is None else dataclasses.replace(self, contact_site=None)
+
     def content_hash(self) -> str:
         """Stable SHA-256 (16 hex) of every value but the name and the description (the
         wheel's modes depend on ``wheel.content_hash("structure")`` alone)."""
         payload: dict[str, Any] = {"wheel": self.wheel.content_hash("all")}
+        if self.contact_site is not None:
+            f = self.contact_site.frame
+            payload["contact_site"] = [
+                f.r_m,
+                f.z_m,
+                f.angle_rad,
+                repr(f.crown_radius_m),
+                self.contact_site.relative_transverse_radius_m,
+            ]
         body = self.counter_body
         payload[body.HASH_KEY] = body.hash_payload() | (
             {} if body.HASH_KEY == "roller" else {"kind": body.KIND}
@@ -231,8 +270,8 @@ class Design:
         payload |= {
             attr: section.hash_payload()
             for attr, section in self._sections().items()
-            if attr != "counter_body"
-        }
+            if attr != "counter_body" and (attr != "vehicle" or section.to_mapping())
+        }  # a design that leaves [vehicle] at its defaults hashes as one without the section
         return hashlib.sha256(json.dumps(payload, sort_keys=True).encode()).hexdigest()[:16]
 
     def to_dict(self) -> dict[str, Any]:
@@ -287,12 +326,12 @@ class Design:
         """A design from a mapping shaped like the file (``base``: the folder a
         [profile] file name is relative to)."""
         wheel_keys = {"name", "description", "profile", *SECTIONS}
-        known = wheel_keys | {"roller", "counter_body", "contact", "damping", "squeal"}
+        known = wheel_keys | {"roller", "counter_body", "contact", "damping", "squeal", "vehicle"}
         for key in data:
             if key not in known:
                 raise DesignError(
                     f"{source}: unknown key or section '{key}'; allowed: name, description, [wheel], "
-                    "[profile], [material], [counter_body], [contact], [damping], [squeal]"
+                    "[profile], [material], [counter_body], [contact], [damping], [squeal], [vehicle]"
                 )
         wheel = WheelDesign.from_mapping(
             {k: v for k, v in data.items() if k in wheel_keys}, default_name, source, base
@@ -311,6 +350,7 @@ class Design:
             contact=Contact.from_mapping(data.get("contact", {}), source),
             damping=damping.replace(by_mode=_measured_damping(squeal.get("damping", {}), source)),
             squeal=Squeal(mode.replace(" ", "") if isinstance(mode, str) else mode),
+            vehicle=VehicleSection.from_mapping(data.get("vehicle", {}), source),
         )
 
     def to_toml(self) -> str:
@@ -327,6 +367,8 @@ class Design:
                     "[squeal.damping]",
                     *(f"{json.dumps(k)} = {toml_value(v)}" for k, v in self.damping.by_mode),
                 ]
+        if self.vehicle.to_mapping():
+            lines += ["", "[vehicle]", *self.vehicle.toml_lines()]
         return "\n".join(lines) + "\n"
 
 

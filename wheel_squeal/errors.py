@@ -5,7 +5,8 @@ a notebook user reads ``mass_kg``, a command-line user the flag, because the CLI
 its flags first) and its subclass :class:`BudgetError` (a request beyond the resource
 budget, with its cost and how to proceed). With ``geometry.DesignError`` they are the
 only exceptions the CLI turns into one line and exit status 2; the anticipated failures
-of a computation (``geometry.MeshError``, ``fem.EigenError``, ``reduced.IntegrationError``)
+of a computation (``geometry.MeshError``, ``fem.EigenError``, ``reduced.IntegrationError``,
+``track.bogie_curving.CurvingError``)
 and :class:`BudgetExhausted` (a request that ran past its time budget although its
 estimate fitted) are one line and exit status 1; anything else is a bug and shows its
 traceback.

@@ -91,8 +91,9 @@ def build_mesh(
 
 
 def modes_cache_key(design: Design | WheelDesign, fid: Fidelity, fmax_hz: float) -> dict:
-    """The cache key of a modal solve: what its result depends on, and nothing else."""
-    design = as_design(design)
+    """The cache key of a modal solve: what its result depends on, and nothing else (at
+    the design's own contact point: a curving's contact site reads the same solve)."""
+    design = as_design(design).own
     return {
         "stage": "modes",
         "design": design.wheel.content_hash("structure"),
@@ -196,6 +197,11 @@ def compute_modes(
     from fem.solvers import SOLVERS, solve_modes
 
     design = as_design(design)
+    if design.contact_site is not None:  # the design's own solve, read where the curving touches
+        from fem.moved_contact import modes_at_contact
+
+        own = compute_modes(design.own, fidelity, solver, fmax_hz, cache, progress, budget)
+        return modes_at_contact(own, design.contact_frame)
     fid = fidelity if isinstance(fidelity, Fidelity) else fidelity_for(fidelity, solver)
     if not (math.isfinite(fmax_hz) and fmax_hz > 0):
         raise RequestError(f"fmax must be a positive frequency in Hz, got {fmax_hz}")

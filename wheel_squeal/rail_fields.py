@@ -15,40 +15,113 @@ RECEPTANCE_COLUMNS = tuple(
 )
 #: curve.csv's columns
 CURVE_COLUMNS = (
-    "radius_m", "train_speed_km_h", "axle", "rail", "angle_of_attack_rad", "lateral_creepage",
-    "crabbing_velocity_m_s", "rolling_speed_m_s", "squeals", "verdict_mode", "mechanism", "tone_hz",
-    "growth_rate_1_s", "amplitude_m_s", "amplitude_method", "harmonic_distortion", "amplitude_note",
+    "radius_m",
+    "train_speed_km_h",
+    "axle",
+    "rail",
+    "lateral_shift_mm",
+    "angle_of_attack_rad",
+    "flange_contact",
+    "contacts",
+    "deciding_contact",
+    "contact_angle_deg",
+    "flange_angle_deg",
+    "wheel_load_n",
+    "normal_force_n",
+    "lateral_force_n",
+    "longitudinal_creepage",
+    "lateral_creepage",
+    "spin_creepage_1_m",
+    "crabbing_velocity_m_s",
+    "rolling_speed_m_s",
+    "squeals",
+    "verdict_mode",
+    "mechanism",
+    "tone_hz",
+    "growth_rate_1_s",
+    "amplitude_m_s",
+    "amplitude_method",
+    "harmonic_distortion",
+    "amplitude_note",
     "passby_lpamax_dba",
-    "passby_sel_dba", "bogie_lpmax_db", "bogie_lpamax_dba", "bogie_sel_dba", "bogie_lpamax_ground_dba",
-)  # fmt: skip
+    "passby_sel_dba",
+    "bogie_lpmax_db",
+    "bogie_lpamax_dba",
+    "bogie_sel_dba",
+    "bogie_lpamax_ground_dba",
+)
 _WHERE = {"support": "a sleeper", "midspan": "midspan"}
 _PART = {"re": "real", "im": "imaginary"}
 
 #: name -> (unit, meaning)
 RAIL_FIELDS: dict[str, tuple[str, str]] = {
-    **{c: ("m/N", f"{_PART[c.split('_')[2]]} part of the rail's {c.split('_')[0]} receptance at "
-                  f"{_WHERE[c.split('_')[1]]}") for c in RECEPTANCE_COLUMNS},
+    **{
+        c: (
+            "m/N",
+            f"{_PART[c.split('_')[2]]} part of the rail's {c.split('_')[0]} receptance at "
+            f"{_WHERE[c.split('_')[1]]}",
+        )
+        for c in RECEPTANCE_COLUMNS
+    },
     "band_hz": ("Hz", "the band fitted"),
     "convention": ("-", "the receptances' sign convention"),
     "counter_body_effect_1_s": ("1/s", "on a track: what the rail adds to the fastest growth rate"),
     "counter_body_growth_rate_1_s": ("1/s", "the counter-body's own eigenvalue's growth (null: none)"),
     "frequency_range_hz": ("Hz", "the frequency grid's ends"),
-    "max_relative_error": ("", "the fit's largest |fit - alpha| / |alpha| over the band (largest where the "
-                           "weights are small: below 50 Hz, above 1 kHz)"),
+    "max_relative_error": (
+        "",
+        "the fit's largest |fit - alpha| / |alpha| over the band (largest where the "
+        "weights are small: below 50 Hz, above 1 kHz)",
+    ),
     "pinned_pinned_lateral_hz": ("Hz", "the lateral pinned-pinned frequency (a simply supported bay)"),
     "pinned_pinned_vertical_hz": ("Hz", "the vertical pinned-pinned frequency (a simply supported bay)"),
     "states": ("-", "the rational fit's states (two per complex pole pair)"),
-    "weighted_error": ("", "the fit's largest error in the norm of its weights (towards the rail's "
-                       "mobility), relative"),
+    "weighted_error": (
+        "",
+        "the fit's largest error in the norm of its weights (towards the rail's mobility), relative",
+    ),
     "position": ("-", "where in the sleeper bay the contact is"),
-    "angle_of_attack_rad": ("rad", "the angle of attack psi (2a/R at a rigid bogie's leading axle)"),
+    "angle_of_attack_rad": (
+        "rad",
+        "the wheelset's angle of attack psi in the steady curving (positive: rolling outward of the curve)",
+    ),
+    "lateral_shift_mm": (
+        "mm",
+        "the wheelset's lateral shift in the steady curving, positive toward the outer rail",
+    ),
+    "flange_contact": (
+        "-",
+        "whether one of the wheel's contacts is on its flange (contact angle over 45 deg)",
+    ),
+    "contacts": ("-", "how many contacts the wheel has: 1, or 2 in a two-point (tread and flange) contact"),
+    "deciding_contact": (
+        "-",
+        "the contact whose verdict is the wheel's (its squeal grows fastest): tread or flange",
+    ),
+    "flange_angle_deg": ("deg", "the flange contact's angle where the flange touches (null: it does not)"),
+    "wheel_load_n": (
+        "N",
+        "the rail's vertical force on the wheel, all its contacts (with the load transfer)",
+    ),
+    "normal_force_n": ("N", "the normal force of the contact whose verdict is the wheel's"),
+    "lateral_force_n": (
+        "N",
+        "the rail's lateral force on the wheel, all its contacts, positive toward the curve's centre",
+    ),
+    "longitudinal_creepage": ("", "the longitudinal creepage in the contact plane of the deciding contact"),
+    "spin_creepage_1_m": ("1/m", "the spin creepage sin(gamma) / r of the deciding contact"),
     "radius_m": ("m", "the curve's radius"),
     "train_speed_km_h": ("km/h", "the train's speed"),
     "axle": ("-", "the bogie's axle: leading or trailing"),
     "rail": ("-", "the wheel's rail: inner or outer"),
-    "lateral_creepage": ("", "tan(psi): the crabbing velocity over the rolling speed"),
-    "passby_lpamax_dba": ("dB(A) re 20 uPa", "the wheel's own L_pAmax passing 7.5 m away, 1.2 m above the "
-                          "rail head, in free field"),
+    "lateral_creepage": (
+        "",
+        "the lateral creepage in the contact plane of the deciding contact, -psi / cos(gamma)",
+    ),
+    "passby_lpamax_dba": (
+        "dB(A) re 20 uPa",
+        "the wheel's own L_pAmax passing 7.5 m away, 1.2 m above the rail head, in free field",
+    ),
     "passby_sel_dba": ("dB(A) re 20 uPa^2 s", "the wheel's own A-weighted sound exposure level there"),
     "bogie_lpmax_db": ("dB re 20 uPa", "the bogie's L_pmax there (its wheels in energy), free field"),
     "bogie_lpamax_dba": ("dB(A) re 20 uPa", "the bogie's L_pAmax there, free field"),
@@ -67,11 +140,16 @@ RAIL_FIELDS: dict[str, tuple[str, str]] = {
     "lpmax_db": ("dB re 20 uPa", "the largest level over the pass-by in the band"),
     "lpamax_dba": ("dB(A) re 20 uPa", "the largest A-weighted level over the pass-by in the band"),
     "wheelbase_m": ("m", "the bogie's wheelbase 2a"),
-    "bogie": ("-", "how the bogie sits in the curve: rigid or symmetric"),
+    "vehicle": (
+        "-",
+        "the bogie in the curving: wheelbase, primary yaw and lateral stiffness, height of "
+        "the centre of gravity",
+    ),
+    "cant_mm": ("mm", "the curves' installed cant"),
     "contact_velocity_rms_m_s": ("m/s", "rms slip velocity at the contact, the record's last quarter"),
     "counter_body_velocity_rms_m_s": ("m/s", "rms of the counter-body's own lateral velocity there"),
     "counter_body_velocity_share": ("", "the counter-body's velocity over the slip velocity (rms)"),
     "counter_body_power_w": ("W", "mean power the contact force puts into the counter-body there"),
     "counter_body_energy_share": ("", "the counter-body's share of the limit cycle's vibration energy"),
     "v_counter_body_m_s": ("m/s", "the counter-body's own lateral velocity at the contact (0: rigid)"),
-}  # fmt: skip
+}

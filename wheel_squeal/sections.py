@@ -14,11 +14,14 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-from typing import ClassVar
+from typing import TYPE_CHECKING, ClassVar
 
 from geometry import DesignError
 from geometry.schema import Fields, spec
 from reduced.creep import FRICTION_LAWS, TABLE1_C22
+
+if TYPE_CHECKING:
+    from track.bogie_curving import Vehicle
 
 from .counter_bodies import (
     COUNTER_BODIES,
@@ -47,6 +50,7 @@ __all__ = [
     "Roller",
     "Squeal",
     "Track",
+    "VehicleSection",
     "counter_body_from_file",
     "FAMILY_KEYS",
     "family_keys",
@@ -253,3 +257,60 @@ class Squeal(Fields):
                 ModeSelection.parse(self.mode)
             except ValueError:
                 raise DesignError(f"[squeal] mode {self.mode!r}: use n=N[,c=C], an index or f=HZ") from None
+
+
+@dataclass(frozen=True)
+class VehicleSection(Fields):
+    """The bogie a wheel runs in through curves ([vehicle]; read by ``curve`` alone): its
+    wheelbase and primary suspension per wheelset, and the height of the mass on its wheels
+    (``track.bogie_curving.Vehicle``). The defaults are of the order of a conventional
+    passenger bogie's, not one vehicle's."""
+
+    TABLE: ClassVar[str] = "vehicle"
+
+    wheelbase: float = spec(
+        2.5,
+        "m",
+        "2a, the distance between the bogie's axles",
+        flat="wheelbase",
+        when_set=True,
+        plausible=(1.0, 20.0),
+    )
+    primary_yaw_stiffness: float = spec(
+        1.0e7,
+        "N m/rad",
+        "k_psi, the primary suspension's yaw stiffness per wheelset",
+        flat="primary_yaw_stiffness",
+        when_set=True,
+        plausible=(0.0, 1.0e11),
+    )
+    primary_lateral_stiffness: float = spec(
+        5.0e6,
+        "N/m",
+        "k_y, the primary suspension's lateral stiffness per wheelset",
+        flat="primary_lateral_stiffness",
+        when_set=True,
+        plausible=(1.0e4, 1.0e10),
+    )
+    centre_of_gravity_height: float = spec(
+        1.5,
+        "m",
+        "h_cg, the height of the mass on the wheels above the rail heads",
+        flat="centre_of_gravity_height",
+        when_set=True,
+        plausible=(0.3, 4.0),
+    )
+
+    def __post_init__(self) -> None:
+        self.check_plausible()
+
+    def vehicle(self) -> Vehicle:
+        """The curving's record of these values."""
+        from track.bogie_curving import Vehicle
+
+        return Vehicle(
+            self.wheelbase,
+            self.primary_yaw_stiffness,
+            self.primary_lateral_stiffness,
+            self.centre_of_gravity_height,
+        )

@@ -3,8 +3,8 @@
 :func:`main` parses the arguments (:mod:`.parser`), runs the command (:mod:`.commands`)
 and turns the errors a user can act on into one line on stderr: a refused request
 (``RequestError``, ``DesignError``) exits with status 2, a computation that failed
-(``MeshError``, ``EigenError``, ``IntegrationError``) with status 1. Anything else is a
-bug: its traceback is shown, exit status 1.
+(``MeshError``, ``EigenError``, ``IntegrationError``, ``CurvingError``) with status 1.
+Anything else is a bug: its traceback is shown, exit status 1.
 """
 
 from __future__ import annotations
@@ -32,6 +32,7 @@ _COMPUTATION_FAILURES = (
     ("geometry.mesh", "MeshError"),
     ("fem.eigen", "EigenError"),
     ("reduced.model", "IntegrationError"),
+    ("track.bogie_curving", "CurvingError"),
 )
 
 

@@ -244,10 +244,12 @@ def _add_curve_command(sub: argparse._SubParsersAction) -> None:
         "--train-speed", type=grid_axis, required=True, help="train speeds [km/h]: a list or START:STOP:N"
     )
     p.add_argument(
-        "--wheelbase", type=positive, default=2.5, help="the bogie's wheelbase 2a [m] (default %(default)g)"
+        "--wheelbase", type=positive, help="the bogie's wheelbase 2a [m] (default: the design's [vehicle])"
     )
-    p.add_argument("--bogie", choices=["rigid", "symmetric"], default="rigid",
-                   help="rigid: leading axle flanging, trailing radial; symmetric: both yawed")  # fmt: skip
+    p.add_argument(
+        "--cant", type=float, default=0.0, help="the curves' installed cant [mm] (default %(default)g)"
+    )
+    p.add_argument("--bogie", help=argparse.SUPPRESS)  # replaced by the steady curving: refused with why
     p.add_argument("--time-domain", action="store_true",
                    help="amplitudes and sound from the time domain (minutes per squealing axle; default: "
                    "harmonic balance of the squeal mode)")  # fmt: skip

@@ -42,17 +42,18 @@ def cmd_track(args: argparse.Namespace) -> int:
 def cmd_curve(args: argparse.Namespace) -> int:
     """curve.csv, curve.nc, summary.json, the maps, the loudest pass-by's WAV and
     report.html: each wheel of the bogie at each radius and speed."""
-    from track.curving import Bogie
-
     from ..curve import curve
-    from ..present.curve import write_curve_files
-    from ..present.text import curve_table
+    from ..present.curve import curve_table, write_curve_files
 
     design = design_of(args)
-    try:
-        bogie = Bogie(args.wheelbase, args.bogie)
-    except ValueError as exc:
-        raise RequestError(str(exc)) from None
+    if args.bogie is not None:
+        raise RequestError(
+            "--bogie is replaced by the steady curving: each axle's angle of attack follows from the bogie's "
+            "primary yaw stiffness ([vehicle] primary_yaw_stiffness in the design; --wheelbase stays)"
+        )
+    if args.wheelbase is not None:
+        design = design.replace(wheelbase=args.wheelbase)
+    vehicle = design.vehicle.vehicle()
     q = args.ground_reflection
     method: AmplitudeMethod = "time domain" if args.time_domain else "harmonic balance"
     out = out_of(args, design.name)
@@ -60,9 +61,16 @@ def cmd_curve(args: argparse.Namespace) -> int:
     with result_folder(out, "curve") as tmp:
         n = len(args.radius) * len(args.train_speed)
         with ctx.progress.stage(f"{n} curves x 4 wheels ({method})"):
-            cases = curve(design, args.radius, args.train_speed, bogie, method=method, context=ctx,
-                          ground_reflection=q)  # fmt: skip
-        rows, summary = write_curve_files(tmp, design, bogie, cases, method, q)
+            cases = curve(
+                design,
+                args.radius,
+                args.train_speed,
+                cant_mm=args.cant,
+                method=method,
+                context=ctx,
+                ground_reflection=q,
+            )
+        rows, summary = write_curve_files(tmp, design, vehicle, args.cant, cases, method, q)
     print(curve_table(rows))
     for line in summary["findings"]:
         print(line)

@@ -50,6 +50,9 @@ def track_plan(points: int, fits_seconds: float) -> CostPlan:
 #: squealing axle, the sources and the bogie's pass-by over its duration, and the record
 #: [s] (measured 25 ms on railway_920_track)
 CURVE_SECONDS_PER_CURVE = 0.025
+#: One radius and speed's steady curving of the bogie (``track.bogie_curving``) [s]:
+#: measured 0.75 s on railway_920_track
+CURVING_SECONDS_PER_CURVE = 0.75
 #: Memory a curve keeps per radius and speed until its files are written (the wheels'
 #: analyses and pass-by) [bytes]: measured 0.9 MB
 CURVE_BYTES_PER_CURVE = 1.0e6
@@ -72,14 +75,12 @@ WHEELS_PER_BOGIE = 4
 
 @dataclass(frozen=True)
 class CurveSize:
-    """What a curve map asks: its radii x speeds, the axles of a bogie whose wheels are
-    analysed (each at its own operating point) and how many of them slide laterally (the
-    ones that can squeal, which the time domain integrates)."""
+    """What a curve map asks: its radii x speeds and the contacts analysed per curve (the
+    four wheels' own, each at its own operating point: a two-point contact adds one)."""
 
     radii: int
     speeds: int
-    axles: int = 2
-    sliding_axles: int = 1
+    contacts: int = 4
 
     @property
     def curves(self) -> int:
@@ -104,7 +105,7 @@ def curve_plan(
     In three steps, each refusing what the budget cannot hold before the next: on counts
     alone (``wheel_dofs`` None: the modes counted from the FE's estimate), with the
     wheel's excitable modes (``wheel_dofs``), and with the linear stability of every
-    sliding axle (``squealing``, :func:`squealing_axles`): the axles the time domain
+    contact (``squealing``, :func:`squealing_axles`): the contacts the time domain
     integrates and the modes whose sound is solved, each at its own cost."""
     from reduced import ModalDOF
     from reduced.stability import eigen_solve_seconds
@@ -118,11 +119,14 @@ def curve_plan(
     verdict = every * (1.0 + (1.4 if coupled else 0.0)) + rigid
     plan = CostPlan()
     hint = "ask for fewer radii or train speeds"
-    n_axles = size.curves * size.axles
-    # every sliding axle's is solved once more first, to price the rest (squealing_axles)
-    solves = n_axles * verdict + size.curves * size.sliding_axles * every
+    n_contacts = size.curves * size.contacts
     plan.add(
-        f"{n_axles:,} axles' stability ({len(wheel_dofs)} modes, {body} states of the counter-body)",
+        f"the steady curving of {size.curves:,} curves", size.curves * CURVING_SECONDS_PER_CURVE, remedy=hint
+    )
+    # every contact's is solved once more first, to price the rest (squealing_axles)
+    solves = n_contacts * (verdict + every)
+    plan.add(
+        f"{n_contacts:,} contacts' stability ({len(wheel_dofs)} modes, {body} states of the counter-body)",
         solves,
         remedy=hint,
     )
@@ -138,7 +142,7 @@ def curve_plan(
         plan.add(f"the sound of {label}", seconds, memory)
     if time_domain and squealing.time_domain_s:
         plan.add(
-            f"the time domain of {len(squealing.time_domain_s):,} squealing axles",
+            f"the time domain of {len(squealing.time_domain_s):,} squealing contacts",
             sum(squealing.time_domain_s),
             squealing.record_bytes,
             remedy="leave out the time domain (the harmonic balance is the fast method), or " + hint,
@@ -164,14 +168,12 @@ class SquealingAxles:
 
 
 def squealing_axles(
-    design: Design,
-    modeset: ModeSet,
-    contact: ContactLaw,
-    ops: Sequence[OperatingPoint],
+    sites: Sequence[tuple[Design, ModeSet, ContactLaw, OperatingPoint]],
     time_domain: bool,
     cached: Callable[[Mode, float], bool],
 ) -> SquealingAxles:
-    """The linear stability of each sliding axle at ``ops`` (the decision's first step:
+    """The linear stability at each contact of ``sites`` (a wheel's design at that contact,
+    its modes read there, its contact law and operating point: the decision's first step,
     ``wheel_squeal.stability.stability_table``) priced as :class:`SquealingAxles` says;
     ``cached(mode, frequency_hz)`` tells a radiation the cache holds."""
     from ..levels import MAX_HARMONIC_HZ, MAX_HARMONICS, radiation_frequency_hz
@@ -179,11 +181,11 @@ def squealing_axles(
     from ..sound import sound_cost
     from ..stability import stability_table
 
-    body = body_of(design)
     seconds: list[float] = []
     sounds: dict[str, tuple[float, float]] = {}
     record = 0.0  # one record at a time: a map keeps each one's tail only
-    for op in ops:
+    for design, modeset, contact, op in sites:
+        body = body_of(design)
         table = stability_table(design, modeset, contact, op)
         if not table.grows:
             continue

@@ -5,6 +5,7 @@ file, and report.html."""
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from collections.abc import Sequence
 from pathlib import Path
@@ -13,9 +14,10 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from ..fields import unit_of
+from ..rail_fields import CURVE_COLUMNS
 
 if TYPE_CHECKING:
-    from track.curving import Bogie
+    from track.bogie_curving import Vehicle
 
     from ..curve import CurveCase
     from ..design import Design
@@ -26,6 +28,7 @@ __all__ = [
     "PASSBY_WAV",
     "band_rows",
     "curve_dataset",
+    "curve_table",
     "curve_report",
     "loudest",
     "write_curve_maps",
@@ -40,17 +43,20 @@ CURVE_MAPS = ("occurrence.png", "lpamax.png")
 PASSBY_WAV = "passby.wav"
 #: The mechanisms in the occurrence map's colours (none first)
 _MECHANISMS = ("", "falling friction", "mode coupling", "both")
-#: curve.nc's variables on the (radius, speed, wheel) grid
-_GRID_VARIABLES = (
-    "angle_of_attack_rad", "lateral_creepage", "crabbing_velocity_m_s", "rolling_speed_m_s", "tone_hz",
-    "growth_rate_1_s", "amplitude_m_s", "harmonic_distortion", "passby_lpamax_dba", "passby_sel_dba",
-    "bogie_lpmax_db", "bogie_lpamax_dba", "bogie_sel_dba", "bogie_lpamax_ground_dba",
-)  # fmt: skip
-_TEXT_VARIABLES = ("verdict_mode", "mechanism", "amplitude_method", "amplitude_note")
+_TEXT_VARIABLES = ("deciding_contact", "verdict_mode", "mechanism", "amplitude_method", "amplitude_note")
+#: curve.nc's flags (0 or 1) on the (radius, speed, wheel) grid
+_FLAG_VARIABLES = ("squeals", "flange_contact")
+#: curve.nc's numbers on that grid: curve.csv's columns but the grid's own, the flags and the text
+_GRID_VARIABLES = tuple(
+    c
+    for c in CURVE_COLUMNS
+    if c not in ("radius_m", "train_speed_km_h", "axle", "rail", *_FLAG_VARIABLES, *_TEXT_VARIABLES)
+)
 #: The report's table of squealing wheels: (key, heading)
 _REPORT_COLUMNS = (
     ("radius_m", "R [m]"), ("train_speed_km_h", "V [km/h]"), ("axle", "axle"), ("rail", "rail"),
-    ("angle_of_attack_rad", "psi [rad]"), ("lateral_creepage", "creepage"), ("verdict_mode", "mode"),
+    ("angle_of_attack_rad", "psi [rad]"), ("deciding_contact", "contact"),
+    ("contact_angle_deg", "angle [deg]"), ("lateral_creepage", "creepage"), ("verdict_mode", "mode"),
     ("mechanism", "mechanism"), ("tone_hz", "tone [Hz]"), ("growth_rate_1_s", "growth [1/s]"),
     ("amplitude_m_s", "amplitude [m/s]"), ("passby_lpamax_dba", "wheel L_pAmax [dB(A)]"),
     ("bogie_lpamax_dba", "bogie L_pAmax [dB(A)]"),
@@ -88,9 +94,8 @@ def curve_dataset(rows: Sequence[dict], attrs: dict[str, Any] | None = None) -> 
     Examples
     --------
     >>> import wheel_squeal as ws
-    >>> from track.curving import Bogie
-    >>> cases = ws.curve(ws.load_design("railway_920_track"), [150.0], [40.0], Bogie(2.5),
-    ...                  context=ws.RunContext.of("fast"))
+    >>> d = ws.load_design("railway_920_track")
+    >>> cases = ws.curve(d, [150.0], [40.0], context=ws.RunContext.of("fast"))
     >>> curve_dataset([c.to_record() for c in cases])["squeals"].shape
     (1, 1, 4)
     """
@@ -98,13 +103,17 @@ def curve_dataset(rows: Sequence[dict], attrs: dict[str, Any] | None = None) -> 
 
     radii, speeds, wheels = _axes(rows)
     dims = ("radius_m", "train_speed_km_h", "wheel")
-    data: dict[str, Any] = {"squeals": (dims, _grid(rows, "squeals", 0.0).astype(np.int8))}
+    data: dict[str, Any] = {flag: (dims, _grid(rows, flag, 0.0).astype(np.int8)) for flag in _FLAG_VARIABLES}
     data |= {k: (dims, _grid(rows, k)) for k in _GRID_VARIABLES}
     data |= {k: (dims, _grid(rows, k, "").astype(str)) for k in _TEXT_VARIABLES}
     ds = xr.Dataset(data, coords={"radius_m": radii, "train_speed_km_h": speeds, "wheel": wheels})
     for k in (*_GRID_VARIABLES, "radius_m", "train_speed_km_h"):
         ds[k].attrs["units"] = unit_of(k) or "1"
     ds["squeals"].attrs = {"units": "1", "long_name": "1 where the wheel squeals"}
+    ds["flange_contact"].attrs = {
+        "units": "1",
+        "long_name": "1 where one of the wheel's contacts is on its flange",
+    }
     ds.attrs = dict(attrs or {})
     return ds
 
@@ -199,7 +208,7 @@ def band_rows(case: CurveCase) -> list[dict]:
 
 
 def write_passby_wav(
-    path: Path, group: Sequence[CurveCase], bogie: Bogie, rolling_radius_m: float
+    path: Path, group: Sequence[CurveCase], wheelbase_m: float, rolling_radius_m: float
 ) -> dict[str, Any]:
     """The pass-by of one radius and speed's wheels as heard at the microphone (level and
     Doppler shift; 16-bit, normalised to its peak pressure [Pa], which is returned with
@@ -211,7 +220,7 @@ def write_passby_wav(
     from .files import write_wav
 
     speed = group[0].train_speed_km_h / 3.6
-    sources, _ = bogie_sources(group, bogie, rolling_radius_m)
+    sources, _ = bogie_sources(group, wheelbase_m, rolling_radius_m)
     duration = min(12.0, 2 * 10.0 * MICROPHONE_DISTANCE_M / speed)
     _, p = passby_pressure(sources, speed, duration, WAV_RATE_HZ)
     peak = write_wav(path, faded(p, WAV_RATE_HZ, 0.5))
@@ -235,9 +244,12 @@ def curve_assumptions(method: str) -> tuple[str, ...]:
     )
     return (
         ASSUMPTIONS[0],
-        "Each wheel touches the rail at its tread with the design's load and the lateral creep its bogie's "
-        "kinematics give (2a/R at a rigid bogie's leading axle); no flange contact, no cant deficiency, no "
-        "longitudinal creep or spin.",
+        "Each wheel touches the rail where the bogie's steady curving puts it (its running surface on "
+        "UIC60 at 1:40, the primary suspension, the cant deficiency's load transfer, Kalker's creep "
+        "saturated by the friction): each contact, tread or flange, is analysed with its own normal force, "
+        "Hertz ellipse, contact angle and lateral creepage, the friction the longitudinal creep leaves; "
+        "spin's own effect on the squeal and flanging noise are left out; the two contacts of a flanging "
+        "wheel are not coupled.",
         ASSUMPTIONS[2],
         "Whether a wheel squeals is the linear stability's decision about steady sliding.",
         amplitude,
@@ -271,7 +283,7 @@ def curve_report(folder: Path, design: str, rows: Sequence[dict], summary: dict[
                                   ("lpamax_dba", "L_pAmax [dB(A)]")])
             + audio(folder / PASSBY_WAV),
         ))  # fmt: skip
-    inputs = [(k, summary[k]) for k in ("design", "wheelbase_m", "bogie", "amplitude_method")]
+    inputs = [(k, summary[k]) for k in ("design", "vehicle", "cant_mm", "amplitude_method")]
     inputs += [("microphone", "7.5 m from the track centre line, 1.2 m above the rail head (ISO 3095)"),
                ("ground", summary["ground"])]  # fmt: skip
     return listing_report(
@@ -288,7 +300,8 @@ def curve_report(folder: Path, design: str, rows: Sequence[dict], summary: dict[
 def write_curve_files(
     folder: Path,
     design: Design,
-    bogie: Bogie,
+    vehicle: Vehicle,
+    cant_mm: float,
     cases: Sequence[CurveCase],
     method: AmplitudeMethod,
     ground_reflection: float | None,
@@ -305,23 +318,58 @@ def write_curve_files(
     q = ground_reflection
     summary: dict[str, Any] = {
         "design": design.name,
-        "wheelbase_m": bogie.wheelbase_m,
-        "bogie": bogie.kind,
+        "vehicle": dataclasses.asdict(vehicle),
+        "cant_mm": cant_mm,
         "amplitude_method": method,
         "microphone": {"distance_m": MICROPHONE_DISTANCE_M, "height_m": MICROPHONE_HEIGHT_M},
         "ground": "free field" if q is None else f"{GROUND_DEPTH_M} m below the rail head, reflection {q:g}",
-        "findings": findings(cases, bogie),
+        "findings": findings(cases, vehicle.wheelbase_m),
     }
     group = loudest(cases)
     if group:
-        wav = write_passby_wav(folder / PASSBY_WAV, group, bogie, design.rolling_radius)
+        wav = write_passby_wav(folder / PASSBY_WAV, group, vehicle.wheelbase_m, design.rolling_radius)
         summary["loudest"] = {**wav, "bands": band_rows(group[0])}
     write_csv(folder / "curve.csv", rows, columns_of("curve.csv"))
-    attrs = {"title": f"{design.name} in curves", "amplitude_method": method,
-             "wheelbase_m": bogie.wheelbase_m, "bogie": bogie.kind}  # fmt: skip
+    attrs = {
+        "title": f"{design.name} in curves",
+        "amplitude_method": method,
+        "wheelbase_m": vehicle.wheelbase_m,
+        "primary_yaw_stiffness_n_m_rad": vehicle.primary_yaw_stiffness_n_m_rad,
+        "cant_mm": cant_mm,
+    }
     write_curve_netcdf(folder / "curve.nc", rows, attrs)
     write_curve_maps(folder, rows)
     cases_json = [{**r, "verdict": c.analysis.verdict.to_dict()} for r, c in zip(rows, cases)]
     write_json(folder / "summary.json", {**summary, "cases": cases_json})
     curve_report(folder, design.name, rows, summary)
     return rows, summary
+
+
+def curve_table(rows: Sequence[dict]) -> str:
+    """Each wheel at each radius and train speed: its angle of attack, the contact whose
+    verdict is the wheel's (tread or flange, its angle) and its creepage, the verdict,
+    amplitude and its own and the bogie's pass-by level."""
+
+    from .text import num_cell
+
+    lines = [
+        f"{'R [m]':>7} {'V [km/h]':>8} {'wheel':<15} {'psi [mrad]':>10} {'contact':<12} {'creepage':>8} "
+        f"{'verdict':<14} {'mechanism':<16} {'tone [Hz]':>9} {'growth [1/s]':>12} {'v [m/s]':>7} "
+        f"{'LpAmax wheel':>12} {'bogie':>6}"
+    ]
+    for r in rows:
+        contact = f"{r['deciding_contact']} {r['contact_angle_deg']:.0f}deg"
+        lines.append(
+            f"{r['radius_m']:7.0f} {r['train_speed_km_h']:8.0f} {r['axle'] + ' ' + r['rail']:<15} "
+            f"{1e3 * r['angle_of_attack_rad']:10.2f} {contact:<12} {r['lateral_creepage']:8.4f} "
+            f"{(r['verdict_mode'] if r['squeals'] else 'no squeal'):<14} {r['mechanism'] or '-':<16} "
+            f"{num_cell(r['tone_hz'], '.1f', 9)} {num_cell(r['growth_rate_1_s'], '.3g', 12)} "
+            f"{num_cell(r['amplitude_m_s'], '.3f', 7)} {num_cell(r['passby_lpamax_dba'], '.1f', 12)} "
+            f"{num_cell(r['bogie_lpamax_dba'], '.1f', 6)}"
+        )
+    lines.append(
+        "contact: the one whose verdict is the wheel's (a flanging wheel has a tread and a flange contact); "
+        "v: contact velocity amplitude; LpAmax [dB(A)]: the wheel's and the bogie's pass-by 7.5 m away, "
+        "1.2 m above the rail head, free field"
+    )
+    return "\n".join(lines)

@@ -30,6 +30,7 @@ __all__ = [
     "measured_table",
     "mitigation_text",
     "modes_table",
+    "num_cell",
     "shares_text",
     "verdict_lines",
     "sound_text",
@@ -112,31 +113,9 @@ def squeal_report(sim: Simulation, dof: ModalDOF, label: str | None = None) -> s
     return "\n".join(lines)
 
 
-def _num(v: Any, fmt: str, width: int) -> str:  # a fixed-width number, or the word for none
+def num_cell(v: Any, fmt: str, width: int) -> str:
+    """A fixed-width number, or the word for none."""
     return f"{v:{width}{fmt}}" if v is not None else f"{NONE:>{width}}"
-
-
-def curve_table(rows: Sequence[dict]) -> str:
-    """Each wheel at each radius and train speed: its angle of attack, creepage, verdict,
-    amplitude and its own and the bogie's pass-by level."""
-
-    lines = [
-        f"{'R [m]':>7} {'V [km/h]':>8} {'wheel':<15} {'psi [mrad]':>10} {'creepage':>8} {'verdict':<13} "
-        f"{'mechanism':<16} {'tone [Hz]':>9} {'growth [1/s]':>12} {'v [m/s]':>7} {'LpAmax wheel':>12} "
-        f"{'bogie':>6}"
-    ]
-    for r in rows:
-        lines.append(
-            f"{r['radius_m']:7.0f} {r['train_speed_km_h']:8.0f} {r['axle'] + ' ' + r['rail']:<15} "
-            f"{1e3 * r['angle_of_attack_rad']:10.2f} {r['lateral_creepage']:8.4f} "
-            f"{(r['verdict_mode'] if r['squeals'] else 'no squeal'):<13} {r['mechanism'] or '-':<16} "
-            f"{_num(r['tone_hz'], '.1f', 9)} {_num(r['growth_rate_1_s'], '.3g', 12)} "
-            f"{_num(r['amplitude_m_s'], '.3f', 7)} {_num(r['passby_lpamax_dba'], '.1f', 12)} "
-            f"{_num(r['bogie_lpamax_dba'], '.1f', 6)}"
-        )
-    lines.append("v: contact velocity amplitude; LpAmax [dB(A)]: the wheel's and the bogie's pass-by "
-                 "7.5 m away, 1.2 m above the rail head, free field")  # fmt: skip
-    return "\n".join(lines)
 
 
 def compare_table(rows: Sequence[dict]) -> str:
@@ -150,13 +129,13 @@ def compare_table(rows: Sequence[dict]) -> str:
     ]
     for r in rows:
         verdict = r["verdict_mode"] or "no squeal"
-        amp = _num(r["amplitude_m_s"], ".4f", 9) + ("" if r["saturated"] or not r["squeals"] else "*")
-        tone, growth = _num(r["tone_hz"], ".1f", 9), _num(r["growth_rate_1_s"], ".3g", 12)
+        amp = num_cell(r["amplitude_m_s"], ".4f", 9) + ("" if r["saturated"] or not r["squeals"] else "*")
+        tone, growth = num_cell(r["tone_hz"], ".1f", 9), num_cell(r["growth_rate_1_s"], ".3g", 12)
         power, power_a = (
-            _num(r["sound_power_level_db"], ".1f", 8),
-            _num(r["sound_power_level_dba"], ".1f", 11),
+            num_cell(r["sound_power_level_db"], ".1f", 8),
+            num_cell(r["sound_power_level_dba"], ".1f", 11),
         )
-        near, far = _num(r["spl_1m_db"], ".1f", 8), _num(r["spl_7_5m_db"], ".1f", 10)
+        near, far = num_cell(r["spl_1m_db"], ".1f", 8), num_cell(r["spl_7_5m_db"], ".1f", 10)
         lines.append(
             f"{r['design']:<16} {r['rolling_speed_m_s']:8.2f} {r['rpm']:6.0f} "
             f"{r['crabbing_velocity_m_s']:8.3g} {verdict:<16} {tone} {growth} {amp} "
@@ -329,14 +308,14 @@ def measured_table(comparison: list[dict]) -> str:
     """The comparison as text: prediction minus measurement per point, and its mean and
     spread over the points with a prediction."""
 
-    def _num(x: Any, fmt: str) -> str:
+    def num_cell(x: Any, fmt: str) -> str:
         return "-" if x is None else format(x, fmt)
 
     lines = [f"{'Vc [m/s]':>9} {'rpm':>6} {'measured':>9} {'predicted':>9} {'pred-meas':>9}  dB"]
     for c in comparison:
         lines.append(
             f"{c['crabbing_velocity_m_s']:9.4f} {c['rpm']:6.0f} {c['measured_spl_db']:9.1f} "
-            f"{_num(c['predicted_spl_db'], '9.1f'):>9} {_num(c['spl_difference_db'], '+9.1f'):>9}"
+            f"{num_cell(c['predicted_spl_db'], '9.1f'):>9} {num_cell(c['spl_difference_db'], '+9.1f'):>9}"
         )
     d = np.array([c["spl_difference_db"] for c in comparison if c["spl_difference_db"] is not None])
     if len(d):

@@ -1,0 +1,114 @@
+"""Each wheel at its own contact: the design's running surface as the curving's wheel
+profile, the contact frame anywhere on it, the modes read there without a new solve, and
+the chain given exactly the contact the curving found."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+import wheel_squeal as ws
+from geometry.contact import frame_on_running_surface
+from track.bogie_curving import Vehicle, steady_curving
+
+RAILWAY = ws.load_design("railway_920_track")
+OUTLINE = RAILWAY.wheel.profile
+
+
+def test_the_running_surface_is_the_outline_s_largest_radius():
+    """On the 1:20 cone (points 8-9 of the outline) r(z) = 0.46 - z / 20 to round-off; the
+    flange's tip arc rises 28 mm above the taping line; off the rim there is no surface."""
+    z = np.array([-0.02, 0.0, 0.03, 0.06])
+    assert OUTLINE is not None
+    assert np.allclose(OUTLINE.outer_radius(z), 0.46 - z / 20.0, rtol=0, atol=1e-12)
+    from track.profiles import running_surface
+
+    p = running_surface(OUTLINE, 0.46)
+    assert 1e3 * p.height_m.max() == pytest.approx(28.0, abs=0.05)  # its description: 28 mm high
+    assert math.isnan(float(OUTLINE.outer_radius(np.array([0.2]))[0]))
+
+
+def test_the_contact_frame_on_the_running_surface_has_the_outline_s_normal_and_curvature():
+    """The tread: the cone's angle atan(1/20), straight across; the flange root: the
+    outline's 6 mm fillet, concave (negative radius) to 0.1 %; the flank beyond 60 deg."""
+    assert OUTLINE is not None
+    tread = frame_on_running_surface(OUTLINE, 0.01)
+    assert tread.angle_rad == pytest.approx(math.atan(0.05), rel=1e-9) and math.isinf(tread.crown_radius_m)
+    root = frame_on_running_surface(OUTLINE, -0.033)
+    assert root.crown_radius_m == pytest.approx(-0.006, rel=1e-3)
+    flank = frame_on_running_surface(OUTLINE, -0.04)
+    assert math.degrees(flank.angle_rad) > 60.0
+
+
+@pytest.fixture(scope="module")
+def geometry():
+    from wheel_squeal.curve import contact_geometry
+
+    return contact_geometry(RAILWAY)
+
+
+def test_the_cone_wheel_flanges_where_its_conicity_cannot_steer(geometry):
+    """A wheelset free to yaw rolls purely at y0 = r0 (s/2) / (lambda R) (linear theory): for
+    the 1:20 cone (lambda = 0.05) and r0 = 0.46 m that is 2.3 mm at 3000 m, within the
+    7.1 mm flange clearance (within 10 %: the contact moves across the curved rail head);
+    at 600 m it would need 11.5 mm: the leading outer wheel flanges, in a two-point contact
+    (tread and flank)."""
+    wide = steady_curving(
+        geometry, Vehicle(primary_yaw_stiffness_n_m_rad=0.0), 3000.0, 40.0, wheel_load_n=50e3,
+        friction_coefficient=0.3,
+    )  # fmt: skip
+    assert wide[0].lateral_shift_m == pytest.approx(0.46 * 0.75 / (0.05 * 3000.0), rel=0.1)
+    tight = steady_curving(geometry, Vehicle(), 600.0, 40.0, wheel_load_n=50e3, friction_coefficient=0.3)
+    outer = tight[1]
+    assert outer.flange_contact and len(outer.contacts) == 2
+    assert math.degrees(outer.main.contact_angle_rad) > 60.0
+    assert sum(c.load_share for c in outer.contacts) == pytest.approx(1.0, rel=1e-12)
+
+
+def test_each_contact_reaches_the_chain_as_the_curving_found_it(geometry):
+    """Each contact's design carries its normal force, Kalker's C22 of its ellipse and the
+    friction its longitudinal creep leaves; the chain's Hertz ellipse at that contact is
+    the curving's (to 1e-3: the curving's angle includes the wheelset's roll of a few mrad);
+    the sliding speed is V |xi_y|."""
+    from wheel_squeal.api import hertz_of
+    from wheel_squeal.curve import wheel_sites
+
+    wheels = steady_curving(geometry, Vehicle(), 150.0, 40.0, wheel_load_n=50e3, friction_coefficient=0.3)
+    for wheel in wheels:
+        for site in wheel_sites(RAILWAY, wheel, 40.0):
+            c = site.state
+            d = site.design
+            assert d.contact.normal_load == c.normal_force_n and d.contact.c22 == c.c22
+            assert d.contact.friction_coefficient == pytest.approx(c.lateral_friction_coefficient(0.3))
+            assert d.contact.friction_coefficient <= 0.3
+            h = hertz_of(d)
+            assert h.semi_axis_a_m == pytest.approx(c.semi_axis_a_m, rel=1e-3)
+            assert h.semi_axis_b_m == pytest.approx(c.semi_axis_b_m, rel=1e-3)
+            assert site.op.crabbing_velocity_m_s == pytest.approx(40 / 3.6 * abs(c.lateral_creepage))
+            assert d.contact_frame.z_m == c.point.wheel_lateral_m
+
+
+@pytest.mark.slow  # two FE solves of the Table 1 wheel (about 4 s)
+def test_modes_read_at_a_moved_contact_match_a_solve_at_that_contact():
+    """The Table 1 wheel's modes solved at the tread apex and read at a contact 80 % of the
+    way to its crown's edge, against the same modes solved with the contact there: lateral
+    modal masses within 0.5 %, normal ones within 2 % (the visualisation mesh's linear
+    interpolation between nodes a few mm apart; the solver reads its own element's shape
+    functions). At its own contact the mode set is returned as it is."""
+    from fem.moved_contact import modes_at_contact
+    from geometry.contact import largest_contact_angle_rad
+
+    d = ws.load_design("table1")
+    own = ws.compute_modes(d, "fast")
+    assert modes_at_contact(own, d.contact_frame) is own
+    moved = d.replace(contact_angle=0.8 * largest_contact_angle_rad(d.wheel))
+    direct = ws.compute_modes(moved, "fast")
+    read = modes_at_contact(own, moved.contact_frame)
+    for a, b in zip(direct.modes, read.modes):
+        assert a.label() == b.label()
+        if math.isfinite(a.modal_mass) and a.modal_mass < 100.0:
+            assert b.modal_mass == pytest.approx(a.modal_mass, rel=5e-3), a.label()
+        if math.isfinite(a.normal_modal_mass) and a.normal_modal_mass < 1e4:
+            assert b.normal_modal_mass == pytest.approx(a.normal_modal_mass, rel=0.02), a.label()
