@@ -110,15 +110,29 @@ class PassbyResult:
         return (_level(float(total.max(initial=0.0))), _level(float(total_a.max(initial=0.0))),
                 _level(float(total.sum() * dt)), _level(float(total_a.sum() * dt)))  # fmt: skip
 
-    def band_maxima_db(self, centres_hz: Sequence[float], a_weighted: bool = False) -> np.ndarray:
+    def fast_level_dba(self, time_constant_s: float = 0.125) -> np.ndarray:
+        """The A-weighted level over the pass-by [dB(A) re 20 uPa], its mean square averaged
+        over ``time_constant_s`` (0.125 s: IEC 61672's "fast"), at ``t``."""
+        weighted = (self.each_pa2 * 10 ** (self.a_weighting_db[:, None] / 10)).sum(axis=0)
+        dt = float(self.t[1] - self.t[0]) if len(self.t) > 1 else time_constant_s
+        window = max(1, int(round(time_constant_s / dt)))
+        fast = np.convolve(weighted, np.ones(window) / window, mode="same")
+        return 10 * np.log10(np.maximum(fast, 1e-30) / P_REF_PA**2)
+
+    def band_maxima_db(
+        self, centres_hz: Sequence[float], a_weighted: bool = False, sources: Sequence[int] | None = None
+    ) -> np.ndarray:
         """The largest level over the pass-by [dB re 20 uPa] in each one-third-octave band
         of centre ``centres_hz`` (its sources' tones within the band's edges, centre
         times 10^(+-1/20)), A-weighted at each tone if ``a_weighted``; -inf where no
-        tone falls in a band."""
+        tone falls in a band. ``sources``: those sources (indices) alone (None: all)."""
         weight = 10 ** (self.a_weighting_db / 10) if a_weighted else np.ones(len(self.frequencies_hz))
+        mine = np.zeros(len(self.frequencies_hz), bool)
+        mine[list(range(len(mine))) if sources is None else list(sources)] = True
         out = np.full(len(centres_hz), -math.inf)
         for i, centre in enumerate(centres_hz):
             inside = (self.frequencies_hz >= centre * 10**-0.05) & (self.frequencies_hz < centre * 10**0.05)
+            inside &= mine
             if inside.any():
                 out[i] = _level(float((self.each_pa2[inside] * weight[inside, None]).sum(axis=0).max()))
         return out

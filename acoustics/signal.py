@@ -165,3 +165,15 @@ def wav_bytes(pcm: np.ndarray, rate_hz: int) -> bytes:
         b"WAVE" + b"fmt " + struct.pack("<I", len(fmt)) + fmt + b"data" + struct.pack("<I", len(data)) + data
     )
     return b"RIFF" + struct.pack("<I", len(body)) + body
+
+
+def spectrogram_db(
+    pressure_pa: np.ndarray, sample_rate_hz: float, segment: int = 4096
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The spectrogram of a pressure signal [Pa]: (frequencies [Hz], segment centres [s]
+    from the signal's middle, power spectral density level [dB re (20 uPa)^2/Hz]) of
+    Hann-windowed segments of ``segment`` samples overlapping by half."""
+    from scipy.signal import spectrogram
+
+    f, t, sxx = spectrogram(pressure_pa, fs=sample_rate_hz, nperseg=segment, noverlap=segment // 2)
+    return f, t - 0.5 * len(pressure_pa) / sample_rate_hz, 10 * np.log10(np.maximum(sxx, 1e-30) / 4e-10)

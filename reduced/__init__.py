@@ -43,6 +43,7 @@ from .model import (
 from .predictor import (
     LimitCyclePrediction,
     equivalent_mode,
+    harmonic_contact_velocities,
     harmonic_distortion,
     mean_power_per_cycle,
     predict_limit_cycle,
@@ -102,6 +103,7 @@ __all__ = [
     "analytic_growth_rate",
     "LimitCyclePrediction",
     "mean_power_per_cycle",
+    "harmonic_contact_velocities",
     "predict_limit_cycle",
     "equivalent_mode",
     "harmonic_distortion",

@@ -25,17 +25,24 @@ from __future__ import annotations
 
 import math
 import warnings
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import ArrayLike
 
 from ._numerics import find_root
-from .creep import ContactLaw, adhesion_ratio
+from .creep import ContactLaw, adhesion_ratio, adhesion_ratio_slope
 from .limit_cycle import analytic_growth_rate
 from .model import ModalDOF, OperatingPoint
 
-__all__ = ["LimitCyclePrediction", "equivalent_mode", "mean_power_per_cycle", "predict_limit_cycle"]
+__all__ = [
+    "LimitCyclePrediction",
+    "equivalent_mode",
+    "harmonic_contact_velocities",
+    "mean_power_per_cycle",
+    "predict_limit_cycle",
+]
 
 #: harmonic distortion of the contact force above which the prediction is flagged
 DISTORTION_WARNING = 0.1
@@ -186,3 +193,55 @@ def predict_limit_cycle(
     return LimitCyclePrediction(
         tuple(stable), tuple(unstable), mode.frequency_hz, sigma, a0, amp, bool(amp > 0.0)
     )
+
+
+def harmonic_contact_velocities(
+    amplitude_m_s: float,
+    frequency_hz: float,
+    modes: Sequence[ModalDOF],
+    contact: ContactLaw,
+    op: OperatingPoint,
+    orders: int,
+    n_phase: int = 1024,
+) -> np.ndarray:
+    """The contact velocity's harmonics 1..``orders`` [m/s] of a harmonic-balance cycle
+    of amplitude ``amplitude_m_s`` at ``frequency_hz``: the first is the cycle's own; the
+    k-th is the contact force's k-th harmonic F_k (of Q(Vc + V sin th)) through the
+    modes' lateral mobility at k omega, sum_j l_j^2 i k omega / (k_j - m_j (k omega)^2 +
+    i c_j' k omega): the other modes' response to the force's distortion, what a time
+    domain of the same modes shows beyond the fundamental. On the cycle each mode's
+    damping c_j' is its own plus the friction's, (W / V0) l_j^2 <dmu/dzeta>, the creep
+    curve's slope averaged over the slip's sweep (never below its own: a mode that the
+    cycle does not damp is left at its own damping). The counter-body's mobility and the
+    harmonics' feedback on the force are left out.
+
+    Examples
+    --------
+    A creep force without distortion (a linear creep curve, small cycle) has no harmonics:
+
+    >>> import reduced as r
+    >>> law = r.ContactLaw.from_hertz(r.hertz_contact(0.213, 0.3, 0.085, 0.04, 175e9, 0.28, 1000.0),
+    ...                               friction_coefficient=0.3, friction_law="constant")
+    >>> op = r.OperatingPoint(10.0, 0.0)
+    >>> v = harmonic_contact_velocities(1e-6, 1000.0, [r.ModalDOF(3.1, 1.2e8, 42.0)], law, op, 3)
+    >>> float(abs(v[0])), bool(abs(v[1]) < 1e-12 and abs(v[2]) < 1e-9)
+    (1e-06, True)
+    """
+    th = 2.0 * np.pi * (np.arange(n_phase) + 0.5) / n_phase
+    zeta = (op.crabbing_velocity_m_s + amplitude_m_s * np.sin(th)) / op.rolling_speed_m_s
+    q = -adhesion_ratio(zeta, contact, op.rolling_speed_m_s) * contact.normal_load_n
+    # on the cycle every mode feels the creep curve's slope averaged over the slip's sweep
+    slope = float(np.mean(adhesion_ratio_slope(zeta, contact, op.rolling_speed_m_s)))
+    friction = contact.normal_load_n / op.rolling_speed_m_s * slope
+    damping = [max(m.damping_ns_m + friction * m.lateral**2, m.damping_ns_m) for m in modes]
+    out = np.zeros(orders, complex)
+    out[0] = amplitude_m_s
+    for k in range(2, orders + 1):
+        force = 2.0 * np.mean(q * np.exp(-1j * k * th))
+        w = 2.0 * math.pi * frequency_hz * k
+        mobility = sum(
+            m.lateral**2 * 1j * w / (m.stiffness_n_m - m.mass_kg * w * w + 1j * c * w)
+            for m, c in zip(modes, damping)
+        )
+        out[k - 1] = mobility * force
+    return out

@@ -100,9 +100,9 @@ def test_a_modal_model_too_large_for_the_budget_is_refused_before_any_eigen_solv
     text = "".join(mode.format(300 + 2 * i, i) for i in range(2000))
     model = _write(tmp_path / "mm.toml", text)
     import wheel_squeal as ws
+    from fem.modal_model import load_modal_model
     from wheel_squeal.budget import Budget
     from wheel_squeal.errors import BudgetError
-    from wheel_squeal.modal_model import load_modal_model
     from wheel_squeal.plan import stability_plan
 
     design = ws.load_design()
@@ -114,17 +114,17 @@ def test_a_modal_model_too_large_for_the_budget_is_refused_before_any_eigen_solv
 
 
 def test_a_modal_model_of_more_modes_than_it_takes_is_refused_on_reading(tmp_path):
-    from wheel_squeal.errors import RequestError
-    from wheel_squeal.modal_model import MAX_MODES, load_modal_model
+    from fem.modal_model import MAX_MODES, load_modal_model
+    from geometry import DesignError
 
     one = "[[mode]]\nfrequency_hz = 1000.0\ndamping_ratio = 0.001\nlateral = 0.5\nnormal = 0.0\n"
-    with pytest.raises(RequestError, match="more than a modal model takes"):
+    with pytest.raises(DesignError, match="more than a modal model takes"):
         load_modal_model(_write(tmp_path / "m.toml", one * (MAX_MODES + 1)))
 
 
 def test_a_modal_model_keeps_the_band(tmp_path):
-    from wheel_squeal.errors import RequestError
-    from wheel_squeal.modal_model import load_modal_model
+    from fem.modal_model import load_modal_model
+    from geometry import DesignError
 
     text = "".join(
         f"[[mode]]\nfrequency_hz = {f}\ndamping_ratio = 0.001\nlateral = 0.5\nnormal = 0.0\n"
@@ -133,7 +133,7 @@ def test_a_modal_model_keeps_the_band(tmp_path):
     path = _write(tmp_path / "m.toml", text)
     with pytest.warns(UserWarning, match="1 of 3 modes lie above fmax"):
         assert [m.frequency_hz for m in load_modal_model(path, 5000.0).modes] == [500.0, 1500.0]
-    with pytest.raises(RequestError, match="no mode up to fmax"):
+    with pytest.raises(DesignError, match="no mode up to fmax"):
         load_modal_model(path, 100.0)
 
 
@@ -360,11 +360,11 @@ def _one_mode(tmp_path: Path) -> Path:
     ],
 )
 def test_absurd_modal_models_are_refused_on_reading(tmp_path, mode, word):
-    from wheel_squeal.errors import RequestError
-    from wheel_squeal.modal_model import load_modal_model
+    from fem.modal_model import load_modal_model
+    from geometry import DesignError
 
     text = f"[[mode]]\n{mode}\ndamping_ratio = 0.001\nnormal = 0.0\n"
-    with pytest.raises(RequestError, match=word):
+    with pytest.raises(DesignError, match=word):
         load_modal_model(_write(tmp_path / "m.toml", text))
 
 

@@ -189,3 +189,32 @@ def test_a_balanced_amplitude_is_the_verdicts(tmp_path):
     assert v.squeals and v.outcome is not None and v.outcome.balance is not None
     assert v.amplitude_m_s == pytest.approx(v.outcome.balance.amplitude_m_s, rel=1e-12)
     assert v.amplitude_m_s > 0
+
+
+@pytest.mark.slow  # railway_920's modes (fast preset) and one curve (about 10 s cold)
+def test_a_curve_row_is_the_chain_at_its_contact():
+    """Each row of a curve is the chain at that wheel's contact: ``analyse`` of the contact's
+    design (its own modes read there, solved afresh) at its operating point gives the same
+    mode, mechanism, tone, growth rate, amplitude and sound as the row."""
+    from track.bogie_curving import steady_curving
+    from wheel_squeal.curve import contact_geometry, wheel_sites
+
+    design = ws.load_design("railway_920_track")
+    ctx = ws.RunContext.of("fast")
+    cases = ws.curve(design, [150.0], [40.0], context=ctx)
+    wheels = steady_curving(
+        contact_geometry(design),
+        design.vehicle.vehicle(),
+        150.0,
+        40.0,
+        wheel_load_n=design.contact.normal_load,
+        friction_coefficient=design.contact.friction_coefficient,
+    )
+    options = ChainOptions(mode="model", stop_after="sound", remedy=False, amplitude="harmonic balance")
+    for case, wheel in zip(cases, wheels):
+        sites = wheel_sites(design, wheel, 40.0)
+        site = sites[case.deciding]
+        alone = ws.analyse(site.design, op=site.op, options=options, context=ctx).verdict
+        row = case.analysis.verdict
+        for key in ("squeals", "mode", "mechanism", "tone_hz", "growth_rate_1_s", "amplitude_m_s", "spl_dba"):
+            assert _same(alone.get(key), row.get(key)), (case, key, alone.get(key), row.get(key))

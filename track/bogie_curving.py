@@ -286,10 +286,15 @@ def _side_forces(
     def imbalance(normal: float) -> float:
         return normal * cos_g + sign * forces(normal)[1] * sin_g - vertical_n
 
-    low, high = 0.0, vertical_n / cos_g
-    while imbalance(high) < 0.0 and high < 1e3 * vertical_n / cos_g:
+    high = max(vertical_n, 1.0) / cos_g
+    while imbalance(high) < 0.0 and high < 1e3 * max(vertical_n, 1.0) / cos_g:
         high *= 2.0
-    normal = brentq(imbalance, low, high, xtol=1e-9 * max(vertical_n, 1.0)) if imbalance(high) > 0 else high
+    if imbalance(0.0) >= 0.0:  # no load on this contact (a wheel lifting, a vanishing share)
+        normal = 0.0
+    elif imbalance(high) > 0.0:
+        normal = brentq(imbalance, 0.0, high, xtol=1e-9 * max(vertical_n, 1.0))
+    else:
+        normal = high
     fx, ft, used = forces(normal)
     lateral = -sign * normal * sin_g + ft * cos_g
     grow = max(normal, 1.0) ** (1.0 / 3.0)

@@ -15,6 +15,8 @@ objects, :mod:`wheel_squeal.api`)::
 The command line: ``wheel-squeal --help`` (:mod:`wheel_squeal.cli`).
 """
 
+from fem.modal_model import explicit_modes, load_modal_model
+
 from .api import (
     build_mesh,
     compute_modes,
@@ -36,7 +38,6 @@ from .design import Design
 from .envelope import envelope, mitigation
 from .errors import BudgetError, BudgetExhausted, RequestError
 from .listener import Listener
-from .modal_model import explicit_modes, load_modal_model
 from .present.text import analysis_text, verdict_lines
 from .presets import DEFAULT_DESIGN, DEFAULT_FIDELITY, FIDELITIES, Fidelity, fidelity_for
 from .progress import Progress

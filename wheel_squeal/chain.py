@@ -228,7 +228,10 @@ class _Chain(Outcomes):
             words = f"{d.named_by} {named.label}, which does not squeal here ({rate}); {words}"
         if model.squeals:
             return self.loud(model, words, named, model)
-        return self.quiet(f"{words} but its oscillation does not sustain from rest", named=named, pick=model)
+        # whether it squeals is the decision's (it grows at steady sliding), whatever the
+        # amplitude method; the time domain's record that dies out from rest is said beside
+        beside = f"{words}; its time domain from rest does not sustain: no amplitude from it"
+        return self.loud(model, beside, named, model)
 
     def model_outcome(self, integrate: bool = True) -> ModeOutcome | None:
         """The model's own outcome (None: nothing grows); its linear pick where the

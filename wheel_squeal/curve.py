@@ -31,6 +31,7 @@ from .api import contact_law
 from .budget import CostPlan
 from .chain import AMPLITUDE_METHODS
 from .curve_case import AxleSound, BogiePassby, CurveCase, axle_sound, bogie_sources
+from .curve_contacts import ContactSiteAnalysis, contact_geometry, wheel_sites
 from .design import Design
 from .errors import RequestError
 from .plan import CurveSize, check_curve_files, curve_plan, squealing_axles
@@ -39,14 +40,14 @@ from .types import AmplitudeMethod
 
 if TYPE_CHECKING:
     from fem.modes import ModeSet
-    from reduced import ContactLaw, OperatingPoint
-    from track.bogie_curving import ContactState, Vehicle, WheelContact
-    from track.contact_geometry import ContactGeometry
+    from track.bogie_curving import Vehicle, WheelContact
 
     from .context import RunContext
+    from .curve_remedy import CurveRemedy
 
 __all__ = [
     "AMPLITUDE_METHODS",
+    "CurveMap",
     "AxleSound",
     "BogiePassby",
     "ContactSiteAnalysis",
@@ -54,6 +55,7 @@ __all__ = [
     "contact_geometry",
     "curve",
     "curve_estimate",
+    "curve_map",
     "wheel_sites",
 ]
 
@@ -65,63 +67,44 @@ __all__ = [
 KEPT_RECORD_S = 0.05
 
 
-#: A contact carrying less than this share of its wheel's load is not analysed (it is
-#: the first touch of a two-point contact, about to lift)
-LEAST_LOAD_SHARE = 0.01
-
-
 @dataclass(frozen=True)
-class ContactSiteAnalysis:
-    """One contact of a wheel in a curve: the design at that contact
-    (:class:`~wheel_squeal.design.ContactSite`), its operating point and contact law."""
+class CurveMap:
+    """A curve map: its cases (:class:`CurveCase`, radius by radius, speed by speed, the
+    four wheels in ``track.curving.WHEELS`` order) and what stops its squeal (None: not
+    asked)."""
 
-    state: ContactState
-    design: Design
-    op: OperatingPoint
-    law: ContactLaw
-
-
-def contact_geometry(design: Design) -> ContactGeometry:
-    """The design's wheel (its outline's running surface) on its rail (UIC60 at 1:40):
-    where each wheel of a wheelset touches for each lateral shift (``track.contact_geometry``)."""
-    from track.contact_geometry import ContactGeometry
-    from track.profiles import running_surface
-
-    outline = design.wheel.profile
-    if outline is None:
-        raise RequestError(
-            f"{design.name} is a parametric wheel: a curve needs its running surface and flange, "
-            "a design with a [profile] outline"
-        )
-    r0 = design.rolling_radius
-    return ContactGeometry(wheel=running_surface(outline, r0), rolling_radius_m=r0)
+    cases: list[CurveCase]
+    remedy: CurveRemedy | None = None
 
 
-def wheel_sites(design: Design, wheel: WheelContact, train_speed_km_h: float) -> list[ContactSiteAnalysis]:
-    """Each contact of ``wheel`` as the design there (module docstring); contacts with
-    less than :data:`LEAST_LOAD_SHARE` of the wheel's load left out."""
-    from dataclasses import replace
+def curve_map(
+    design: Design,
+    radii_m: Sequence[float],
+    train_speeds_km_h: Sequence[float],
+    *,
+    cant_mm: float = 0.0,
+    vehicle: Vehicle | None = None,
+    c22: float | None = None,
+    method: AmplitudeMethod = "harmonic balance",
+    context: RunContext | None = None,
+    ground_reflection: float | None = None,
+    remedy: bool = True,
+) -> CurveMap:
+    """:func:`curve`'s cases and, with ``remedy``, every treatment of
+    :data:`wheel_squeal.curve_remedy.TREATMENTS` checked by running the map again with it
+    (priced with the map before anything runs)."""
+    from .curve_remedy import TREATMENTS, map_remedy
 
-    from geometry.contact import frame_on_running_surface
-    from reduced import OperatingPoint
+    maps = 1 + len(TREATMENTS) if remedy else 1
+    run = functools.partial(_cases, cant_mm=cant_mm, vehicle=vehicle, c22=c22, method=method, context=context)
+    cases = run(design, radii_m, train_speeds_km_h, ground_reflection=ground_reflection, maps=maps)
+    if not remedy:
+        return CurveMap(cases)
 
-    from .design import ContactSite
+    def again(treated: Design, speeds: list[float]) -> list[CurveCase]:
+        return run(treated, radii_m, speeds, ground_reflection=None, check=False)
 
-    assert design.wheel.profile is not None  # contact_geometry refused a parametric wheel
-    speed = train_speed_km_h / 3.6
-    mu = design.contact.friction_coefficient
-    sites = []
-    for c in wheel.contacts:
-        if c.load_share < LEAST_LOAD_SHARE:
-            continue
-        frame = frame_on_running_surface(design.wheel.profile, c.point.wheel_lateral_m)
-        at = design.replace(
-            normal_load=c.normal_force_n, c22=c.c22, friction_coefficient=c.lateral_friction_coefficient(mu)
-        )
-        at = replace(at, contact_site=ContactSite(frame, c.point.relative_transverse_radius_m))
-        op = OperatingPoint(speed, speed * c.crabbing_velocity_fraction)
-        sites.append(ContactSiteAnalysis(c, at, op, contact_law(at)))
-    return sites
+    return CurveMap(cases, map_remedy(design, cases, again, (radii_m, train_speeds_km_h)))
 
 
 def curve(
@@ -131,6 +114,7 @@ def curve(
     *,
     cant_mm: float = 0.0,
     vehicle: Vehicle | None = None,
+    c22: float | None = None,
     method: AmplitudeMethod = "harmonic balance",
     context: RunContext | None = None,
     ground_reflection: float | None = None,
@@ -148,6 +132,8 @@ def curve(
         The curves' installed cant [mm] (with the speed, the cant deficiency).
     vehicle : track.bogie_curving.Vehicle, optional
         The bogie instead of the design's ``[vehicle]``.
+    c22 : float, optional
+        Kalker's C22 for every contact (None: each contact's own ellipse's).
     method : {"harmonic balance", "time domain"}
         How a squealing wheel's amplitude is found (module docstring).
     ground_reflection : float, optional
@@ -168,6 +154,34 @@ def curve(
     >>> [(c.wheel.axle, c.wheel.rail, c.wheel.flange_contact) for c in cases][:2]
     [('leading', 'inner', False), ('leading', 'outer', True)]
     """
+    return _cases(
+        design,
+        radii_m,
+        train_speeds_km_h,
+        cant_mm=cant_mm,
+        vehicle=vehicle,
+        c22=c22,
+        method=method,
+        context=context,
+        ground_reflection=ground_reflection,
+    )
+
+
+def _cases(
+    design: Design,
+    radii_m: Sequence[float],
+    train_speeds_km_h: Sequence[float],
+    *,
+    cant_mm: float,
+    vehicle: Vehicle | None,
+    c22: float | None,
+    method: AmplitudeMethod,
+    context: RunContext | None,
+    ground_reflection: float | None,
+    maps: int = 1,
+    check: bool = True,
+) -> list[CurveCase]:
+    """:func:`curve`, its plan counting ``maps`` runs of the map (refused where ``check``)."""
     from dataclasses import replace
 
     from acoustics.passby import passby
@@ -178,7 +192,7 @@ def curve(
     ctx = context or RunContext.of("balanced")
     vehicle = vehicle or design.vehicle.vehicle()
     modes, _, curvings = _planned(
-        design, radii_m, train_speeds_km_h, vehicle, cant_mm, method, ctx, ground_reflection, True
+        design, radii_m, train_speeds_km_h, vehicle, cant_mm, c22, method, ctx, ground_reflection, check, maps
     )
     options = ChainOptions(mode="model", stop_after="sound", remedy=False, amplitude=method)
     cases: list[CurveCase] = []
@@ -218,6 +232,7 @@ def curve_estimate(
     *,
     cant_mm: float = 0.0,
     vehicle: Vehicle | None = None,
+    c22: float | None = None,
     method: AmplitudeMethod = "harmonic balance",
     context: RunContext | None = None,
     ground_reflection: float | None = None,
@@ -231,7 +246,7 @@ def curve_estimate(
     ctx = context or RunContext.of("balanced")
     vehicle = vehicle or design.vehicle.vehicle()
     return _planned(
-        design, radii_m, train_speeds_km_h, vehicle, cant_mm, method, ctx, ground_reflection, False
+        design, radii_m, train_speeds_km_h, vehicle, cant_mm, c22, method, ctx, ground_reflection, False
     )[1]
 
 
@@ -244,10 +259,12 @@ def _planned(
     train_speeds_km_h: Sequence[float],
     vehicle: Vehicle,
     cant_mm: float,
+    c22: float | None,
     method: AmplitudeMethod,
     ctx: RunContext,
     ground_reflection: float | None,
     check: bool,
+    maps: int = 1,
 ) -> tuple[ModeSet, CostPlan, Curvings]:
     """The request checked and priced in its three steps (``plan.curve_plan``), each
     refused beyond the budget before the next where ``check``: (the modes, the plan, each
@@ -269,7 +286,7 @@ def _planned(
         )
     if method not in AMPLITUDE_METHODS:
         raise RequestError(f"amplitude method {method!r}: one of {', '.join(AMPLITUDE_METHODS)}")
-    size = CurveSize(len(radii_m), len(train_speeds_km_h))
+    size = CurveSize(len(radii_m), len(train_speeds_km_h), maps=maps)
     plan_of = functools.partial(
         curve_plan,
         design,
@@ -293,10 +310,22 @@ def _planned(
                 check_curve(float(r), float(v), vehicle.wheelbase_m, cant_mm)
     except ValueError as exc:
         raise RequestError(str(exc)) from None
-    geometry = contact_geometry(design)
-    modes = compute_modes(
-        design, ctx.fidelity, fmax_hz=ctx.fmax_hz, cache=ctx.cache, progress=ctx.progress, budget=ctx.budget
-    )
+    # kept for the process: a line runs the map of many (speed, cant, friction) groups
+    key = modes_cache_key(design, ctx.fidelity, ctx.fmax_hz)
+    memo_key = ("curve", repr(key), design.wheel.profile, design.rolling_radius)
+    if memo_key not in ctx.memo:
+        ctx.memo[memo_key] = (
+            contact_geometry(design),
+            compute_modes(
+                design,
+                ctx.fidelity,
+                fmax_hz=ctx.fmax_hz,
+                cache=ctx.cache,
+                progress=ctx.progress,
+                budget=ctx.budget,
+            ),
+        )
+    geometry, modes = ctx.memo[memo_key]
     contact = contact_law(design)
     wheel_dofs = mode_dofs(excitable(modes, contact), design)
     checked(plan_of(wheel_dofs=wheel_dofs))
@@ -315,7 +344,7 @@ def _planned(
                     youngs_modulus_pa=design.wheel.youngs_modulus,
                     poissons_ratio=design.wheel.poissons_ratio,
                 )
-                curvings[(float(r), float(v))] = [(w, wheel_sites(design, w, float(v))) for w in wheels]
+                curvings[(float(r), float(v))] = [(w, wheel_sites(design, w, float(v), c22)) for w in wheels]
     sites = [
         (s.design, _moved(modes, s.design), s.law, s.op)
         for wheels in curvings.values()
@@ -323,7 +352,6 @@ def _planned(
         for s in mine
         if s.op.crabbing_velocity_m_s != 0.0
     ]
-    key = modes_cache_key(design, ctx.fidelity, ctx.fmax_hz)
     with ctx.progress.stage(f"linear stability at {len(sites):,} sliding contacts"):
         squealing = squealing_axles(
             sites, method == "time domain", lambda m, f: radiation_cached(ctx.cache, key, m, f)

@@ -9,6 +9,8 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
+import numpy as np
+
 from .analysis import Analysis
 from .outputs import finite_or_none
 from .types import AmplitudeMethod
@@ -53,6 +55,14 @@ class BogiePassby:
         ``track.curving.WHEELS``) alone in free field; None where it is silent."""
         idx = [i for i, w in enumerate(self.owners) if w == wheel]
         return self.free.levels_of(idx) if idx else None
+
+    def wheel_band_maxima_dba(self, wheel: int, centres_hz: Sequence[float]) -> np.ndarray:
+        """One wheel's largest A-weighted level over the pass-by in each one-third-octave
+        band [dB(A) re 20 uPa] in free field (-inf where it has no tone)."""
+        idx = [i for i, w in enumerate(self.owners) if w == wheel]
+        if not idx:
+            return np.full(len(centres_hz), -math.inf)
+        return self.free.band_maxima_db(centres_hz, a_weighted=True, sources=idx)
 
 
 @dataclass(frozen=True)
@@ -105,6 +115,13 @@ class CurveCase:
         from track.curving import WHEELS
 
         return WHEELS.index((self.wheel.axle, self.wheel.rail))
+
+    def band_lpamax_dba(self, centres_hz: Sequence[float]) -> np.ndarray:
+        """The wheel's own L_pAmax per one-third-octave band of centre ``centres_hz`` at the
+        pass-by position, free field [dB(A) re 20 uPa] (-inf: no tone in the band)."""
+        if self.passby is None:
+            return np.full(len(centres_hz), -math.inf)
+        return self.passby.wheel_band_maxima_dba(self.index, centres_hz)
 
     def to_record(self) -> dict[str, Any]:
         """curve.csv's row and summary.json's case."""

@@ -10,14 +10,12 @@ from typing import TYPE_CHECKING
 if TYPE_CHECKING:
     from .curve_case import CurveCase
 
-__all__ = ["CNOSSOS_CLASSES", "FIELD_CREEPAGE_THRESHOLD", "RUDD_WHEELBASES", "findings"]
+__all__ = ["FIELD_CREEPAGE_THRESHOLD", "RUDD_WHEELBASES", "findings"]
 
 #: Rudd's rule of thumb: squeal in curves tighter than about this many wheelbases
 RUDD_WHEELBASES = 100.0
 #: The lateral creepage above which field measurements find squeal (about 0.0045)
 FIELD_CREEPAGE_THRESHOLD = 0.0045
-#: CNOSSOS-EU's squeal correction to rolling noise: (upper radius [m], +dB) by class
-CNOSSOS_CLASSES = ((300.0, 8.0), (500.0, 5.0))
 
 
 def _squeals_by(c: CurveCase, coupling: bool) -> bool:
@@ -38,9 +36,12 @@ def findings(cases: Sequence[CurveCase], wheelbase_m: float) -> list[str]:
     any squeal by mode coupling, which a falling branch does not explain."""
     out = []
     rudd = RUDD_WHEELBASES * wheelbase_m
-    lower = [0.0, *(r for r, _ in CNOSSOS_CLASSES[:-1])]
+    from acoustics.emission import CNOSSOS_CURVE_CLASSES
+
+    lower = [0.0, *(r for r, _ in CNOSSOS_CURVE_CLASSES[:-1])]
     cnossos = ", ".join(
-        f"+{db:g} dB {'below' if lo == 0.0 else 'to'} {r:g} m" for lo, (r, db) in zip(lower, CNOSSOS_CLASSES)
+        f"+{db:g} dB {'below' if lo == 0.0 else 'to'} {r:g} m"
+        for lo, (r, db) in zip(lower, CNOSSOS_CURVE_CLASSES)
     )
     # a bogie's leading axle held against the outer rail reaches it at R = 2a / threshold
     at_threshold = wheelbase_m / FIELD_CREEPAGE_THRESHOLD

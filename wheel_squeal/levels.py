@@ -37,6 +37,8 @@ __all__ = [
     "MicrophoneSignal",
     "SquealSound",
     "harmonic_velocities",
+    "kept_harmonics",
+    "max_harmonic_order",
     "squeal_sound",
     "tone_sound",
 ]
@@ -123,7 +125,7 @@ def harmonic_velocities(
     the window (start, end [s], whole periods), the velocity's samples over it, at
     :data:`SAMPLES_PER_PERIOD` per period): the contact velocity's harmonics over the
     limit cycle, the fewest holding :data:`HARMONIC_ENERGY_SHARE` (module docstring)."""
-    from acoustics.signal import harmonic_amplitudes, harmonics_holding, periodic_samples, whole_periods
+    from acoustics.signal import harmonic_amplitudes, periodic_samples, whole_periods
 
     h = simulation.history
     periods = max(1, min(LIMIT_CYCLE_PERIODS, int(0.25 * (h.t[-1] - h.t[0]) * f0_hz)))
@@ -135,13 +137,29 @@ def harmonic_velocities(
         end = float(h.t[-1])
         start = end - count / f0_hz
     samples = periodic_samples(h.t, h.v, start, end, count * SAMPLES_PER_PERIOD)
-    k_max = max(1, min(MAX_HARMONICS, int(MAX_HARMONIC_HZ / mode_frequency_hz)))
-    amps = harmonic_amplitudes(samples, count, k_max)
-    k, share = harmonics_holding(amps, float(np.var(samples)), HARMONIC_ENERGY_SHARE)
-    while k > 1 and abs(amps[k - 1]) ** 2 < HARMONIC_FLOOR * abs(amps[0]) ** 2:
+    amps = harmonic_amplitudes(samples, count, max_harmonic_order(mode_frequency_hz))
+    orders, share = kept_harmonics(amps, float(np.var(samples)))
+    return orders, amps[: len(orders)], share, (start, end, count), samples
+
+
+def max_harmonic_order(mode_frequency_hz: float) -> int:
+    """The highest harmonic a squeal of a mode at ``mode_frequency_hz`` may radiate
+    (:data:`MAX_HARMONICS`, none above :data:`MAX_HARMONIC_HZ`)."""
+    return max(1, min(MAX_HARMONICS, int(MAX_HARMONIC_HZ / mode_frequency_hz)))
+
+
+def kept_harmonics(amplitudes: np.ndarray, mean_square: float) -> tuple[tuple[int, ...], float]:
+    """The orders of the contact velocity's harmonics (complex ``amplitudes`` [m/s], the
+    fundamental first) that are radiated, and the share of the velocity's ``mean_square``
+    [m^2/s^2] they hold (module docstring)."""
+    from acoustics.signal import harmonics_holding
+
+    amps = np.abs(np.asarray(amplitudes))
+    k, share = harmonics_holding(amps, mean_square, HARMONIC_ENERGY_SHARE)
+    while k > 1 and amps[k - 1] ** 2 < HARMONIC_FLOOR * amps[0] ** 2:
         k -= 1
-    share = min(share, 0.5 * float(np.sum(np.abs(amps[:k]) ** 2)) / max(float(np.var(samples)), 1e-300))
-    return tuple(range(1, k + 1)), amps[:k], share, (start, end, count), samples
+    share = min(share, 0.5 * float(np.sum(amps[:k] ** 2)) / max(mean_square, 1e-300))
+    return tuple(range(1, k + 1)), share
 
 
 #: A squeal is radiated at the frequency nearest its tone on a grid of this relative step

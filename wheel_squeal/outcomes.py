@@ -88,7 +88,9 @@ class Outcomes:
         from .api import modal_dof
 
         head = group[0] if self.decision.named is not None and group[0] == self.decision.named else None
-        carrier = head or self.decision.fastest or group[0]
+        carrier, competed = head or self.decision.fastest or group[0], ""
+        if head is None and len(group) > 1:
+            carrier, competed = self.competition(group, carrier)
         base = replace(self.linear(carrier), group=tuple(group))
         if not base.grows:
             return base
@@ -102,9 +104,35 @@ class Outcomes:
             amplitude = predict_limit_cycle(eq, self.contact, self.op).velocity_amplitude_m_s
         if not (math.isfinite(amplitude) and amplitude > 0):
             return replace(base, balance=Balance(None, note="no stable limit cycle in the harmonic balance"))
-        note = "the rest of the system adds more than the mode's damping: a lower bound" if clipped else ""
+        clipped_note = (
+            "the rest of the system adds more than the mode's damping: a lower bound" if clipped else ""
+        )
+        note = "; ".join(n for n in (competed, clipped_note) if n)
         distortion = harmonic_distortion(amplitude, eq, self.contact, self.op)
         return replace(base, balance=Balance(float(amplitude), float(distortion), note))
+
+    def competition(self, group: tuple[Mode, ...], fastest: Mode) -> tuple[Mode, str]:
+        """The mode whose harmonic-balance cycle the others cannot grow on, followed from
+        the fastest-growing one (``reduced.competition.surviving_cycle``), and what the
+        row says of it (empty: the fastest's own cycle holds)."""
+        from reduced.competition import surviving_cycle
+
+        dofs = mode_dofs(group, self.design)
+        eigenvalues = [eigenvalue_of(self.table, self.row_of[m.index]) for m in group]
+        start = group.index(fastest) if fastest in group else 0
+        cycle, visited = surviving_cycle(
+            dofs, eigenvalues, self.contact, self.op, self.omega, body_of(self.design), start
+        )
+        if cycle is None:
+            return (
+                fastest,
+                "no single mode's cycle holds against the others' growth on it: the time domain decides",
+            )
+        carrier = group[cycle.index]
+        if carrier == fastest:
+            return fastest, ""
+        path = " -> ".join(group[c.index].label() for c in visited)
+        return carrier, f"the fastest-growing mode's cycle is taken over ({path})"
 
     def integrate(self, group: tuple[Mode, ...]) -> ModeOutcome:
         """The time-domain answer of ``group`` integrated together (with the counter-body)
@@ -201,28 +229,42 @@ class Outcomes:
         return replace(o, sound=s)
 
     def balanced_sound(self, o: ModeOutcome) -> Any:
-        """The sound of a harmonic balance's limit cycle: the mode's radiation
-        (``levels.radiation_frequency_hz``; kept for the process: ``ctx.memo``) at the
-        balance's amplitude, heard at the tone; the fundamental only."""
-        from .levels import tone_sound
+        """The sound of a harmonic balance's limit cycle: the contact velocity's harmonics
+        (``reduced.harmonic_contact_velocities``: the contact force's distortion through the
+        decision's group of modes, as a time domain of those modes would show them), each
+        the mode's radiation at k times its frequency (``levels.radiation_frequency_hz``;
+        kept for the process: ``ctx.memo``), as the time domain's are; the harmonics kept
+        as :func:`wheel_squeal.levels.kept_harmonics` keeps a record's."""
+        from reduced import harmonic_contact_velocities
+
+        from .levels import SquealSound, kept_harmonics, max_harmonic_order
         from .sound import mode_sound
 
         assert o.amplitude_m_s is not None
-        s = mode_sound(
-            self.design,
-            self.modeset,
-            o.mode,
-            radiation_frequency_hz(o.tone_hz, o.mode.frequency_hz),
-            o.amplitude_m_s,
-            listener=self.opts.listener,
-            travelling=o.wave != "standing",
-            fidelity=self.ctx.fidelity.name,
-            fmax_hz=self.ctx.fmax_hz,
-            cache=self.ctx.cache,
-            budget=self.ctx.budget,
-            memo=self.ctx.memo,
+        f_rad = radiation_frequency_hz(o.tone_hz, o.mode.frequency_hz)
+        group = mode_dofs(self.decision.growing or (o.mode,), self.design)
+        velocities = harmonic_contact_velocities(
+            o.amplitude_m_s, o.tone_hz, group, self.contact, self.op, max_harmonic_order(o.mode.frequency_hz)
         )
-        return tone_sound(s, o.tone_hz)
+        orders, share = kept_harmonics(velocities, 0.5 * float(np.sum(np.abs(velocities) ** 2)))
+        sounds = tuple(
+            mode_sound(
+                self.design,
+                self.modeset,
+                o.mode,
+                k * f_rad,
+                float(abs(velocities[k - 1])),
+                listener=self.opts.listener,
+                travelling=o.wave != "standing",
+                fidelity=self.ctx.fidelity.name,
+                fmax_hz=self.ctx.fmax_hz,
+                cache=self.ctx.cache,
+                budget=self.ctx.budget,
+                memo=self.ctx.memo,
+            )
+            for k in orders
+        )
+        return SquealSound(sounds, orders, share, o.tone_hz)
 
     def radiating(self, o: ModeOutcome) -> Mode:
         """The shape that radiates a limit cycle: the mode holding the largest share of

@@ -74,8 +74,7 @@ def sound_cost(
     would be radiated (a modal model's modes have no shapes, a mode that does not move the
     contact laterally does not squeal through it)."""
     from acoustics import AIR, radiation_cost
-
-    from .modal_model import MODAL_MODEL_SOLVER
+    from fem.modal_model import MODAL_MODEL_SOLVER
 
     if modeset.solver == MODAL_MODEL_SOLVER or not abs(float(mode.contact_lateral[0])) > 0:
         return None

@@ -267,8 +267,9 @@ def named_mode(design: Design, modeset: ModeSet, mode: str = "auto") -> NamedMod
     ``[squeal] mode`` (which names one of its FE modes: not among a modal model's);
     "model" names none (the model's own outcome is the verdict). A named mode with a
     node at the contact is refused in one line."""
+    from fem.modal_model import MODAL_MODEL_SOLVER
+
     from .api import modal_dof, pick_mode
-    from .modal_model import MODAL_MODEL_SOLVER
 
     if mode == "model":
         return NamedMode(None, "", "")

@@ -14,10 +14,10 @@ The rule, at one operating point:
   and reports the squeal (and level) of the model's pick: never "no squeal" while a mode
   grows.
 
-Whether it squeals is the time domain's answer where the squeal mode was simulated (its
-oscillation sustains itself from rest), the linear analysis's otherwise. A run that
-ends still growing is a state of its own (``saturated`` False): its level is "not a
-limit cycle".
+Whether it squeals is the decision's (a mode grows at steady sliding), whatever the
+amplitude method: where the time domain's record from rest dies out, the verdict still
+squeals, without an amplitude, and says so. A run that ends still growing is a state of
+its own (``saturated`` False): its level is "not a limit cycle".
 """
 
 from __future__ import annotations

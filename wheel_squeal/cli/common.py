@@ -71,7 +71,7 @@ def given_modes(args: argparse.Namespace) -> Any:
     explicit = [getattr(args, k, None) for k in ("mass", "stiffness", "damping")]
     given = None
     if path is not None:
-        from ..modal_model import load_modal_model
+        from fem.modal_model import load_modal_model
 
         given = load_modal_model(path, getattr(args, "fmax", None))
     elif any(v is not None for v in explicit):
@@ -80,7 +80,7 @@ def given_modes(args: argparse.Namespace) -> Any:
         n = getattr(args, "nodal_diameters", 0)
         if getattr(args, "rotation", False) and n < 1:
             raise RequestError("--rotation needs the mode's --nodal-diameters (1 or more) with --mass")
-        from ..modal_model import explicit_modes
+        from fem.modal_model import explicit_modes
 
         mass, stiffness, damping = (float(v) for v in explicit if v is not None)
         given = explicit_modes(mass, stiffness, damping, nodal_diameters=n)

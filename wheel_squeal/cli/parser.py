@@ -250,6 +250,19 @@ def _add_curve_command(sub: argparse._SubParsersAction) -> None:
         "--cant", type=float, default=0.0, help="the curves' installed cant [mm] (default %(default)g)"
     )
     p.add_argument("--bogie", help=argparse.SUPPRESS)  # replaced by the steady curving: refused with why
+    add_friction_law(p)
+    p.add_argument(
+        "--no-remedy",
+        action="store_true",
+        help="leave out what would stop the squeal: each treatment (friction modifier, lower friction, "
+        "wheel dampers, steering bogie, lower speed) is checked by running the map again with it",
+    )
+    p.add_argument(
+        "--c22",
+        type=c22_value,
+        help="creep coefficient C22 of every contact: a number or 'kalker' (default: Kalker's of each "
+        "contact's own ellipse)",
+    )
     p.add_argument("--time-domain", action="store_true",
                    help="amplitudes and sound from the time domain (minutes per squealing axle; default: "
                    "harmonic balance of the squeal mode)")  # fmt: skip

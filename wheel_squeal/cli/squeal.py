@@ -10,13 +10,14 @@ from pathlib import Path
 
 import numpy as np
 
+from fem.modal_model import MODAL_MODEL_SOLVER
+
 from .. import api
 from ..design import Design
 from ..envelope import envelope, mitigation_summary
 from ..errors import RequestError
 from ..fields import columns_of
 from ..folders import result_folder
-from ..modal_model import MODAL_MODEL_SOLVER
 from ..outputs import write_csv, write_json
 from ..plan import stability_request_plan
 from ..plotting import PlotWorkers

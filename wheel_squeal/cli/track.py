@@ -42,7 +42,7 @@ def cmd_track(args: argparse.Namespace) -> int:
 def cmd_curve(args: argparse.Namespace) -> int:
     """curve.csv, curve.nc, summary.json, the maps, the loudest pass-by's WAV and
     report.html: each wheel of the bogie at each radius and speed."""
-    from ..curve import curve
+    from ..curve import curve_map
     from ..present.curve import curve_table, write_curve_files
 
     design = design_of(args)
@@ -53,6 +53,9 @@ def cmd_curve(args: argparse.Namespace) -> int:
         )
     if args.wheelbase is not None:
         design = design.replace(wheelbase=args.wheelbase)
+    if args.friction_law is not None:
+        design = design.replace(friction_law=args.friction_law)
+    c22 = args.c22 if isinstance(args.c22, float) else None  # 'kalker': each contact's own
     vehicle = design.vehicle.vehicle()
     q = args.ground_reflection
     method: AmplitudeMethod = "time domain" if args.time_domain else "harmonic balance"
@@ -60,17 +63,24 @@ def cmd_curve(args: argparse.Namespace) -> int:
     ctx = context_of(args)
     with result_folder(out, "curve") as tmp:
         n = len(args.radius) * len(args.train_speed)
-        with ctx.progress.stage(f"{n} curves x 4 wheels ({method})"):
-            cases = curve(
+        remedies = "" if args.no_remedy else ", then again under each treatment of the remedy"
+        with ctx.progress.stage(f"{n} curves x 4 wheels ({method}){remedies}"):
+            result = curve_map(
                 design,
                 args.radius,
                 args.train_speed,
                 cant_mm=args.cant,
+                c22=c22,
                 method=method,
                 context=ctx,
                 ground_reflection=q,
+                remedy=not args.no_remedy,
             )
-        rows, summary = write_curve_files(tmp, design, vehicle, args.cant, cases, method, q)
+        rows, summary = write_curve_files(
+            tmp, design, vehicle, args.cant, result.cases, method, q, result.remedy
+        )
+    if result.remedy is not None:
+        print(result.remedy.words())
     print(curve_table(rows))
     for line in summary["findings"]:
         print(line)

@@ -81,6 +81,12 @@ class CurveSize:
     radii: int
     speeds: int
     contacts: int = 4
+    maps: int = 1  # the map run this many times: once, and again under each of the remedy's treatments
+
+    @property
+    def times(self) -> str:
+        """How the plan's lines say the map is run again (empty: once)."""
+        return f", x {self.maps} (the map and the remedy's treatments)" if self.maps > 1 else ""
 
     @property
     def curves(self) -> int:
@@ -121,17 +127,21 @@ def curve_plan(
     hint = "ask for fewer radii or train speeds"
     n_contacts = size.curves * size.contacts
     plan.add(
-        f"the steady curving of {size.curves:,} curves", size.curves * CURVING_SECONDS_PER_CURVE, remedy=hint
+        f"the steady curving of {size.curves:,} curves{size.times}",
+        size.maps * size.curves * CURVING_SECONDS_PER_CURVE,
+        remedy=hint,
     )
     # every contact's is solved once more first, to price the rest (squealing_axles)
-    solves = n_contacts * (verdict + every)
+    solves = size.maps * n_contacts * (verdict + every)
     plan.add(
-        f"{n_contacts:,} contacts' stability ({len(wheel_dofs)} modes, {body} states of the counter-body)",
+        f"{n_contacts:,} contacts' stability ({len(wheel_dofs)} modes, {body} states of the "
+        f"counter-body){size.times}",
         solves,
         remedy=hint,
     )
     plan.add(
-        f"{size.curves:,} curves' amplitudes and pass-bys", size.curves * passbys * CURVE_SECONDS_PER_CURVE
+        f"{size.curves:,} curves' amplitudes and pass-bys{size.times}",
+        size.maps * size.curves * passbys * CURVE_SECONDS_PER_CURVE,
     )
     plan.add(f"the {size.curves:,} curves' records", 0.0, size.curves * CURVE_BYTES_PER_CURVE, remedy=hint)
     if squealing is None:
@@ -142,8 +152,8 @@ def curve_plan(
         plan.add(f"the sound of {label}", seconds, memory)
     if time_domain and squealing.time_domain_s:
         plan.add(
-            f"the time domain of {len(squealing.time_domain_s):,} squealing contacts",
-            sum(squealing.time_domain_s),
+            f"the time domain of {len(squealing.time_domain_s):,} squealing contacts{size.times}",
+            size.maps * sum(squealing.time_domain_s),
             squealing.record_bytes,
             remedy="leave out the time domain (the harmonic balance is the fast method), or " + hint,
         )

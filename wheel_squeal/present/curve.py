@@ -20,27 +20,26 @@ if TYPE_CHECKING:
     from track.bogie_curving import Vehicle
 
     from ..curve import CurveCase
+    from ..curve_remedy import CurveRemedy
     from ..design import Design
     from ..types import AmplitudeMethod
 
 __all__ = [
     "CURVE_MAPS",
-    "PASSBY_WAV",
-    "band_rows",
+    "SPECTRUM_BANDS_HZ",
     "curve_dataset",
     "curve_table",
+    "spectrum_bands",
     "curve_report",
-    "loudest",
     "write_curve_maps",
     "write_curve_netcdf",
     "write_curve_files",
-    "write_passby_wav",
 ]
 
+#: The lowest and highest one-third-octave centres of curve.nc's spectra [Hz]
+SPECTRUM_BANDS_HZ = (50.0, 10000.0)
 #: The maps the curve command draws
 CURVE_MAPS = ("occurrence.png", "lpamax.png")
-#: The loudest pass-by's sound
-PASSBY_WAV = "passby.wav"
 #: The mechanisms in the occurrence map's colours (none first)
 _MECHANISMS = ("", "falling friction", "mode coupling", "both")
 _TEXT_VARIABLES = ("deciding_contact", "verdict_mode", "mechanism", "amplitude_method", "amplitude_note")
@@ -51,6 +50,16 @@ _GRID_VARIABLES = tuple(
     c
     for c in CURVE_COLUMNS
     if c not in ("radius_m", "train_speed_km_h", "axle", "rail", *_FLAG_VARIABLES, *_TEXT_VARIABLES)
+)
+#: The report's table of the remedy's treatments: (key, heading)
+_TREATMENT_COLUMNS = (
+    ("name", "treatment"),
+    ("what", "what"),
+    ("cases_squealing_before", "squealing before"),
+    ("cases_still_squealing", "still squealing"),
+    ("still_squealing", "how"),
+    ("loudest_lpamax_after_dba", "loudest L_pAmax after [dB(A)]"),
+    ("design_file", "design file"),
 )
 #: The report's table of squealing wheels: (key, heading)
 _REPORT_COLUMNS = (
@@ -80,16 +89,35 @@ def _grid(rows: Sequence[dict], key: str, fill: Any = math.nan) -> np.ndarray:
     )
     for r in rows:
         v = r.get(key)
-        at = (radii.index(r["radius_m"]), speeds.index(r["train_speed_km_h"]),
-              wheels.index(f"{r['axle']} {r['rail']}"))  # fmt: skip
-        out[at] = fill if v is None else v
+        out[_cell(r, radii, speeds, wheels)] = fill if v is None else v
     return out
 
 
-def curve_dataset(rows: Sequence[dict], attrs: dict[str, Any] | None = None) -> Any:
+def _cell(row: dict, radii: list, speeds: list, wheels: list) -> tuple[int, int, int]:
+    """A row's place on the (radius, speed, wheel) grid."""
+    return (
+        radii.index(row["radius_m"]),
+        speeds.index(row["train_speed_km_h"]),
+        wheels.index(f"{row['axle']} {row['rail']}"),
+    )
+
+
+def spectrum_bands() -> list:
+    """The one-third-octave bands of curve.nc's spectra: 50 Hz to 10 kHz, the bands
+    CNOSSOS-EU's railway source takes."""
+    from acoustics.levels import third_octave_bands
+
+    return third_octave_bands(SPECTRUM_BANDS_HZ[0], SPECTRUM_BANDS_HZ[1])
+
+
+def curve_dataset(
+    rows: Sequence[dict], attrs: dict[str, Any] | None = None, spectra: Sequence[np.ndarray] | None = None
+) -> Any:
     """The cases (``CurveCase.to_record()`` rows) as an ``xarray.Dataset`` on the
     dimensions radius_m, train_speed_km_h and wheel, every variable with its units
-    (missing numbers NaN) and ``attrs`` (the file's global attributes).
+    (missing numbers NaN) and ``attrs`` (the file's global attributes); with ``spectra``
+    (each row's :meth:`CurveCase.band_lpamax_dba` at :data:`SPECTRUM_BANDS_HZ`), the
+    variable ``band_lpamax_dba`` on a fourth dimension ``band_hz`` (no tone: NaN).
 
     Examples
     --------
@@ -109,6 +137,18 @@ def curve_dataset(rows: Sequence[dict], attrs: dict[str, Any] | None = None) -> 
     ds = xr.Dataset(data, coords={"radius_m": radii, "train_speed_km_h": speeds, "wheel": wheels})
     for k in (*_GRID_VARIABLES, "radius_m", "train_speed_km_h"):
         ds[k].attrs["units"] = unit_of(k) or "1"
+    if spectra is not None:
+        bands = [b.label_hz for b in spectrum_bands()]
+        grid = np.full((len(radii), len(speeds), len(wheels), len(bands)), np.nan)
+        for r, spectrum in zip(rows, spectra):
+            grid[_cell(r, radii, speeds, wheels)] = np.where(np.isfinite(spectrum), spectrum, np.nan)
+        ds = ds.assign_coords(band_hz=bands)
+        ds["band_lpamax_dba"] = ((*dims, "band_hz"), grid)
+        ds["band_lpamax_dba"].attrs = {
+            "units": "dB(A) re 20 uPa",
+            "long_name": "the wheel's own L_pAmax per one-third-octave band at the pass-by, free field",
+        }
+        ds["band_hz"].attrs = {"units": "Hz", "long_name": "one-third-octave band (nominal centre)"}
     ds["squeals"].attrs = {"units": "1", "long_name": "1 where the wheel squeals"}
     ds["flange_contact"].attrs = {
         "units": "1",
@@ -118,9 +158,11 @@ def curve_dataset(rows: Sequence[dict], attrs: dict[str, Any] | None = None) -> 
     return ds
 
 
-def write_curve_netcdf(path: Path, rows: Sequence[dict], attrs: dict[str, Any]) -> Path:
+def write_curve_netcdf(
+    path: Path, rows: Sequence[dict], attrs: dict[str, Any], spectra: Sequence[np.ndarray] | None = None
+) -> Path:
     """curve.nc: :func:`curve_dataset` as NetCDF-3 (SciPy's writer: no HDF5 library)."""
-    curve_dataset(rows, attrs).to_netcdf(path, engine="scipy")
+    curve_dataset(rows, attrs, spectra).to_netcdf(path, engine="scipy")
     return Path(path)
 
 
@@ -180,54 +222,6 @@ def write_curve_maps(folder: Path, rows: Sequence[dict]) -> list[str]:
     return list(CURVE_MAPS)
 
 
-def loudest(cases: Sequence[CurveCase]) -> list[CurveCase]:
-    """The four wheels of the radius and speed whose bogie pass-by is loudest in dB(A)
-    (empty: nothing squeals audibly)."""
-    heard = [c for c in cases if c.passby is not None]
-    if not heard:
-        return []
-    top = max(heard, key=lambda c: c.passby.free.lpamax_dba)  # type: ignore[union-attr]
-    return [c for c in cases if (c.radius_m, c.train_speed_km_h) == (top.radius_m, top.train_speed_km_h)]
-
-
-def band_rows(case: CurveCase) -> list[dict]:
-    """The bogie's largest level over the pass-by in each one-third-octave band that
-    holds a tone, in dB and dB(A) (free field)."""
-    from acoustics.levels import third_octave_bands
-
-    assert case.passby is not None
-    bands = third_octave_bands(20.0, 20000.0)
-    centres = [b.centre_hz for b in bands]
-    levels = case.passby.free.band_maxima_db(centres)
-    weighted = case.passby.free.band_maxima_db(centres, a_weighted=True)
-    return [
-        {"band_hz": b.label_hz, "lpmax_db": float(lv), "lpamax_dba": float(la)}
-        for b, lv, la in zip(bands, levels, weighted)
-        if np.isfinite(lv)
-    ]
-
-
-def write_passby_wav(
-    path: Path, group: Sequence[CurveCase], wheelbase_m: float, rolling_radius_m: float
-) -> dict[str, Any]:
-    """The pass-by of one radius and speed's wheels as heard at the microphone (level and
-    Doppler shift; 16-bit, normalised to its peak pressure [Pa], which is returned with
-    the duration)."""
-    from acoustics.passby import MICROPHONE_DISTANCE_M, passby_pressure
-    from acoustics.signal import WAV_RATE_HZ, faded
-
-    from ..curve import bogie_sources
-    from .files import write_wav
-
-    speed = group[0].train_speed_km_h / 3.6
-    sources, _ = bogie_sources(group, wheelbase_m, rolling_radius_m)
-    duration = min(12.0, 2 * 10.0 * MICROPHONE_DISTANCE_M / speed)
-    _, p = passby_pressure(sources, speed, duration, WAV_RATE_HZ)
-    peak = write_wav(path, faded(p, WAV_RATE_HZ, 0.5))
-    return {"file": path.name, "radius_m": group[0].radius_m, "train_speed_km_h": group[0].train_speed_km_h,
-            "duration_s": duration, "peak_pa": peak, "sample_rate_hz": WAV_RATE_HZ}  # fmt: skip
-
-
 def curve_assumptions(method: str) -> tuple[str, ...]:
     """What a curve map rests on, said in its report: the wheel, each wheel's contact, how
     its amplitude and sound were found (``method``), the pass-by."""
@@ -259,22 +253,42 @@ def curve_assumptions(method: str) -> tuple[str, ...]:
     )
 
 
-def curve_report(folder: Path, design: str, rows: Sequence[dict], summary: dict[str, Any]) -> Path:
-    """report.html: the cases that squeal, the loudest pass-by's bands and sound, the
-    maps, the inputs."""
+def curve_report(
+    folder: Path, design: str, rows: Sequence[dict], summary: dict[str, Any], spectra: Sequence[np.ndarray]
+) -> Path:
+    """report.html: the remedy first, the cases that squeal with their one-third-octave
+    spectra, the treatments checked, the loudest pass-by's bands and sound, the maps, the
+    inputs."""
     from .html import audio, listing_report, table
+    from .passby import PASSBY_WAV
 
-    squealing = [r for r in rows if r["squeals"]]
+    labels = [b.label_hz for b in spectrum_bands()]
+
+    def heard(spectrum: np.ndarray) -> str:
+        return "; ".join(f"{f:g} Hz {x:.1f}" for f, x in zip(labels, spectrum) if np.isfinite(x)) or "none"
+
+    squealing = [{**r, "bands": heard(sp)} for r, sp in zip(rows, spectra) if r["squeals"]]
     radii, speeds, _ = _axes(rows)
+    remedy = summary.get("remedy")
     lines = [
+        *([remedy["words"]] if remedy else []),
         f"{design} on its track: {len(radii)} radii x {len(speeds)} train speeds x 4 wheels; "
         f"{len(squealing)} of {len(rows)} wheel cases squeal "
         f"(amplitudes by {summary['amplitude_method']}).",
         *summary["findings"],
     ]
-    sections = [
-        ("Squealing wheels", table(squealing, _REPORT_COLUMNS) if squealing else "<p>No wheel squeals.</p>")
-    ]
+    columns = [*_REPORT_COLUMNS, ("bands", "1/3-octave L_pAmax [Hz dB(A)]")]
+    sections = [("Squealing wheels", table(squealing, columns) if squealing else "<p>No wheel squeals.</p>")]
+    if remedy and remedy["treatments"]:
+        treatments = [
+            {**t, "design_file": t["design_file"] or "(the design as it is)"} for t in remedy["treatments"]
+        ]
+        sections.append(
+            (
+                "What stops it: each treatment checked over the map",
+                table(treatments, _TREATMENT_COLUMNS),
+            )
+        )
     loud = summary.get("loudest")
     if loud:
         sections.append((
@@ -305,6 +319,7 @@ def write_curve_files(
     cases: Sequence[CurveCase],
     method: AmplitudeMethod,
     ground_reflection: float | None,
+    remedy: CurveRemedy | None = None,
 ) -> tuple[list[dict], dict[str, Any]]:
     """Every file of the curve command in ``folder``; returns curve.csv's rows and
     summary.json without its cases."""
@@ -313,6 +328,8 @@ def write_curve_files(
     from ..curve_findings import findings
     from ..fields import columns_of
     from ..outputs import write_csv, write_json
+    from .curve_remedy import write_curve_remedy
+    from .passby import band_rows, loudest, write_passby_files
 
     rows = [c.to_record() for c in cases]
     q = ground_reflection
@@ -325,9 +342,11 @@ def write_curve_files(
         "ground": "free field" if q is None else f"{GROUND_DEPTH_M} m below the rail head, reflection {q:g}",
         "findings": findings(cases, vehicle.wheelbase_m),
     }
+    if remedy is not None:
+        summary["remedy"] = write_curve_remedy(folder, remedy)
     group = loudest(cases)
     if group:
-        wav = write_passby_wav(folder / PASSBY_WAV, group, vehicle.wheelbase_m, design.rolling_radius)
+        wav = write_passby_files(folder, group, vehicle.wheelbase_m, design.rolling_radius)
         summary["loudest"] = {**wav, "bands": band_rows(group[0])}
     write_csv(folder / "curve.csv", rows, columns_of("curve.csv"))
     attrs = {
@@ -337,11 +356,13 @@ def write_curve_files(
         "primary_yaw_stiffness_n_m_rad": vehicle.primary_yaw_stiffness_n_m_rad,
         "cant_mm": cant_mm,
     }
-    write_curve_netcdf(folder / "curve.nc", rows, attrs)
+    centres = [b.centre_hz for b in spectrum_bands()]
+    spectra = [c.band_lpamax_dba(centres) for c in cases]
+    write_curve_netcdf(folder / "curve.nc", rows, attrs, spectra)
     write_curve_maps(folder, rows)
     cases_json = [{**r, "verdict": c.analysis.verdict.to_dict()} for r, c in zip(rows, cases)]
     write_json(folder / "summary.json", {**summary, "cases": cases_json})
-    curve_report(folder, design.name, rows, summary)
+    curve_report(folder, design.name, rows, summary, spectra)
     return rows, summary
 
 

@@ -24,10 +24,10 @@ from typing import Any
 
 import numpy as np
 
-from fem.modes import Mode, ModeSet
+from geometry import DesignError
 from geometry.files import read_toml
 
-from .errors import RequestError
+from .modes import Mode, ModeSet
 
 __all__ = ["MODAL_MODEL_SOLVER", "explicit_modes", "load_modal_model", "modal_modes"]
 
@@ -49,7 +49,7 @@ MAX_MODES = 10_000
 
 def _number(where: str, key: str, value: Any) -> float:
     if isinstance(value, bool) or not isinstance(value, int | float) or not math.isfinite(value):
-        raise RequestError(f"{where}: {key} must be a finite number, got {value!r}")
+        raise DesignError(f"{where}: {key} must be a finite number, got {value!r}")
     return float(value)
 
 
@@ -61,38 +61,38 @@ def _mass(component: float) -> float:
 def _mode(i: int, table: Any, source: str) -> Mode:
     where = f"{source}: [[mode]] {i + 1}"
     if not isinstance(table, dict):
-        raise RequestError(f"{where} must be a table")
+        raise DesignError(f"{where} must be a table")
     unknown = sorted(set(table) - _KEYS)
     if unknown:
-        raise RequestError(f"{where}: unknown key {unknown[0]!r}; allowed: {', '.join(sorted(_KEYS))}")
+        raise DesignError(f"{where}: unknown key {unknown[0]!r}; allowed: {', '.join(sorted(_KEYS))}")
     missing = [k for k in _REQUIRED if k not in table]
     if missing:
-        raise RequestError(f"{where} needs {', '.join(missing)}")
+        raise DesignError(f"{where} needs {', '.join(missing)}")
     f, zeta, t, n = (_number(where, k, table[k]) for k in _REQUIRED)
     if not FREQUENCY_RANGE_HZ[0] <= f <= FREQUENCY_RANGE_HZ[1]:
-        raise RequestError(
+        raise DesignError(
             f"{where}: frequency_hz = {f:g} is outside the range of a wheel's modes "
             f"({FREQUENCY_RANGE_HZ[0]:g} to {FREQUENCY_RANGE_HZ[1]:g} Hz)"
         )
     for key, phi in (("lateral", t), ("normal", n)):
         if phi != 0.0 and not COMPONENT_RANGE[0] <= abs(phi) <= COMPONENT_RANGE[1]:
-            raise RequestError(
+            raise DesignError(
                 f"{where}: {key} = {phi:g} 1/sqrt(kg) means a modal mass of {_mass(phi):.3g} kg at the "
                 f"contact, outside {1 / COMPONENT_RANGE[1] ** 2:g} to {1 / COMPONENT_RANGE[0] ** 2:g} kg "
                 "(give 0 for a mode that does not move the contact that way)"
             )
     if not 0.0 <= zeta < 1.0:
-        raise RequestError(f"{where}: damping_ratio = {zeta:g}: a modal damping ratio in [0, 1)")
+        raise DesignError(f"{where}: damping_ratio = {zeta:g}: a modal damping ratio in [0, 1)")
     if t == 0.0 and n == 0.0:
-        raise RequestError(f"{where}: lateral and normal are both 0: the contact does not see this mode")
+        raise DesignError(f"{where}: lateral and normal are both 0: the contact does not see this mode")
     nd = table.get("nodal_diameters", 0)
     if isinstance(nd, bool) or not isinstance(nd, int) or nd < 0:
-        raise RequestError(f"{where}: nodal_diameters must be a whole number >= 0, got {nd!r}")
+        raise DesignError(f"{where}: nodal_diameters must be a whole number >= 0, got {nd!r}")
     label = table.get("label", "")
     if not isinstance(label, str):
-        raise RequestError(f"{where}: label must be a string, got {label!r}")
+        raise DesignError(f"{where}: label must be a string, got {label!r}")
     if not label.isprintable() or len(label) > MAX_LABEL_CHARS:
-        raise RequestError(
+        raise DesignError(
             f"{where}: label {ascii(label[:40])} must be printable text (no control characters) of at most "
             f"{MAX_LABEL_CHARS} characters: it is printed on the terminal and in the report"
         )
@@ -131,13 +131,13 @@ def explicit_modes(
 
     Raises
     ------
-    RequestError
+    DesignError
         A value that is not positive (damping: negative) or over critical damping.
 
     Examples
     --------
-    >>> import wheel_squeal as ws
-    >>> m = ws.explicit_modes(3.1, 1.6e8, 42).modes[0]
+    >>> from fem import modal_model as mm
+    >>> m = mm.explicit_modes(3.1, 1.6e8, 42).modes[0]
     >>> round(m.frequency_hz, 1), round(m.modal_mass, 6)
     (1143.4, 3.1)
     """
@@ -147,13 +147,13 @@ def explicit_modes(
         ("damping_ns_m", damping_ns_m, True),
     ):
         if not (math.isfinite(v) and (v > 0 or (zero_ok and v == 0))):
-            raise RequestError(f"{name} must be {'non-negative' if zero_ok else 'positive'}, got {v:g}")
+            raise DesignError(f"{name} must be {'non-negative' if zero_ok else 'positive'}, got {v:g}")
     if nodal_diameters < 0:
-        raise RequestError(f"nodal diameters must be 0 or more, got {nodal_diameters}")
+        raise DesignError(f"nodal diameters must be 0 or more, got {nodal_diameters}")
     f = math.sqrt(stiffness_n_m / mass_kg) / (2 * math.pi)
     zeta = damping_ns_m / (2 * math.sqrt(stiffness_n_m * mass_kg))
     if not zeta < 1.0:
-        raise RequestError(
+        raise DesignError(
             f"damping_ns_m = {damping_ns_m:g} is over critical damping "
             f"({2 * math.sqrt(stiffness_n_m * mass_kg):.4g} N s/m)"
         )
@@ -182,36 +182,36 @@ def load_modal_model(path: str | Path, fmax_hz: float | None = None) -> ModeSet:
 
     Raises
     ------
-    RequestError
+    DesignError
         A bad file, in one line naming the problem.
 
     Examples
     --------
     >>> import tempfile, pathlib
-    >>> import wheel_squeal as ws
+    >>> from fem import modal_model as mm
     >>> path = pathlib.Path(tempfile.mkdtemp()) / "rig.toml"
     >>> text = "[[mode]]\nfrequency_hz = 1143.0\ndamping_ratio = 9.4e-4\nlateral = 0.568\nnormal = 0.0\n"
     >>> _ = path.write_text(text)
-    >>> [m.label() for m in ws.load_modal_model(path).modes]
+    >>> [m.label() for m in mm.load_modal_model(path).modes]
     ['mode 1 (1143.0 Hz)']
     """
     source = str(path)
-    _, data = read_toml(path, "modal model", RequestError)
+    _, data = read_toml(path, "modal model", DesignError)
     unknown = sorted(set(data) - {"mode"})
     if unknown:
-        raise RequestError(f"{source}: unknown key or table {unknown[0]!r}; a modal model is [[mode]] tables")
+        raise DesignError(f"{source}: unknown key or table {unknown[0]!r}; a modal model is [[mode]] tables")
     tables = data.get("mode")
     if not isinstance(tables, list) or not tables:
-        raise RequestError(
+        raise DesignError(
             f"{source}: no [[mode]] table: give one per mode (frequency_hz, damping_ratio, ...)"
         )
     if len(tables) > MAX_MODES:
-        raise RequestError(f"{source}: {len(tables):,} modes, more than a modal model takes ({MAX_MODES:,})")
+        raise DesignError(f"{source}: {len(tables):,} modes, more than a modal model takes ({MAX_MODES:,})")
     modes = sorted((_mode(i, t, source) for i, t in enumerate(tables)), key=lambda m: m.frequency_hz)
     if fmax_hz is not None:
         band = [m for m in modes if m.frequency_hz <= fmax_hz]
         if not band:
-            raise RequestError(
+            raise DesignError(
                 f"{source}: no mode up to fmax = {fmax_hz:g} Hz "
                 f"(the lowest is {modes[0].frequency_hz:.6g} Hz)"
             )
@@ -229,5 +229,5 @@ def load_modal_model(path: str | Path, fmax_hz: float | None = None) -> ModeSet:
     ]  # fmt: skip
     labels = [m.name for m in modes]
     if len(set(labels)) != len(labels):
-        raise RequestError(f"{source}: two modes have the same label; give each its own")
+        raise DesignError(f"{source}: two modes have the same label; give each its own")
     return modal_modes(modes)

@@ -1,0 +1,83 @@
+"""Each wheel of a curve at its own contacts: the design's running surface on its rail
+(:func:`contact_geometry`) and each contact the steady curving finds as the design at that
+contact (:func:`wheel_sites`: its frame, ellipse, load, C22, friction and sliding speed),
+what :mod:`wheel_squeal.curve` runs the chain on."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
+from .api import contact_law
+from .design import Design
+from .errors import RequestError
+
+if TYPE_CHECKING:
+    from reduced import ContactLaw, OperatingPoint
+    from track.bogie_curving import ContactState, WheelContact
+    from track.contact_geometry import ContactGeometry
+
+__all__ = ["LEAST_LOAD_SHARE", "ContactSiteAnalysis", "contact_geometry", "wheel_sites"]
+
+#: A contact carrying less than this share of its wheel's load is not analysed (it is
+#: the first touch of a two-point contact, about to lift)
+LEAST_LOAD_SHARE = 0.01
+
+
+@dataclass(frozen=True)
+class ContactSiteAnalysis:
+    """One contact of a wheel in a curve: the design at that contact
+    (:class:`~wheel_squeal.design.ContactSite`), its operating point and contact law."""
+
+    state: ContactState
+    design: Design
+    op: OperatingPoint
+    law: ContactLaw
+
+
+def contact_geometry(design: Design) -> ContactGeometry:
+    """The design's wheel (its outline's running surface) on its rail (UIC60 at 1:40):
+    where each wheel of a wheelset touches for each lateral shift (``track.contact_geometry``)."""
+    from track.contact_geometry import ContactGeometry
+    from track.profiles import running_surface
+
+    outline = design.wheel.profile
+    if outline is None:
+        raise RequestError(
+            f"{design.name} is a parametric wheel: a curve needs its running surface and flange, "
+            "a design with a [profile] outline"
+        )
+    r0 = design.rolling_radius
+    return ContactGeometry(wheel=running_surface(outline, r0), rolling_radius_m=r0)
+
+
+def wheel_sites(
+    design: Design, wheel: WheelContact, train_speed_km_h: float, c22: float | None = None
+) -> list[ContactSiteAnalysis]:
+    """Each contact of ``wheel`` as the design there (module docstring); contacts with
+    less than :data:`LEAST_LOAD_SHARE` of the wheel's load left out; ``c22`` replaces
+    each contact's own Kalker coefficient (None: its ellipse's)."""
+    from dataclasses import replace
+
+    from geometry.contact import frame_on_running_surface
+    from reduced import OperatingPoint
+
+    from .design import ContactSite
+
+    assert design.wheel.profile is not None  # contact_geometry refused a parametric wheel
+    speed = train_speed_km_h / 3.6
+    mu = design.contact.friction_coefficient
+    sites = []
+    for c in wheel.contacts:
+        if c.load_share < LEAST_LOAD_SHARE or c.normal_force_n <= 0.0:
+            continue
+        frame = frame_on_running_surface(design.wheel.profile, c.point.wheel_lateral_m)
+        at = design.replace(
+            normal_load=c.normal_force_n,
+            c22=c.c22 if c22 is None else c22,
+            friction_coefficient=c.lateral_friction_coefficient(mu),
+        )
+        at = replace(at, contact_site=ContactSite(frame, c.point.relative_transverse_radius_m))
+        op = OperatingPoint(speed, speed * c.crabbing_velocity_fraction)
+        sites.append(ContactSiteAnalysis(c, at, op, contact_law(at)))
+    return sites
