@@ -2,27 +2,28 @@
 power per metre of track per frequency band (CNOSSOS-EU, Directive (EU) 2015/996, Annex
 II), the traffic's equivalent level, and the flat correction CNOSSOS-EU adds for curves.
 
-A squealing wheel's tone of far-field directivity |D(theta)| [Pa m] (theta from its axle)
-is, toward the direction perpendicular to the track in the horizontal plane (theta = 0 on
-its field side), a source of directional sound power
+The source term is the one a pass-by at the ISO 3095 position gives, as CNOSSOS-EU's own
+railway source terms are derived from pass-by measurements: a bogie passing at V [m/s] at
+distance d from the microphone leaves in each band the exposure E_b [Pa^2 s] (the pass-by
+computed with the wheels' own directivity, ``acoustics.passby``); the directional sound
+power toward the track's perpendicular that gives the same exposure under CNOSSOS-EU's
+propagation (free field, spherical spreading) and its horizontal directivity of the rolling
+source, 10 lg(0.01 + 0.99 sin^2 phi) (phi from the track's direction), along an infinite
+line, is
 
-    W_dir = 4 pi |D|^2 / (2 rho c)
+    W_0,b = E_b 4 pi V d / (rho c (0.01 pi + 0.99 pi / 2))
 
-(the power an omnidirectional source would need for the same intensity there; a pair mode's
-cos(n phi) pattern around the axle, of unknown orientation, contributes half). A bogie's
-wheels add in energy, band by band. A bogie passing at V [m/s] leaves W_dir / V of energy per
-metre of track; Q bogies an hour that squeal a share p of the time make the line source
+Q bogies an hour that squeal a share p of the time make the line source
 
-    W'_dir = p Q W_dir / (3600 V)     [W/m],  L_W' = 10 lg(W'_dir / 1e-12 W)
+    W'_b = p Q W_0,b / (3600 V)     [W/m],  L_W' = 10 lg(W'_b / 1e-12 W)
 
-per band, at the source height CNOSSOS-EU gives the wheel/rail sources (0.05 m above the
-rail head). Its horizontal directivity is the wheel's own: an axial mode radiates along the
-axle, like the dipole CNOSSOS-EU takes for rolling noise, 10 lg(0.01 + 0.99 sin^2 phi) (phi
-from the track's direction), which is what a mapping tool applies. The exposure a pass-by
-leaves at a receiver d from the track follows back from it (free field, spherical
-spreading, that directivity, an infinite line):
+at the source height CNOSSOS-EU gives the wheel/rail sources (0.05 m above the rail head).
+At the ISO 3095 position the emission gives the pass-by's exposure back by construction;
+elsewhere the squeal's own directivity is not the dipole (a mode of n >= 1 nodal diameters
+radiates nothing along its axle and most some tens of degrees off it), and how far the two
+part at another receiver is measured (docs/validation.md). The exposure at d is
 
-    E = rho c W_dir / (4 pi) * (0.01 pi + 0.99 pi / 2) / (V d)
+    E = rho c W_0 / (4 pi) * (0.01 pi + 0.99 pi / 2) / (V d)
 
 and the equivalent level over a period of N bogies, L_Aeq = SEL_A + 10 lg(p N / T).
 """
@@ -30,14 +31,13 @@ and the equivalent level over a period of N bogies, L_Aeq = SEL_A + 10 lg(p N / 
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
 
-from .levels import a_weighting_db, third_octave_bands
+from .levels import third_octave_bands
 from .medium import AIR, P_REF_PA, W_REF_W, Air
-from .passby import PassbySource
+from .passby import PassbyResult
 
 __all__ = [
     "CNOSSOS_CURVE_CLASSES",
@@ -45,7 +45,7 @@ __all__ = [
     "CNOSSOS_SOURCE_HEIGHT_M",
     "CNOSSOS_THIRDS",
     "BandPower",
-    "band_directional_power",
+    "band_emission_power",
     "cnossos_curve_correction_db",
     "exposure_from_emission",
     "line_emission_db",
@@ -65,38 +65,39 @@ DIPOLE_FLOOR, DIPOLE_SHARE = 0.01, 0.99
 
 @dataclass(frozen=True)
 class BandPower:
-    """A bogie's directional sound power toward the track's perpendicular per band [W]:
-    ``octaves`` at :data:`CNOSSOS_OCTAVES_HZ`, ``thirds`` at :data:`CNOSSOS_THIRDS`; and
-    its A-weighted total [W]."""
+    """A bogie's directional sound power per band toward the track's perpendicular [W]:
+    ``octaves`` at :data:`CNOSSOS_OCTAVES_HZ`, ``thirds`` at :data:`CNOSSOS_THIRDS`; and its
+    A-weighted total [W]."""
 
     octaves: np.ndarray
     thirds: np.ndarray
     a_weighted_w: float
 
 
-def _toward_perpendicular(s: PassbySource) -> float:
-    """|D|^2 [Pa^2 m^2] of a source toward the receiver's side, perpendicular to the track."""
-    theta = 0.0 if s.across_m >= 0 else math.pi  # its field side faces the receiver or away
-    d = float(np.interp(theta, s.angles_rad, s.directivity_pa_m))
-    return d * d * (0.5 if s.nodal_diameters else 1.0)
+def _spread(speed_m_s: float, distance_m: float) -> float:
+    """int (0.01 + 0.99 sin^2 phi) / r^2 dt over an infinite pass-by [s/m^2]."""
+    return (DIPOLE_FLOOR * math.pi + DIPOLE_SHARE * math.pi / 2.0) / (speed_m_s * distance_m)
 
 
-def band_directional_power(sources: Sequence[PassbySource], air: Air = AIR) -> BandPower:
-    """The bogie's directional sound power per band (module docstring) from its pass-by
-    sources (each a wheel's tone with its directivity)."""
+def band_emission_power(
+    passby: PassbyResult, speed_m_s: float, distance_m: float, air: Air = AIR
+) -> BandPower:
+    """The bogie's directional sound power per band (module docstring) from its pass-by at
+    ``distance_m`` [m] from the track (its exposure per band)."""
+    dt = float(passby.t[1] - passby.t[0]) if len(passby.t) > 1 else 0.0
+    exposure = passby.each_pa2.sum(axis=1) * dt  # per source [Pa^2 s]
+    to_power = 4.0 * math.pi / (air.density_kg_m3 * air.sound_speed_m_s * _spread(speed_m_s, distance_m))
     octaves = np.zeros(len(CNOSSOS_OCTAVES_HZ))
     thirds = np.zeros(len(CNOSSOS_THIRDS))
-    weighted = 0.0
-    for s in sources:
-        w = 4.0 * math.pi * _toward_perpendicular(s) / (2.0 * air.density_kg_m3 * air.sound_speed_m_s)
-        f = s.frequency_hz
+    for e, f in zip(exposure, passby.frequencies_hz):
+        w = float(e) * to_power
         for i, centre in enumerate(CNOSSOS_OCTAVES_HZ):
             if centre / math.sqrt(2.0) <= f < centre * math.sqrt(2.0):
                 octaves[i] += w
         for i, band in enumerate(CNOSSOS_THIRDS):
             if band.lower_hz <= f < band.upper_hz:
                 thirds[i] += w
-        weighted += w * 10 ** (float(a_weighting_db(f)) / 10)
+    weighted = float(np.sum(exposure * 10 ** (passby.a_weighting_db / 10))) * to_power
     return BandPower(octaves, thirds, weighted)
 
 
@@ -123,8 +124,7 @@ def exposure_from_emission(power_w: float, speed_m_s: float, distance_m: float, 
     """The sound exposure level [dB re (20 uPa)^2 s] one pass-by of directional power
     ``power_w`` [W] leaves at ``distance_m`` from the track with CNOSSOS-EU's horizontal
     dipole (module docstring)."""
-    spread = (DIPOLE_FLOOR * math.pi + DIPOLE_SHARE * math.pi / 2.0) / (speed_m_s * distance_m)
-    e = air.density_kg_m3 * air.sound_speed_m_s * power_w / (4.0 * math.pi) * spread
+    e = air.density_kg_m3 * air.sound_speed_m_s * power_w / (4.0 * math.pi) * _spread(speed_m_s, distance_m)
     return 10 * math.log10(e / P_REF_PA**2) if e > 0 else -math.inf
 
 

@@ -218,7 +218,7 @@ def test_the_leading_outer_wheel_flanges_and_is_not_the_leading_inner_one():
     vi, vo = inner.analysis.verdict, outer.analysis.verdict
     assert vi.to_dict() != vo.to_dict()
     assert abs(vi.get("tone_hz") / vo.get("tone_hz") - 1.0) > 0.01
-    flange = outer.analyses[outer.wheel.contacts.index(outer.wheel.main)].verdict
+    flange = outer.analyses[outer.contacts.index(outer.wheel.main)].verdict
     assert flange.get("mode") != vi.get("mode") and "radial" in (flange.get("mode") or "")
 
 

@@ -118,6 +118,7 @@ def curve(
     method: AmplitudeMethod = "harmonic balance",
     context: RunContext | None = None,
     ground_reflection: float | None = None,
+    priced: bool = False,
 ) -> list[CurveCase]:
     """Every wheel of the design's bogie at every radius and train speed (module docstring).
 
@@ -140,6 +141,9 @@ def curve(
         The ground's reflection factor (0 to 1) for a second pass-by level over the
         ground (``acoustics.passby.GROUND_DEPTH_M`` below the rail head); None: free
         field only.
+    priced : bool
+        The caller has priced and allowed the work as part of a larger whole (a line):
+        neither priced nor refused here.
 
     Returns
     -------
@@ -164,6 +168,7 @@ def curve(
         method=method,
         context=context,
         ground_reflection=ground_reflection,
+        check=not priced,
     )
 
 
@@ -192,7 +197,18 @@ def _cases(
     ctx = context or RunContext.of("balanced")
     vehicle = vehicle or design.vehicle.vehicle()
     modes, _, curvings = _planned(
-        design, radii_m, train_speeds_km_h, vehicle, cant_mm, c22, method, ctx, ground_reflection, check, maps
+        design,
+        radii_m,
+        train_speeds_km_h,
+        vehicle,
+        cant_mm,
+        c22,
+        method,
+        ctx,
+        ground_reflection,
+        check,
+        maps,
+        check,
     )
     options = ChainOptions(mode="model", stop_after="sound", remedy=False, amplitude=method)
     cases: list[CurveCase] = []
@@ -204,7 +220,10 @@ def _cases(
                 analyse(s.design, op=s.op, options=options, context=ctx, modes=_moved(modes, s.design))
                 for s in sites
             )
-            case = CurveCase(radius, speed, wheel, tuple(a.tail(KEPT_RECORD_S) for a in analyses))
+            states = tuple(s.state for s in sites)
+            case = CurveCase(
+                radius, speed, wheel, tuple(a.tail(KEPT_RECORD_S) for a in analyses), states=states
+            )
             group.append(replace(case, sound=axle_sound(analyses[case.deciding])))
         sources, owners = bogie_sources(group, vehicle.wheelbase_m, design.rolling_radius)
         if sources:
@@ -265,6 +284,7 @@ def _planned(
     ground_reflection: float | None,
     check: bool,
     maps: int = 1,
+    price: bool = True,
 ) -> tuple[ModeSet, CostPlan, Curvings]:
     """The request checked and priced in its three steps (``plan.curve_plan``), each
     refused beyond the budget before the next where ``check``: (the modes, the plan, each
@@ -345,6 +365,8 @@ def _planned(
                     poissons_ratio=design.wheel.poissons_ratio,
                 )
                 curvings[(float(r), float(v))] = [(w, wheel_sites(design, w, float(v), c22)) for w in wheels]
+    if not (check or price):  # priced by the caller as a whole (a line): no pre-pass
+        return modes, plan_of(wheel_dofs=wheel_dofs), curvings
     sites = [
         (s.design, _moved(modes, s.design), s.law, s.op)
         for wheels in curvings.values()

@@ -17,7 +17,7 @@ from .types import AmplitudeMethod
 
 if TYPE_CHECKING:
     from acoustics.passby import PassbyResult, PassbySource
-    from track.bogie_curving import WheelContact
+    from track.bogie_curving import ContactState, WheelContact
 
 __all__ = ["FLANGING_NOTE", "AxleSound", "BogiePassby", "CurveCase", "axle_sound", "bogie_sources"]
 
@@ -68,7 +68,8 @@ class BogiePassby:
 @dataclass(frozen=True)
 class CurveCase:
     """One wheel at one radius and train speed: its steady curving, the chain's analysis at
-    each of its contacts (``analyses``, in ``wheel.contacts`` order; ``analysis`` the one
+    each of its contacts it analysed (``analyses``, of the contacts ``states``: those
+    carrying load, in ``wheel.contacts`` order; ``analysis`` the one
     that decides), its squeal's amplitude and sound (None: silent) and the bogie's pass-by
     it takes part in (None: no wheel of the bogie squeals audibly)."""
 
@@ -78,6 +79,12 @@ class CurveCase:
     analyses: tuple[Analysis, ...]
     sound: AxleSound | None = None
     passby: BogiePassby | None = None
+    states: tuple[ContactState, ...] = ()
+
+    @property
+    def contacts(self) -> tuple[ContactState, ...]:
+        """The contacts analysed, in ``analyses``' order."""
+        return self.states or self.wheel.contacts
 
     def __repr__(self) -> str:  # one line: the meshes and records stay out of a notebook's view
         v = self.analysis.verdict
@@ -104,7 +111,7 @@ class CurveCase:
         ]
         if growing:
             return max(growing)[1]
-        return self.wheel.contacts.index(self.wheel.main)
+        return max(range(len(self.contacts)), key=lambda i: abs(self.contacts[i].contact_angle_rad))
 
     @property
     def analysis(self) -> Analysis:
@@ -126,7 +133,7 @@ class CurveCase:
     def to_record(self) -> dict[str, Any]:
         """curve.csv's row and summary.json's case."""
         v, w, s, p = self.analysis.verdict, self.wheel, self.sound, self.passby
-        c = w.contacts[self.deciding]
+        c = self.contacts[self.deciding]
         mine = p.wheel_levels(self.index) if p is not None else None
         bogie = (p.free.lpmax_db, p.free.lpamax_dba, p.free.sel_db, p.free.sel_dba) if p is not None else None
         ground = p.ground.lpamax_dba if p is not None and p.ground is not None else None

@@ -25,7 +25,7 @@ def _squeals_by(c: CurveCase, coupling: bool) -> bool:
 
 def _at_flange(c: CurveCase) -> bool:
     """Whether the case's verdict is its flange contact's."""
-    return c.wheel.contacts[c.deciding].on_flange
+    return c.contacts[c.deciding].on_flange
 
 
 def findings(cases: Sequence[CurveCase], wheelbase_m: float) -> list[str]:

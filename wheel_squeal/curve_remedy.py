@@ -168,8 +168,8 @@ class TreatmentResult:
             }
         )
         unheard = sum(c.passby is None for c in left)
-        level = f"; {unheard} without a level (the time domain gives it)" if unheard else ""
-        return f"{len(left)} still squealing ({', '.join(kinds)}{level})"
+        level = f"; {unheard} without a level, which the time domain gives" if unheard else ""
+        return f"{len(left)} ({', '.join(kinds)}{level})"
 
     def damping_needed(self) -> float | None:
         """With dampers that leave cases squealing: the damping ratio they would need, to
@@ -226,8 +226,8 @@ class CurveRemedy:
         stops = (
             "stops the squeal in every case"
             if not best.cases_still_squealing
-            else f"of {best.cases_squealing_before} squealing cases leaves {best.still()}: the best of "
-            f"{len(self.treatments)} treatments"
+            else f"leaves {best.still()} of the {best.cases_squealing_before} squealing cases squealing: the "
+            f"best of {len(self.treatments)} treatments"
         )
         return f"remedy: {best.treatment.name} ({best.treatment.what}) {stops}"
 

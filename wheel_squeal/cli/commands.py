@@ -7,6 +7,7 @@ from __future__ import annotations
 from collections.abc import Callable
 
 from .fe import cmd_mesh, cmd_modes, cmd_render
+from .line import cmd_line
 from .sound import cmd_sound
 from .squeal import cmd_compare, cmd_run, cmd_simulate, cmd_stability, cmd_sweep
 from .study import cmd_study
@@ -24,6 +25,7 @@ COMMANDS: dict[str, Callable[..., int]] = {
     "sound": cmd_sound,
     "track": cmd_track,
     "curve": cmd_curve,
+    "line": cmd_line,
     "simulate": cmd_simulate,
     "sweep": cmd_sweep,
     "compare": cmd_compare,

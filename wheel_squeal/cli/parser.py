@@ -77,6 +77,7 @@ def build_parser(prog: str = "wheel-squeal") -> CommandParser:
         _add_sound_command,
         _add_track_command,
         _add_curve_command,
+        _add_line_command,
         _add_study_command,
         _add_render_command,
         _add_calibrate_command,
@@ -269,6 +270,19 @@ def _add_curve_command(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--ground-reflection", type=non_negative,
                    help="also the pass-by over a ground 0.5 m below the rail head with this reflection "
                    "factor (0 to 1; default: free field only)")  # fmt: skip
+
+
+def _add_line_command(sub: argparse._SubParsersAction) -> None:
+    p = sub.add_parser("line", help="every curve of a railway line: squeal probability and emission")
+    add_common(p)
+    add_fe(p, mode=False)
+    p.add_argument(
+        "--line",
+        required=True,
+        help="LINE.csv: id, radius_m, length_m, cant_mm, train_speed_km_h (x0, y0, x1, y1 or wkt optional)",
+    )
+    p.add_argument("--traffic", help="a TOML file with a [line] table: traffic per period and friction")
+    p.add_argument("--crs", help="the coordinates' projected system, as line.geojson names it (EPSG:25832)")
 
 
 def _add_study_command(sub: argparse._SubParsersAction) -> None:

@@ -27,7 +27,15 @@ curves), :mod:`.study`.
 from __future__ import annotations
 
 from .fe import MESH_BYTES_PER_ELEMENT, MESH_SECONDS_PER_ELEMENT, mesh_plan
-from .field import CurveSize, SquealingAxles, check_curve_files, curve_plan, squealing_axles, track_plan
+from .field import (
+    CurveSize,
+    SquealingAxles,
+    check_curve_files,
+    curve_plan,
+    line_plan,
+    squealing_axles,
+    track_plan,
+)
 from .study import StudyCost, estimate_study, study_plan
 from .verdict import NO_REMEDY_HINT, stability_plan, stability_request_plan, verdict_plan
 
@@ -39,6 +47,7 @@ __all__ = [
     "SquealingAxles",
     "StudyCost",
     "check_curve_files",
+    "line_plan",
     "curve_plan",
     "estimate_study",
     "mesh_plan",

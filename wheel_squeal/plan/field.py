@@ -21,7 +21,15 @@ if TYPE_CHECKING:
 
     from ..presets import Fidelity
 
-__all__ = ["CurveSize", "SquealingAxles", "check_curve_files", "curve_plan", "squealing_axles", "track_plan"]
+__all__ = [
+    "CurveSize",
+    "SquealingAxles",
+    "check_curve_files",
+    "curve_plan",
+    "line_plan",
+    "squealing_axles",
+    "track_plan",
+]
 
 #: One receptance of the rail at one frequency (a banded solve of the finite rail, 160
 #: bays of 10 elements) [s]: measured 0.53 ms
@@ -230,3 +238,24 @@ def check_curve_files(size: CurveSize, max_file_bytes: float) -> None:
             f"curve.nc of about {rows * CURVE_FILE_BYTES_PER_ROW / 1e6:,.0f} MB each, beyond the "
             f"{max_file_bytes / 1e6:.0f} MB a file may take: ask for fewer radii or speeds"
         )
+
+
+#: One curve of a line in one friction state, its radiation cached [s]: the steady curving,
+#: its wheels' contacts' stability, balance and sound (measured 0.9 s on railway_920_track);
+#: a radiation not yet cached costs a further 0.7 s
+LINE_SECONDS_PER_CURVE_STATE = 1.0
+#: Memory a line keeps per curve until its files are written (its results) [bytes]
+LINE_BYTES_PER_CURVE = 2.0e4
+
+
+def line_plan(curves: int, states: int) -> CostPlan:
+    """The ``line`` command: ``curves`` curves, each in ``states`` friction states."""
+    plan = CostPlan()
+    hint = "split the line, or give fewer friction states"
+    plan.add(
+        f"{curves:,} curves x {states} friction states",
+        curves * states * LINE_SECONDS_PER_CURVE_STATE,
+        curves * LINE_BYTES_PER_CURVE,
+        remedy=hint,
+    )
+    return plan

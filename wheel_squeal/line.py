@@ -1,0 +1,377 @@
+"""A railway line: every curve of it, under the friction the rail head has over the year,
+as the noise-mapping tools take it: the squeal's occurrence probability, the bogie's
+pass-by levels, the traffic's equivalent level per period and the line source's sound
+power per metre per band (``acoustics.emission``).
+
+A line is a CSV of curve sections (``id``, ``radius_m``, ``length_m``, ``cant_mm``,
+``train_speed_km_h``; optionally ``x0``, ``y0``, ``x1``, ``y1`` in a projected coordinate
+system, or a ``wkt`` LINESTRING). Its ``[line]`` spec (:class:`LineSpec`) gives the traffic
+per period and the friction's distribution. Each curve is the curve map of its radius, speed
+and cant (:func:`wheel_squeal.curve.curve`) at each friction state; the curves that share a
+speed and a cant are one map. A friction state is a friction coefficient with its share of
+the time, on a falling creep curve or, for the share of time a top-of-rail friction modifier
+acts, a flat one. The squeal probability is the share of time some wheel of the bogie
+squeals; the levels are those while it squeals (their energy mean over the squealing
+states); the emission is the expected one (the squealing states' power times their share).
+"""
+
+from __future__ import annotations
+
+import csv
+import io
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from geometry.files import read_text, read_toml
+
+from .errors import RequestError
+
+if TYPE_CHECKING:
+    from .context import RunContext
+    from .curve_case import CurveCase
+    from .design import Design
+
+__all__ = [
+    "PERIODS",
+    "LineCurve",
+    "LineResult",
+    "LineSpec",
+    "line",
+    "line_rows_quickly",
+    "load_line",
+    "load_line_spec",
+    "read_line_spec",
+]
+
+#: The default traffic: trains per hour in each period (an illustrative regional service)
+DEFAULT_TRAINS_PER_HOUR = {"day": 6.0, "evening": 4.0, "night": 1.0}
+#: The keys a [line] table takes
+LINE_KEYS = (
+    "trains_per_hour",
+    "bogies_per_train",
+    "friction_coefficients",
+    "friction_weights",
+    "modifier_share",
+)
+
+#: The periods of the equivalent level, as the Environmental Noise Directive (2002/49/EC)
+#: defines L_den's: (name, hours)
+PERIODS = (("day", 12.0), ("evening", 4.0), ("night", 8.0))
+#: The columns a line's CSV must have, and those it may
+REQUIRED = ("id", "radius_m", "length_m", "cant_mm", "train_speed_km_h")
+OPTIONAL = ("x0", "y0", "x1", "y1", "wkt")
+
+
+@dataclass(frozen=True)
+class LineSpec:
+    """A line's traffic and friction (the ``[line]`` table).
+
+    Attributes
+    ----------
+    trains_per_hour : dict
+        Trains per hour in each period of :data:`PERIODS`. Default: 6 by day, 4 in the
+        evening, 1 at night, an illustrative regional service (not a timetable).
+    bogies_per_train : float
+        Default 8: a four-car unit.
+    friction_coefficients, friction_weights : tuple of float
+        The rail head's friction over the year and each value's share of the time. Default:
+        0.2, 0.3, 0.4, 0.5 equally: the range of the creep curve's peak measured over
+        relative humidity on a twin-disc rig (Liu & Meehan, Wear 2014: about 0.2 humid to
+        0.6 dry), taken as uniform for want of a site's record.
+    modifier_share : float
+        The share of the time a top-of-rail friction modifier keeps the creep curve flat
+        beyond saturation (default 0: none).
+    """
+
+    trains_per_hour: dict[str, float] = field(default_factory=lambda: dict(DEFAULT_TRAINS_PER_HOUR))
+    bogies_per_train: float = 8.0
+    friction_coefficients: tuple[float, ...] = (0.2, 0.3, 0.4, 0.5)
+    friction_weights: tuple[float, ...] = (0.25, 0.25, 0.25, 0.25)
+    modifier_share: float = 0.0
+
+    def __post_init__(self) -> None:
+        if set(self.trains_per_hour) != {p for p, _ in PERIODS}:
+            raise RequestError(f"[line] trains_per_hour needs {', '.join(p for p, _ in PERIODS)}")
+        if any(not (math.isfinite(v) and v >= 0) for v in self.trains_per_hour.values()):
+            raise RequestError("[line] trains_per_hour: numbers of trains, 0 or more")
+        if not (math.isfinite(self.bogies_per_train) and 1 <= self.bogies_per_train <= 100):
+            raise RequestError(f"[line] bogies_per_train = {self.bogies_per_train!r}: 1 to 100")
+        mus, ws = self.friction_coefficients, self.friction_weights
+        if not mus or len(mus) != len(ws):
+            raise RequestError(
+                "[line] friction_coefficients and friction_weights: as many of each, at least one"
+            )
+        if any(not (0.001 <= m <= 1.0) for m in mus) or any(not (w >= 0) for w in ws) or sum(ws) <= 0:
+            raise RequestError("[line] friction coefficients 0.001 to 1, weights 0 or more and not all 0")
+        if not 0.0 <= self.modifier_share <= 1.0:
+            raise RequestError(
+                f"[line] modifier_share = {self.modifier_share!r}: a share of the time, 0 to 1"
+            )
+
+    def states(self) -> list[tuple[float, str, float]]:
+        """The friction states: (friction coefficient, friction law, share of the time)."""
+        total = float(sum(self.friction_weights))
+        out = []
+        for mu, w in zip(self.friction_coefficients, self.friction_weights):
+            share = w / total
+            if self.modifier_share < 1.0:
+                out.append((float(mu), "falling", share * (1.0 - self.modifier_share)))
+            if self.modifier_share > 0.0:
+                out.append((float(mu), "constant", share * self.modifier_share))
+        return [s for s in out if s[2] > 0.0]
+
+    def bogies_per_hour(self, period: str) -> float:
+        return self.trains_per_hour[period] * self.bogies_per_train
+
+
+def load_line_spec(data: dict[str, Any] | None, source: str) -> LineSpec:
+    """A :class:`LineSpec` from a ``[line]`` table (None: the defaults)."""
+    if data is None:
+        return LineSpec()
+    unknown = sorted(set(data) - set(LINE_KEYS))
+    if unknown:
+        raise RequestError(f"{source}: [line] {unknown[0]!r} is not a key; allowed: {', '.join(LINE_KEYS)}")
+    d = LineSpec()
+    try:
+        return LineSpec(
+            trains_per_hour={k: float(v) for k, v in data.get("trains_per_hour", d.trains_per_hour).items()},
+            bogies_per_train=float(data.get("bogies_per_train", d.bogies_per_train)),
+            friction_coefficients=tuple(
+                float(x) for x in data.get("friction_coefficients", d.friction_coefficients)
+            ),
+            friction_weights=tuple(float(x) for x in data.get("friction_weights", d.friction_weights)),
+            modifier_share=float(data.get("modifier_share", d.modifier_share)),
+        )
+    except (TypeError, ValueError, AttributeError) as exc:
+        raise RequestError(f"{source}: [line]: {exc}") from None
+
+
+def read_line_spec(path: Path | None) -> LineSpec:
+    """The ``[line]`` table of a TOML file (``--traffic``), or the defaults."""
+    if path is None:
+        return LineSpec()
+    _, data = read_toml(path, "traffic file", RequestError)
+    return load_line_spec(data.get("line"), str(path))
+
+
+@dataclass(frozen=True)
+class LineCurve:
+    """One curve section of a line: its id, radius [m], length [m], cant [mm], train speed
+    [km/h], and where it lies (a polyline in the line's coordinates; empty: not given)."""
+
+    id: str
+    radius_m: float
+    length_m: float
+    cant_mm: float
+    train_speed_km_h: float
+    coordinates: tuple[tuple[float, float], ...] = ()
+
+
+def line_rows_quickly(path: Path) -> int:
+    """How many curves a line's CSV holds, counted without parsing it (a refusal of a line
+    too long to run comes before reading it)."""
+    with open(path, "rb") as f:
+        rows = sum(chunk.count(b"\n") for chunk in iter(lambda: f.read(1 << 20), b""))
+    return max(rows - 1, 0)
+
+
+def _number(row: dict[str, str], key: str, where: str) -> float:
+    try:
+        value = float(row[key])
+    except (TypeError, ValueError):
+        raise RequestError(f"{where}: {key} = {row.get(key)!r} is not a number") from None
+    if not math.isfinite(value):
+        raise RequestError(f"{where}: {key} must be finite")
+    return value
+
+
+def _wkt(text: str, where: str) -> tuple[tuple[float, float], ...]:
+    body = text.strip()
+    if not body.upper().startswith("LINESTRING") or "(" not in body:
+        raise RequestError(f"{where}: wkt must be a LINESTRING (x y, x y, ...)")
+    try:
+        pairs = body[body.index("(") + 1 : body.rindex(")")].split(",")
+        return tuple((float(p.split()[0]), float(p.split()[1])) for p in pairs)
+    except (ValueError, IndexError):
+        raise RequestError(f"{where}: wkt {body[:40]!r}... is not a LINESTRING of x y pairs") from None
+
+
+def load_line(path: Path) -> list[LineCurve]:
+    """The curves of a line's CSV (module docstring), each checked (one-line errors)."""
+    text = read_text(path, "line", RequestError)
+    reader = csv.DictReader(io.StringIO(text))
+    columns = reader.fieldnames or []
+    missing = [c for c in REQUIRED if c not in columns]
+    if missing:
+        raise RequestError(
+            f"{path}: the line needs the columns {', '.join(REQUIRED)}; missing {', '.join(missing)}"
+        )
+    extra = [c for c in columns if c not in REQUIRED + OPTIONAL]
+    if extra:
+        raise RequestError(
+            f"{path}: column {extra[0]!r} is not one a line has ({', '.join(REQUIRED + OPTIONAL)})"
+        )
+    curves, ids = [], set()
+    for i, row in enumerate(reader, start=2):
+        where = f"{path}:{i}"
+        cid = (row.get("id") or "").strip()
+        if not cid or cid in ids:
+            raise RequestError(f"{where}: id {cid!r} is empty or not unique")
+        ids.add(cid)
+        values = {k: _number(row, k, where) for k in REQUIRED[1:]}
+        if values["radius_m"] <= 0 or values["length_m"] <= 0 or values["train_speed_km_h"] <= 0:
+            raise RequestError(f"{where}: radius, length and train speed must be positive")
+        coords: tuple[tuple[float, float], ...] = ()
+        if (row.get("wkt") or "").strip():
+            coords = _wkt(row["wkt"], where)
+        elif all((row.get(k) or "").strip() for k in ("x0", "y0", "x1", "y1")):
+            x0, y0, x1, y1 = (_number(row, k, where) for k in ("x0", "y0", "x1", "y1"))
+            coords = ((x0, y0), (x1, y1))
+        curves.append(
+            LineCurve(
+                cid,
+                values["radius_m"],
+                values["length_m"],
+                values["cant_mm"],
+                values["train_speed_km_h"],
+                coords,
+            )
+        )
+    if not curves:
+        raise RequestError(f"{path}: the line has no curve")
+    return curves
+
+
+@dataclass(frozen=True)
+class LineResult:
+    """One curve of a line (module docstring): its squeal probability, the bogie's L_pAmax
+    [dB(A)] and SEL_A [dB(A)] while it squeals (None: it never does), L_Aeq per period at
+    7.5 m [dB(A)], the emission L_W' per band [dB re 1 pW/m] for the octaves and thirds of
+    ``acoustics.emission`` per period, CNOSSOS-EU's flat correction [dB], and the SEL_A the
+    emission gives back at the pass-by position."""
+
+    curve: LineCurve
+    probability: float
+    lpamax_dba: float | None
+    sel_dba: float | None
+    laeq_dba: dict[str, float | None]
+    emission_octaves_db: dict[str, np.ndarray]
+    emission_thirds_db: dict[str, np.ndarray]
+    cnossos_correction_db: float
+    sel_from_emission_dba: float | None
+
+
+def _energy_mean(levels: Sequence[tuple[float, float]]) -> float | None:
+    """The energy mean of (level [dB], weight) pairs (None: none)."""
+    total = sum(w for _, w in levels)
+    if not levels or total <= 0:
+        return None
+    return 10 * math.log10(sum(w * 10 ** (x / 10) for x, w in levels) / total)
+
+
+def _result(
+    curve: LineCurve,
+    states: list[tuple[float, list[CurveCase]]],
+    spec: LineSpec,
+) -> LineResult:
+    """One curve's result from its bogie's cases in each friction state (share, cases)."""
+    from acoustics.emission import (
+        CNOSSOS_OCTAVES_HZ,
+        CNOSSOS_SOURCE_HEIGHT_M,
+        CNOSSOS_THIRDS,
+        band_emission_power,
+        cnossos_curve_correction_db,
+        exposure_from_emission,
+        line_emission_db,
+    )
+    from acoustics.passby import MICROPHONE_DISTANCE_M, MICROPHONE_HEIGHT_M
+
+    distance = math.hypot(MICROPHONE_DISTANCE_M, MICROPHONE_HEIGHT_M - CNOSSOS_SOURCE_HEIGHT_M)
+    probability, a_power = 0.0, 0.0
+    lpamax: list[tuple[float, float]] = []
+    sel: list[tuple[float, float]] = []
+    octaves, thirds = np.zeros(len(CNOSSOS_OCTAVES_HZ)), np.zeros(len(CNOSSOS_THIRDS))
+    for share, cases in states:
+        if not any(c.analysis.verdict.squeals for c in cases):
+            continue
+        probability += share
+        passby = next((c.passby for c in cases if c.passby is not None), None)
+        if passby is None:
+            continue  # it squeals without a level (mode coupling alone): counted, not heard
+        lpamax.append((passby.free.lpamax_dba, share))
+        sel.append((passby.free.sel_dba, share))
+        power = band_emission_power(passby.free, curve.train_speed_km_h / 3.6, distance)
+        octaves = octaves + share * power.octaves
+        thirds = thirds + share * power.thirds
+        a_power += share * power.a_weighted_w
+    speed = curve.train_speed_km_h / 3.6
+    heard = probability > 0 and lpamax
+    conditional_sel = _energy_mean(sel) if heard else None
+    laeq: dict[str, float | None] = {}
+    for period, _ in PERIODS:
+        n = spec.bogies_per_hour(period)
+        laeq[period] = None
+        if conditional_sel is not None and n > 0:
+            laeq[period] = conditional_sel + 10 * math.log10(probability * n / 3600.0)
+    emission_oct = {p: line_emission_db(octaves, 1.0, spec.bogies_per_hour(p), speed) for p, _ in PERIODS}
+    emission_thi = {p: line_emission_db(thirds, 1.0, spec.bogies_per_hour(p), speed) for p, _ in PERIODS}
+    back = None
+    if heard and probability > 0:
+        back = exposure_from_emission(a_power / probability, speed, distance)
+    return LineResult(
+        curve,
+        probability,
+        _energy_mean(lpamax) if heard else None,
+        conditional_sel,
+        laeq,
+        emission_oct,
+        emission_thi,
+        cnossos_curve_correction_db(curve.radius_m),
+        back,
+    )
+
+
+def line(
+    design: Design,
+    curves: Sequence[LineCurve],
+    spec: LineSpec,
+    *,
+    context: RunContext | None = None,
+) -> list[LineResult]:
+    """Every curve of a line under the friction of ``spec`` (module docstring), in the
+    line's order. The curves that share a speed and a cant are one map per friction state."""
+    from track.curving import check_curve
+
+    from .context import RunContext
+    from .curve import curve as curve_map
+
+    ctx = context or RunContext.of("balanced")
+    vehicle = design.vehicle.vehicle()
+    for c in curves:
+        try:
+            check_curve(c.radius_m, c.train_speed_km_h, vehicle.wheelbase_m, c.cant_mm)
+        except ValueError as exc:
+            raise RequestError(f"curve {c.id}: {exc}") from None
+    groups: dict[tuple[float, float], list[LineCurve]] = {}
+    for c in curves:
+        groups.setdefault((c.train_speed_km_h, c.cant_mm), []).append(c)
+    states = spec.states()
+    by_curve: dict[str, list[tuple[float, list[CurveCase]]]] = {c.id: [] for c in curves}
+    done = 0
+    with ctx.progress.stage(f"{len(curves):,} curves x {len(states)} friction states"):
+        for (speed, cant), members in groups.items():
+            radii = sorted({c.radius_m for c in members})
+            for mu, law, share in states:
+                treated = design.replace(friction_coefficient=mu, friction_law=law)
+                cases = curve_map(treated, radii, [speed], cant_mm=cant, context=ctx, priced=True)
+                by_radius = {r: cases[4 * i : 4 * i + 4] for i, r in enumerate(radii)}
+                for c in members:
+                    by_curve[c.id].append((share, by_radius[c.radius_m]))
+            done += len(members)
+            ctx.progress.say(f"{done:,} of {len(curves):,} curves")
+    return [_result(c, by_curve[c.id], spec) for c in curves]
