@@ -218,15 +218,22 @@ class Outcomes:
                 radiation_frequency_hz(o.tone_hz, shape.frequency_hz),
                 o.simulation,
                 o.tone_hz,
-                listener=self.opts.listener,
-                travelling=o.wave != "standing",
-                fidelity=self.ctx.fidelity.name,
-                fmax_hz=self.ctx.fmax_hz,
-                cache=self.ctx.cache,
-                budget=self.ctx.budget,
-                memo=self.ctx.memo,
+                **self.radiation(o),
             )
         return replace(o, sound=s)
+
+    def radiation(self, o: ModeOutcome) -> dict[str, Any]:
+        """The keywords of a radiation (``sound.mode_sound``): who listens, how the wave
+        travels, the FE preset and band, the cache, the budget and the process's memo."""
+        return dict(
+            listener=self.opts.listener,
+            travelling=o.wave != "standing",
+            fidelity=self.ctx.fidelity.name,
+            fmax_hz=self.ctx.fmax_hz,
+            cache=self.ctx.cache,
+            budget=self.ctx.budget,
+            memo=self.ctx.memo,
+        )
 
     def balanced_sound(self, o: ModeOutcome) -> Any:
         """The sound of a harmonic balance's limit cycle: the contact velocity's harmonics
@@ -254,13 +261,7 @@ class Outcomes:
                 o.mode,
                 k * f_rad,
                 float(abs(velocities[k - 1])),
-                listener=self.opts.listener,
-                travelling=o.wave != "standing",
-                fidelity=self.ctx.fidelity.name,
-                fmax_hz=self.ctx.fmax_hz,
-                cache=self.ctx.cache,
-                budget=self.ctx.budget,
-                memo=self.ctx.memo,
+                **self.radiation(o),
             )
             for k in orders
         )
