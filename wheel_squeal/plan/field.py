@@ -240,10 +240,10 @@ def check_curve_files(size: CurveSize, max_file_bytes: float) -> None:
         )
 
 
-#: One curve of a line in one friction state, its radiation cached [s]: the steady curving,
-#: its wheels' contacts' stability, balance and sound (measured 0.9 s on railway_920_track);
-#: a radiation not yet cached costs a further 0.7 s
-LINE_SECONDS_PER_CURVE_STATE = 1.0
+#: One curve of a line in one friction state [s]: the steady curving, its wheels' contacts'
+#: stability, balance and sound, most of it the radiation of the squeal's harmonics at tones
+#: not yet cached (measured 2.3 s on railway_920_track: benchmarks/bench_line.py, 10 curves)
+LINE_SECONDS_PER_CURVE_STATE = 2.3
 #: Memory a line keeps per curve until its files are written (its results) [bytes]
 LINE_BYTES_PER_CURVE = 2.0e4
 
