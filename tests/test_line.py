@@ -79,6 +79,17 @@ def test_the_friction_states_share_the_time():
         LineSpec(modifier_share=1.5)
 
 
+def test_the_radius_grid_rounds_each_curve_to_its_nearest_point():
+    """A step of 10 %: 100 m stays, 104 m goes to 100, 106 m to 110, 3000 m to 100 * 1.1^36
+    (3091 m, within half a step); a step of 0 leaves every radius its own; 0.8 is refused."""
+    spec = LineSpec(radius_step=0.1)
+    assert [spec.grid_radius_m(r) for r in (100.0, 104.0, 106.0)] == [100.0, 100.0, 110.0]
+    assert spec.grid_radius_m(3000.0) == pytest.approx(100.0 * 1.1**36, rel=1e-6)
+    assert LineSpec().grid_radius_m(123.4) == 123.4
+    with pytest.raises(RequestError, match="radius_step"):
+        LineSpec(radius_step=0.8)
+
+
 @pytest.mark.parametrize(
     ("text", "message"),
     [

@@ -57,7 +57,10 @@ LINE_KEYS = (
     "friction_coefficients",
     "friction_weights",
     "modifier_share",
+    "radius_step",
 )
+#: The radius the grid of ``radius_step`` passes through [m]
+GRID_ORIGIN_M = 100.0
 
 #: The periods of the equivalent level, as the Environmental Noise Directive (2002/49/EC)
 #: defines L_den's: (name, hours)
@@ -86,6 +89,11 @@ class LineSpec:
     modifier_share : float
         The share of the time a top-of-rail friction modifier keeps the creep curve flat
         beyond saturation (default 0: none).
+    radius_step : float
+        0 (default): each curve's map at its own radius. A relative step (0.05 to 0.5): each
+        curve's at the nearest radius of a geometric grid of that step through 100 m, so
+        that the curves of a long line share maps (``benchmarks/bench_line.py`` measures
+        what it changes).
     """
 
     trains_per_hour: dict[str, float] = field(default_factory=lambda: dict(DEFAULT_TRAINS_PER_HOUR))
@@ -93,6 +101,7 @@ class LineSpec:
     friction_coefficients: tuple[float, ...] = (0.2, 0.3, 0.4, 0.5)
     friction_weights: tuple[float, ...] = (0.25, 0.25, 0.25, 0.25)
     modifier_share: float = 0.0
+    radius_step: float = 0.0
 
     def __post_init__(self) -> None:
         if set(self.trains_per_hour) != {p for p, _ in PERIODS}:
@@ -112,6 +121,19 @@ class LineSpec:
             raise RequestError(
                 f"[line] modifier_share = {self.modifier_share!r}: a share of the time, 0 to 1"
             )
+
+        if self.radius_step != 0.0 and not 0.01 <= self.radius_step <= 0.5:
+            raise RequestError(
+                f"[line] radius_step = {self.radius_step!r}: 0, or a relative step of 0.01 to 0.5"
+            )
+
+    def grid_radius_m(self, radius_m: float) -> float:
+        """The radius a curve's map is run at (``radius_step``): its own, or the nearest of
+        the geometric grid 100 (1 + step)^k m."""
+        if self.radius_step == 0.0:
+            return radius_m
+        ratio = math.log1p(self.radius_step)
+        return round(GRID_ORIGIN_M * math.exp(ratio * round(math.log(radius_m / GRID_ORIGIN_M) / ratio)), 3)
 
     def states(self) -> list[tuple[float, str, float]]:
         """The friction states: (friction coefficient, friction law, share of the time)."""
@@ -146,6 +168,7 @@ def load_line_spec(data: dict[str, Any] | None, source: str) -> LineSpec:
             ),
             friction_weights=tuple(float(x) for x in data.get("friction_weights", d.friction_weights)),
             modifier_share=float(data.get("modifier_share", d.modifier_share)),
+            radius_step=float(data.get("radius_step", d.radius_step)),
         )
     except (TypeError, ValueError, AttributeError) as exc:
         raise RequestError(f"{source}: [line]: {exc}") from None
@@ -365,13 +388,13 @@ def line(
     done = 0
     with ctx.progress.stage(f"{len(curves):,} curves x {len(states)} friction states"):
         for (speed, cant), members in groups.items():
-            radii = sorted({c.radius_m for c in members})
+            radii = sorted({spec.grid_radius_m(c.radius_m) for c in members})
             for mu, law, share in states:
                 treated = design.replace(friction_coefficient=mu, friction_law=law)
                 cases = curve_map(treated, radii, [speed], cant_mm=cant, context=ctx, priced=True)
                 by_radius = {r: cases[4 * i : 4 * i + 4] for i, r in enumerate(radii)}
                 for c in members:
-                    by_curve[c.id].append((share, by_radius[c.radius_m]))
+                    by_curve[c.id].append((share, by_radius[spec.grid_radius_m(c.radius_m)]))
             done += len(members)
             ctx.progress.say(f"{done:,} of {len(curves):,} curves")
     return [_result(c, by_curve[c.id], spec) for c in curves]
