@@ -177,7 +177,8 @@ def _plot(path: Path, results: Sequence[LineResult]) -> None:
     top.set_ylabel("squeal probability")
     top.set_ylim(0, 1.05)
     laeq = [np.nan if r.laeq_dba["day"] is None else r.laeq_dba["day"] for r in results]
-    bottom.step(chainage, laeq, where="post", label="L_Aeq,day at 7.5 m")
+    end = chainage[-1] + results[-1].curve.length_m / 1000.0
+    bottom.step([*chainage, end], [*laeq, laeq[-1]], where="post", label="L_Aeq,day at 7.5 m")
     bottom.set_ylabel("L_Aeq,day [dB(A)]")
     bottom.set_xlabel("chainage [km] (the curves end to end)")
     bottom.legend(loc="best")

@@ -99,7 +99,10 @@ def _passby_figure(path: Path, group: Sequence[CurveCase], p: np.ndarray, rate_h
     top.grid(True, alpha=0.3)
     f, t, db = spectrogram_db(p, rate_hz)
     keep = f <= 10000.0
-    bottom.pcolormesh(t, f[keep], db[keep], shading="auto", vmin=db.max() - 60, vmax=db.max())
+    mesh = bottom.pcolormesh(t, f[keep], db[keep], shading="auto", vmin=db.max() - 60, vmax=db.max())
+    fig.colorbar(mesh, ax=bottom, label="PSD [dB re (20 uPa)^2/Hz]")
+    half = 0.5 * len(p) / rate_hz  # the sound file's span, the level's too
+    top.set_xlim(-half, half)
     bottom.set_ylabel("frequency [Hz]")
     bottom.set_xlabel("time at the microphone [s]")
     radius, speed = group[0].radius_m, group[0].train_speed_km_h
