@@ -59,8 +59,9 @@ def track_plan(points: int, fits_seconds: float) -> CostPlan:
 #: [s] (measured 25 ms on railway_920_track)
 CURVE_SECONDS_PER_CURVE = 0.025
 #: One radius and speed's steady curving of the bogie (``track.bogie_curving``) [s]:
-#: measured 0.75 s on railway_920_track
-CURVING_SECONDS_PER_CURVE = 0.75
+#: measured 0.07-0.1 s on railway_920_track (benchmarks/curving_table.py), the table of
+#: contact positions once per process besides (0.6 s)
+CURVING_SECONDS_PER_CURVE = 0.1
 #: Memory a curve keeps per radius and speed until its files are written (the wheels'
 #: analyses and pass-by) [bytes]: measured 0.9 MB
 CURVE_BYTES_PER_CURVE = 1.0e6
@@ -170,15 +171,14 @@ def curve_plan(
 
 @dataclass(frozen=True)
 class SquealingAxles:
-    """What a curve map's linear stability says it will compute: each growing axle's time
-    domain [s] (its first run's estimate times :data:`RECORD_EXTENSION`), the largest
-    record's memory [bytes] (one at a time) and the sound
-    of each mode that leads somewhere at the frequency it would be radiated at
-    (``levels.radiation_frequency_hz`` of its linear frequency), by label: (seconds,
-    bytes) of its radiation (left out where the cache holds it); with the time domain
-    every harmonic the record may
-    need too (up to ``levels.MAX_HARMONICS`` and ``levels.MAX_HARMONIC_HZ``: a bound, a
-    clean limit cycle needs fewer)."""
+    """What a curve map's linear stability says it will compute: each growing contact's
+    time domain [s] (its first run's estimate times :data:`RECORD_EXTENSION`), the largest
+    record's memory [bytes] (one at a time) and the sound of each mode that leads somewhere
+    at the frequency it would be radiated at (``levels.radiation_frequency_hz`` of its
+    linear frequency) and at every harmonic either method may radiate (up to
+    ``levels.MAX_HARMONICS`` and ``levels.MAX_HARMONIC_HZ``: a bound, a clean limit cycle
+    needs fewer), by label: (seconds, bytes) of its radiation (left out where the cache
+    holds it)."""
 
     time_domain_s: tuple[float, ...]
     sounds: dict[str, tuple[float, float]]
@@ -214,8 +214,9 @@ def squealing_axles(
             group = mode_dofs([r.mode for r in table.rows][:MAX_MULTIMODE], design)
             seconds.append(RECORD_EXTENSION * simulation_seconds(group, contact, op, body=body))
             record = max(record, simulation_bytes(group, contact, op, body=body))
-        # the record's harmonics are known once it runs: price every one it may need
-        top = max(1, min(MAX_HARMONICS, int(MAX_HARMONIC_HZ / radiated))) if time_domain else 1
+        # the harmonics are known once the record runs or the balance's distortion is found:
+        # price every one they may need (either method radiates them)
+        top = max(1, min(MAX_HARMONICS, int(MAX_HARMONIC_HZ / radiated)))
         for k in range(1, top + 1):
             f = k * radiated
             label = f"{lead.label()} at {f:.0f} Hz"
