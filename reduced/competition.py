@@ -121,11 +121,14 @@ def mode_cycle(
     op: OperatingPoint,
     wheel_speed_rad_s: float = 0.0,
     body: BodyModel | None = None,
+    linear_rates: np.ndarray | None = None,
 ) -> ModeCycle:
     """Mode ``k``'s harmonic-balance cycle (its damping lumped so that it grows as the
     whole linear model says, ``reduced.equivalent_mode``) and every mode's growth rate on it
-    (0 for the modes of its eigenvalue, ``eigenvalues`` naming each mode's)."""
-    linear_rates = growth_on_cycle(0.0, modes, contact, op, wheel_speed_rad_s, body)
+    (0 for the modes of its eigenvalue, ``eigenvalues`` naming each mode's);
+    ``linear_rates``: the modes' growth rates at steady sliding, where already solved."""
+    if linear_rates is None:
+        linear_rates = growth_on_cycle(0.0, modes, contact, op, wheel_speed_rad_s, body)
     eq, clipped = equivalent_mode(modes[k], contact, op, float(linear_rates[k]))
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", RuntimeWarning)  # the distortion is reported instead
@@ -152,9 +155,10 @@ def surviving_cycle(
     single-mode cycle resists the others) or a mode has no cycle from rest.
     ``eigenvalues`` names each mode's eigenvalue (modes that share one are one oscillation)."""
     visited: list[ModeCycle] = []
+    linear_rates = growth_on_cycle(0.0, modes, contact, op, wheel_speed_rad_s, body)
     k: int | None = start
     while k is not None and all(c.index != k for c in visited):
-        cycle = mode_cycle(k, modes, eigenvalues, contact, op, wheel_speed_rad_s, body)
+        cycle = mode_cycle(k, modes, eigenvalues, contact, op, wheel_speed_rad_s, body, linear_rates)
         visited.append(cycle)
         if cycle.amplitude_m_s == 0.0:
             return None, tuple(visited)
