@@ -26,11 +26,17 @@ part at another receiver is measured (docs/validation.md). The exposure at d is
     E = rho c W_0 / (4 pi) * (0.01 pi + 0.99 pi / 2) / (V d)
 
 and the equivalent level over a period of N bogies, L_Aeq = SEL_A + 10 lg(p N / T).
+
+Squeal is intermittent: over the friction states a curve sees (each with its share of the
+time), :func:`intermittent_emission` gives the share of time the bogie squeals, its levels
+while it does (their energy mean over the squealing states) and the expected emission
+(each squealing state's power times its share).
 """
 
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -44,10 +50,14 @@ __all__ = [
     "CNOSSOS_OCTAVES_HZ",
     "CNOSSOS_SOURCE_HEIGHT_M",
     "CNOSSOS_THIRDS",
+    "PERIODS",
     "BandPower",
+    "CurveEmission",
+    "SquealState",
     "band_emission_power",
     "cnossos_curve_correction_db",
     "exposure_from_emission",
+    "intermittent_emission",
     "line_emission_db",
 ]
 
@@ -59,6 +69,9 @@ CNOSSOS_OCTAVES_HZ = (63.0, 125.0, 250.0, 500.0, 1000.0, 2000.0, 4000.0, 8000.0)
 CNOSSOS_THIRDS = tuple(third_octave_bands(50.0, 10000.0))
 #: The height of CNOSSOS-EU's wheel/rail source above the rail head [m]
 CNOSSOS_SOURCE_HEIGHT_M = 0.05
+#: The periods of the equivalent level, as the Environmental Noise Directive (2002/49/EC)
+#: defines L_den's: (name, hours)
+PERIODS = (("day", 12.0), ("evening", 4.0), ("night", 8.0))
 #: CNOSSOS-EU's horizontal directivity of the rolling source, 10 lg(a + b sin^2 phi)
 DIPOLE_FLOOR, DIPOLE_SHARE = 0.01, 0.99
 
@@ -135,3 +148,83 @@ def cnossos_curve_correction_db(radius_m: float) -> float:
         if radius_m < upper:
             return db
     return 0.0
+
+
+@dataclass(frozen=True)
+class SquealState:
+    """One state of the rail head a curve sees (a friction, say): its share of the time,
+    whether the bogie squeals in it, and its pass-by (None: silent, or squealing without
+    a level)."""
+
+    share: float
+    squeals: bool
+    passby: PassbyResult | None
+
+
+@dataclass(frozen=True)
+class CurveEmission:
+    """A curve's squeal over the states it sees (:func:`intermittent_emission`): the share
+    of time the bogie squeals; its L_pAmax and SEL_A [dB(A)] while it does (None: never
+    heard); L_Aeq per period of :data:`PERIODS` at the pass-by position [dB(A)]; the
+    emission L_W' per period and band [dB re 1 pW/m] (octaves, thirds); and the SEL_A the
+    expected emission gives back at the pass-by position [dB(A)]."""
+
+    probability: float
+    lpamax_dba: float | None
+    sel_dba: float | None
+    laeq_dba: dict[str, float | None]
+    octaves_db: dict[str, np.ndarray]
+    thirds_db: dict[str, np.ndarray]
+    sel_from_emission_dba: float | None
+
+
+def _energy_mean(levels: Sequence[tuple[float, float]]) -> float | None:
+    """The energy mean of (level [dB], weight) pairs (None: none)."""
+    total = sum(w for _, w in levels)
+    if not levels or total <= 0:
+        return None
+    return 10 * math.log10(sum(w * 10 ** (x / 10) for x, w in levels) / total)
+
+
+def intermittent_emission(
+    states: Sequence[SquealState],
+    speed_m_s: float,
+    distance_m: float,
+    bogies_per_hour: Mapping[str, float],
+) -> CurveEmission:
+    """A curve's occurrence, levels and emission over ``states`` (module docstring) for
+    bogies passing at ``speed_m_s`` [m/s], their pass-bys heard at ``distance_m`` [m]
+    from the source, ``bogies_per_hour`` in each period of :data:`PERIODS`."""
+    probability, a_power = 0.0, 0.0
+    lpamax: list[tuple[float, float]] = []
+    sel: list[tuple[float, float]] = []
+    octaves, thirds = np.zeros(len(CNOSSOS_OCTAVES_HZ)), np.zeros(len(CNOSSOS_THIRDS))
+    for state in states:
+        if not state.squeals:
+            continue
+        probability += state.share
+        if state.passby is None:
+            continue  # it squeals without a level (mode coupling alone): counted, not heard
+        lpamax.append((state.passby.lpamax_dba, state.share))
+        sel.append((state.passby.sel_dba, state.share))
+        power = band_emission_power(state.passby, speed_m_s, distance_m)
+        octaves = octaves + state.share * power.octaves
+        thirds = thirds + state.share * power.thirds
+        a_power += state.share * power.a_weighted_w
+    heard = probability > 0 and bool(lpamax)
+    conditional_sel = _energy_mean(sel) if heard else None
+    laeq: dict[str, float | None] = dict.fromkeys((p for p, _ in PERIODS), None)
+    for period, _ in PERIODS:
+        n = bogies_per_hour[period]
+        if conditional_sel is not None and n > 0:
+            laeq[period] = conditional_sel + 10 * math.log10(probability * n / 3600.0)
+    per_period = [(p, bogies_per_hour[p]) for p, _ in PERIODS]
+    return CurveEmission(
+        probability,
+        _energy_mean(lpamax) if heard else None,
+        conditional_sel,
+        laeq,
+        {p: line_emission_db(octaves, 1.0, n, speed_m_s) for p, n in per_period},
+        {p: line_emission_db(thirds, 1.0, n, speed_m_s) for p, n in per_period},
+        exposure_from_emission(a_power / probability, speed_m_s, distance_m) if heard else None,
+    )

@@ -107,8 +107,12 @@ class PassbyResult:
         total = each.sum(axis=0)
         total_a = (each * 10 ** (self.a_weighting_db[idx, None] / 10)).sum(axis=0)
         dt = float(self.t[1] - self.t[0]) if len(self.t) > 1 else 0.0
-        return (_level(float(total.max(initial=0.0))), _level(float(total_a.max(initial=0.0))),
-                _level(float(total.sum() * dt)), _level(float(total_a.sum() * dt)))  # fmt: skip
+        return (
+            _level(float(total.max(initial=0.0))),
+            _level(float(total_a.max(initial=0.0))),
+            _level(float(total.sum() * dt)),
+            _level(float(total_a.sum() * dt)),
+        )
 
     def fast_level_dba(self, time_constant_s: float = 0.125) -> np.ndarray:
         """The A-weighted level over the pass-by [dB(A) re 20 uPa], its mean square averaged

@@ -15,11 +15,15 @@ from __future__ import annotations
 
 import math
 import struct
+from dataclasses import dataclass
 
 import numpy as np
 
 __all__ = [
+    "MAX_WAV_SECONDS",
+    "WAV_FADE_S",
     "WAV_RATE_HZ",
+    "MicrophoneSignal",
     "faded",
     "periodic_samples",
     "whole_periods",
@@ -33,6 +37,11 @@ __all__ = [
 
 #: The WAV files' sample rate [Hz] (CD audio)
 WAV_RATE_HZ = 44_100
+
+#: The longest squeal WAV [s] (0.9 MB at 44.1 kHz and 16 bit)
+MAX_WAV_SECONDS = 10.0
+#: squeal WAV fades in and out over this time [s] (raised cosine: no click)
+WAV_FADE_S = 0.02
 
 
 def whole_periods(t: np.ndarray, x: np.ndarray, periods: int) -> tuple[float, float, int]:
@@ -61,8 +70,12 @@ def periodic_samples(t: np.ndarray, x: np.ndarray, start: float, end: float, sam
     s = (start + (end - start) * np.arange(samples) / samples - t[0]) / dt
     k = np.clip(np.floor(s).astype(np.int64), 1, len(x) - 3)
     u = s - k
-    weights = (-u * (u - 1) * (u - 2) / 6, (u + 1) * (u - 1) * (u - 2) / 2, -(u + 1) * u * (u - 2) / 2,
-               (u + 1) * u * (u - 1) / 6)  # fmt: skip
+    weights = (
+        -u * (u - 1) * (u - 2) / 6,
+        (u + 1) * (u - 1) * (u - 2) / 2,
+        -(u + 1) * u * (u - 2) / 2,
+        (u + 1) * u * (u - 1) / 6,
+    )
     return sum(w * x[k + j] for w, j in zip(weights, (-1, 0, 1, 2)))
 
 
@@ -177,3 +190,40 @@ def spectrogram_db(
 
     f, t, sxx = spectrogram(pressure_pa, fs=sample_rate_hz, nperseg=segment, noverlap=segment // 2)
     return f, t - 0.5 * len(pressure_pa) / sample_rate_hz, 10 * np.log10(np.maximum(sxx, 1e-30) / 4e-10)
+
+
+@dataclass(frozen=True, eq=False)
+class MicrophoneSignal:
+    """The pressure at the microphone: over the simulated run, t [s] (uniform) and p
+    [Pa]; over whole periods of the limit cycle, ``cycle_pa`` [Pa] at ``cycle_rate_hz``
+    (from the contact velocity's periodic samples there, exact for a periodic signal:
+    its levels and bands are taken from it)."""
+
+    t: np.ndarray
+    p: np.ndarray
+    cycle_pa: np.ndarray
+    cycle_rate_hz: float
+    window: tuple[float, float, int]
+
+    def tail(self, seconds: float) -> MicrophoneSignal:
+        """The signal over the run's last ``seconds`` (the limit cycle's periods kept)."""
+        keep = self.t >= self.t[-1] - seconds
+        return MicrophoneSignal(
+            self.t[keep].copy(), self.p[keep].copy(), self.cycle_pa, self.cycle_rate_hz, self.window
+        )
+
+    def wav_samples(self) -> np.ndarray:
+        """The pressure over the run at the WAV file's sample rate [Pa], its last
+        :data:`MAX_WAV_SECONDS` at most (a very low tone's run is long), faded in and
+        out over :data:`WAV_FADE_S` (the band filter's edges would click)."""
+        keep = self.t >= self.t[-1] - MAX_WAV_SECONDS
+        return faded(resample(self.t[keep], self.p[keep], WAV_RATE_HZ), WAV_RATE_HZ, WAV_FADE_S)
+
+    def wav_full_scale_pa(self) -> float:
+        """The pressure [Pa] the WAV's full scale stands for: the peak of its steady part
+        (the limit cycle's window), not of an edge or of the growth's overshoot."""
+        samples = self.wav_samples()
+        start = max(self.t[-1] - MAX_WAV_SECONDS, self.t[0])
+        first = max(0, int((self.window[0] - start) * WAV_RATE_HZ))
+        steady = samples[first:] if first < len(samples) else samples
+        return float(np.max(np.abs(steady))) if len(steady) else 0.0

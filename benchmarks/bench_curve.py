@@ -78,8 +78,10 @@ def main() -> None:
     n = len(cases)
     heard = sum(c.analysis.verdict.squeals for c in cases)
     t_one = median_seconds(lambda: one_by_one(design, ctx), args.repeat)
-    print(f"railway_920 on the test track: {len(RADII_M)} radii x {len(SPEEDS_KM_H)} speeds x 4 wheels "
-          f"= {n} cases, {heard} squeal")  # fmt: skip
+    print(
+        f"railway_920 on the test track: {len(RADII_M)} radii x {len(SPEEDS_KM_H)} speeds x 4 wheels "
+        f"= {n} cases, {heard} squeal"
+    )
     print(f"curve, warm cache: {t_row:.1f} s (median of {args.repeat}); target < 30 s")
     print(f"the same cases one by one: {t_one:.1f} s; ratio {t_one / t_row:.1f}")
 

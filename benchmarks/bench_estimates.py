@@ -144,7 +144,7 @@ def field(fidelity: str, quick: bool) -> list[bool]:
     wheel by the harmonic balance and in the time domain, each priced by its whole plan
     (``wheel_squeal.curve.curve_estimate``: the modes cached, every sliding axle's
     stability solved) before it runs."""
-    from wheel_squeal.counter_bodies import TRACK_FIT_SECONDS
+    from track.sections import TRACK_FIT_SECONDS
     from wheel_squeal.curve import curve, curve_estimate
     from wheel_squeal.plan import track_plan
     from wheel_squeal.track import track_receptances

@@ -45,13 +45,16 @@ def main() -> None:
     seconds = time.perf_counter() - t0
     if args.compare:
         exact = line(design, curves, LineSpec(), context=ctx)
-        dp = max(abs(a.probability - b.probability) for a, b in zip(results, exact))
+        dp = max(abs(a.emission.probability - b.emission.probability) for a, b in zip(results, exact))
         both = [
             (a, b)
             for a, b in zip(results, exact)
-            if a.laeq_dba["day"] is not None and b.laeq_dba["day"] is not None
+            if a.emission.laeq_dba["day"] is not None and b.emission.laeq_dba["day"] is not None
         ]
-        dl = max((abs(a.laeq_dba["day"] - b.laeq_dba["day"]) for a, b in both), default=float("nan"))
+        dl = max(
+            (abs(a.emission.laeq_dba["day"] - b.emission.laeq_dba["day"]) for a, b in both),
+            default=float("nan"),
+        )
         where = f"grid {args.radius_step:g} against own radii"
         print(f"{where}: probability by up to {dp:.2f}; L_Aeq,day by up to {dl:.1f} dB ({len(both)} heard)")
     radii_count = len({c.radius_m for c in curves})
@@ -60,8 +63,8 @@ def main() -> None:
     print(f"{head}: {seconds:.1f} s, {per_curve:.2f} s each")
     for lo, hi in ((100, 200), (200, 300), (300, 500), (500, 1000), (1000, 3001)):
         mine = [r for r in results if lo <= r.curve.radius_m < hi]
-        squeal = [r for r in mine if r.probability > 0]
-        mean = np.mean([r.probability for r in mine]) if mine else float("nan")
+        squeal = [r for r in mine if r.emission.probability > 0]
+        mean = np.mean([r.emission.probability for r in mine]) if mine else float("nan")
         print(f"R {lo}-{hi} m: {len(squeal)} of {len(mine)} curves squeal some of the time (mean {mean:.2f})")
 
 

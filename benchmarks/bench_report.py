@@ -48,8 +48,16 @@ def main() -> None:
         times: dict[str, list[float]] = {k: [] for k in trees}
 
         def run(k: str, out: str) -> list[str]:
-            return [sys.executable, str(trees[k] / "pipeline.py"), "run", "--quiet",
-                    "--cache-dir", str(tmp / f"cache-{k}"), "--out", str(tmp / out)]  # fmt: skip
+            return [
+                sys.executable,
+                str(trees[k] / "pipeline.py"),
+                "run",
+                "--quiet",
+                "--cache-dir",
+                str(tmp / f"cache-{k}"),
+                "--out",
+                str(tmp / out),
+            ]
 
         for k, tree in trees.items():  # fill each cache once
             seconds(run(k, f"first-{k}"), tree)

@@ -84,8 +84,10 @@ def main() -> None:
     assert [r["status"] for r in a] == [r["status"] for r in b]
     ts, tp = statistics.median(serial), statistics.median(pool)
     ok = sum(r["status"] == "ok" for r in a)
-    print(f"study: {spec.name}, {spec.samples} designs ({ok} ok), fidelity {spec.fidelity}, "
-          f"compute {', '.join(spec.compute)}, no cache")  # fmt: skip
+    print(
+        f"study: {spec.name}, {spec.samples} designs ({ok} ok), fidelity {spec.fidelity}, "
+        f"compute {', '.join(spec.compute)}, no cache"
+    )
     n = spec.samples
     task = ts / n
     runs = f"median of {args.runs}"

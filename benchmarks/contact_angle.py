@@ -65,9 +65,12 @@ def counter_body_table(fidelity: str) -> None:
         for f_hz in (600.0, 1100.0, 1200.0, 2500.0):
             for mass in (2.0, 7.0):
                 d = base.replace(
-                    **{f"{direction}_frequency_hz": f_hz, f"{direction}_damping_ratio": 0.01,
-                       f"{direction}_modal_mass_kg": mass}
-                )  # fmt: skip
+                    **{
+                        f"{direction}_frequency_hz": f_hz,
+                        f"{direction}_damping_ratio": 0.01,
+                        f"{direction}_modal_mass_kg": mass,
+                    }
+                )
                 modes = ws.compute_modes(d, fidelity)
                 off, on = (cell(growing(d, modes, "falling", rot)) for rot in (False, True))
                 print(f"| {direction} {f_hz:g} Hz, {mass:g} kg, 1 % | {off} | {on} |")

@@ -34,8 +34,11 @@ def residual(modes, f_lo: float, f_hi: float) -> float:
 
 def main() -> None:
     warnings.simplefilter("ignore")
-    print("| design | angle | 1/k_H [m/N] | " + " | ".join(f"to {f / 1e3:g} kHz" for f in CUTOFFS_HZ)
-          + " | growth rates change | tones change | fastest, mechanism |")  # fmt: skip
+    print(
+        "| design | angle | 1/k_H [m/N] | "
+        + " | ".join(f"to {f / 1e3:g} kHz" for f in CUTOFFS_HZ)
+        + " | growth rates change | tones change | fastest, mechanism |"
+    )
     print("|---" * (6 + len(CUTOFFS_HZ)) + "|")
     for name, deg in CASES:
         d = ws.load_design(name).replace(contact_angle=math.radians(deg))
@@ -62,9 +65,10 @@ def main() -> None:
             else "CHANGED"
         )
         print(
-            f"| {name} | {deg:g} deg | {1 / k_h:.3g} | " + " | ".join(f"{s:.1%}" for s in shares)
+            f"| {name} | {deg:g} deg | {1 / k_h:.3g} | "
+            + " | ".join(f"{s:.1%}" for s in shares)
             + f" | <= {dg:.2g} 1/s | <= {df:.2%} | {same} ({fa.mode.label()}, {fa.stability.mechanism}) |"
-        )  # fmt: skip
+        )
 
 
 if __name__ == "__main__":

@@ -61,7 +61,8 @@ def _cli_reference() -> str:
 
 
 def _outputs_reference() -> str:
-    from wheel_squeal.fields import FIELDS, FILES, FREE_GROUPS, GROUPS
+    from wheel_squeal.fields import FIELDS, FREE_GROUPS, GROUPS
+    from wheel_squeal.output_files import FILES
 
     def row(key: str) -> str:
         f = FIELDS[key]

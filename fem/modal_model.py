@@ -104,8 +104,9 @@ def _mode(i: int, table: Any, source: str) -> Mode:
 def modal_modes(modes: list[Mode]) -> ModeSet:
     """Measured or given modes (no shapes) as a ``fem.ModeSet`` of solver
     :data:`MODAL_MODEL_SOLVER`, in the order given."""
-    return ModeSet(modes, np.zeros((0, 3)), {}, [np.zeros((m.multiplicity, 0, 3)) for m in modes],
-                   MODAL_MODEL_SOLVER, 0)  # fmt: skip
+    return ModeSet(
+        modes, np.zeros((0, 3)), {}, [np.zeros((m.multiplicity, 0, 3)) for m in modes], MODAL_MODEL_SOLVER, 0
+    )
 
 
 def explicit_modes(
@@ -223,10 +224,19 @@ def load_modal_model(path: str | Path, fmax_hz: float | None = None) -> ModeSet:
             )
         modes = band
     modes = [
-        Mode(k, m.frequency_hz, m.nodal_diameters, 0, m.family, m.contact_lateral, m.contact_normal, m.name,
-             m.damping_ratio)
+        Mode(
+            k,
+            m.frequency_hz,
+            m.nodal_diameters,
+            0,
+            m.family,
+            m.contact_lateral,
+            m.contact_normal,
+            m.name,
+            m.damping_ratio,
+        )
         for k, m in enumerate(modes)
-    ]  # fmt: skip
+    ]
     labels = [m.name for m in modes]
     if len(set(labels)) != len(labels):
         raise DesignError(f"{source}: two modes have the same label; give each its own")

@@ -114,9 +114,14 @@ def simulate_to_limit_cycle(
     while True:
         started = time.perf_counter()
         history = simulate(
-            modes, contact, op, t, initial_state, samples_per_period=samples_per_period,
+            modes,
+            contact,
+            op,
+            t,
+            initial_state,
+            samples_per_period=samples_per_period,
             wheel_speed_rad_s=wheel_speed_rad_s,
-        )  # fmt: skip
+        )
         lc = limit_cycle(history)
         settled = lc.saturated or (not lc.squeal and lc.growth_rate_analytic_1_s <= 0)
         if duration is not None or settled or t * 2 > max_duration:

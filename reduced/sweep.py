@@ -109,9 +109,14 @@ def sweep(
     v0s = np.atleast_1d(np.asarray(rolling_speeds, dtype=float))
     ops = [OperatingPoint(v0, vc) for vc in vcs for v0 in v0s]  # validates every pair
     out = sweep_points(
-        modes, contact, ops, duration, steps_per_period=steps_per_period,
-        energy_tolerance=energy_tolerance, progress=progress,
-    )  # fmt: skip
+        modes,
+        contact,
+        ops,
+        duration,
+        steps_per_period=steps_per_period,
+        energy_tolerance=energy_tolerance,
+        progress=progress,
+    )
     shape = (len(vcs), len(v0s))
     return SweepResult(
         crabbing_velocities_m_s=vcs,
@@ -178,18 +183,34 @@ def sweep_points(
         hi = min(lo + chunk, n_cases)
         bufs = [np.zeros((hi - lo, cap)) for _ in range(5)]
         _engine.compiled().sweep_kernel(
-            m, c, k, a, b, laws[lo:hi], h[lo:hi], n_steps[lo:hi], cap, *bufs,
-            ncyc[lo:hi], status[lo:hi], mismatch[lo:hi], emax[lo:hi],
-        )  # fmt: skip
+            m,
+            c,
+            k,
+            a,
+            b,
+            laws[lo:hi],
+            h[lo:hi],
+            n_steps[lo:hi],
+            cap,
+            *bufs,
+            ncyc[lo:hi],
+            status[lo:hi],
+            mismatch[lo:hi],
+            emax[lo:hi],
+        )
         for i in range(lo, hi):
             op = ops[i]
             if status[i] != 0 or mismatch[i] > energy_tolerance * emax[i] + 1e-300:
                 lc = limit_cycle(
                     simulate_rk4(
-                        modes, contact, op, duration,
-                        steps_per_period=steps_per_period, energy_tolerance=energy_tolerance,
+                        modes,
+                        contact,
+                        op,
+                        duration,
+                        steps_per_period=steps_per_period,
+                        energy_tolerance=energy_tolerance,
                     )
-                )  # fmt: skip
+                )
             else:
                 cyc = Cycles(*(b[i - lo, : int(ncyc[i])] for b in bufs))
                 lc = metrics_from_cycles(

@@ -118,8 +118,9 @@ def test_wheel_energy_balance(wheel_field):
 
 
 def test_wheel_radiation_scales_with_the_contact_velocity(wheel_field):
+    from acoustics.tone import Radiation
     from wheel_squeal.listener import default_microphone
-    from wheel_squeal.sound import Radiation, sound_of
+    from wheel_squeal.sound import sound_of
 
     design, _, field = wheel_field
     mic = default_microphone(design)

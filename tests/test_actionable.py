@@ -15,7 +15,7 @@ import numpy as np
 import pytest
 from conftest import DESIGNS, TABLE1_MODE_ARGS, run_cli, run_here
 
-from wheel_squeal.levels import RADIATION_STEP
+from acoustics.harmonics import RADIATION_STEP
 
 SHIPPED = sorted(p.stem for p in DESIGNS.glob("*.toml"))
 
@@ -93,11 +93,21 @@ def test_the_tone_the_wav_the_spectrum_and_the_sound_agree(tmp_path):
     """railway_920 at 11.1 m/s, 10 mrad: the limit cycle settles far from every natural
     frequency; the verdict's tone, the WAV's strongest frequency, the microphone
     spectrum's peak agree within one FFT bin of the WAV, and the radiated sound's
-    frequency within half its grid step (``levels.RADIATION_STEP``)."""
+    frequency within half its grid step (``acoustics.harmonics.RADIATION_STEP``)."""
     r = run_cli(
-        "run", "--design", "railway_920", "--speed", "11.1", "--crab-velocity", "0.111", "--render", "none",
-        "--quiet", "--out", tmp_path / "r",
-    )  # fmt: skip
+        "run",
+        "--design",
+        "railway_920",
+        "--speed",
+        "11.1",
+        "--crab-velocity",
+        "0.111",
+        "--render",
+        "none",
+        "--quiet",
+        "--out",
+        tmp_path / "r",
+    )
     assert r.returncode == 0, r.stderr
     s = _summary(tmp_path / "r")
     tone = s["verdict"]["tone_hz"]
@@ -172,9 +182,20 @@ def test_no_round_off_is_presented_as_a_requirement(tmp_path, design):
     """Every number the stability and its envelope write (summary.json, stability.csv,
     the printed tables): nothing past 1e20 and no damping "needed" below 1e-8."""
     r = run_cli(
-        "stability", "--design", design, "--envelope", "--envelope-crab-velocity", "0.1:0.4:3",
-        "--envelope-rpm", "400,800", "--fidelity", "fast", "--quiet", "--out", tmp_path / "s",
-    )  # fmt: skip
+        "stability",
+        "--design",
+        design,
+        "--envelope",
+        "--envelope-crab-velocity",
+        "0.1:0.4:3",
+        "--envelope-rpm",
+        "400,800",
+        "--fidelity",
+        "fast",
+        "--quiet",
+        "--out",
+        tmp_path / "s",
+    )
     assert r.returncode == 0, r.stderr
     for key, x in _numbers(_summary(tmp_path / "s")):
         assert abs(x) <= 1e20, (key, x)
@@ -270,7 +291,7 @@ def test_every_csv_reads_as_it_is_with_pandas(tmp_path):
         ("stability", "--envelope", "--envelope-crab-velocity", "0.1:0.4:3", "--envelope-rpm", "800"),
         ("study", DESIGNS.parent / "studies" / "smoke.toml"),
     ]
-    from wheel_squeal.fields import FILES
+    from wheel_squeal.output_files import FILES
 
     seen = 0
     for k, command in enumerate(commands):

@@ -162,11 +162,24 @@ def test_help_imports_no_heavy_library():
 #: an ODE, a radiation problem, a root): the application layer calls each on a whole list
 #: of modes or grid of points, never once per mode or point inside its own loop.
 SOLVERS = {
-    "linear_stability", "growth_rates", "critical_damping_ratio", "critical_friction_slope",
-    "stability_map", "mitigation", "simulate", "simulate_to_limit_cycle", "sweep", "sweep_points",
-    "limit_cycle", "predict_limit_cycle", "modal_content", "solve_modes",
-    "solve_axisymmetric", "radiate", "kirchhoff_pressure",
-}  # fmt: skip
+    "linear_stability",
+    "growth_rates",
+    "critical_damping_ratio",
+    "critical_friction_slope",
+    "stability_map",
+    "mitigation",
+    "simulate",
+    "simulate_to_limit_cycle",
+    "sweep",
+    "sweep_points",
+    "limit_cycle",
+    "predict_limit_cycle",
+    "modal_content",
+    "solve_modes",
+    "solve_axisymmetric",
+    "radiate",
+    "kirchhoff_pressure",
+}
 #: numpy's numerical analysis (linear algebra, transforms, fits, quadrature, interpolation)
 NUMPY_ANALYSIS = {"linalg", "fft", "interp", "polyfit", "gradient", "trapezoid", "trapz", "convolve", "roots"}
 #: The one exception, and why: calibration drives SciPy's least squares whose objective
@@ -223,8 +236,11 @@ def test_the_numerics_rule_finds_what_it_forbids():
     )
     found = _numerics("wheel_squeal/x.py", src)
     assert [f.split(" ", 1)[1] for f in found] == [
-        "imports scipy.linalg", "calls growth_rates in a loop", "calls simulate in a loop", "uses np.linalg",
-    ]  # fmt: skip
+        "imports scipy.linalg",
+        "calls growth_rates in a loop",
+        "calls simulate in a loop",
+        "uses np.linalg",
+    ]
 
 
 def test_every_package_is_installed():
@@ -254,7 +270,7 @@ def test_no_api_message_names_a_command_line_flag():
     for top in CODE_PACKAGES:
         for path in (ROOT / top).rglob("*.py"):
             rel = path.relative_to(ROOT)
-            if rel.parts[:2] == ("wheel_squeal", "cli") or rel.name == "fields.py":
+            if rel.parts[:2] == ("wheel_squeal", "cli") or rel.name in ("fields.py", "output_files.py"):
                 continue
             tree = ast.parse(path.read_text())
             docstrings = {

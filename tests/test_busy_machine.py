@@ -266,9 +266,13 @@ def test_a_stop_signal_to_the_group_is_one_line_whenever_it_lands(tmp_path, sig)
     for k, delay in enumerate((0.05, 0.4, 0.9, 1.4, 2.0)):
         cold = ["--no-cache"] if k % 2 else []  # gmsh and the FE run in every other one
         p = subprocess.Popen(
-            base + cold, cwd=tmp_path, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+            base + cold,
+            cwd=tmp_path,
+            stdout=subprocess.PIPE,
+            stderr=subprocess.PIPE,
+            text=True,
             start_new_session=True,
-        )  # fmt: skip
+        )
         time.sleep(delay)
         os.killpg(p.pid, sig)
         _, err = p.communicate(timeout=60)
@@ -371,14 +375,22 @@ def test_absurd_modal_models_are_refused_on_reading(tmp_path, mode, word):
 @pytest.mark.parametrize(
     ("table", "word"),
     [
-        ({"roller": {"lateral_frequency_hz": 3e3, "lateral_damping_ratio": 0.01,
-                     "lateral_modal_mass_kg": 1e300}}, "plausible range"),
+        (
+            {
+                "roller": {
+                    "lateral_frequency_hz": 3e3,
+                    "lateral_damping_ratio": 0.01,
+                    "lateral_modal_mass_kg": 1e300,
+                }
+            },
+            "plausible range",
+        ),
         ({"wheel": {"bore_radius": 5e-324}}, "shorter than any part of a wheel"),
         ({"contact": {"c22": 1e12}}, "Kalker"),
         ({"contact": {"transient_creep": True, "relaxation_length": 1e6}}, "contact length"),
         ({"description": "a\u001b[2Jb"}, "control characters"),
     ],
-)  # fmt: skip
+)
 def test_absurd_design_values_are_refused_on_reading(table, word):
     from geometry import DesignError
     from wheel_squeal.design import Design
@@ -440,9 +452,12 @@ def test_a_microphone_on_a_silent_axis_hears_silence():
 
     design = ws.load_design()
     a = ws.analyse(
-        design, fidelity="fast", fmax_hz=3000.0, remedy=False,
+        design,
+        fidelity="fast",
+        fmax_hz=3000.0,
+        remedy=False,
         listener=Listener((0.0, 0.1, 0.0), air_for(1.21, 343.0)),
-    )  # fmt: skip
+    )
     sound = a.verdict.outcome.sound
     assert a.verdict.squeals and not sound.audible
     s = sound.summary()

@@ -59,8 +59,17 @@ def _conical_outline_design(tilt_deg: float):
     """A Table 1-like ring whose tread is a cone tilted by ``tilt_deg``: the contact on
     the cone has that contact angle."""
     t = math.tan(math.radians(tilt_deg))
-    pts = [[0.05, -0.0075], [0.05, 0.0075], [0.18, 0.0075], [0.18, 0.013], [0.213 - 0.013 * t, 0.013],
-           [0.213 + 0.013 * t, -0.013], [0.18, -0.013], [0.18, -0.0075], [0.05, -0.0075]]  # fmt: skip
+    pts = [
+        [0.05, -0.0075],
+        [0.05, 0.0075],
+        [0.18, 0.0075],
+        [0.18, 0.013],
+        [0.213 - 0.013 * t, 0.013],
+        [0.213 + 0.013 * t, -0.013],
+        [0.18, -0.013],
+        [0.18, -0.0075],
+        [0.05, -0.0075],
+    ]
     data = {"name": "cone", "profile": {"points": pts, "contact": [0.213, 0.0]}}
     return ws.Design.from_mapping(data)
 
@@ -117,9 +126,11 @@ def test_components_at_a_moved_contact_converge_and_agree_with_the_3d_solver():
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         cyclic = solve_cyclic(
-            TABLE1.wheel, revolve_profile(mesh2, default_sectors(TABLE1.wheel, mesh2.size)),
-            fmax_hz=2500.0, contact=frame,
-        )  # fmt: skip
+            TABLE1.wheel,
+            revolve_profile(mesh2, default_sectors(TABLE1.wheel, mesh2.size)),
+            fmax_hz=2500.0,
+            contact=frame,
+        )
     for a, b, c, m in zip(coarse.modes[:6], fine.modes[:6], cyclic.modes[:6], mid.modes[:6]):
         assert a.label() == b.label() == c.label()
         size = np.hypot(*b.contact_components)
@@ -153,9 +164,14 @@ def test_the_in_plane_displacement_at_the_point_is_the_frames_rotation():
 # -- design keys, counter-body, modal model ----------------------------------------------------
 def test_contact_keys_round_trip_and_leave_old_hashes_alone(tmp_path):
     d = TABLE1.replace(
-        contact_angle=0.03, normal_contact="constant", transient_creep=True, relaxation_length=0.001,
-        normal_frequency_hz=3000.0, normal_damping_ratio=0.02, normal_modal_mass_kg=40.0,
-    )  # fmt: skip
+        contact_angle=0.03,
+        normal_contact="constant",
+        transient_creep=True,
+        relaxation_length=0.001,
+        normal_frequency_hz=3000.0,
+        normal_damping_ratio=0.02,
+        normal_modal_mass_kg=40.0,
+    )
     path = tmp_path / "moved.toml"
     path.write_text(d.to_toml())
     back = ws.load_design(str(path))

@@ -163,9 +163,17 @@ def test_the_railway_wheel_squeals_at_its_tread_in_tight_curves_and_at_its_flang
     from conftest import run_here
 
     r = run_here(
-        "curve", "--design", "railway_920_track", "--radius", "150,300,600,1000", "--train-speed", "40",
-        "--quiet", "--out", tmp_path / "c",
-    )  # fmt: skip
+        "curve",
+        "--design",
+        "railway_920_track",
+        "--radius",
+        "150,300,600,1000",
+        "--train-speed",
+        "40",
+        "--quiet",
+        "--out",
+        tmp_path / "c",
+    )
     assert r.returncode == 0, r.stderr
     cases = json.loads((tmp_path / "c" / "summary.json").read_text())["cases"]
     assert len(cases) == 16

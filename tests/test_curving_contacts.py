@@ -56,9 +56,13 @@ def test_the_cone_wheel_flanges_where_its_conicity_cannot_steer(geometry):
     at 600 m it would need 11.5 mm: the leading outer wheel flanges, in a two-point contact
     (tread and flank)."""
     wide = steady_curving(
-        geometry, Vehicle(primary_yaw_stiffness_n_m_rad=0.0), 3000.0, 40.0, wheel_load_n=50e3,
+        geometry,
+        Vehicle(primary_yaw_stiffness_n_m_rad=0.0),
+        3000.0,
+        40.0,
+        wheel_load_n=50e3,
         friction_coefficient=0.3,
-    )  # fmt: skip
+    )
     assert wide[0].lateral_shift_m == pytest.approx(0.46 * 0.75 / (0.05 * 3000.0), rel=0.1)
     tight = steady_curving(geometry, Vehicle(), 600.0, 40.0, wheel_load_n=50e3, friction_coefficient=0.3)
     outer = tight[1]

@@ -15,7 +15,8 @@ import pytest
 from conftest import ROOT, run_cli
 
 from wheel_squeal.cli.parser import build_parser
-from wheel_squeal.fields import FIELDS, FILES, FREE_GROUPS, GROUPS
+from wheel_squeal.fields import FIELDS, FREE_GROUPS, GROUPS
+from wheel_squeal.output_files import FILES
 
 #: the README's size limit [characters]: a README, not a manual
 README_MAX_CHARS = 10_000
@@ -126,7 +127,7 @@ def written(tmp_path_factory) -> dict[str, Path]:
             "800",
             "--measured",
             str(measured),
-        ),  # fmt: skip
+        ),
         "compare": ("compare", "table1", "thin_web", *fast),
         "sound": ("sound", *fast),
         "modes": ("modes", *fast),

@@ -214,13 +214,30 @@ def test_a_cad_export_with_a_split_face_is_the_same_wheel(tmp_path, pieces):
     points, tread = _split_web_face(pieces)
     design = _outline_design(tmp_path, f"split{pieces}", points, tread)
     r, elapsed = timed_cli(
-        "mesh", "--dim", "2", "--design", design, "--out", tmp_path / "o", "--quiet",
-        preexec_fn=_limit_memory(1.5), timeout=60, here=False,
-    )  # fmt: skip
+        "mesh",
+        "--dim",
+        "2",
+        "--design",
+        design,
+        "--out",
+        tmp_path / "o",
+        "--quiet",
+        preexec_fn=_limit_memory(1.5),
+        timeout=60,
+        here=False,
+    )
     assert r.returncode == 0, r.stderr
     assert elapsed < 10
-    ref = run_cli("mesh", "--dim", "2", "--design", ROOT / "designs" / "table1_outline.toml",
-                  "--out", tmp_path / "ref", "--quiet")  # fmt: skip
+    ref = run_cli(
+        "mesh",
+        "--dim",
+        "2",
+        "--design",
+        ROOT / "designs" / "table1_outline.toml",
+        "--out",
+        tmp_path / "ref",
+        "--quiet",
+    )
     assert ref.returncode == 0
     ours = json.loads((tmp_path / "o" / "summary.json").read_text())
     theirs = json.loads((tmp_path / "ref" / "summary.json").read_text())
@@ -242,9 +259,19 @@ def test_a_dense_curved_outline_loads_in_n_log_n_and_its_mesh_is_refused(tmp_pat
     points = [list(bottom[-1]), *map(list, top), *rim, *map(list, bottom)]
     design = _outline_design(tmp_path, "wavy", points, 2 + len(top))
     r_, elapsed = timed_cli(
-        "modes", "--fidelity", "fast", "--design", design, "--out", tmp_path / "o", "--quiet", "--no-cache",
-        preexec_fn=_limit_memory(2.0), timeout=120, here=False,
-    )  # fmt: skip
+        "modes",
+        "--fidelity",
+        "fast",
+        "--design",
+        design,
+        "--out",
+        tmp_path / "o",
+        "--quiet",
+        "--no-cache",
+        preexec_fn=_limit_memory(2.0),
+        timeout=120,
+        here=False,
+    )
     line = refused(r_, "segments shorter than half")
     assert "would need about" in line and elapsed < 30
 
@@ -367,9 +394,17 @@ def test_a_study_beyond_the_time_budget_is_refused_with_its_estimate(tmp_path):
     limit on one worker (the estimate, 67 s on one worker against 50 s measured, is
     within a factor 2 on every shipped spec: benchmarks/bench_estimates.py)."""
     r, elapsed = timed_cli(
-        "study", ROOT / "studies" / "tolerance.toml", "--workers", "1", "--max-seconds", "20",
-        "--out", tmp_path / "o", "--no-cache", "--quiet",
-    )  # fmt: skip
+        "study",
+        ROOT / "studies" / "tolerance.toml",
+        "--workers",
+        "1",
+        "--max-seconds",
+        "20",
+        "--out",
+        tmp_path / "o",
+        "--no-cache",
+        "--quiet",
+    )
     line = refused(r, "the study (200 designs", seconds=10, elapsed=elapsed)
     assert "would take about" in line and "--max-seconds" in line
     assert not (tmp_path / "o").exists()
@@ -450,10 +485,22 @@ def test_no_worker_outlives_a_killed_study(tmp_path, sig):
     import sys
 
     study = subprocess.Popen(
-        [sys.executable, str(ROOT / "pipeline.py"), "study", str(SMOKE), "--workers", "2",
-         "--out", str(tmp_path / "o"), "--no-cache", "--quiet"],
-        stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
-    )  # fmt: skip
+        [
+            sys.executable,
+            str(ROOT / "pipeline.py"),
+            "study",
+            str(SMOKE),
+            "--workers",
+            "2",
+            "--out",
+            str(tmp_path / "o"),
+            "--no-cache",
+            "--quiet",
+        ],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
     workers: list[int] = []
     end = time.time() + 30
     while len(workers) < 2 and time.time() < end:
@@ -508,16 +555,27 @@ def test_a_server_that_is_not_a_scheduler_is_one_line_within_seconds(tmp_path, s
     proc = None
     if server == "http":
         sock.close()
-        proc = subprocess.Popen([sys.executable, "-m", "http.server", str(port), "--bind", "127.0.0.1"],
-                                stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)  # fmt: skip
+        proc = subprocess.Popen(
+            [sys.executable, "-m", "http.server", str(port), "--bind", "127.0.0.1"],
+            stdout=subprocess.DEVNULL,
+            stderr=subprocess.DEVNULL,
+        )
         time.sleep(1.0)
     else:
         sock.listen(8)
     try:
         r, elapsed = timed_cli(
-            "study", SMOKE, "--scheduler", f"tcp://127.0.0.1:{port}", "--out", tmp_path / "o", "--no-cache",
-            "--quiet", timeout=60, here=False,
-        )  # fmt: skip
+            "study",
+            SMOKE,
+            "--scheduler",
+            f"tcp://127.0.0.1:{port}",
+            "--out",
+            tmp_path / "o",
+            "--no-cache",
+            "--quiet",
+            timeout=60,
+            here=False,
+        )
         refused(r, "scheduler", seconds=20, elapsed=elapsed)
     finally:
         if proc is not None:
@@ -548,8 +606,19 @@ def test_measured_damping_keys_are_read_the_way_modes_are_named(tmp_path):
 )
 def test_measured_damping_that_cannot_be_applied_is_refused(tmp_path, text, word):
     design = _write(tmp_path / "d.toml", text)
-    r = run_cli("stability", "--fidelity", "fast", "--no-bounds", "--design", design, "--out", tmp_path / "o",
-                "--quiet", "--cache-dir", tmp_path / "c")  # fmt: skip
+    r = run_cli(
+        "stability",
+        "--fidelity",
+        "fast",
+        "--no-bounds",
+        "--design",
+        design,
+        "--out",
+        tmp_path / "o",
+        "--quiet",
+        "--cache-dir",
+        tmp_path / "c",
+    )
     refused(r, word)
 
 
@@ -569,7 +638,7 @@ def test_measured_damping_that_cannot_be_applied_is_refused(tmp_path, text, word
                 "100000",
             ],
             "more than its frequency",
-        ),  # fmt: skip
+        ),
         (["run", "--rpm", "1e-9", "--fidelity", "fast"], "squeal model of ("),
         (["stability", "--envelope-rpm", "400", "--fidelity", "fast"], "with --envelope"),
         (["calibrate", "--free", "nonsense", "--target-frequency", "1143"], "not a design parameter"),
@@ -621,10 +690,23 @@ def test_a_terminated_run_cleans_up_as_an_interrupted_one(tmp_path):
 
     out = tmp_path / "o"
     p = subprocess.Popen(
-        [sys.executable, str(ROOT / "pipeline.py"), "modes", "--solver", "3d-tet", "--fidelity", "balanced",
-         "--no-cache", "--out", str(out), "--quiet"],
-        stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
-    )  # fmt: skip
+        [
+            sys.executable,
+            str(ROOT / "pipeline.py"),
+            "modes",
+            "--solver",
+            "3d-tet",
+            "--fidelity",
+            "balanced",
+            "--no-cache",
+            "--out",
+            str(out),
+            "--quiet",
+        ],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
     time.sleep(4.0)  # meshing or solving
     assert p.poll() is None, p.communicate()  # (what it said, if it ended early)
     p.send_signal(signal.SIGTERM)
@@ -810,15 +892,20 @@ def test_random_study_specs_are_a_study_or_one_line_that_says_why(
     vcs = ", ".join(f"{0.1 * (k + 1):g}" for k in range(points[0]))
     rpms = ", ".join(str(400 + 200 * k) for k in range(points[1]))
     text = (
-        base.format(root=ROOT) + fidelity + grid.format(n=n)
+        base.format(root=ROOT)
+        + fidelity
+        + grid.format(n=n)
         + f"[operating]\ncrab_velocity = [{vcs}]\nrpm = [{rpms}]\n"
-    )  # fmt: skip
+    )
     expected = (
-        "a string" if base.startswith("base = 5") else
-        "not found" if "nowhere" in base else
-        "fidelity" if "best" in fidelity else
-        problem
-    )  # fmt: skip
+        "a string"
+        if base.startswith("base = 5")
+        else "not found"
+        if "nowhere" in base
+        else "fidelity"
+        if "best" in fidelity
+        else problem
+    )
     path = tmp_path_factory.mktemp("spec") / "s.toml"
     path.write_text(text)
     try:

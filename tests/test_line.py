@@ -21,8 +21,9 @@ from acoustics.emission import (
 )
 from acoustics.medium import AIR
 from acoustics.passby import PassbySource, passby
+from track.line import count_rows
 from wheel_squeal.errors import RequestError
-from wheel_squeal.line import LineSpec, line_rows_quickly, load_line, load_line_spec
+from wheel_squeal.line import LineSpec, load_line, load_line_spec
 
 ANGLES = np.linspace(0.0, math.pi, 361)
 HEADER = "id,radius_m,length_m,cant_mm,train_speed_km_h"
@@ -115,7 +116,7 @@ def test_a_line_keeps_its_coordinates_and_is_counted_unread(tmp_path):
     path.write_text(f"{HEADER},x0,y0,x1,y1,wkt\na,150,100,0,40,0,0,100,0,\nb,300,100,0,40,,,,,{wkt}\n")
     a, b = load_line(path)
     assert a.coordinates == ((0.0, 0.0), (100.0, 0.0)) and len(b.coordinates) == 3
-    assert line_rows_quickly(path) == 2
+    assert count_rows(path) == 2
 
 
 def test_a_line_too_long_is_refused_before_it_is_read(tmp_path):
@@ -146,8 +147,18 @@ def test_a_line_writes_what_the_mapping_tools_read(tmp_path):
         "wide,2000,500,0,40,400,300,900,300\nwider,3000,500,0,40,900,300,1400,300\n"
     )
     out = tmp_path / "out"
-    r = run_cli("line", "--design", "railway_920_track", "--line", path, "--crs", "EPSG:25832", "--quiet",
-                "--out", out)  # fmt: skip
+    r = run_cli(
+        "line",
+        "--design",
+        "railway_920_track",
+        "--line",
+        path,
+        "--crs",
+        "EPSG:25832",
+        "--quiet",
+        "--out",
+        out,
+    )
     assert r.returncode == 0, r.stderr
     rows = {row["id"]: row for row in gpd.read_file(out / "line.geojson").to_dict("records")}
     assert gpd.read_file(out / "line.geojson").crs.to_epsg() == 25832

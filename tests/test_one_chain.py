@@ -72,10 +72,13 @@ def test_every_command_answers_from_the_one_chain(name, context, tmp_path):
     stability = chain("stability", remedy=False).to_record()
     grid = ws.sweep_verdicts(design, [VC], [RPM], modeset=modes, context=context, sound=given is None)
     sweep = {
-        "verdict_mode": grid.mode[0, 0], "mechanism": grid.mechanism[0, 0], "tone_hz": grid.tone_hz[0, 0],
-        "amplitude_m_s": grid.amplitude_m_s[0, 0], "growth_rate_1_s": grid.growth_rate_1_s[0, 0],
+        "verdict_mode": grid.mode[0, 0],
+        "mechanism": grid.mechanism[0, 0],
+        "tone_hz": grid.tone_hz[0, 0],
+        "amplitude_m_s": grid.amplitude_m_s[0, 0],
+        "growth_rate_1_s": grid.growth_rate_1_s[0, 0],
         "spl_db": grid.spl_db[0, 0],
-    }  # fmt: skip
+    }
     full = ("stability", "limit_cycle", "sound") if given is None else ("stability", "limit_cycle")
     study = (
         run_case(CaseJob(design, (), "fast", context.fmax_hz, full, (VC,), (RPM,), str(context.cache.root)))

@@ -339,9 +339,19 @@ def test_curved_web_cyclic_3d_agrees_with_axisym_and_converges(curved_axisym):
 def test_railway_wheel_runs_and_compare_mixes_parametric_and_outline(tmp_path):
     out = tmp_path / "rw"
     r = run_cli(
-        "run", "--design", DESIGNS / "railway_920.toml", "--fidelity", "fast", "--render", "none", "--quiet",
-        "--out", out, "--cache-dir", tmp_path / "cache",
-    )  # fmt: skip
+        "run",
+        "--design",
+        DESIGNS / "railway_920.toml",
+        "--fidelity",
+        "fast",
+        "--render",
+        "none",
+        "--quiet",
+        "--out",
+        out,
+        "--cache-dir",
+        tmp_path / "cache",
+    )
     assert r.returncode == 0, r.stderr
     s = json.loads((out / "summary.json").read_text())
     assert s["design"] == "railway_920"
@@ -349,7 +359,15 @@ def test_railway_wheel_runs_and_compare_mixes_parametric_and_outline(tmp_path):
     modes = {(m["nodal_diameters"], m["nodal_circles"], m["family"]) for m in s["modes"]}
     assert {(2, 0, "axial"), (3, 0, "axial"), (0, 0, "axial")} <= modes
     r = run_cli(
-        "compare", DESIGNS / "table1.toml", DESIGNS / "table1_outline.toml", "--fidelity", "fast",
-        "--quiet", "--out", tmp_path / "cmp", "--cache-dir", tmp_path / "cache",
-    )  # fmt: skip
+        "compare",
+        DESIGNS / "table1.toml",
+        DESIGNS / "table1_outline.toml",
+        "--fidelity",
+        "fast",
+        "--quiet",
+        "--out",
+        tmp_path / "cmp",
+        "--cache-dir",
+        tmp_path / "cache",
+    )
     assert r.returncode == 0, r.stderr

@@ -304,8 +304,19 @@ def test_run_default_writes_the_full_report(tmp_path):
     # the answer is the last thing said: the verdict, why, what would stop it, then the files
     assert r.stdout.strip().splitlines()[-4].startswith("VERDICT:")
     v = s["verdict"]
-    assert {"squeals", "mode", "tone_hz", "growth_rate_1_s", "amplitude_m_s", "saturated", "spl_db",
-            "sound_power_level_db", "reason", "override", "model_pick"} <= set(v)  # fmt: skip
+    assert {
+        "squeals",
+        "mode",
+        "tone_hz",
+        "growth_rate_1_s",
+        "amplitude_m_s",
+        "saturated",
+        "spl_db",
+        "sound_power_level_db",
+        "reason",
+        "override",
+        "model_pick",
+    } <= set(v)
     assert v["mode"] == "(3,0) axial" and v["model_pick"]["mode"] == "(1,0) axial"  # table1 names (3,0)
     assert v["amplitude_m_s"] == s["limit_cycle"]["velocity_amplitude_m_s"] and v["saturated"] is True
     assert s["cache"]["hits"] == []

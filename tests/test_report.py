@@ -14,8 +14,14 @@ from conftest import ROOT, run_cli
 #: The distribution's Chromium (Debian's package `chromium`; .ci/run installs it)
 CHROMIUM = shutil.which("chromium") or shutil.which("chromium-browser")
 #: The flags of a headless browser on a machine without a network or a display
-CHROMIUM_ARGS = ["--no-sandbox", "--disable-gpu", "--disable-background-networking",
-                 "--disable-component-update", "--disable-sync", "--no-first-run"]  # fmt: skip
+CHROMIUM_ARGS = [
+    "--no-sandbox",
+    "--disable-gpu",
+    "--disable-background-networking",
+    "--disable-component-update",
+    "--disable-sync",
+    "--no-first-run",
+]
 
 pytestmark = [
     pytest.mark.slow,

@@ -190,25 +190,49 @@ def test_scheduler_and_worker_processes_survive_a_killed_worker(reference, tmp_p
     its tasks to the other and the numbers are the same."""
     env = {"WHEEL_SQUEAL_CACHE": str(tmp_path / "worker-cache")}  # cold: tasks take a while
     sched_file = tmp_path / "scheduler.json"
-    procs = [_dask("dask_scheduler", "--host", "127.0.0.1", "--port", "0", "--no-dashboard",
-                   "--scheduler-file", str(sched_file), env=env)]  # fmt: skip
+    procs = [
+        _dask(
+            "dask_scheduler",
+            "--host",
+            "127.0.0.1",
+            "--port",
+            "0",
+            "--no-dashboard",
+            "--scheduler-file",
+            str(sched_file),
+            env=env,
+        )
+    ]
     try:
         _wait_for(sched_file)
         import json
 
         address = json.loads(sched_file.read_text())["address"]
         for _ in range(2):
-            procs.append(_dask("dask_worker", address, "--nworkers", "1", "--nthreads", "1",
-                               "--no-dashboard", env=env))  # fmt: skip
+            procs.append(
+                _dask("dask_worker", address, "--nworkers", "1", "--nthreads", "1", "--no-dashboard", env=env)
+            )
         from distributed import Client
 
         with Client(address, timeout="30s") as c:
             c.wait_for_workers(2, timeout=60)
         study = subprocess.Popen(
-            [sys.executable, str(ROOT / "pipeline.py"), "study", str(SMOKE), "--out", str(tmp_path / "out"),
-             "--cache-dir", str(tmp_path / "cache"), "--scheduler", address],
-            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
-        )  # fmt: skip
+            [
+                sys.executable,
+                str(ROOT / "pipeline.py"),
+                "study",
+                str(SMOKE),
+                "--out",
+                str(tmp_path / "out"),
+                "--cache-dir",
+                str(tmp_path / "cache"),
+                "--scheduler",
+                address,
+            ],
+            stdout=subprocess.PIPE,
+            stderr=subprocess.PIPE,
+            text=True,
+        )
         time.sleep(2.0)  # the workers have their first tasks
         assert study.poll() is None  # mid-study
         os.killpg(procs[1].pid, signal.SIGKILL)
@@ -227,10 +251,22 @@ def test_local_pool_survives_a_killed_worker(reference, tmp_path):
     """A local pool process killed mid-study: the pool is rebuilt, the unfinished cases
     run again, the numbers are the same."""
     study = subprocess.Popen(
-        [sys.executable, str(ROOT / "pipeline.py"), "study", str(SMOKE), "--out", str(tmp_path / "out"),
-         "--cache-dir", str(tmp_path / "cache"), "--workers", "2"],
-        stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
-    )  # fmt: skip
+        [
+            sys.executable,
+            str(ROOT / "pipeline.py"),
+            "study",
+            str(SMOKE),
+            "--out",
+            str(tmp_path / "out"),
+            "--cache-dir",
+            str(tmp_path / "cache"),
+            "--workers",
+            "2",
+        ],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
     children: list[int] = []
     end = time.time() + 30
     while not children and time.time() < end:
@@ -247,8 +283,18 @@ def test_local_pool_survives_a_killed_worker(reference, tmp_path):
 
 
 def test_an_interrupted_study_resumes_with_only_the_missing_cases(reference, tmp_path):
-    cmd = [sys.executable, str(ROOT / "pipeline.py"), "study", str(SMOKE), "--out", str(tmp_path / "out"),
-           "--cache-dir", str(tmp_path / "cache"), "--workers", "1"]  # fmt: skip
+    cmd = [
+        sys.executable,
+        str(ROOT / "pipeline.py"),
+        "study",
+        str(SMOKE),
+        "--out",
+        str(tmp_path / "out"),
+        "--cache-dir",
+        str(tmp_path / "cache"),
+        "--workers",
+        "1",
+    ]
     study = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     lines = []
     for line in study.stderr:  # stop it once some cases are done (progress: "k/8 cases")

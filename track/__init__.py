@@ -1,6 +1,8 @@
-"""The track: a rail on discrete, periodic supports, and its receptances at the contact
-(the physics layer; nothing here knows wheels).
+"""What the wheel runs on: a rail on discrete, periodic supports and its receptances at the
+contact, the rig's roller, profiles and curving (the physics layer).
 
+- :mod:`track.sections`: the design file's sections of what the wheel rolls on
+  (``[counter_body]``: the roller or a track) and of the bogie in curves (``[vehicle]``).
 - :mod:`track.beam`: the rail as a Timoshenko beam on pads, sleepers and ballast (or a
   continuous support) and its point receptance; the closed forms it must meet.
 - :mod:`track.fit`: a receptance as a sum of passive modal terms (mass, spring and damper

@@ -22,7 +22,6 @@ from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import ArrayLike
-from scipy.linalg import solve_banded
 
 __all__ = [
     "BeamSection",
@@ -215,6 +214,8 @@ def receptance(
         beam, n_el, spacing / ne, index, n, bw, min(ABSORBING_SPANS, spans // 3) * ne
     )
     load = index[(spans // 2) * ne + int(round(at * ne))]
+    from scipy.linalg import solve_banded  # here: a design's file is read without SciPy
+
     rhs = np.zeros(n, dtype=complex)
     rhs[load] = 1.0
     w_dofs = index[supported]

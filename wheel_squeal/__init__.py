@@ -79,7 +79,23 @@ __all__ = [
 #: Reachable as ``wheel_squeal.NAME`` too, for scripts and tests (documented where
 #: they live): the stages' own functions and the settings' types.
 _ALSO = (
-    Budget, CacheMiss, Fidelity, Listener, Progress, Simulation, Sound, StageCache, build_mesh, contact_law,
-    fidelity_for, modal_dof, mode_sound, mode_views, pick_mode, simulate, DEFAULT_DESIGN, DEFAULT_FIDELITY,
+    Budget,
+    CacheMiss,
+    Fidelity,
+    Listener,
+    Progress,
+    Simulation,
+    Sound,
+    StageCache,
+    build_mesh,
+    contact_law,
+    fidelity_for,
+    modal_dof,
+    mode_sound,
+    mode_views,
+    pick_mode,
+    simulate,
+    DEFAULT_DESIGN,
+    DEFAULT_FIDELITY,
     FIDELITIES,
-)  # fmt: skip
+)

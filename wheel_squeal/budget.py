@@ -50,16 +50,8 @@ MEMORY_FRACTION = 0.75
 ENV_MAX_DOFS = "WHEEL_SQUEAL_MAX_DOFS"
 ENV_MAX_SECONDS = "WHEEL_SQUEAL_MAX_SECONDS"
 
-#: One RK4 step of one mode in a sweep, per thread, with the per-case reduction [s]
-#: (measured: 200 x 3 cases of 1.5 s at the Table 1 mode, 49 million steps, 4.2 s on
-#: 2 threads).
-SWEEP_SECONDS_PER_STEP = 1.7e-7
 #: Bytes a running sweep case keeps per RK4 step (time, velocity, two power integrals).
 SWEEP_BYTES_PER_STEP = 32
-#: One step of the exponential integrator (``reduced.stepping``), compiled: per block (a
-#: mode's coordinate, a counter-body's term) and for the contact's forces [s] (measured on
-#: railway_920_track with the rail's 32 terms, ``benchmarks/bench_stepping.py``)
-EXPONENTIAL_SECONDS_PER_STEP = (2.5e-8, 2e-7)
 
 
 def available_memory() -> float:
@@ -203,6 +195,8 @@ class Budget:
     ) -> float:
         """Refuse a sweep of ``n_cases`` RK4 runs of ``steps_per_case`` steps each (of
         which ``stored_steps`` are kept, default all); returns the estimated run time [s]."""
+        from reduced.integration_cost import SWEEP_SECONDS_PER_STEP
+
         seconds = n_cases * steps_per_case * n_modes * SWEEP_SECONDS_PER_STEP / max(threads, 1)
         memory = threads * min(steps_per_case, stored_steps or steps_per_case) * SWEEP_BYTES_PER_STEP
         what = f"the sweep ({n_cases:,} cases of " if n_cases > 1 else "the squeal model ("

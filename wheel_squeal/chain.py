@@ -201,9 +201,16 @@ class _Chain(Outcomes):
             simulated.append((d.fastest or d.growing[0], d.growing))
         if self.opts.reaches("limit_cycle"):
             plan = verdict_plan(
-                self.design, self.modeset, self.contact, self.op, self.opts, [r.mode for r in self.rows],
-                simulated, bool(d.growing), self.opts.reaches("sound"),
-            )  # fmt: skip
+                self.design,
+                self.modeset,
+                self.contact,
+                self.op,
+                self.opts,
+                [r.mode for r in self.rows],
+                simulated,
+                bool(d.growing),
+                self.opts.reaches("sound"),
+            )
             plan.check(self.ctx.budget, "the verdict", NO_REMEDY_HINT)
             if self.opts.beside and len(d.growing) > 1:
                 # the model's several modes run compiled: load that first, and the named
@@ -298,9 +305,15 @@ class _Chain(Outcomes):
             damped = remedy_design(self.design, r["paste"])
             with self.ctx.progress.stage("the remedy checked in the time domain"):
                 sim = simulate(
-                    mode_dofs(group, damped), self.contact, self.op, self.opts.duration, self.omega,
-                    self.ctx.budget, body_of(damped), damped.counter_body.PRELOADED,
-                )  # fmt: skip
+                    mode_dofs(group, damped),
+                    self.contact,
+                    self.op,
+                    self.opts.duration,
+                    self.omega,
+                    self.ctx.budget,
+                    body_of(damped),
+                    damped.counter_body.PRELOADED,
+                )
             r["time_domain"] = sim.limit_cycle.state
             if sim.limit_cycle.squeal:
                 r["settled"] = False

@@ -150,9 +150,13 @@ def decide(table: StabilityTable, named: NamedMode, max_modes: int = MAX_MULTIMO
     fastest = table.rows[first].mode if first is not None else None
     kept = rows[:max_modes]
     return Decision(
-        named.mode, named.source, named_group, tuple(table.rows[k].mode for k in kept), fastest,
+        named.mode,
+        named.source,
+        named_group,
+        tuple(table.rows[k].mode for k in kept),
+        fastest,
         len(rows) - len(kept),
-    )  # fmt: skip
+    )
 
 
 def group_label(modes: Sequence[Mode]) -> str:

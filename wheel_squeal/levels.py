@@ -4,12 +4,9 @@ one-third-octave bands, the levels at 1 m and 7.5 m from the wheel centre and th
 far-field directivity (the numerics are ``acoustics.levels``, ``acoustics.farfield`` and
 ``acoustics.signal``; the radiation of each harmonic is :func:`wheel_squeal.sound.mode_sound`'s).
 
-The contact velocity's harmonics over the last :data:`LIMIT_CYCLE_PERIODS` periods of the
-run are radiated up to the fewest that hold :data:`HARMONIC_ENERGY_SHARE` of its energy
-(at most :data:`MAX_HARMONICS`, none above :data:`MAX_HARMONIC_HZ`: the air mesh grows
-as the frequency squared; the share they hold is reported). Each harmonic k of the tone
-f0 is the mode's shape vibrating at k f0 (the radiation at k times the mode's frequency);
-the microphone hears their sum. Levels of several harmonics add in energy.
+The contact velocity's harmonics radiated are ``acoustics.harmonics``'s; each harmonic k of
+the tone f0 is the mode's shape vibrating at k f0; the microphone hears their sum. Levels of
+several harmonics add in energy.
 """
 
 from __future__ import annotations
@@ -22,6 +19,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 if TYPE_CHECKING:
+    from acoustics.signal import MicrophoneSignal
     from fem.modes import Mode, ModeSet
 
     from .design import Design
@@ -30,35 +28,11 @@ if TYPE_CHECKING:
 
 __all__ = [
     "DISTANCES_M",
-    "HARMONIC_ENERGY_SHARE",
-    "MAX_HARMONICS",
-    "MAX_HARMONIC_HZ",
-    "LIMIT_CYCLE_PERIODS",
-    "MicrophoneSignal",
     "SquealSound",
-    "harmonic_velocities",
-    "kept_harmonics",
-    "max_harmonic_order",
     "squeal_sound",
     "tone_sound",
 ]
 
-#: The contact velocity's harmonics radiated hold this share of its energy
-HARMONIC_ENERGY_SHARE = 0.99
-#: ... and are at most this many, none above this frequency [Hz]
-MAX_HARMONICS, MAX_HARMONIC_HZ = 8, 10_000.0
-#: ... and none whose energy is below this fraction of the fundamental's (-20 dB): a
-#: record of several modes never holds the share in one mode's harmonics, and a
-#: harmonic that small adds next to nothing to a level (railway_920_track at 300 m /
-#: 40 km/h: the (7,1) mode's second harmonic, 26 dB below its fundamental's band, adds
-#: 0.01 dB to L_pAmax), while its radiation at twice the frequency is a solve of four
-#: times the unknowns (there 39 s and 2.3 GB of the run's 51 s)
-HARMONIC_FLOOR = 1e-2
-#: A record whose zero crossings give a frequency this far (relative) from the verdict's
-#: tone is analysed over whole periods of the tone instead
-TONE_MISMATCH = 0.1
-#: The limit cycle's harmonics and band levels are taken over its last this many periods
-LIMIT_CYCLE_PERIODS = 50
 #: The distances from the wheel centre the far levels are given at [m] (a listener at
 #: 1 m; 7.5 m, the pass-by distance of railway noise measurements)
 DISTANCES_M = (1.0, 7.5)
@@ -66,114 +40,6 @@ DISTANCES_M = (1.0, 7.5)
 BANDS_HZ = (20.0, 10_000.0)
 #: A band this far below the overall level holds only round-off: it is reported empty
 EMPTY_BAND_DB = 100.0
-
-
-@dataclass(frozen=True, eq=False)
-class MicrophoneSignal:
-    """The pressure at the microphone: over the simulated run, t [s] (uniform) and p
-    [Pa]; over whole periods of the limit cycle, ``cycle_pa`` [Pa] at ``cycle_rate_hz``
-    (from the contact velocity's periodic samples there, exact for a periodic signal:
-    its levels and bands are taken from it)."""
-
-    t: np.ndarray
-    p: np.ndarray
-    cycle_pa: np.ndarray
-    cycle_rate_hz: float
-    window: tuple[float, float, int]
-
-    def tail(self, seconds: float) -> MicrophoneSignal:
-        """The signal over the run's last ``seconds`` (the limit cycle's periods kept)."""
-        keep = self.t >= self.t[-1] - seconds
-        return MicrophoneSignal(
-            self.t[keep].copy(), self.p[keep].copy(), self.cycle_pa, self.cycle_rate_hz, self.window
-        )
-
-    def wav_samples(self) -> np.ndarray:
-        """The pressure over the run at the WAV file's sample rate [Pa], its last
-        :data:`MAX_WAV_SECONDS` at most (a very low tone's run is long), faded in and
-        out over :data:`WAV_FADE_S` (the band filter's edges would click)."""
-        from acoustics.signal import WAV_RATE_HZ, faded, resample
-
-        keep = self.t >= self.t[-1] - MAX_WAV_SECONDS
-        return faded(resample(self.t[keep], self.p[keep], WAV_RATE_HZ), WAV_RATE_HZ, WAV_FADE_S)
-
-    def wav_full_scale_pa(self) -> float:
-        """The pressure [Pa] the WAV's full scale stands for: the peak of its steady part
-        (the limit cycle's window), not of an edge or of the growth's overshoot."""
-        from acoustics.signal import WAV_RATE_HZ
-
-        samples = self.wav_samples()
-        start = max(self.t[-1] - MAX_WAV_SECONDS, self.t[0])
-        first = max(0, int((self.window[0] - start) * WAV_RATE_HZ))
-        steady = samples[first:] if first < len(samples) else samples
-        return float(np.max(np.abs(steady))) if len(steady) else 0.0
-
-
-#: The longest squeal.wav [s] (0.9 MB at 44.1 kHz and 16 bit)
-MAX_WAV_SECONDS = 10.0
-#: squeal.wav fades in and out over this time [s] (raised cosine: no click)
-WAV_FADE_S = 0.02
-#: Samples per period the limit cycle is resampled to for its spectrum (its harmonics
-#: up to the 16th, far above :data:`MAX_HARMONICS`)
-SAMPLES_PER_PERIOD = 32
-
-
-def harmonic_velocities(
-    simulation: Simulation, f0_hz: float, mode_frequency_hz: float
-) -> tuple[tuple[int, ...], np.ndarray, float, tuple[float, float, int], np.ndarray]:
-    """(orders, complex amplitudes [m/s], the share of the velocity's energy they hold,
-    the window (start, end [s], whole periods), the velocity's samples over it, at
-    :data:`SAMPLES_PER_PERIOD` per period): the contact velocity's harmonics over the
-    limit cycle, the fewest holding :data:`HARMONIC_ENERGY_SHARE` (module docstring)."""
-    from acoustics.signal import harmonic_amplitudes, periodic_samples, whole_periods
-
-    h = simulation.history
-    periods = max(1, min(LIMIT_CYCLE_PERIODS, int(0.25 * (h.t[-1] - h.t[0]) * f0_hz)))
-    start, end, count = whole_periods(h.t, h.v, periods)
-    if abs(count / (end - start) / f0_hz - 1.0) > TONE_MISMATCH:
-        # the record is not periodic at the tone (several frequencies, not settled): its
-        # zero crossings count another frequency; take whole periods of the tone itself
-        count = periods
-        end = float(h.t[-1])
-        start = end - count / f0_hz
-    samples = periodic_samples(h.t, h.v, start, end, count * SAMPLES_PER_PERIOD)
-    amps = harmonic_amplitudes(samples, count, max_harmonic_order(mode_frequency_hz))
-    orders, share = kept_harmonics(amps, float(np.var(samples)))
-    return orders, amps[: len(orders)], share, (start, end, count), samples
-
-
-def max_harmonic_order(mode_frequency_hz: float) -> int:
-    """The highest harmonic a squeal of a mode at ``mode_frequency_hz`` may radiate
-    (:data:`MAX_HARMONICS`, none above :data:`MAX_HARMONIC_HZ`)."""
-    return max(1, min(MAX_HARMONICS, int(MAX_HARMONIC_HZ / mode_frequency_hz)))
-
-
-def kept_harmonics(amplitudes: np.ndarray, mean_square: float) -> tuple[tuple[int, ...], float]:
-    """The orders of the contact velocity's harmonics (complex ``amplitudes`` [m/s], the
-    fundamental first) that are radiated, and the share of the velocity's ``mean_square``
-    [m^2/s^2] they hold (module docstring)."""
-    from acoustics.signal import harmonics_holding
-
-    amps = np.abs(np.asarray(amplitudes))
-    k, share = harmonics_holding(amps, mean_square, HARMONIC_ENERGY_SHARE)
-    while k > 1 and amps[k - 1] ** 2 < HARMONIC_FLOOR * amps[0] ** 2:
-        k -= 1
-    share = min(share, 0.5 * float(np.sum(amps[:k] ** 2)) / max(mean_square, 1e-300))
-    return tuple(range(1, k + 1)), share
-
-
-#: A squeal is radiated at the frequency nearest its tone on a grid of this relative step
-#: through its radiating mode's natural frequency: one solve per mode, harmonic and grid
-#: point, cached, whatever tone each operating point squeals at (within half a step of
-#: the tone: 0.0003 dB on the Table 1 mode, whose tone is 0.001 % from the grid point)
-RADIATION_STEP = 0.01
-
-
-def radiation_frequency_hz(tone_hz: float, natural_hz: float) -> float:
-    """The frequency [Hz] a squeal at ``tone_hz`` is radiated at (:data:`RADIATION_STEP`):
-    ``natural_hz`` (1 + step)^k, the k nearest the tone."""
-    ratio = math.log1p(RADIATION_STEP)
-    return natural_hz * math.exp(ratio * round(math.log(tone_hz / natural_hz) / ratio))
 
 
 def tone_sound(sound: Sound, tone_hz: float | None = None) -> SquealSound:
@@ -341,16 +207,18 @@ def squeal_sound(
 ) -> SquealSound:
     """The :class:`SquealSound` of ``mode`` squealing as ``simulation`` says, heard at
     ``tone_hz`` [Hz]: its harmonics radiated at k times ``mode_frequency_hz``
-    (:func:`radiation_frequency_hz`: within half a per cent of the tone) through
+    (``acoustics.harmonics.radiation_frequency_hz``: within half a per cent of the tone) through
     :func:`wheel_squeal.sound.mode_sound` (``radiation``: its keywords: listener,
     travelling, fidelity, fmax_hz, cache, budget, memo), and the microphone signal of the
     whole run (each band of the contact velocity's spectrum through its harmonic's
     transfer)."""
-    from acoustics.signal import pressure_signal
+    from acoustics.harmonics import SAMPLES_PER_PERIOD, limit_cycle_harmonics
+    from acoustics.signal import MicrophoneSignal, pressure_signal
 
     from .sound import contact_velocity_phase, mode_sound
 
-    orders, amplitudes, share, window, cycle = harmonic_velocities(simulation, tone_hz, mode_frequency_hz)
+    h = simulation.history
+    orders, amplitudes, share, window, cycle = limit_cycle_harmonics(h.t, h.v, tone_hz, mode_frequency_hz)
     tone_hz = window[2] / (window[1] - window[0])  # measured over whole periods
     sounds = tuple(
         mode_sound(design, modeset, mode, k * mode_frequency_hz, float(abs(a)), **radiation)
@@ -360,7 +228,6 @@ def squeal_sound(
     transfer = {
         k: s.microphone_transfer() / phase for k, s in zip(orders, sounds)
     }  # pressure per unit contact velocity
-    h = simulation.history
     rate = tone_hz * SAMPLES_PER_PERIOD
     cycle_t = np.arange(len(cycle)) / rate
     signal = MicrophoneSignal(

@@ -17,21 +17,21 @@ states); the emission is the expected one (the squealing states' power times the
 
 from __future__ import annotations
 
-import csv
-import io
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-import numpy as np
-
-from geometry.files import read_text, read_toml
+from acoustics.emission import PERIODS
+from geometry.files import read_toml
+from track.line import LineCurve
 
 from .errors import RequestError
 
 if TYPE_CHECKING:
+    from acoustics.emission import CurveEmission
+
     from .context import RunContext
     from .curve_case import CurveCase
     from .design import Design
@@ -42,7 +42,6 @@ __all__ = [
     "LineResult",
     "LineSpec",
     "line",
-    "line_rows_quickly",
     "load_line",
     "load_line_spec",
     "read_line_spec",
@@ -61,13 +60,6 @@ LINE_KEYS = (
 )
 #: The radius the grid of ``radius_step`` passes through [m]
 GRID_ORIGIN_M = 100.0
-
-#: The periods of the equivalent level, as the Environmental Noise Directive (2002/49/EC)
-#: defines L_den's: (name, hours)
-PERIODS = (("day", 12.0), ("evening", 4.0), ("night", 8.0))
-#: The columns a line's CSV must have, and those it may
-REQUIRED = ("id", "radius_m", "length_m", "cant_mm", "train_speed_km_h")
-OPTIONAL = ("x0", "y0", "x1", "y1", "wkt")
 
 
 @dataclass(frozen=True)
@@ -182,181 +174,48 @@ def read_line_spec(path: Path | None) -> LineSpec:
     return load_line_spec(data.get("line"), str(path))
 
 
-@dataclass(frozen=True)
-class LineCurve:
-    """One curve section of a line: its id, radius [m], length [m], cant [mm], train speed
-    [km/h], and where it lies (a polyline in the line's coordinates; empty: not given)."""
-
-    id: str
-    radius_m: float
-    length_m: float
-    cant_mm: float
-    train_speed_km_h: float
-    coordinates: tuple[tuple[float, float], ...] = ()
-
-
-def line_rows_quickly(path: Path) -> int:
-    """How many curves a line's CSV holds, counted without parsing it (a refusal of a line
-    too long to run comes before reading it)."""
-    with open(path, "rb") as f:
-        rows = sum(chunk.count(b"\n") for chunk in iter(lambda: f.read(1 << 20), b""))
-    return max(rows - 1, 0)
-
-
-def _number(row: dict[str, str], key: str, where: str) -> float:
-    try:
-        value = float(row[key])
-    except (TypeError, ValueError):
-        raise RequestError(f"{where}: {key} = {row.get(key)!r} is not a number") from None
-    if not math.isfinite(value):
-        raise RequestError(f"{where}: {key} must be finite")
-    return value
-
-
-def _wkt(text: str, where: str) -> tuple[tuple[float, float], ...]:
-    body = text.strip()
-    if not body.upper().startswith("LINESTRING") or "(" not in body:
-        raise RequestError(f"{where}: wkt must be a LINESTRING (x y, x y, ...)")
-    try:
-        pairs = body[body.index("(") + 1 : body.rindex(")")].split(",")
-        return tuple((float(p.split()[0]), float(p.split()[1])) for p in pairs)
-    except (ValueError, IndexError):
-        raise RequestError(f"{where}: wkt {body[:40]!r}... is not a LINESTRING of x y pairs") from None
-
-
 def load_line(path: Path) -> list[LineCurve]:
-    """The curves of a line's CSV (module docstring), each checked (one-line errors)."""
-    text = read_text(path, "line", RequestError)
-    reader = csv.DictReader(io.StringIO(text))
-    columns = reader.fieldnames or []
-    missing = [c for c in REQUIRED if c not in columns]
-    if missing:
-        raise RequestError(
-            f"{path}: the line needs the columns {', '.join(REQUIRED)}; missing {', '.join(missing)}"
-        )
-    extra = [c for c in columns if c not in REQUIRED + OPTIONAL]
-    if extra:
-        raise RequestError(
-            f"{path}: column {extra[0]!r} is not one a line has ({', '.join(REQUIRED + OPTIONAL)})"
-        )
-    curves, ids = [], set()
-    for i, row in enumerate(reader, start=2):
-        where = f"{path}:{i}"
-        cid = (row.get("id") or "").strip()
-        if not cid or cid in ids:
-            raise RequestError(f"{where}: id {cid!r} is empty or not unique")
-        ids.add(cid)
-        values = {k: _number(row, k, where) for k in REQUIRED[1:]}
-        if values["radius_m"] <= 0 or values["length_m"] <= 0 or values["train_speed_km_h"] <= 0:
-            raise RequestError(f"{where}: radius, length and train speed must be positive")
-        coords: tuple[tuple[float, float], ...] = ()
-        if (row.get("wkt") or "").strip():
-            coords = _wkt(row["wkt"], where)
-        elif all((row.get(k) or "").strip() for k in ("x0", "y0", "x1", "y1")):
-            x0, y0, x1, y1 = (_number(row, k, where) for k in ("x0", "y0", "x1", "y1"))
-            coords = ((x0, y0), (x1, y1))
-        curves.append(
-            LineCurve(
-                cid,
-                values["radius_m"],
-                values["length_m"],
-                values["cant_mm"],
-                values["train_speed_km_h"],
-                coords,
-            )
-        )
-    if not curves:
-        raise RequestError(f"{path}: the line has no curve")
-    return curves
+    """The curves of a line's CSV (``track.line.read_line``), with one-line errors."""
+    from track.line import LineFileError, read_line
+
+    try:
+        return read_line(path)
+    except LineFileError as exc:
+        raise RequestError(str(exc)) from None
 
 
 @dataclass(frozen=True)
 class LineResult:
-    """One curve of a line (module docstring): its squeal probability, the bogie's L_pAmax
-    [dB(A)] and SEL_A [dB(A)] while it squeals (None: it never does), L_Aeq per period at
-    7.5 m [dB(A)], the emission L_W' per band [dB re 1 pW/m] for the octaves and thirds of
-    ``acoustics.emission`` per period, CNOSSOS-EU's flat correction [dB], and the SEL_A the
-    emission gives back at the pass-by position."""
+    """One curve of a line (module docstring): its squeal's occurrence, levels and emission
+    (``acoustics.emission.CurveEmission``) and CNOSSOS-EU's flat correction for it [dB]."""
 
     curve: LineCurve
-    probability: float
-    lpamax_dba: float | None
-    sel_dba: float | None
-    laeq_dba: dict[str, float | None]
-    emission_octaves_db: dict[str, np.ndarray]
-    emission_thirds_db: dict[str, np.ndarray]
+    emission: CurveEmission
     cnossos_correction_db: float
-    sel_from_emission_dba: float | None
 
 
-def _energy_mean(levels: Sequence[tuple[float, float]]) -> float | None:
-    """The energy mean of (level [dB], weight) pairs (None: none)."""
-    total = sum(w for _, w in levels)
-    if not levels or total <= 0:
-        return None
-    return 10 * math.log10(sum(w * 10 ** (x / 10) for x, w in levels) / total)
-
-
-def _result(
-    curve: LineCurve,
-    states: list[tuple[float, list[CurveCase]]],
-    spec: LineSpec,
-) -> LineResult:
+def _result(curve: LineCurve, states: list[tuple[float, list[CurveCase]]], spec: LineSpec) -> LineResult:
     """One curve's result from its bogie's cases in each friction state (share, cases)."""
     from acoustics.emission import (
-        CNOSSOS_OCTAVES_HZ,
         CNOSSOS_SOURCE_HEIGHT_M,
-        CNOSSOS_THIRDS,
-        band_emission_power,
+        SquealState,
         cnossos_curve_correction_db,
-        exposure_from_emission,
-        line_emission_db,
+        intermittent_emission,
     )
     from acoustics.passby import MICROPHONE_DISTANCE_M, MICROPHONE_HEIGHT_M
 
     distance = math.hypot(MICROPHONE_DISTANCE_M, MICROPHONE_HEIGHT_M - CNOSSOS_SOURCE_HEIGHT_M)
-    probability, a_power = 0.0, 0.0
-    lpamax: list[tuple[float, float]] = []
-    sel: list[tuple[float, float]] = []
-    octaves, thirds = np.zeros(len(CNOSSOS_OCTAVES_HZ)), np.zeros(len(CNOSSOS_THIRDS))
-    for share, cases in states:
-        if not any(c.analysis.verdict.squeals for c in cases):
-            continue
-        probability += share
-        passby = next((c.passby for c in cases if c.passby is not None), None)
-        if passby is None:
-            continue  # it squeals without a level (mode coupling alone): counted, not heard
-        lpamax.append((passby.free.lpamax_dba, share))
-        sel.append((passby.free.sel_dba, share))
-        power = band_emission_power(passby.free, curve.train_speed_km_h / 3.6, distance)
-        octaves = octaves + share * power.octaves
-        thirds = thirds + share * power.thirds
-        a_power += share * power.a_weighted_w
-    speed = curve.train_speed_km_h / 3.6
-    heard = probability > 0 and lpamax
-    conditional_sel = _energy_mean(sel) if heard else None
-    laeq: dict[str, float | None] = {}
-    for period, _ in PERIODS:
-        n = spec.bogies_per_hour(period)
-        laeq[period] = None
-        if conditional_sel is not None and n > 0:
-            laeq[period] = conditional_sel + 10 * math.log10(probability * n / 3600.0)
-    emission_oct = {p: line_emission_db(octaves, 1.0, spec.bogies_per_hour(p), speed) for p, _ in PERIODS}
-    emission_thi = {p: line_emission_db(thirds, 1.0, spec.bogies_per_hour(p), speed) for p, _ in PERIODS}
-    back = None
-    if heard and probability > 0:
-        back = exposure_from_emission(a_power / probability, speed, distance)
-    return LineResult(
-        curve,
-        probability,
-        _energy_mean(lpamax) if heard else None,
-        conditional_sel,
-        laeq,
-        emission_oct,
-        emission_thi,
-        cnossos_curve_correction_db(curve.radius_m),
-        back,
-    )
+    squeal_states = [
+        SquealState(
+            share,
+            any(c.analysis.verdict.squeals for c in cases),
+            next((c.passby.free for c in cases if c.passby is not None), None),
+        )
+        for share, cases in states
+    ]
+    per_hour = {p: spec.bogies_per_hour(p) for p, _ in PERIODS}
+    emission = intermittent_emission(squeal_states, curve.train_speed_km_h / 3.6, distance, per_hour)
+    return LineResult(curve, emission, cnossos_curve_correction_db(curve.radius_m))
 
 
 def line(

@@ -13,12 +13,14 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from acoustics.harmonics import radiation_frequency_hz
+
 from .analysis import ChainOptions
 from .context import RunContext
 from .decision import decide, eigenvalue_of, group_label, modes_of_eigenvalue
 from .design import Design
 from .errors import RequestError
-from .levels import radiation_frequency_hz, squeal_sound
+from .levels import squeal_sound
 from .outputs import finite_or_none
 from .simulation import simulate
 from .stability import StabilityTable, body_of, dof_labels, mode_dofs, named_mode, wheel_speed_rad_s
@@ -239,12 +241,13 @@ class Outcomes:
         """The sound of a harmonic balance's limit cycle: the contact velocity's harmonics
         (``reduced.harmonic_contact_velocities``: the contact force's distortion through the
         decision's group of modes, as a time domain of those modes would show them), each
-        the mode's radiation at k times its frequency (``levels.radiation_frequency_hz``;
+        the mode's radiation at k times its frequency (``acoustics.harmonics.radiation_frequency_hz``;
         kept for the process: ``ctx.memo``), as the time domain's are; the harmonics kept
-        as :func:`wheel_squeal.levels.kept_harmonics` keeps a record's."""
+        as ``acoustics.harmonics.kept_harmonics`` keeps a record's."""
+        from acoustics.harmonics import kept_harmonics, max_harmonic_order
         from reduced import harmonic_contact_velocities
 
-        from .levels import SquealSound, kept_harmonics, max_harmonic_order
+        from .levels import SquealSound
         from .sound import mode_sound
 
         assert o.amplitude_m_s is not None

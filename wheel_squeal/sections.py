@@ -6,30 +6,27 @@ out, TOML lines and hash): [counter_body] (what the wheel rolls on, one class pe
 :class:`Squeal`). Every value is checked on construction, with a one-line
 ``geometry.DesignError`` naming it.
 
-A counter-body kind is one class of :mod:`wheel_squeal.counter_bodies`, registered in
-:data:`COUNTER_BODIES` (re-exported here).
+The sections of what the wheel runs on, [counter_body] and [vehicle], are the track
+package's (``track.sections``), re-exported here.
 """
 
 from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, ClassVar
+from typing import ClassVar
 
 from geometry import DesignError
 from geometry.schema import Fields, spec
 from reduced.creep import FRICTION_LAWS, TABLE1_C22
-
-if TYPE_CHECKING:
-    from track.bogie_curving import Vehicle
-
-from .counter_bodies import (
+from track.sections import (
     COUNTER_BODIES,
     ROLLER_MODAL,
     ROLLER_RANGES,
     CounterBodySection,
     Roller,
     Track,
+    VehicleSection,
     check_positive,
     counter_body_from_file,
 )
@@ -135,21 +132,28 @@ class Contact(Fields):
         0.3, "", "the friction coefficient mu_s = mu_0", flat="friction_coefficient", plausible=FRICTION_RANGE
     )
     friction_law: str = spec(
-        DEFAULT_FRICTION_LAW, "-", "a name of reduced.FRICTION_LAWS: falling (the paper's) or constant",
+        DEFAULT_FRICTION_LAW,
+        "-",
+        "a name of reduced.FRICTION_LAWS: falling (the paper's) or constant",
         when_set=True,
-    )  # fmt: skip
+    )
     contact_angle: float = spec(
         0.0, "rad", "where on the tread the contact lies (0: the apex)", flat="contact_angle", when_set=True
     )
     normal_contact: str = spec(
-        "hertz", "-", "hertz (the normal force follows the normal motion) or constant (fixed load)",
+        "hertz",
+        "-",
+        "hertz (the normal force follows the normal motion) or constant (fixed load)",
         when_set=True,
-    )  # fmt: skip
+    )
     transient_creep: bool = spec(False, "-", "the creep force lags its steady value by L / V0", when_set=True)
     relaxation_length: float = spec(
-        0.0, "m", "L of the transient creep (0: the Hertz semi-axis a along rolling)",
-        flat="relaxation_length", when_set=True,
-    )  # fmt: skip
+        0.0,
+        "m",
+        "L of the transient creep (0: the Hertz semi-axis a along rolling)",
+        flat="relaxation_length",
+        when_set=True,
+    )
 
     def __post_init__(self) -> None:
         for name in ("normal_load", "c22", "friction_coefficient"):
@@ -257,60 +261,3 @@ class Squeal(Fields):
                 ModeSelection.parse(self.mode)
             except ValueError:
                 raise DesignError(f"[squeal] mode {self.mode!r}: use n=N[,c=C], an index or f=HZ") from None
-
-
-@dataclass(frozen=True)
-class VehicleSection(Fields):
-    """The bogie a wheel runs in through curves ([vehicle]; read by ``curve`` alone): its
-    wheelbase and primary suspension per wheelset, and the height of the mass on its wheels
-    (``track.bogie_curving.Vehicle``). The defaults are of the order of a conventional
-    passenger bogie's, not one vehicle's."""
-
-    TABLE: ClassVar[str] = "vehicle"
-
-    wheelbase: float = spec(
-        2.5,
-        "m",
-        "2a, the distance between the bogie's axles",
-        flat="wheelbase",
-        when_set=True,
-        plausible=(1.0, 20.0),
-    )
-    primary_yaw_stiffness: float = spec(
-        1.0e7,
-        "N m/rad",
-        "k_psi, the primary suspension's yaw stiffness per wheelset",
-        flat="primary_yaw_stiffness",
-        when_set=True,
-        plausible=(0.0, 1.0e11),
-    )
-    primary_lateral_stiffness: float = spec(
-        5.0e6,
-        "N/m",
-        "k_y, the primary suspension's lateral stiffness per wheelset",
-        flat="primary_lateral_stiffness",
-        when_set=True,
-        plausible=(1.0e4, 1.0e10),
-    )
-    centre_of_gravity_height: float = spec(
-        1.5,
-        "m",
-        "h_cg, the height of the mass on the wheels above the rail heads",
-        flat="centre_of_gravity_height",
-        when_set=True,
-        plausible=(0.3, 4.0),
-    )
-
-    def __post_init__(self) -> None:
-        self.check_plausible()
-
-    def vehicle(self) -> Vehicle:
-        """The curving's record of these values."""
-        from track.bogie_curving import Vehicle
-
-        return Vehicle(
-            self.wheelbase,
-            self.primary_yaw_stiffness,
-            self.primary_lateral_stiffness,
-            self.centre_of_gravity_height,
-        )

@@ -21,9 +21,6 @@ __all__ = [
     "SIMULATION_HINT",
     "Simulation",
     "simulate",
-    "simulation_bytes",
-    "simulation_seconds",
-    "simulation_steps",
 ]
 
 
@@ -71,7 +68,7 @@ def simulate(
     with the counter-body ``body`` in series (``preload_body``: it starts in its static
     deflection under the steady creep force, a track's); an unchanged request's record
     is read from ``cache`` (:mod:`wheel_squeal.records`). Its steps are counted first
-    (:func:`simulation_seconds`) and the run refused beyond ``budget`` (default:
+    (``reduced.integration_cost``) and the run refused beyond ``budget`` (default:
     :meth:`Budget.from_environment`)."""
     from reduced import longest_record_s, simulate_to_limit_cycle
     from reduced.saturate import FIRST_DURATION_S
@@ -94,6 +91,8 @@ def simulate(
                 f"duration {duration:g} s is too long to record: at most {longest:.3g} s "
                 "fit (48 samples per period of the highest mode, 10 million samples)"
             )
+    from reduced.integration_cost import simulation_bytes, simulation_seconds, simulation_steps
+
     first = duration or FIRST_DURATION_S
     steps = simulation_steps(dofs, contact, op, first, body, wheel_speed_rad_s)
     if steps < MIN_RECORD_STEPS:
@@ -151,73 +150,3 @@ MIN_RECORD_STEPS = 16
 
 #: What makes a squeal model's run cheaper
 SIMULATION_HINT = "a higher rolling speed (the contact stiffens as it falls) or a shorter duration"
-
-
-def simulation_steps(
-    dof: Modes,
-    contact: ContactLaw,
-    op: OperatingPoint,
-    duration: float | None = None,
-    body: BodyModel | None = None,
-    wheel_speed_rad_s: float = 0.0,
-) -> int:
-    """The steps of :func:`simulate`'s first run (by the method it takes:
-    ``reduced.choose_method``)."""
-    from reduced import choose_method
-    from reduced.saturate import FIRST_DURATION_S
-    from reduced.stepping import exponential_step_s
-    from reduced.sweep import sweep_steps
-
-    seconds = duration or FIRST_DURATION_S
-    if choose_method(dof, contact, op, wheel_speed_rad_s, body) == "exponential":
-        modes = tuple(dof) if isinstance(dof, list | tuple) else (dof,)
-        return int(math.ceil(seconds / exponential_step_s(modes, contact, op, wheel_speed_rad_s)))
-    return sweep_steps(dof, contact, op, seconds)
-
-
-def simulation_seconds(
-    dof: Modes,
-    contact: ContactLaw,
-    op: OperatingPoint,
-    duration: float | None = None,
-    body: BodyModel | None = None,
-    wheel_speed_rad_s: float = 0.0,
-) -> float:
-    """The estimated time of :func:`simulate`'s first run [s] (a longer run follows only
-    where the time left allows it): its steps times each block's (a mode's coordinate, a
-    counter-body's term) and the contact's cost per step."""
-    from reduced import choose_method
-
-    from .budget import EXPONENTIAL_SECONDS_PER_STEP, SWEEP_SECONDS_PER_STEP
-
-    n = len(dof) if isinstance(dof, list | tuple) else 1
-    steps = simulation_steps(dof, contact, op, duration, body, wheel_speed_rad_s)
-    if choose_method(dof, contact, op, wheel_speed_rad_s, body) == "exponential":
-        per_block, per_step = EXPONENTIAL_SECONDS_PER_STEP
-        return steps * (per_step + per_block * (n + (0 if body is None else body.terms)))
-    return steps * n * SWEEP_SECONDS_PER_STEP
-
-
-def simulation_bytes(
-    dof: Modes,
-    contact: ContactLaw,
-    op: OperatingPoint,
-    body: BodyModel | None = None,
-    wheel_speed_rad_s: float = 0.0,
-) -> float:
-    """The record's memory at its longest run [bytes]: the contact's eight quantities per
-    stored sample, and with the exponential integrator every block's states over its
-    tail; with RK4 every coordinate over the whole record."""
-    from reduced import choose_method
-    from reduced.model import MAX_STORED_SAMPLES
-    from reduced.saturate import MAX_DURATION_S, RECORD_SAMPLES_PER_PERIOD
-    from reduced.stepping import SAMPLES_PER_PERIOD, TAIL_S
-
-    modes = tuple(dof) if isinstance(dof, list | tuple) else (dof,)
-    f = max(m.frequency_hz for m in modes)
-    if choose_method(dof, contact, op, wheel_speed_rad_s, body) == "exponential":
-        blocks = len(modes) + (0 if body is None else body.terms)
-        rate = SAMPLES_PER_PERIOD * f
-        return 8.0 * rate * (8 * MAX_DURATION_S + 2 * blocks * TAIL_S)
-    samples = min(MAX_STORED_SAMPLES, RECORD_SAMPLES_PER_PERIOD * f * MAX_DURATION_S)
-    return 8.0 * samples * (2 * len(modes) + 12)

@@ -11,11 +11,12 @@ re 1 pW.
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
-from dataclasses import dataclass, replace
+from dataclasses import replace
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
+
+from acoustics.tone import Radiation, Sound
 
 from .cache import CacheMiss, StageCache
 from .design import Design
@@ -25,7 +26,7 @@ from .presets import DEFAULT_FIDELITY, DEFAULT_FMAX_HZ, fidelity_for
 from .provenance import code_version
 
 if TYPE_CHECKING:
-    from acoustics import Air, RadiationCost, SoundField, Surface
+    from acoustics import Air, RadiationCost, Surface
     from fem.modes import Mode, ModeSet
 
     from .budget import Budget
@@ -39,7 +40,6 @@ __all__ = [
     "mode_surface",
     "check_velocity_amplitude",
     "contact_velocity_phase",
-    "ring_points",
     "sound_cost",
     "sound_of",
 ]
@@ -109,41 +109,6 @@ def contact_velocity_phase(mode: Mode) -> complex:
     """The complex contact velocity of :func:`mode_surface`'s surface per unit amplitude:
     j sign(phi_c) (the pressure's phase against the contact velocity divides by it)."""
     return 1j * math.copysign(1.0, float(mode.contact_lateral[0]))
-
-
-#: The circle on which the sound plot draws the SPL: this fraction of the air region's
-#: radius, at this many angles from the +z axis (0) to the -z axis (pi).
-RING_FRACTION, RING_ANGLES = 0.9, 181
-
-
-def ring_points(radius_m: float) -> np.ndarray:
-    """(r, z) [m] of the SPL circle (:data:`RING_FRACTION`, :data:`RING_ANGLES`) in an air
-    region of radius ``radius_m``, shape (RING_ANGLES, 2)."""
-    angle = np.linspace(0.0, np.pi, RING_ANGLES)
-    return RING_FRACTION * radius_m * np.stack([np.sin(angle), np.cos(angle)], axis=1)
-
-
-@dataclass(frozen=True)
-class Radiation:
-    """A mode's sound field at 1 m/s contact velocity (``acoustics.SoundField``) and what
-    the outputs look at, evaluated once with the field: its pressure [Pa] (complex
-    amplitude of cos(n theta)) at the microphone's (r, z) and on :func:`ring_points`,
-    and its far-field directivity |D| [Pa m] on ``acoustics.farfield.DIRECTIVITY_ANGLES``."""
-
-    field: SoundField
-    microphone_pressure_pa: complex
-    ring_pressure_pa: np.ndarray
-    directivity_pa_m: np.ndarray
-
-    @classmethod
-    def of(cls, field: SoundField, microphone: tuple[float, float, float]) -> Radiation:
-        """The radiation of ``field`` (``acoustics.SoundField`` at 1 m/s) seen from a
-        microphone (r, z[, theta])."""
-        from acoustics.farfield import directivity
-
-        at_microphone = complex(field.pressure_at(np.array([microphone[:2]]))[0])
-        ring = field.pressure_at(ring_points(field.mesh.radius))
-        return cls(field, at_microphone, ring, directivity(field))
 
 
 def radiation_key(modes_key: dict[str, Any], mode: Mode, frequency_hz: float, air: Air) -> dict[str, Any]:
@@ -233,85 +198,6 @@ def _at_arrays(rad: Radiation) -> dict[str, np.ndarray]:
         "ring_pressure": rad.ring_pressure_pa,
         "directivity": rad.directivity_pa_m,
     }
-
-
-@dataclass(frozen=True)
-class Sound:
-    """What a microphone and a sound power measurement would give for a tone of contact
-    velocity amplitude ``velocity_amplitude_m_s``, from the :class:`Radiation` at 1 m/s
-    (made for the microphone's (r, z); theta only sets the angular factor)."""
-
-    radiation: Radiation
-    velocity_amplitude_m_s: float
-    microphone: tuple[float, float, float]
-    travelling: bool = False
-
-    @property
-    def field(self) -> SoundField:
-        """The sound field at 1 m/s (``acoustics.SoundField``)."""
-        return self.radiation.field
-
-    @property
-    def microphone_pressure_pa(self) -> float:
-        """Peak pressure amplitude at the microphone [Pa] (``acoustics.waves``)."""
-        from acoustics.waves import pressure_amplitude
-
-        p = pressure_amplitude(self.radiation.microphone_pressure_pa, self.field.harmonic, self.microphone[2],
-                               self.travelling)  # fmt: skip
-        return p * self.velocity_amplitude_m_s
-
-    def microphone_transfer(self) -> complex:
-        """The complex pressure [Pa] at the microphone per unit contact velocity amplitude
-        of the surface's phase (:func:`contact_velocity_phase`): P cos(n theta) for a
-        standing wave; a travelling wave passes with the antinode's |P|."""
-        n, theta = self.field.harmonic, self.microphone[2]
-        factor = 1.0 if self.travelling else math.cos(n * theta)
-        return self.radiation.microphone_pressure_pa * factor
-
-    @property
-    def sound_power_w(self) -> float:
-        """Time-averaged radiated power [W] (a travelling wave: both members)."""
-        from acoustics.waves import radiated_power
-
-        w = radiated_power(self.field.sound_power_w, self.field.harmonic, self.travelling)
-        return w * self.velocity_amplitude_m_s**2
-
-    def levels_at(self, velocity_amplitude_m_s: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """(SPL [dB re 20 uPa], sound power level [dB re 1 pW]) of this sound's tone at
-        other contact velocity amplitudes [m/s]: pressure scales with the amplitude,
-        power with its square."""
-        from acoustics import sound_power_level_db, spl_db
-
-        scale = np.asarray(velocity_amplitude_m_s, float) / self.velocity_amplitude_m_s
-        return spl_db(self.microphone_pressure_pa * scale), sound_power_level_db(
-            self.sound_power_w * scale**2
-        )
-
-    def summary(self) -> dict:
-        """JSON-ready levels (None where the amplitude is zero: no sound, no level)."""
-        from acoustics import sound_power_level_db, spl_db
-        from acoustics.medium import audible_spl_db
-
-        def level(fn: Callable[[float], Any], value: float) -> float | None:
-            return float(fn(value)) if value > 0 else None
-
-        unit = Sound(self.radiation, 1.0, self.microphone, self.travelling)
-        return {
-            "sound_power_level_db": level(sound_power_level_db, self.sound_power_w),
-            "spl_db": audible_spl_db(level(spl_db, self.microphone_pressure_pa)),
-            "microphone_m": list(self.microphone),
-            "radiation_efficiency": self.field.radiation_efficiency,
-            "frequency_hz": self.field.frequency_hz,
-            "velocity_amplitude_m_s": self.velocity_amplitude_m_s,
-            "per_unit_velocity": {
-                "sound_power_level_db": level(sound_power_level_db, unit.sound_power_w),
-                "spl_db": level(spl_db, unit.microphone_pressure_pa),
-            },
-            "checks": {
-                "surface_power_w": self.field.surface_power_w * self.velocity_amplitude_m_s**2,
-                "flux_power_w": self.field.flux_power_w * self.velocity_amplitude_m_s**2,
-            },
-        }
 
 
 #: The largest contact velocity amplitude a level is computed for [m/s]: squeal

@@ -130,9 +130,12 @@ def sweep_verdicts(
         raise RequestError(f"duration must be positive, got {duration:g}")
     ctx = context or RunContext()
     opts = replace(
-        options or ChainOptions(), duration=duration, remedy=False, beside=False,
+        options or ChainOptions(),
+        duration=duration,
+        remedy=False,
+        beside=False,
         stop_after="sound" if sound else "limit_cycle",
-    )  # fmt: skip
+    )
     speeds = np.array([rpm_to_speed(r, design.rolling_radius) for r in rpms])
     shape = (len(vcs), len(rpms))
     numbers = {k: np.full(shape, np.nan) for k in (*_NUMBERS, "time_to_saturation_s")}
@@ -171,7 +174,20 @@ def sweep_verdicts(
         if report is not None:
             report(i * len(rpms) + j + 1, vcs.size * rpms.size)
     return VerdictGrid(
-        vcs, rpms, speeds, labels["mode"], flags["squeals"], flags["saturated"], numbers["amplitude_m_s"],
-        numbers["tone_hz"], numbers["growth_rate_1_s"], numbers["time_to_saturation_s"], numbers["spl_db"],
-        numbers["spl_dba"], numbers["sound_power_level_db"], labels["mechanism"], named, duration,
-    )  # fmt: skip
+        vcs,
+        rpms,
+        speeds,
+        labels["mode"],
+        flags["squeals"],
+        flags["saturated"],
+        numbers["amplitude_m_s"],
+        numbers["tone_hz"],
+        numbers["growth_rate_1_s"],
+        numbers["time_to_saturation_s"],
+        numbers["spl_db"],
+        numbers["spl_dba"],
+        numbers["sound_power_level_db"],
+        labels["mechanism"],
+        named,
+        duration,
+    )

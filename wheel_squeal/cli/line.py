@@ -16,7 +16,9 @@ __all__ = ["cmd_line"]
 def cmd_line(args: argparse.Namespace) -> int:
     """line.csv, line.geojson (with coordinates), line.nc, line.png, summary.json and
     report.html of every curve of ``--line``."""
-    from ..line import line, line_rows_quickly, load_line, read_line_spec
+    from track.line import count_rows
+
+    from ..line import line, load_line, read_line_spec
     from ..plan import line_plan
     from ..present.line import write_line_files
 
@@ -26,7 +28,7 @@ def cmd_line(args: argparse.Namespace) -> int:
     design = design_of(args)
     spec = read_line_spec(Path(args.traffic) if args.traffic else None)
     ctx = context_of(args)
-    plan = line_plan(line_rows_quickly(path), len(spec.states()))
+    plan = line_plan(count_rows(path), len(spec.states()))
     plan.check(ctx.budget, "the line", "")  # before reading it: a line too long is refused at once
     curves = load_line(path)
     out = out_of(args, design.name)

@@ -264,12 +264,18 @@ def _add_curve_command(sub: argparse._SubParsersAction) -> None:
         help="creep coefficient C22 of every contact: a number or 'kalker' (default: Kalker's of each "
         "contact's own ellipse)",
     )
-    p.add_argument("--time-domain", action="store_true",
-                   help="amplitudes and sound from the time domain (minutes per squealing axle; default: "
-                   "harmonic balance of the squeal mode)")  # fmt: skip
-    p.add_argument("--ground-reflection", type=non_negative,
-                   help="also the pass-by over a ground 0.5 m below the rail head with this reflection "
-                   "factor (0 to 1; default: free field only)")  # fmt: skip
+    p.add_argument(
+        "--time-domain",
+        action="store_true",
+        help="amplitudes and sound from the time domain (minutes per squealing axle; default: "
+        "harmonic balance of the squeal mode)",
+    )
+    p.add_argument(
+        "--ground-reflection",
+        type=non_negative,
+        help="also the pass-by over a ground 0.5 m below the rail head with this reflection "
+        "factor (0 to 1; default: free field only)",
+    )
 
 
 def _add_line_command(sub: argparse._SubParsersAction) -> None:

@@ -33,9 +33,17 @@ def cmd_sound(args: argparse.Namespace) -> int:
         f = args.frequency or mode.frequency_hz
         with ctx.progress.stage(f"sound of mode {mode.index} ({mode.label()}) at {f:.1f} Hz"):
             tone = mode_sound(
-                design, a.modeset, mode, f, args.velocity_amplitude, listener=listener,
-                fidelity=ctx.fidelity.name, fmax_hz=ctx.fmax_hz, cache=ctx.cache, budget=ctx.budget,
-            )  # fmt: skip
+                design,
+                a.modeset,
+                mode,
+                f,
+                args.velocity_amplitude,
+                listener=listener,
+                fidelity=ctx.fidelity.name,
+                fmax_hz=ctx.fmax_hz,
+                cache=ctx.cache,
+                budget=ctx.budget,
+            )
         sound = tone_sound(tone)
         write_sound_files(tmp, sound)
         zeta = design.damping_ratio_of(mode)

@@ -16,14 +16,14 @@ from .. import api
 from ..design import Design
 from ..envelope import envelope, mitigation_summary
 from ..errors import RequestError
-from ..fields import columns_of
 from ..folders import result_folder
+from ..output_files import columns_of
 from ..outputs import write_csv, write_json
 from ..plan import stability_request_plan
 from ..plotting import PlotWorkers
 from ..present.figures import write_compare_plot, write_envelope_plot, write_sweep_plot
-from ..present.html import compare_report, run_report
 from ..present.results import write_remedy_toml, write_run_files, write_simulation_files
+from ..present.run_report import compare_report, run_report
 from ..present.summary import analysis_summary, contact_summary, operating_point_summary
 from ..present.tables import (
     by_loudness,
@@ -238,8 +238,14 @@ def cmd_compare(args: argparse.Namespace) -> int:
 
 def _envelope_axes(args: argparse.Namespace) -> tuple[np.ndarray, list[float]] | None:
     """The envelope's axes, or None without --envelope (whose axes flags then refuse)."""
-    given = [f for f, v in (("--envelope-crab-velocity", args.envelope_crab_velocity),
-                            ("--envelope-rpm", args.envelope_rpm)) if v is not None]  # fmt: skip
+    given = [
+        f
+        for f, v in (
+            ("--envelope-crab-velocity", args.envelope_crab_velocity),
+            ("--envelope-rpm", args.envelope_rpm),
+        )
+        if v is not None
+    ]
     if not args.envelope:
         if given:
             raise RequestError(f"{given[0]} shapes the envelope: give it with --envelope")

@@ -9,9 +9,10 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
+from reduced.integration_cost import simulation_bytes, simulation_seconds
+
 from ..budget import CostPlan
 from ..design import Design
-from ..simulation import simulation_bytes, simulation_seconds
 from ..stability import body_of, mode_dofs
 from .fe import estimated_modes, radiation_seconds
 
@@ -174,9 +175,9 @@ class SquealingAxles:
     """What a curve map's linear stability says it will compute: each growing contact's
     time domain [s] (its first run's estimate times :data:`RECORD_EXTENSION`), the largest
     record's memory [bytes] (one at a time) and the sound of each mode that leads somewhere
-    at the frequency it would be radiated at (``levels.radiation_frequency_hz`` of its
+    at the frequency it would be radiated at (``acoustics.harmonics.radiation_frequency_hz`` of its
     linear frequency) and at every harmonic either method may radiate (up to
-    ``levels.MAX_HARMONICS`` and ``levels.MAX_HARMONIC_HZ``: a bound, a clean limit cycle
+    ``acoustics.harmonics.MAX_HARMONICS`` and ``MAX_HARMONIC_HZ``: a bound, a clean limit cycle
     needs fewer), by label: (seconds, bytes) of its radiation (left out where the cache
     holds it)."""
 
@@ -194,7 +195,8 @@ def squealing_axles(
     its modes read there, its contact law and operating point: the decision's first step,
     ``wheel_squeal.stability.stability_table``) priced as :class:`SquealingAxles` says;
     ``cached(mode, frequency_hz)`` tells a radiation the cache holds."""
-    from ..levels import MAX_HARMONIC_HZ, MAX_HARMONICS, radiation_frequency_hz
+    from acoustics.harmonics import MAX_HARMONIC_HZ, MAX_HARMONICS, radiation_frequency_hz
+
     from ..presets import MAX_MULTIMODE
     from ..sound import sound_cost
     from ..stability import stability_table

@@ -8,10 +8,12 @@ from __future__ import annotations
 from collections.abc import Sequence
 from typing import TYPE_CHECKING, Any
 
+from reduced.integration_cost import simulation_seconds, simulation_steps
+
 from ..budget import CostPlan
 from ..design import Design
 from ..remedy import bounds_seconds, remedy_seconds
-from ..simulation import SIMULATION_HINT, simulation_seconds, simulation_steps
+from ..simulation import SIMULATION_HINT
 from ..sound import sound_cost
 from ..stability import body_of, excitable, mode_dofs, stability_seconds
 

@@ -63,13 +63,22 @@ _TREATMENT_COLUMNS = (
 )
 #: The report's table of squealing wheels: (key, heading)
 _REPORT_COLUMNS = (
-    ("radius_m", "R [m]"), ("train_speed_km_h", "V [km/h]"), ("axle", "axle"), ("rail", "rail"),
-    ("angle_of_attack_rad", "psi [rad]"), ("deciding_contact", "contact"),
-    ("contact_angle_deg", "angle [deg]"), ("lateral_creepage", "creepage"), ("verdict_mode", "mode"),
-    ("mechanism", "mechanism"), ("tone_hz", "tone [Hz]"), ("growth_rate_1_s", "growth [1/s]"),
-    ("amplitude_m_s", "amplitude [m/s]"), ("passby_lpamax_dba", "wheel L_pAmax [dB(A)]"),
+    ("radius_m", "R [m]"),
+    ("train_speed_km_h", "V [km/h]"),
+    ("axle", "axle"),
+    ("rail", "rail"),
+    ("angle_of_attack_rad", "psi [rad]"),
+    ("deciding_contact", "contact"),
+    ("contact_angle_deg", "angle [deg]"),
+    ("lateral_creepage", "creepage"),
+    ("verdict_mode", "mode"),
+    ("mechanism", "mechanism"),
+    ("tone_hz", "tone [Hz]"),
+    ("growth_rate_1_s", "growth [1/s]"),
+    ("amplitude_m_s", "amplitude [m/s]"),
+    ("passby_lpamax_dba", "wheel L_pAmax [dB(A)]"),
     ("bogie_lpamax_dba", "bogie L_pAmax [dB(A)]"),
-)  # fmt: skip
+)
 
 
 def _axes(rows: Sequence[dict]) -> tuple[list[float], list[float], list[str]]:
@@ -192,8 +201,11 @@ def write_curve_maps(folder: Path, rows: Sequence[dict]) -> list[str]:
             cmap = ListedColormap(["#e8e8e8", "#d62728", "#1f77b4", "#9467bd"])
             kw: dict[str, Any] = {"cmap": cmap, "vmin": -0.5, "vmax": 3.5}
         else:
-            kw = {"cmap": "viridis", "vmin": finite.min() if len(finite) else 0,
-                  "vmax": finite.max() if len(finite) else 1}  # fmt: skip
+            kw = {
+                "cmap": "viridis",
+                "vmin": finite.min() if len(finite) else 0,
+                "vmax": finite.max() if len(finite) else 1,
+            }
         for k, ax in enumerate(axes):
             ax.set_facecolor("#e8e8e8")  # silent cells (NaN) show the background
             im = ax.imshow(data[:, :, k].T, origin="lower", aspect="auto", **kw)
@@ -291,15 +303,25 @@ def curve_report(
         )
     loud = summary.get("loudest")
     if loud:
-        sections.append((
-            f"The loudest pass-by: R = {loud['radius_m']:g} m at {loud['train_speed_km_h']:g} km/h",
-            table(loud["bands"], [("band_hz", "1/3-octave band [Hz]"), ("lpmax_db", "L_pmax [dB]"),
-                                  ("lpamax_dba", "L_pAmax [dB(A)]")])
-            + audio(folder / PASSBY_WAV),
-        ))  # fmt: skip
+        sections.append(
+            (
+                f"The loudest pass-by: R = {loud['radius_m']:g} m at {loud['train_speed_km_h']:g} km/h",
+                table(
+                    loud["bands"],
+                    [
+                        ("band_hz", "1/3-octave band [Hz]"),
+                        ("lpmax_db", "L_pmax [dB]"),
+                        ("lpamax_dba", "L_pAmax [dB(A)]"),
+                    ],
+                )
+                + audio(folder / PASSBY_WAV),
+            )
+        )
     inputs = [(k, summary[k]) for k in ("design", "vehicle", "cant_mm", "amplitude_method")]
-    inputs += [("microphone", "7.5 m from the track centre line, 1.2 m above the rail head (ISO 3095)"),
-               ("ground", summary["ground"])]  # fmt: skip
+    inputs += [
+        ("microphone", "7.5 m from the track centre line, 1.2 m above the rail head (ISO 3095)"),
+        ("ground", summary["ground"]),
+    ]
     return listing_report(
         folder,
         f"{design} in curves",
@@ -326,7 +348,7 @@ def write_curve_files(
     from acoustics.passby import GROUND_DEPTH_M, MICROPHONE_DISTANCE_M, MICROPHONE_HEIGHT_M
 
     from ..curve_findings import findings
-    from ..fields import columns_of
+    from ..output_files import columns_of
     from ..outputs import write_csv, write_json
     from .curve_remedy import write_curve_remedy
     from .passby import band_rows, loudest, write_passby_files

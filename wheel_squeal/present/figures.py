@@ -15,8 +15,9 @@ from ..sweeps import VerdictGrid
 from .canvas import PLOT_DPI
 
 if TYPE_CHECKING:
+    from acoustics.measured import Measured
+
     from ..envelope import Envelope
-    from ..measured import Measured
     from ..simulation import Simulation
     from ..verdict import ModeOutcome
 
@@ -73,20 +74,36 @@ def write_compare_plot(path: Path, rows: Sequence[dict], analyses: Sequence) -> 
     tones = [r["tone_hz"] or 0.0 for r in rows]
     bars = axes[1].bar(x, tones, color="tab:blue")
     for b, r in zip(bars, rows):
-        axes[1].annotate(r["verdict_mode"] or "no squeal", (b.get_x() + b.get_width() / 2, b.get_height()),
-                         ha="center", va="bottom", fontsize=7)  # fmt: skip
+        axes[1].annotate(
+            r["verdict_mode"] or "no squeal",
+            (b.get_x() + b.get_width() / 2, b.get_height()),
+            ha="center",
+            va="bottom",
+            fontsize=7,
+        )
     axes[1].set(xticks=x, ylabel="squeal tone (Hz)", title="tone and the mode that squeals")
     axes[1].set_xticklabels(names, rotation=30, ha="right")
     power = [r["sound_power_level_db"] if r["sound_power_level_db"] is not None else np.nan for r in rows]
     far = [r["spl_7_5m_db"] if r["spl_7_5m_db"] is not None else np.nan for r in rows]
     hollow = ["tab:orange" if r["saturated"] else "none" for r in rows]
     axes[2].bar(x - 0.2, power, 0.4, color=hollow, edgecolor="tab:orange", label="L_W (dB re 1 pW)")
-    axes[2].bar(x + 0.2, far, 0.4, color=["tab:green" if r["saturated"] else "none" for r in rows],
-                edgecolor="tab:green", label="SPL 7.5 m (dB re 20 uPa)")  # fmt: skip
+    axes[2].bar(
+        x + 0.2,
+        far,
+        0.4,
+        color=["tab:green" if r["saturated"] else "none" for r in rows],
+        edgecolor="tab:green",
+        label="SPL 7.5 m (dB re 20 uPa)",
+    )
     for xi, r in zip(x, rows):
         if r["sound_power_level_db"] is not None:
-            axes[2].annotate(f"{r['sound_power_level_db']:.1f}", (xi - 0.2, r["sound_power_level_db"]),
-                             ha="center", va="bottom", fontsize=7)  # fmt: skip
+            axes[2].annotate(
+                f"{r['sound_power_level_db']:.1f}",
+                (xi - 0.2, r["sound_power_level_db"]),
+                ha="center",
+                va="bottom",
+                fontsize=7,
+            )
     finite = [v for v in power + far if np.isfinite(v)]
     if finite:
         axes[2].set_ylim(min(finite) - 20, max(finite) + 10)
@@ -123,15 +140,31 @@ def write_mode_growth_plot(path: Path, rows: Sequence, chosen: int | None = None
         marker, colour = _MECHANISM_STYLE.get(st.mechanism, ("o", "k"))
         label = st.mechanism or "decays"
         ax.plot(
-            [st.damped_frequency_hz], [st.growth_rate_1_s], marker, color=colour, ms=7,
+            [st.damped_frequency_hz],
+            [st.growth_rate_1_s],
+            marker,
+            color=colour,
+            ms=7,
             label=None if label in seen else label,
-        )  # fmt: skip
+        )
         seen.add(label)
-        ax.annotate(m.label(), (st.damped_frequency_hz, st.growth_rate_1_s), fontsize=7,
-                    xytext=(4, 4), textcoords="offset points")  # fmt: skip
+        ax.annotate(
+            m.label(),
+            (st.damped_frequency_hz, st.growth_rate_1_s),
+            fontsize=7,
+            xytext=(4, 4),
+            textcoords="offset points",
+        )
         if chosen is not None and m.index == chosen:
-            ax.plot([st.damped_frequency_hz], [st.growth_rate_1_s], "o", mfc="none", mec="k", ms=15,
-                    label="the verdict's mode")  # fmt: skip
+            ax.plot(
+                [st.damped_frequency_hz],
+                [st.growth_rate_1_s],
+                "o",
+                mfc="none",
+                mec="k",
+                ms=15,
+                label="the verdict's mode",
+            )
     ax.axhline(0.0, color="k", lw=0.8)
     ax.set(
         xlabel="frequency at the contact (Hz)",
@@ -166,8 +199,13 @@ def write_envelope_plot(path: Path, env: Envelope, mitigation: dict[str, Any] | 
         ax.plot(env.crabbing_velocities_m_s, env.growth_rate_1_s[:, j], "-", color="0.6", lw=0.8)
         for i in labels:
             sel = env.winner[:, j] == i
-            ax.plot(env.crabbing_velocities_m_s[sel], env.growth_rate_1_s[sel, j], markers[j % 7], ms=4,
-                    color=colours[i])  # fmt: skip
+            ax.plot(
+                env.crabbing_velocities_m_s[sel],
+                env.growth_rate_1_s[sel, j],
+                markers[j % 7],
+                ms=4,
+                color=colours[i],
+            )
     ax.axhline(0.0, color="k", lw=0.8)
     ax.set(
         xlabel="crabbing velocity Vc (m/s)",
@@ -177,8 +215,10 @@ def write_envelope_plot(path: Path, env: Envelope, mitigation: dict[str, Any] | 
     handles = [
         Line2D([], [], ls="", marker="s", color=colours[i], label=label) for i, label in labels.items()
     ]
-    handles += [Line2D([], [], ls="-", marker=markers[j % 7], color="0.5", label=f"{rpm:.0f} RPM")
-                for j, rpm in enumerate(env.rpm)]  # fmt: skip
+    handles += [
+        Line2D([], [], ls="-", marker=markers[j % 7], color="0.5", label=f"{rpm:.0f} RPM")
+        for j, rpm in enumerate(env.rpm)
+    ]
     ax.legend(
         handles=handles, title="fastest mode; speed", fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0)
     )
@@ -272,7 +312,7 @@ def write_sweep_plot(path: Path, grid: VerdictGrid, measured: Measured | None = 
     """sweep.png: the amplitude (top) and the SPL (bottom, with sound; else the velocity
     level re 5e-8 m/s) against the crabbing velocity, one curve per speed; hollow: still
     growing at the end of the run; each filled point labelled by nothing, the modes in
-    the legend; ``measured`` (``wheel_squeal.measured.Measured``): the measured levels
+    the legend; ``measured`` (``acoustics.measured.Measured``): the measured levels
     as crosses in their speed's colour."""
     from matplotlib.figure import Figure
 
@@ -298,9 +338,14 @@ def write_sweep_plot(path: Path, grid: VerdictGrid, measured: Measured | None = 
             at = np.isclose(measured.rpm, rpm, rtol=0.01)
             if at.any():
                 bottom.plot(
-                    measured.crab_velocity[at], measured.spl_db[at], "x", ms=8, mew=2,
-                    color=line.get_color(), label=f"{rpm:g} RPM, measured",
-                )  # fmt: skip
+                    measured.crab_velocity[at],
+                    measured.spl_db[at],
+                    "x",
+                    ms=8,
+                    mew=2,
+                    color=line.get_color(),
+                    label=f"{rpm:g} RPM, measured",
+                )
     if measured is not None:
         bottom.legend(fontsize=8)
     if (grid.squeals & ~grid.saturated).any():

@@ -64,20 +64,20 @@ def line_rows(results: Sequence[LineResult]) -> list[dict[str, Any]]:
             "length_m": c.length_m,
             "cant_mm": c.cant_mm,
             "train_speed_km_h": c.train_speed_km_h,
-            "squeal_probability": round(r.probability, 6),
-            "bogie_lpamax_dba": _finite(r.lpamax_dba),
-            "bogie_sel_dba": _finite(r.sel_dba),
-            **{f"laeq_{p}_dba": _finite(r.laeq_dba[p]) for p in ("day", "evening", "night")},
+            "squeal_probability": round(r.emission.probability, 6),
+            "bogie_lpamax_dba": _finite(r.emission.lpamax_dba),
+            "bogie_sel_dba": _finite(r.emission.sel_dba),
+            **{f"laeq_{p}_dba": _finite(r.emission.laeq_dba[p]) for p in ("day", "evening", "night")},
             "cnossos_correction_db": r.cnossos_correction_db,
-            "sel_from_emission_dba": _finite(r.sel_from_emission_dba),
+            "sel_from_emission_dba": _finite(r.emission.sel_from_emission_dba),
         }
         row |= {
             _band_name("lw_m_", f): _finite(x)
-            for f, x in zip(CNOSSOS_OCTAVES_HZ, r.emission_octaves_db["day"])
+            for f, x in zip(CNOSSOS_OCTAVES_HZ, r.emission.octaves_db["day"])
         }
         row |= {
             _band_name("lw_m_third_", b.label_hz): _finite(x)
-            for b, x in zip(CNOSSOS_THIRDS, r.emission_thirds_db["day"])
+            for b, x in zip(CNOSSOS_THIRDS, r.emission.thirds_db["day"])
         }
         rows.append(row)
     return rows
@@ -113,7 +113,7 @@ def _dataset(results: Sequence[LineResult], spec: LineSpec) -> Any:
     periods = [p for p, _ in PERIODS]
 
     def per(attr: str) -> np.ndarray:
-        return np.array([[getattr(r, attr)[p] for p in periods] for r in results], float)
+        return np.array([[getattr(r.emission, attr)[p] for p in periods] for r in results], float)
 
     def value(x: float | None) -> float:
         return math.nan if x is None else float(x)
@@ -122,16 +122,16 @@ def _dataset(results: Sequence[LineResult], spec: LineSpec) -> Any:
         {
             "radius_m": ("curve", [r.curve.radius_m for r in results]),
             "train_speed_km_h": ("curve", [r.curve.train_speed_km_h for r in results]),
-            "squeal_probability": ("curve", [r.probability for r in results]),
-            "bogie_lpamax_dba": ("curve", [value(r.lpamax_dba) for r in results]),
-            "bogie_sel_dba": ("curve", [value(r.sel_dba) for r in results]),
+            "squeal_probability": ("curve", [r.emission.probability for r in results]),
+            "bogie_lpamax_dba": ("curve", [value(r.emission.lpamax_dba) for r in results]),
+            "bogie_sel_dba": ("curve", [value(r.emission.sel_dba) for r in results]),
             "cnossos_correction_db": ("curve", [r.cnossos_correction_db for r in results]),
             "laeq_dba": (
                 ("curve", "period"),
-                np.array([[value(r.laeq_dba[p]) for p in periods] for r in results]),
+                np.array([[value(r.emission.laeq_dba[p]) for p in periods] for r in results]),
             ),
-            "lw_m_db": (("curve", "period", "octave_hz"), per("emission_octaves_db")),
-            "lw_m_third_db": (("curve", "period", "third_hz"), per("emission_thirds_db")),
+            "lw_m_db": (("curve", "period", "octave_hz"), per("octaves_db")),
+            "lw_m_third_db": (("curve", "period", "third_hz"), per("thirds_db")),
         },
         coords={
             "curve": ids,
@@ -173,10 +173,10 @@ def _plot(path: Path, results: Sequence[LineResult]) -> None:
     fig = Figure(figsize=(9, 5))
     top, bottom = fig.subplots(2, 1, sharex=True)
     widths = [r.curve.length_m / 1000 for r in results]
-    top.bar(chainage, [r.probability for r in results], width=widths, align="edge")
+    top.bar(chainage, [r.emission.probability for r in results], width=widths, align="edge")
     top.set_ylabel("squeal probability")
     top.set_ylim(0, 1.05)
-    laeq = [np.nan if r.laeq_dba["day"] is None else r.laeq_dba["day"] for r in results]
+    laeq = [np.nan if r.emission.laeq_dba["day"] is None else r.emission.laeq_dba["day"] for r in results]
     end = chainage[-1] + results[-1].curve.length_m / 1000.0
     bottom.step([*chainage, end], [*laeq, laeq[-1]], where="post", label="L_Aeq,day at 7.5 m")
     bottom.set_ylabel("L_Aeq,day [dB(A)]")

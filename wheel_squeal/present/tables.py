@@ -10,7 +10,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from ..fields import columns_of
+from ..output_files import columns_of
 from ..outputs import write_csv
 from ..sweeps import VerdictGrid
 

@@ -8,25 +8,16 @@ from pathlib import Path
 
 import numpy as np
 
-from ..fields import columns_of
+from track.receptances import CONVENTION, TrackReceptances
+
+from ..output_files import columns_of
 from ..outputs import write_csv
-from ..track import CONVENTION, TrackReceptances
 
 __all__ = ["track_text", "write_receptance_csv", "write_receptance_plot"]
 
 
 def write_receptance_csv(path: Path, t: TrackReceptances) -> Path:
     return write_csv(path, t.rows(), columns_of("receptance.csv"))
-
-
-def pad_peak_hz(t: TrackReceptances) -> float:
-    """The vertical receptance's peak at a sleeper between 150 Hz and the pinned-pinned
-    frequency: the rail bouncing on its pads [Hz] (NaN outside the grid)."""
-    f = t.frequency_hz
-    sel = (f > 150.0) & (f < 0.8 * t.pinned_pinned_hz["vertical"])
-    if not sel.any():
-        return float("nan")
-    return float(f[sel][np.argmax(np.abs(t.vertical_support[sel]))])
 
 
 def write_receptance_plot(path: Path, t: TrackReceptances) -> Path:
@@ -47,9 +38,11 @@ def write_receptance_plot(path: Path, t: TrackReceptances) -> Path:
         label = name.replace("_", ", at ").replace("support", "a sleeper")
         mag.loglog(t.frequency_hz, np.abs(a), style, color=colour, label=label)
         phase.semilogx(t.frequency_hz, np.degrees(np.angle(a)), style, color=colour)
-    marks = [("pinned-pinned, vertical", t.pinned_pinned_hz["vertical"]),
-             ("pinned-pinned, lateral", t.pinned_pinned_hz["lateral"]),
-             ("rail on pads, vertical", pad_peak_hz(t))]  # fmt: skip
+    marks = [
+        ("pinned-pinned, vertical", t.pinned_pinned_hz["vertical"]),
+        ("pinned-pinned, lateral", t.pinned_pinned_hz["lateral"]),
+        ("rail on pads, vertical", t.pad_peak_hz()),
+    ]
     shown = [
         (what, f) for what, f in marks if np.isfinite(f) and t.frequency_hz[0] <= f <= t.frequency_hz[-1]
     ]
@@ -57,8 +50,15 @@ def write_receptance_plot(path: Path, t: TrackReceptances) -> Path:
         for ax in (mag, phase):
             ax.axvline(f, color="0.5", lw=0.8, ls=":")
     if shown:
-        phase.text(0.99, 0.04, "dotted: " + "; ".join(f"{what} {f:.0f} Hz" for what, f in shown),
-                   transform=phase.transAxes, ha="right", va="bottom", fontsize=8)  # fmt: skip
+        phase.text(
+            0.99,
+            0.04,
+            "dotted: " + "; ".join(f"{what} {f:.0f} Hz" for what, f in shown),
+            transform=phase.transAxes,
+            ha="right",
+            va="bottom",
+            fontsize=8,
+        )
     mag.set(
         ylabel="|receptance| (m/N)", title="the rail's point receptance (exp(+i w t): phase <= 0 passive)"
     )

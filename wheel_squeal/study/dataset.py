@@ -121,9 +121,14 @@ def write_study_files(ds: Any, spec: StudySpec, folder: Path) -> list[str]:
     (folder / "study.toml").write_text(spec.source)
     names = ["study.nc", "study.csv", "study.toml"]
     names += _plots(ds, spec, folder)
-    inputs = [("spec", spec.name), ("description", spec.description), ("base design", spec.base.name),
-              ("fidelity", spec.fidelity), ("fmax", f"{spec.fmax_hz:g} Hz"),
-              ("compute", ", ".join(spec.compute))]  # fmt: skip
+    inputs = [
+        ("spec", spec.name),
+        ("description", spec.description),
+        ("base design", spec.base.name),
+        ("fidelity", spec.fidelity),
+        ("fmax", f"{spec.fmax_hz:g} Hz"),
+        ("compute", ", ".join(spec.compute)),
+    ]
     study_report(folder, spec.name, study_summary(ds, spec), inputs)
     return names + [REPORT_NAME]
 
@@ -274,8 +279,15 @@ def _plots(ds: Any, spec: StudySpec, folder: Path) -> list[str]:
             )
             if len(dims) >= 2:
                 grid = values.max(dims[2:]) if len(dims) > 2 else values
-                im = ax.pcolormesh(ds[dims[1]], ds[dims[0]], grid.transpose(dims[0], dims[1]).values,
-                                   shading="nearest", cmap="magma", vmin=lo, vmax=hi)  # fmt: skip
+                im = ax.pcolormesh(
+                    ds[dims[1]],
+                    ds[dims[0]],
+                    grid.transpose(dims[0], dims[1]).values,
+                    shading="nearest",
+                    cmap="magma",
+                    vmin=lo,
+                    vmax=hi,
+                )
                 fig.colorbar(im, ax=ax, label=units[key])
                 ax.set(xlabel=_label(ds, dims[1]), ylabel=_label(ds, dims[0]), title=label)
             else:

@@ -172,9 +172,16 @@ def _worker_cache(spec: StudySpec, cache: StageCache | None, scheduler: str | No
 
 def _job(spec: StudySpec, changes: tuple, worker_cache: str | None, budget: Budget) -> CaseJob:
     return CaseJob(
-        spec.base, changes, spec.fidelity, spec.fmax_hz, spec.compute, spec.crabbing_velocities_m_s,
-        spec.rpm, worker_cache, budget.max_dofs,
-    )  # fmt: skip
+        spec.base,
+        changes,
+        spec.fidelity,
+        spec.fmax_hz,
+        spec.compute,
+        spec.crabbing_velocities_m_s,
+        spec.rpm,
+        worker_cache,
+        budget.max_dofs,
+    )
 
 
 def _started(base: dict, cache: StageCache | None) -> bool:

@@ -17,7 +17,7 @@ from geometry import DesignError, MeshError
 
 from ..design import Design
 from ..errors import BudgetError, RequestError
-from ..fields import FLAG_FIELDS, LABEL_FIELDS, RESULT_FIELDS
+from ..output_files import FLAG_FIELDS, LABEL_FIELDS, RESULT_FIELDS
 from ..types import Stage
 
 __all__ = ["FLAG_FIELDS", "LABEL_FIELDS", "CaseJob", "RESULT_FIELDS", "run_case"]

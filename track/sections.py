@@ -1,10 +1,13 @@
-"""What the wheel rolls on: the ``[counter_body]`` section of a design file, one class per
-kind registered in :data:`COUNTER_BODIES` (its fields, the radii of its surface at the
-contact for Hertz, and the physics object of ``reduced.counter_body`` that gives its
-degrees of freedom): the rig's roller (:class:`Roller`) and a rail on sleepers
-(:class:`Track`). The rest of the tool reaches a kind through :class:`CounterBodySection`
-only. Files before the tagged section said ``[roller]``: it is read as
-``[counter_body] kind = "roller"``.
+"""The design file's sections of what the wheel runs on, each a section of the one schema
+(``geometry.schema.Fields``):
+
+- ``[counter_body]``: what the wheel rolls on, one class per kind registered in
+  :data:`COUNTER_BODIES` (its fields, the radii of its surface at the contact for Hertz,
+  and the physics object of ``reduced.counter_body`` that gives its degrees of freedom):
+  the rig's roller (:class:`Roller`) and a rail on sleepers (:class:`Track`). A kind is
+  reached through :class:`CounterBodySection` only. Files before the tagged section said
+  ``[roller]``: it is read as ``[counter_body] kind = "roller"``.
+- ``[vehicle]``: the bogie a wheel runs in through curves (:class:`VehicleSection`).
 """
 
 from __future__ import annotations
@@ -21,6 +24,8 @@ from geometry.schema import Fields, spec
 if TYPE_CHECKING:
     from reduced import BodyModel
 
+    from .bogie_curving import Vehicle
+
 __all__ = [
     "COUNTER_BODIES",
     "RAIL_POSITIONS",
@@ -30,6 +35,7 @@ __all__ = [
     "CounterBodySection",
     "Roller",
     "Track",
+    "VehicleSection",
     "check_positive",
     "counter_body_from_file",
 ]
@@ -247,7 +253,7 @@ class Track(CounterBodySection):
     position: str = spec("midspan", "-", 'where in the sleeper bay: "support", "midspan" or a fraction')
 
     def __post_init__(self) -> None:
-        from track.rails import CUSTOM_RAIL, RAILS
+        from .rails import CUSTOM_RAIL, RAILS
 
         if self.rail not in RAILS and self.rail != CUSTOM_RAIL:
             known = ", ".join(repr(k) for k in RAILS)
@@ -270,7 +276,7 @@ class Track(CounterBodySection):
     def section_value(self, name: str) -> float:
         """A cross-section value (a key of :data:`RAIL_SECTION_FIELDS`): the design's for a
         custom rail, else the named rail's."""
-        from track.rails import CUSTOM_RAIL, rail_section
+        from .rails import CUSTOM_RAIL, rail_section
 
         value = getattr(self, name)
         if self.rail == CUSTOM_RAIL:
@@ -294,7 +300,7 @@ class Track(CounterBodySection):
 
     def beams(self) -> tuple[Any, Any]:
         """The rail bending vertically and laterally (``track.BeamSection``)."""
-        from track import BeamSection
+        from .beam import BeamSection
 
         area = self.section_value("rail_area")
         common = (self.rail_youngs_modulus, self.rail_shear_modulus, self.rail_density, area)
@@ -310,14 +316,19 @@ class Track(CounterBodySection):
 
     def supports(self) -> tuple[Any, Any]:
         """The supports vertically and laterally (``track.Supports``)."""
-        from track import Supports
+        from .beam import Supports
 
-        return (
-            Supports(self.sleeper_spacing, self.pad_stiffness_vertical, self.pad_loss_factor_vertical,
-                     self.sleeper_mass, self.ballast_stiffness_vertical, self.ballast_loss_factor_vertical),
-            Supports(self.sleeper_spacing, self.pad_stiffness_lateral, self.pad_loss_factor_lateral,
-                     self.sleeper_mass, self.ballast_stiffness_lateral, self.ballast_loss_factor_lateral),
-        )  # fmt: skip
+        return tuple(
+            Supports(
+                self.sleeper_spacing,
+                getattr(self, f"pad_stiffness_{d}"),
+                getattr(self, f"pad_loss_factor_{d}"),
+                self.sleeper_mass,
+                getattr(self, f"ballast_stiffness_{d}"),
+                getattr(self, f"ballast_loss_factor_{d}"),
+            )
+            for d in ("vertical", "lateral")
+        )  # type: ignore[return-value]
 
     def contact_radii(self) -> tuple[float, float]:
         return math.inf, self.head_radius  # a straight rail: flat along rolling
@@ -328,7 +339,7 @@ class Track(CounterBodySection):
     def states(self) -> int:
         if _track_fits.cache_info().currsize:  # fitted in this process: the count itself
             return self.model().states
-        from track.fit import POLE_PAIRS
+        from .fit import POLE_PAIRS
 
         return 2 * 2 * POLE_PAIRS  # at most: two directions of pairs
 
@@ -352,8 +363,8 @@ def _track_fits(track: Track) -> tuple[Any, Any]:
     """The fits of a track's receptances, once per track in a process (a second each)."""
     import numpy as np
 
-    from track import receptance
-    from track.fit import fit_receptance
+    from .beam import receptance
+    from .fit import fit_receptance
 
     lo, hi = TRACK_FIT_BAND_HZ
     f = np.geomspace(lo, hi, int(TRACK_FIT_POINTS_PER_DECADE * math.log10(hi / lo)) + 1)
@@ -362,6 +373,63 @@ def _track_fits(track: Track) -> tuple[Any, Any]:
         fit_receptance(f, receptance(beam, support, f, at))
         for beam, support in zip(track.beams(), track.supports())
     )  # type: ignore[return-value]
+
+
+@dataclass(frozen=True)
+class VehicleSection(Fields):
+    """The bogie a wheel runs in through curves ([vehicle]; read by ``curve`` alone): its
+    wheelbase and primary suspension per wheelset, and the height of the mass on its wheels
+    (``track.bogie_curving.Vehicle``). The defaults are of the order of a conventional
+    passenger bogie's, not one vehicle's."""
+
+    TABLE: ClassVar[str] = "vehicle"
+
+    wheelbase: float = spec(
+        2.5,
+        "m",
+        "2a, the distance between the bogie's axles",
+        flat="wheelbase",
+        when_set=True,
+        plausible=(1.0, 20.0),
+    )
+    primary_yaw_stiffness: float = spec(
+        1.0e7,
+        "N m/rad",
+        "k_psi, the primary suspension's yaw stiffness per wheelset",
+        flat="primary_yaw_stiffness",
+        when_set=True,
+        plausible=(0.0, 1.0e11),
+    )
+    primary_lateral_stiffness: float = spec(
+        5.0e6,
+        "N/m",
+        "k_y, the primary suspension's lateral stiffness per wheelset",
+        flat="primary_lateral_stiffness",
+        when_set=True,
+        plausible=(1.0e4, 1.0e10),
+    )
+    centre_of_gravity_height: float = spec(
+        1.5,
+        "m",
+        "h_cg, the height of the mass on the wheels above the rail heads",
+        flat="centre_of_gravity_height",
+        when_set=True,
+        plausible=(0.3, 4.0),
+    )
+
+    def __post_init__(self) -> None:
+        self.check_plausible()
+
+    def vehicle(self) -> Vehicle:
+        """The curving's record of these values."""
+        from .bogie_curving import Vehicle
+
+        return Vehicle(
+            self.wheelbase,
+            self.primary_yaw_stiffness,
+            self.primary_lateral_stiffness,
+            self.centre_of_gravity_height,
+        )
 
 
 #: Every counter-body kind a design file may give, by its ``kind``.
