@@ -121,6 +121,22 @@ def test_the_entry_point_is_thin_and_the_app_modules_small():
     assert big == {}, f"application modules over ~400 lines: {big}"
 
 
+#: The application layer's largest share of the production code's non-blank lines: what is
+#: physics or writing belongs to the physics packages and the presenters
+APP_SHARE = 0.48
+
+
+def test_the_application_layer_stays_a_thin_share():
+    def lines(pkg: str) -> int:
+        return sum(
+            sum(1 for line in f.read_text().splitlines() if line.strip()) for f in (ROOT / pkg).rglob("*.py")
+        )
+
+    counts = {pkg: lines(pkg) for pkg in ("geometry", "fem", "reduced", "acoustics", "track", "wheel_squeal")}
+    share = counts["wheel_squeal"] / sum(counts.values())
+    assert share <= APP_SHARE, f"wheel_squeal/ is {share:.1%} of the production lines: {counts}"
+
+
 def _imported_by(*args: str, cwd: Path = ROOT) -> set[str]:
     """The modules ``python -X importtime pipeline.py ARGS`` imports (the run must end
     with status 0)."""
