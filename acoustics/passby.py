@@ -192,7 +192,7 @@ def passby(
     >>> angles = np.linspace(0, np.pi, 181)
     >>> s = PassbySource(0.0, 0.75, 0.46, 500.0, np.ones(181), angles)
     >>> r = passby([s], 10.0)
-    >>> round(r.lpmax_db - 20 * np.log10(1 / np.hypot(6.75, 1.2 - 0.46) / np.sqrt(2) / 20e-6), 6)
+    >>> float(round(r.lpmax_db - 20 * np.log10(1 / np.hypot(6.75, 1.2 - 0.46) / np.sqrt(2) / 20e-6), 6))
     0.0
     """
     if not (speed_m_s > 0 and math.isfinite(speed_m_s)):

@@ -13,8 +13,10 @@ zero slip and damps the others; a small one may leave another mode growing, whic
 takes the cycle over. The modes that share the cycle's eigenvalue (a coupled pair) are
 the cycle itself.
 
-:func:`surviving_cycle` follows the invasion from the fastest-growing mode: while some
-mode grows on the present cycle, the one growing fastest on it takes over; the first
+:func:`surviving_cycle` follows the invasion from the mode that reaches its cycle first from
+rest (not always the fastest-growing: the creep force's step sets a low mode going harder
+than a high one, by its 1 / (m omega)): while some mode grows on the present cycle, the one
+growing fastest on it takes over; the first
 cycle on which nothing else grows is the answer. A cycle visited twice (no mode's cycle
 resists the others) means no single-mode cycle answers: the time domain must.
 """
@@ -31,13 +33,20 @@ import numpy as np
 
 from .creep import ContactLaw, adhesion_ratio_slope
 from .model import ModalDOF, OperatingPoint
-from .predictor import equivalent_mode, harmonic_distortion, predict_limit_cycle
-from .stability import LinearContact, growth_rates
+from .predictor import equivalent_mode, harmonic_distortion, initial_amplitude, predict_limit_cycle
+from .stability import LinearContact, speaking_growth_rates
 
 if TYPE_CHECKING:
     from .counter_body import BodyModel
 
-__all__ = ["ModeCycle", "averaged_slope", "growth_on_cycle", "mode_cycle", "surviving_cycle"]
+__all__ = [
+    "ModeCycle",
+    "averaged_slope",
+    "growth_on_cycle",
+    "mode_cycle",
+    "saturation_time_s",
+    "surviving_cycle",
+]
 
 #: Phase points of the averages (the creep law's kinks make the midpoint rule algebraic:
 #: 1024 points hold the averaged slope to about 1e-5)
@@ -104,13 +113,49 @@ def growth_on_cycle(
     >>> op = r.OperatingPoint.from_rpm(800, 0.213, 0.39)
     >>> mode = r.ModalDOF(3.1, 1.6e8, 42.0)
     >>> sigma = growth_on_cycle(0.0, [mode], law, op)[0]
-    >>> bool(abs(sigma - r.linear_stability([mode], law, op)[0].growth_rate_1_s) < 1e-9)
+    >>> bool(abs(sigma - r.linear_stability([mode], law, op).modes[0].growth_rate_1_s) < 1e-9)
     True
     """
     linear = LinearContact.at(contact, op)
     g = contact.normal_load_n / op.rolling_speed_m_s * averaged_slope(amplitude_m_s, contact, op)
     damping = np.array([m.damping_ns_m for m in modes])
-    return growth_rates(modes, damping, replace(linear, friction_damping_ns_m=g), wheel_speed_rad_s, body)
+    lin = replace(linear, friction_damping_ns_m=g)
+    return speaking_growth_rates(modes, damping, lin, wheel_speed_rad_s, body)
+
+
+def _balance(
+    k: int, modes: Sequence[ModalDOF], contact: ContactLaw, op: OperatingPoint, linear_rates: np.ndarray
+) -> tuple[ModalDOF, bool, float, float]:
+    """Mode ``k``'s equivalent mode (``reduced.equivalent_mode``), whether it is clipped,
+    its cycle's amplitude [m/s] (0: none) and the amplitude a start from rest gives it [m/s]
+    (the creep force's step)."""
+    eq, clipped = equivalent_mode(modes[k], contact, op, float(linear_rates[k]))
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)  # the distortion is reported instead
+        prediction = predict_limit_cycle(eq, contact, op)
+    amplitude = prediction.velocity_amplitude_m_s
+    if not (math.isfinite(amplitude) and amplitude > 0.0):
+        amplitude = 0.0
+    return eq, clipped, float(amplitude), float(prediction.initial_amplitude_m_s)
+
+
+def saturation_time_s(
+    k: int,
+    modes: Sequence[ModalDOF],
+    contact: ContactLaw,
+    op: OperatingPoint,
+    linear_rates: np.ndarray,
+    amplitude_m_s: float,
+) -> float:
+    """How long mode ``k`` takes from rest to a cycle of ``amplitude_m_s`` [s]:
+    ln(A / a0) / sigma, a0 the amplitude the creep force's step gives it
+    (``reduced.predictor.initial_amplitude``), sigma its linear growth rate among the others
+    (``linear_rates``); inf where it does not grow."""
+    sigma = float(linear_rates[k])
+    initial = initial_amplitude(modes[k], contact, op)
+    if sigma <= 0.0 or amplitude_m_s <= 0.0 or initial <= 0.0:
+        return math.inf
+    return math.log(max(amplitude_m_s / initial, 1.0)) / sigma
 
 
 def mode_cycle(
@@ -129,16 +174,13 @@ def mode_cycle(
     ``linear_rates``: the modes' growth rates at steady sliding, where already solved."""
     if linear_rates is None:
         linear_rates = growth_on_cycle(0.0, modes, contact, op, wheel_speed_rad_s, body)
-    eq, clipped = equivalent_mode(modes[k], contact, op, float(linear_rates[k]))
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", RuntimeWarning)  # the distortion is reported instead
-        amplitude = predict_limit_cycle(eq, contact, op).velocity_amplitude_m_s
-    if not (math.isfinite(amplitude) and amplitude > 0.0):
+    eq, clipped, amplitude, _ = _balance(k, modes, contact, op, linear_rates)
+    if amplitude == 0.0:
         return ModeCycle(k, 0.0, 0.0, clipped, tuple(float(x) for x in linear_rates))
     rates = growth_on_cycle(amplitude, modes, contact, op, wheel_speed_rad_s, body)
     rates[[j for j, e in enumerate(eigenvalues) if e == eigenvalues[k]]] = 0.0
     distortion = harmonic_distortion(amplitude, eq, contact, op)
-    return ModeCycle(k, float(amplitude), float(distortion), clipped, tuple(float(x) for x in rates))
+    return ModeCycle(k, amplitude, float(distortion), clipped, tuple(float(x) for x in rates))
 
 
 def surviving_cycle(
@@ -148,14 +190,25 @@ def surviving_cycle(
     op: OperatingPoint,
     wheel_speed_rad_s: float = 0.0,
     body: BodyModel | None = None,
-    start: int = 0,
+    start: int | None = None,
 ) -> tuple[ModeCycle | None, tuple[ModeCycle, ...]]:
     """The cycle the invasion from mode ``start`` settles on (module docstring), and every
     cycle visited in order; None where the invasion returns to a cycle it left (no
-    single-mode cycle resists the others) or a mode has no cycle from rest.
-    ``eigenvalues`` names each mode's eigenvalue (modes that share one are one oscillation)."""
+    single-mode cycle resists the others) or a mode has no cycle from rest. ``start``
+    None: the mode that reaches its cycle first from rest (:func:`saturation_time_s`: of
+    two modes growing about as fast, the lower one, which the creep force's step sets
+    going harder). ``eigenvalues`` names each mode's eigenvalue (modes that share one are
+    one oscillation)."""
     visited: list[ModeCycle] = []
     linear_rates = growth_on_cycle(0.0, modes, contact, op, wheel_speed_rad_s, body)
+    if start is None:
+        # the cycles' amplitudes are the creep curve's more than the modes' (within a quarter
+        # of each other on the railway wheel's maps): the fastest-growing mode's stands for
+        # all, and the time goes with its logarithm (a quarter: 0.22 against ln(A/a0) of 3-10)
+        fastest = int(np.argmax(linear_rates))
+        reference = _balance(fastest, modes, contact, op, linear_rates)[2]
+        times = [saturation_time_s(j, modes, contact, op, linear_rates, reference) for j in range(len(modes))]
+        start = int(np.argmin(times)) if math.isfinite(min(times)) else fastest
     k: int | None = start
     while k is not None and all(c.index != k for c in visited):
         cycle = mode_cycle(k, modes, eigenvalues, contact, op, wheel_speed_rad_s, body, linear_rates)

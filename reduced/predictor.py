@@ -76,8 +76,9 @@ class LimitCyclePrediction:
     frequency_hz : assumed oscillation frequency (undamped natural frequency), Hz.
     growth_rate_analytic_1_s : linear growth rate of the equilibrium, 1/s
         (> 0: V = 0 unstable).
-    initial_amplitude_m_s : velocity amplitude excited by the force step when
-        starting from rest, |Q(Vc)| / sqrt(k m), m/s.
+    initial_amplitude_m_s : velocity amplitude at the contact excited by the force step
+        when starting from rest, |Q(Vc)| l^2 / sqrt(k m) (l the mode's lateral
+        displacement at the contact), m/s.
     velocity_amplitude_m_s : predicted amplitude reached from rest (0 if none), m/s.
     squeal : velocity_amplitude_m_s > 0.
     """
@@ -136,6 +137,15 @@ def mean_power_per_cycle(
     return (Q * vel).mean(axis=-1) - 0.5 * mode.damping_ns_m * V * V
 
 
+def initial_amplitude(mode: ModalDOF, contact: ContactLaw, op: OperatingPoint) -> float:
+    """The contact velocity amplitude [m/s] the creep force's step gives ``mode`` at a start
+    from rest: its modal force is Q l and the contact sees l q', so a0 = |Q| l^2 / sqrt(k m)
+    (Q = mu(zeta0) W the steady creep force, l the mode's lateral displacement at the
+    contact)."""
+    q0 = abs(float(adhesion_ratio(op.creepage, contact, op.rolling_speed_m_s))) * contact.normal_load_n
+    return q0 * mode.lateral**2 / math.sqrt(mode.stiffness_n_m * mode.mass_kg)
+
+
 def predict_limit_cycle(
     mode: ModalDOF, contact: ContactLaw, op: OperatingPoint, *, n_phase: int = 1024, n_grid: int = 240
 ) -> LimitCyclePrediction:
@@ -164,8 +174,7 @@ def predict_limit_cycle(
         # Pbar = V g(V); at a root dPbar/dV = V g'(V): the sign of g's change
         (stable if g[i] > 0 else unstable).append(float(root))
     sigma = analytic_growth_rate(mode, contact, op)
-    q0 = abs(float(adhesion_ratio(op.creepage, contact, op.rolling_speed_m_s))) * W
-    a0 = q0 / math.sqrt(mode.stiffness_n_m * mode.mass_kg)
+    a0 = initial_amplitude(mode, contact, op)
     # from rest: the oscillation starts at a0 and moves towards the nearest stable
     # state in the direction of the power balance
     if a0 > 0.0 and g_scalar(a0) > 0.0:

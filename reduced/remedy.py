@@ -167,7 +167,7 @@ def damping_to_stop(
     >>> m = ModalDOF.from_damping_ratio(3.1, 3.1 * (2 * 3.1416 * 1143.4) ** 2, 0.001)
     >>> law = ContactLaw(1000.0, 0.3, 0.3, 6.8e10, 8.5e-4, 5.9e-4)
     >>> r = damping_to_stop([m], law, OperatingPoint(17.84, 0.39))
-    >>> r.settled, r.damping_ratio[0] > 0.001
+    >>> r.settled, bool(r.damping_ratio[0] > 0.001)
     (True, True)
     """
     modes = as_modes(modes)

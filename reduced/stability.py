@@ -438,6 +438,35 @@ def _mechanisms(
     return out
 
 
+def _speaking(lam: np.ndarray, assigned: Sequence[Sequence[int]], share: np.ndarray) -> list[int]:
+    """Per mode, the eigenvalue that speaks for it: the fastest-growing one it takes part in
+    (a share of at least :data:`PARTNER_SHARE`: a coupled pair's, or one the counter-body
+    holds most of, for each of its modes), else its own slowest-decaying one."""
+    ranked = np.argsort(-lam.real, kind="stable")
+    out = []
+    for i, own in enumerate(assigned):
+        j = max(own, key=lambda jj: lam[jj].real)
+        grows = (int(jj) for jj in ranked if lam[jj].real > 0.0 and share[i, jj] >= PARTNER_SHARE)
+        out.append(next(grows, j))
+    return out
+
+
+def speaking_growth_rates(
+    modes: Modes,
+    damping: ArrayLike,
+    linear: LinearContact | float,
+    wheel_speed_rad_s: float = 0.0,
+    body: BodyModel | None = None,
+) -> np.ndarray:
+    """sigma [1/s] of each mode as :func:`linear_stability` gives it (the eigenvalue that
+    speaks for it: the fastest-growing one it takes part in) for dampings ``damping``
+    [N s/m] and the linearised contact ``linear``, with the counter-body ``body``."""
+    modes = as_modes(modes)
+    blocks = _blocks(modes, wheel_speed_rad_s, body)
+    lam, assigned, share = _eigen_shares(modes, np.asarray(damping, float), linear, wheel_speed_rad_s, blocks)
+    return np.array([lam[j].real for j in _speaking(lam, assigned, share)])
+
+
 def growth_rates(
     modes: Modes,
     damping: ArrayLike,
@@ -568,12 +597,9 @@ def linear_stability(
     lam, assigned, share = _eigen_shares(modes, damping, linear, wheel_speed_rad_s, blocks)
     mechanisms = _mechanisms(modes, damping, linear, wheel_speed_rad_s, blocks, lam)
     result = []
-    ranked = np.argsort(-lam.real, kind="stable")
+    speaking = _speaking(lam, assigned, share)
     for i in range(len(modes)):
-        j = max(assigned[i], key=lambda jj: lam[jj].real)
-        # a growing eigenvalue the mode takes part in speaks for it (a coupled pair's for
-        # both its modes), else its own slowest-decaying one
-        j = next((int(jj) for jj in ranked if lam[jj].real > 0.0 and share[i, jj] >= PARTNER_SHARE), j)
+        j = speaking[i]
         sigma, fd = float(lam[j].real), float(abs(lam[j].imag)) / (2 * math.pi)
         zeta_crit = slope_crit = math.nan
         if i in wanted and modes[i].lateral != 0.0:  # else the friction's slope cannot act on it

@@ -34,12 +34,17 @@ def same_numbers(a, b) -> None:
     """Two study datasets hold the same results (floats to 1e-9: a mode solved afresh
     or read from a cache; strings exactly)."""
     assert set(a.data_vars) == set(b.data_vars)
+    differ = {}
     for v in a.data_vars:
         x, y = a[v].values, b[v].values
         if x.dtype.kind in "fi":
-            np.testing.assert_allclose(x, y, rtol=1e-9, atol=0, equal_nan=True, err_msg=v)
+            same = np.isclose(x, y, rtol=1e-9, atol=0, equal_nan=True)
         else:
-            assert (x == y).all(), v
+            same = x == y
+        if not np.all(same):  # every differing variable, where and how: a failure says why
+            at = np.argwhere(~np.asarray(same))[:3]
+            differ[v] = [(tuple(int(i) for i in k), x[tuple(k)], y[tuple(k)]) for k in at]
+    assert differ == {}, differ
     for c in a.coords:
         np.testing.assert_array_equal(a[c].values, b[c].values)
 

@@ -115,16 +115,15 @@ class Outcomes:
 
     def competition(self, group: tuple[Mode, ...], fastest: Mode) -> tuple[Mode, str]:
         """The mode whose harmonic-balance cycle the others cannot grow on, followed from
-        the fastest-growing one (``reduced.competition.surviving_cycle``), and what the
-        row says of it (empty: the fastest's own cycle holds)."""
+        the one that reaches its cycle first from rest
+        (``reduced.competition.surviving_cycle``), and what the row says of it (empty: the
+        fastest-growing mode's own cycle holds)."""
         from reduced.competition import surviving_cycle
 
         dofs = mode_dofs(group, self.design)
         eigenvalues = [eigenvalue_of(self.table, self.row_of[m.index]) for m in group]
-        start = group.index(fastest) if fastest in group else 0
-        cycle, visited = surviving_cycle(
-            dofs, eigenvalues, self.contact, self.op, self.omega, body_of(self.design), start
-        )
+        body = body_of(self.design)
+        cycle, visited = surviving_cycle(dofs, eigenvalues, self.contact, self.op, self.omega, body)
         if cycle is None:
             return (
                 fastest,
@@ -134,7 +133,7 @@ class Outcomes:
         if carrier == fastest:
             return fastest, ""
         path = " -> ".join(group[c.index].label() for c in visited)
-        return carrier, f"the fastest-growing mode's cycle is taken over ({path})"
+        return carrier, f"the cycle reached from rest is not the fastest-growing mode's ({path})"
 
     def integrate(self, group: tuple[Mode, ...]) -> ModeOutcome:
         """The time-domain answer of ``group`` integrated together (with the counter-body)
