@@ -34,7 +34,7 @@ import numpy as np
 from .creep import ContactLaw, adhesion_ratio_slope
 from .model import ModalDOF, OperatingPoint
 from .predictor import equivalent_mode, harmonic_distortion, initial_amplitude, predict_limit_cycle
-from .stability import LinearContact, speaking_growth_rates
+from .stability import LinearContact, growth_rates
 
 if TYPE_CHECKING:
     from .counter_body import BodyModel
@@ -120,7 +120,7 @@ def growth_on_cycle(
     g = contact.normal_load_n / op.rolling_speed_m_s * averaged_slope(amplitude_m_s, contact, op)
     damping = np.array([m.damping_ns_m for m in modes])
     lin = replace(linear, friction_damping_ns_m=g)
-    return speaking_growth_rates(modes, damping, lin, wheel_speed_rad_s, body)
+    return growth_rates(modes, damping, lin, wheel_speed_rad_s, body, speaking=True)
 
 
 def _balance(

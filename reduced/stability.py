@@ -336,18 +336,6 @@ def _eigen(
     return lam[keep], (vec[:, keep] if vec is not None else None)
 
 
-def _mode_eigenvalues(
-    modes: Sequence[ModalDOF],
-    damping: np.ndarray,
-    linear: LinearContact | float,
-    wheel_speed_rad_s: float,
-    blocks: _Layout,
-) -> tuple[np.ndarray, list[list[int]]]:
-    """Eigenvalues with Im >= 0, and for each mode the ones assigned to it."""
-    lam, assigned, _ = _eigen_shares(modes, damping, linear, wheel_speed_rad_s, blocks)
-    return lam, assigned
-
-
 def _eigen_shares(
     modes: Sequence[ModalDOF],
     damping: np.ndarray,
@@ -355,8 +343,8 @@ def _eigen_shares(
     wheel_speed_rad_s: float,
     blocks: _Layout,
 ) -> tuple[np.ndarray, list[list[int]], np.ndarray]:
-    """:func:`_mode_eigenvalues` and each mode's share of each eigenvalue's vibration
-    energy, shape (modes, eigenvalues)."""
+    """The eigenvalues with Im >= 0, for each mode the ones assigned to it, and each
+    mode's share of each eigenvalue's vibration energy, shape (modes, eigenvalues)."""
     linear = LinearContact.of(linear)
     A = _state_matrix(modes, damping, linear, wheel_speed_rad_s, blocks)
     lam, vec = _eigen(A, linear.relaxation_time_s)
@@ -451,36 +439,25 @@ def _speaking(lam: np.ndarray, assigned: Sequence[Sequence[int]], share: np.ndar
     return out
 
 
-def speaking_growth_rates(
-    modes: Modes,
-    damping: ArrayLike,
-    linear: LinearContact | float,
-    wheel_speed_rad_s: float = 0.0,
-    body: BodyModel | None = None,
-) -> np.ndarray:
-    """sigma [1/s] of each mode as :func:`linear_stability` gives it (the eigenvalue that
-    speaks for it: the fastest-growing one it takes part in) for dampings ``damping``
-    [N s/m] and the linearised contact ``linear``, with the counter-body ``body``."""
-    modes = as_modes(modes)
-    blocks = _blocks(modes, wheel_speed_rad_s, body)
-    lam, assigned, share = _eigen_shares(modes, np.asarray(damping, float), linear, wheel_speed_rad_s, blocks)
-    return np.array([lam[j].real for j in _speaking(lam, assigned, share)])
-
-
 def growth_rates(
     modes: Modes,
     damping: ArrayLike,
     linear: LinearContact | float,
     wheel_speed_rad_s: float = 0.0,
     body: BodyModel | None = None,
+    *,
+    speaking: bool = False,
 ) -> np.ndarray:
     """sigma [1/s] of each mode for dampings ``damping`` [N s/m] and the linearised
     contact ``linear`` (a :class:`LinearContact`, or the friction damping g [N s/m] of
     the paper's lateral contact), with the counter-body ``body``: its own slowest-decaying
-    eigenvalue each."""
+    eigenvalue each, or with ``speaking`` the one :func:`linear_stability` gives it (the
+    fastest-growing eigenvalue it takes part in, a counter-body's too)."""
     modes = as_modes(modes)
     blocks = _blocks(modes, wheel_speed_rad_s, body)
-    lam, assigned = _mode_eigenvalues(modes, np.asarray(damping, float), linear, wheel_speed_rad_s, blocks)
+    lam, assigned, share = _eigen_shares(modes, np.asarray(damping, float), linear, wheel_speed_rad_s, blocks)
+    if speaking:
+        return np.array([lam[j].real for j in _speaking(lam, assigned, share)])
     return np.array([max((lam[j].real for j in js), default=-math.inf) for js in assigned])
 
 

@@ -10,7 +10,7 @@ import pytest
 import reduced as r
 from reduced.competition import growth_on_cycle, saturation_time_s, surviving_cycle
 from reduced.counter_body import ModalCounterBody
-from reduced.stability import LinearContact, growth_rates, speaking_growth_rates
+from reduced.stability import LinearContact, growth_rates
 
 LAW = r.ContactLaw.from_hertz(
     r.hertz_contact(0.213, 0.3, 0.085, 0.04, 175e9, 0.28, 1000.0), friction_coefficient=0.3
@@ -36,7 +36,7 @@ def test_each_modes_rate_is_the_linear_stabilitys():
     modes, body = _wheel_on_a_soft_body()
     damping = np.array([m.damping_ns_m for m in modes])
     linear = LinearContact.at(LAW, OP)
-    rates = speaking_growth_rates(modes, damping, linear, body=body)
+    rates = growth_rates(modes, damping, linear, body=body, speaking=True)
     assert growth_rates(modes, damping, linear, body=body)[1] < 0.0 < rates[1]  # its own decays
     expected = [s.growth_rate_1_s for s in r.linear_stability(modes, LAW, OP, body=body).modes]
     np.testing.assert_allclose(rates, expected, rtol=1e-12)
