@@ -34,6 +34,8 @@ def same_numbers(a, b) -> None:
     """Two study datasets hold the same results (floats to 1e-9: a mode solved afresh
     or read from a cache; strings exactly)."""
     assert set(a.data_vars) == set(b.data_vars)
+    failed = b["status"].values != "ok"
+    assert not failed.any(), f"cases not computed: {sorted(set(b['reason'].values[failed]))}"
     differ = {}
     for v in a.data_vars:
         x, y = a[v].values, b[v].values
@@ -47,6 +49,29 @@ def same_numbers(a, b) -> None:
     assert differ == {}, differ
     for c in a.coords:
         np.testing.assert_array_equal(a[c].values, b[c].values)
+
+
+#: What a case that failed for its environment, not its design, says (never stored: a rerun
+#: computes it)
+TRANSIENT = ("refused by the budget", "its dask workers died", "its worker process died")
+
+
+def completed(out: Path, cache: Path):
+    """The study in ``out``, its cases refused for their environment (a worker killed by
+    the test, a budget under a busy CI machine) computed by a rerun, as a user would; any
+    other failure fails the test. The rerun is said as a warning."""
+    import warnings
+
+    ds = xr.load_dataset(out / "study.nc")
+    failed = ds["status"].values != "ok"
+    if failed.any():
+        reasons = sorted(set(ds["reason"].values[failed]))
+        assert all(r.startswith(TRANSIENT) for r in reasons), reasons
+        warnings.warn(f"{int(failed.sum())} case(s) rerun: {reasons}", stacklevel=2)
+        r = run_study(out, cache, "--quiet")
+        assert r.returncode == 0, r.stderr
+        ds = xr.load_dataset(out / "study.nc")
+    return ds
 
 
 def run_study(out: Path, cache: Path, *extra, env=None, **kw):
@@ -166,7 +191,7 @@ def test_dask_local_cluster_gives_the_same_numbers(reference, tmp_path):
             os.environ.pop(k) if v is None else os.environ.__setitem__(k, v)
     assert r.returncode == 0, r.stderr
     assert "dask scheduler" in r.stderr
-    same_numbers(reference, xr.load_dataset(tmp_path / "out" / "study.nc"))
+    same_numbers(reference, completed(tmp_path / "out", tmp_path / "cache"))
     # the workers kept the FE in their own (default) cache
     assert any(p.name.endswith(".npz") for p in (tmp_path / "worker-cache").rglob("*")), "no worker cache"
 
@@ -244,7 +269,7 @@ def test_scheduler_and_worker_processes_survive_a_killed_worker(reference, tmp_p
         out, err = study.communicate(timeout=300)
         assert study.returncode == 0, err
         assert study.poll() == 0 and procs[1].wait(5) == -signal.SIGKILL
-        same_numbers(reference, xr.load_dataset(tmp_path / "out" / "study.nc"))
+        same_numbers(reference, completed(tmp_path / "out", tmp_path / "cache"))
     finally:
         for p in procs:
             if p.poll() is None:
