@@ -125,10 +125,9 @@ def growth_on_cycle(
 
 def _balance(
     k: int, modes: Sequence[ModalDOF], contact: ContactLaw, op: OperatingPoint, linear_rates: np.ndarray
-) -> tuple[ModalDOF, bool, float, float]:
-    """Mode ``k``'s equivalent mode (``reduced.equivalent_mode``), whether it is clipped,
-    its cycle's amplitude [m/s] (0: none) and the amplitude a start from rest gives it [m/s]
-    (the creep force's step)."""
+) -> tuple[ModalDOF, bool, float]:
+    """Mode ``k``'s equivalent mode (``reduced.equivalent_mode``), whether it is clipped and
+    its cycle's amplitude [m/s] (0: none)."""
     eq, clipped = equivalent_mode(modes[k], contact, op, float(linear_rates[k]))
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", RuntimeWarning)  # the distortion is reported instead
@@ -136,7 +135,7 @@ def _balance(
     amplitude = prediction.velocity_amplitude_m_s
     if not (math.isfinite(amplitude) and amplitude > 0.0):
         amplitude = 0.0
-    return eq, clipped, float(amplitude), float(prediction.initial_amplitude_m_s)
+    return eq, clipped, float(amplitude)
 
 
 def saturation_time_s(
@@ -174,7 +173,7 @@ def mode_cycle(
     ``linear_rates``: the modes' growth rates at steady sliding, where already solved."""
     if linear_rates is None:
         linear_rates = growth_on_cycle(0.0, modes, contact, op, wheel_speed_rad_s, body)
-    eq, clipped, amplitude, _ = _balance(k, modes, contact, op, linear_rates)
+    eq, clipped, amplitude = _balance(k, modes, contact, op, linear_rates)
     if amplitude == 0.0:
         return ModeCycle(k, 0.0, 0.0, clipped, tuple(float(x) for x in linear_rates))
     rates = growth_on_cycle(amplitude, modes, contact, op, wheel_speed_rad_s, body)
