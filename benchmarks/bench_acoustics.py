@@ -79,6 +79,7 @@ def wheel_table() -> None:
         "| efficiency | time [s] |"
     )
     print("|---|---|---|---|---|---|---|---|---|")
+    directivity_fields = []
     variants = [(f"{epw:g} el/wavelength", ac.RadiationSettings(elements_per_wavelength=epw)) for epw in EPW]
     variants += [
         ("layer 2x thicker", ac.RadiationSettings(pml_wavelengths=0.5, pml_min_fraction=1.0)),
@@ -104,6 +105,45 @@ def wheel_table() -> None:
                     f"{lw:.2f} | {spl:.2f} | {field.radiation_efficiency:.4f} | {s:.2f} |",
                     flush=True,
                 )
+                if fid == "balanced" and name == variants[2][0]:
+                    directivity_fields.append((mode.label(), field))
+    directivity_table(directivity_fields)
+
+
+def _far_field_with_jvp(traces, n: int, k: float, cos_theta: np.ndarray) -> np.ndarray:
+    """The baseline: ``acoustics.helmholtz.far_field`` with SciPy's jvp for J_n' (three
+    Bessel evaluations)."""
+    from scipy.special import jv, jvp
+
+    x, (nr, nz), p, dp, ds = traces
+    r, z = x
+    st, ct = np.sqrt(1.0 - cos_theta**2)[:, None], cos_theta[:, None]
+    kappa = k * r[None, :] * st
+    jn, jnp_ = jv(n, kappa), jvp(n, kappa)
+    phase = np.exp(1j * k * z[None, :] * ct)
+    ring_cos = 2 * np.pi * (1j**n) * jn
+    ring_cos1 = 2 * np.pi * (1j ** (n - 1)) * jnp_
+    dG = 1j * k * p[None, :] * (st * nr[None, :] * ring_cos1 + ct * nz[None, :] * ring_cos)
+    integrand = phase * (dG - dp[None, :] * ring_cos) * (r * ds)[None, :]
+    return integrand.sum(axis=1) / (4 * np.pi)
+
+
+def directivity_table(fields) -> None:
+    """The far-field directivity the pass-by reads (``acoustics.farfield.DIRECTIVITY_ANGLES``)
+    against the same integral with SciPy's jvp, in the same run: time and difference."""
+    from acoustics.farfield import DIRECTIVITY_ANGLES
+    from acoustics.helmholtz import far_field
+
+    print()
+    print("far-field directivity, balanced preset, 8 el/wavelength, medians of 5")
+    print("| mode | angles | time [s] | with jvp [s] | ratio | largest difference (relative) |")
+    print("|---|---|---|---|---|---|")
+    for label, field in fields:
+        args = (field.body.as_tuple(), field.harmonic, field.wavenumber, np.cos(DIRECTIVITY_ANGLES))
+        s, d = _timed(lambda args=args: far_field(*args), 5)
+        b, ref = _timed(lambda args=args: _far_field_with_jvp(*args), 5)
+        diff = float(np.max(np.abs(d - ref)) / np.max(np.abs(ref)))
+        print(f"| {label} | {len(DIRECTIVITY_ANGLES)} | {s:.3f} | {b:.3f} | {s / b:.2f} | {diff:.1e} |")
 
 
 if __name__ == "__main__":
