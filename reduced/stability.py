@@ -167,6 +167,8 @@ class StabilityResult:
     mechanisms : per eigenvalue, what makes it grow (None where it decays).
     linear : the linearised contact (:class:`LinearContact`).
     assigned : per mode, the eigenvalues assigned to it (one; two for a rotating pair).
+    speaking : per mode, the eigenvalue that speaks for it (its growth rate and frequency:
+        the fastest-growing one it takes part in, else its own slowest-decaying one).
     """
 
     modes: tuple[ModeStability, ...]
@@ -177,6 +179,7 @@ class StabilityResult:
     mechanisms: tuple[Mechanism | None, ...] = ()
     linear: LinearContact | None = None
     assigned: tuple[tuple[int, ...], ...] = ()
+    speaking: tuple[int, ...] = ()
 
     @property
     def winner(self) -> int:
@@ -593,6 +596,7 @@ def linear_stability(
         tuple(mechanisms),
         linear,
         tuple(tuple(js) for js in assigned),
+        tuple(speaking),
     )
 
 

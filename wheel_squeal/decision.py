@@ -83,17 +83,10 @@ def modes_of_eigenvalue(table: StabilityTable, j: int) -> list[int]:
 
 
 def eigenvalue_of(table: StabilityTable, row: int) -> int:
-    """The eigenvalue that speaks for the row's mode: the fastest-growing one it takes part
-    in (:func:`modes_of_eigenvalue`), else the one assigned to it (the slowest-decaying of
-    its own); a coupled pair's growing eigenvalue speaks for both its modes."""
-    lam = table.result.eigenvalues
-    for j in table.result.ranked():
-        if lam[j].real <= 0.0:
-            break
-        if row in modes_of_eigenvalue(table, j):
-            return int(j)
-    own = table.result.assigned[row]
-    return int(max(own, key=lambda j: lam[j].real))
+    """The eigenvalue that speaks for the row's mode (``reduced.StabilityResult.speaking``:
+    the fastest-growing one it takes part in, :func:`modes_of_eigenvalue`, else the one
+    assigned to it); a coupled pair's growing eigenvalue speaks for both its modes."""
+    return table.result.speaking[row]
 
 
 def fastest_mode(table: StabilityTable) -> int | None:
