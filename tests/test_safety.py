@@ -30,8 +30,8 @@ import wheel_squeal.folders as folders
 from geometry import WheelDesign
 from geometry.design import SECTIONS
 from wheel_squeal.budget import Budget
+from wheel_squeal.cache import COMPILED_FOLDER, StageCache
 from wheel_squeal.cache import MARKER as CACHE_MARKER
-from wheel_squeal.cache import StageCache
 from wheel_squeal.design import FIELDS
 from wheel_squeal.errors import BudgetError, RequestError
 from wheel_squeal.folders import MARKER, ResultFolder, result_folder
@@ -305,6 +305,16 @@ def test_cache_touches_only_its_own_entries(tmp_path):
         StageCache(user)
     r = run_cli("cache", "clear", "--cache-dir", user)
     assert r.returncode == 2 and (user / "x.npz").exists()
+
+
+def test_cache_of_a_concurrent_run_before_its_first_store_is_accepted(tmp_path):
+    """Two workers sharing a new cache: the first's numba writes its machine code into
+    ``compiled`` before its first store writes the marker; the second must not take the
+    folder for a user's."""
+    root = tmp_path / "cache"
+    (root / COMPILED_FOLDER).mkdir(parents=True)
+    StageCache(root).store("modes", {"k": 1}, {"a": np.arange(3.0)})
+    assert (root / CACHE_MARKER).is_file()
 
 
 def _plain_npz() -> bytes:

@@ -277,6 +277,34 @@ def test_scheduler_and_worker_processes_survive_a_killed_worker(reference, tmp_p
                 p.wait(10)
 
 
+def _children(pid: int) -> set[int]:
+    path = Path(f"/proc/{pid}/task/{pid}/children")
+    try:
+        return {int(x) for x in path.read_text().split()}
+    except OSError:
+        return set()
+
+
+def _kill_a_pool_worker(pid: int, workers: int) -> bool:
+    """SIGKILL one of the study's pool workers, mid-study: the first child that has lived
+    through two looks 0.5 s apart while the study had ``workers`` children (a process
+    forked for a moment, such as a mesher's, is not one of them). False after 60 s."""
+    end = time.time() + 60
+    seen: set[int] = set()
+    while time.time() < end:
+        now = _children(pid)
+        steady = sorted(seen & now)
+        if len(now) >= workers and steady:
+            try:
+                os.kill(steady[0], signal.SIGKILL)
+                return True
+            except ProcessLookupError:  # it ended between the look and the kill
+                pass
+        seen = now
+        time.sleep(0.5)
+    return False
+
+
 def test_local_pool_survives_a_killed_worker(reference, tmp_path):
     """A local pool process killed mid-study: the pool is rebuilt, the unfinished cases
     run again, the numbers are the same."""
@@ -297,15 +325,7 @@ def test_local_pool_survives_a_killed_worker(reference, tmp_path):
         stderr=subprocess.PIPE,
         text=True,
     )
-    children: list[int] = []
-    end = time.time() + 30
-    while not children and time.time() < end:
-        time.sleep(0.3)
-        path = Path(f"/proc/{study.pid}/task/{study.pid}/children")
-        children = [int(x) for x in path.read_text().split()] if path.exists() else []
-    time.sleep(1.0)
-    assert study.poll() is None  # mid-study
-    os.kill(children[0], signal.SIGKILL)
+    assert _kill_a_pool_worker(study.pid, workers=2)
     out, err = study.communicate(timeout=300)
     assert study.returncode == 0, err
     assert "a worker process died" in err

@@ -177,7 +177,9 @@ class StageCache:
                 children = {c.name for c in os.scandir(root)}
             except OSError as exc:
                 raise RequestError(f"cache folder {root} cannot be read ({exc.strerror})") from None
-            if children - _LEGACY_STAGES:
+            # numba may write the kernels' machine code before this process's first store
+            # writes the marker: a concurrent run's ``compiled`` folder is ours too
+            if children - _LEGACY_STAGES - {COMPILED_FOLDER}:
                 raise RequestError(
                     f"cache folder {root} is not empty and not a wheel-squeal cache (no {MARKER}): "
                     f"choose an empty or new folder for the cache"
