@@ -34,13 +34,14 @@ def test_the_spectrogram_finds_a_tone():
     assert abs(times.mean()) < 0.05  # centred on the signal's middle
 
 
-@pytest.mark.slow  # railway_920's modes and the map run six times (about 40 s cold)
+@pytest.mark.slow  # railway_920's modes and the map run eight times (about 45 s cold)
 def test_the_recommended_treatment_run_again_squeals_where_the_remedy_says(tmp_path):
     """The shipped wheel's map at 150 and 600 m, 40 km/h: the remedy recommends a
-    treatment; its design file, run over the same map, squeals in exactly the cases the
-    remedy says are still squealing; every treatment's design file loads; remedy.toml holds
-    the recommended change; curve.nc holds each case's one-third-octave spectrum, whose
-    largest band is the wheel's own L_pAmax where it has one tone."""
+    treatment that leaves nothing squealing; its design file, run over the same map,
+    squeals in exactly the cases the remedy says are still squealing; every treatment's
+    design file loads; remedy.toml holds the recommended change; curve.nc holds each
+    case's one-third-octave spectrum, whose largest band is the wheel's own L_pAmax where
+    it has one tone."""
     import xarray as xr
     from conftest import run_here
 
@@ -52,6 +53,9 @@ def test_the_recommended_treatment_run_again_squeals_where_the_remedy_says(tmp_p
     remedy = summary["remedy"]
     best = next(t for t in remedy["treatments"] if t["name"] == remedy["recommended"])
     assert best["cases_squealing_before"] > 0 and best["design_file"]
+    # a realistic treatment stops it all: the friction modifier for the treads' falling
+    # friction, the lubricated gauge face for the flange's mode coupling at 150 m
+    assert best["cases_still_squealing"] == 0
     assert remedy["words"].startswith("remedy: " + best["name"])
     assert r.stdout.lstrip().startswith("remedy: ")
     assert (out / "remedy.toml").read_text().split("\n", 1)[1].strip() in best["paste"]

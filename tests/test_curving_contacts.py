@@ -116,3 +116,39 @@ def test_modes_read_at_a_moved_contact_match_a_solve_at_that_contact():
             assert b.modal_mass == pytest.approx(a.modal_mass, rel=5e-3), a.label()
         if math.isfinite(a.normal_modal_mass) and a.normal_modal_mass < 1e4:
             assert b.normal_modal_mass == pytest.approx(a.normal_modal_mass, rel=0.02), a.label()
+
+
+def test_a_lubricated_flange_holds_its_own_friction(geometry):
+    """The gauge face lubricated (mu 0.1, the rail head's 0.3) at 150 m, 40 km/h: the
+    leading outer wheel still flanges; its flange contact's creep force is at most 0.1 N
+    (the saturation's bound, to round-off) while its tread's may use the head's 0.3; the
+    chain sees the flange's friction there; the four lateral forces still sum to the
+    bogie's mass times its unbalanced acceleration (to the solver's force tolerance)."""
+    from track.bogie_curving import FORCE_TOLERANCE
+    from track.curving import GRAVITY_M_S2
+    from wheel_squeal.curve import wheel_sites
+
+    load = 50e3
+    wheels = steady_curving(
+        geometry,
+        Vehicle(),
+        150.0,
+        40.0,
+        wheel_load_n=load,
+        friction_coefficient=0.3,
+        flange_friction_coefficient=0.1,
+    )
+    outer = wheels[1]
+    assert outer.flange_contact
+    flange = [c for c in outer.contacts if c.on_flange]
+    assert all(c.adhesion_used <= 1.0 + 1e-9 for c in flange)
+    for c in flange:
+        assert abs(c.longitudinal_force_n) <= 0.1 * c.normal_force_n * (1 + 1e-9)
+    lubricated = RAILWAY.replace(flange_friction_coefficient=0.1)
+    for site in wheel_sites(lubricated, outer, 40.0):
+        left = site.state.lateral_friction_coefficient(0.1 if site.state.on_flange else 0.3)
+        assert site.design.contact.friction_coefficient == pytest.approx(left)
+    unbalanced = (40 / 3.6) ** 2 / 150.0
+    total = sum(w.lateral_force_n for w in wheels)  # the rail's forces, toward the centre
+    mass = 4 * load / GRAVITY_M_S2
+    assert total == pytest.approx(mass * unbalanced, abs=8 * FORCE_TOLERANCE * load)

@@ -45,6 +45,7 @@ from typing import Any
 import numpy as np
 from scipy.optimize import brentq, least_squares
 
+from geometry.outline import MAX_CONTACT_ANGLE_DEG
 from reduced.contact import hertz_contact, kalker_coefficients
 
 from .contact_geometry import SHIFT_STEP_M, ContactGeometry, ContactPoint
@@ -62,6 +63,8 @@ CONICITY_GUESS = 0.15
 #: Where no start finds the equilibrium, it is followed from a wider curve to the one asked,
 #: through these multiples of its radius
 CONTINUATION_RADII = np.array([4.0, 2.5, 1.8, 1.4, 1.2, 1.1, 1.0])
+#: Contacts steeper than this are on the flange (``ContactPoint.on_flange``) [rad]
+FLANGE_ANGLE_RAD = math.radians(MAX_CONTACT_ANGLE_DEG)
 #: The equilibrium is solved when every force is within this fraction of the wheel load
 FORCE_TOLERANCE = 1.0e-4
 
@@ -252,8 +255,16 @@ class _Scene:
     unbalanced_m_s2: float
     wheel_load_n: float
     friction_coefficient: float
+    flange_friction_coefficient: float
     youngs_modulus_pa: float
     poissons_ratio: float
+
+    def friction_at(self, contact_angle_rad: float) -> float:
+        """The friction coefficient of a contact: the flange's where it is steeper than the
+        tread's regime (``ContactPoint.on_flange``), else the rail head's."""
+        if abs(contact_angle_rad) > FLANGE_ANGLE_RAD:
+            return self.flange_friction_coefficient
+        return self.friction_coefficient
 
 
 def _side_forces(
@@ -272,13 +283,14 @@ def _side_forces(
     spin = math.sin(gamma) / r
     g_mod = scene.youngs_modulus_pa / (2.0 * (1.0 + scene.poissons_ratio))
     cos_g, sin_g = math.cos(gamma), math.sin(gamma)
+    mu = scene.friction_at(gamma)
 
     def forces(normal: float) -> tuple[float, float, float]:
         grow = max(normal, 1.0) ** (1.0 / 3.0)
         ab = a1 * b1 * grow * grow
         fx = -g_mod * ab * c11 * xi_x
         ft = -g_mod * ab * c22 * xi_y + sign * g_mod * ab**1.5 * c23 * spin
-        limit = scene.friction_coefficient * max(normal, 1.0)
+        limit = mu * max(normal, 1.0)
         z = math.hypot(fx, ft) / limit
         scale = (1.0 - z / 3.0 + z * z / 27.0) if z < 3.0 else 1.0 / z
         return fx * scale, ft * scale, z * scale
@@ -352,12 +364,15 @@ def steady_curving(
     *,
     wheel_load_n: float,
     friction_coefficient: float,
+    flange_friction_coefficient: float | None = None,
     cant_mm: float = 0.0,
     youngs_modulus_pa: float = 210e9,
     poissons_ratio: float = 0.3,
 ) -> tuple[WheelContact, ...]:
     """The four wheels of a bogie in steady curving, in ``track.curving.WHEELS`` order
-    (module docstring). ``wheel_load_n`` is each wheel's static load [N].
+    (module docstring). ``wheel_load_n`` is each wheel's static load [N];
+    ``flange_friction_coefficient`` that of a contact on the flange (a lubricated gauge
+    face's; None: the rail head's ``friction_coefficient``).
 
     Raises
     ------
@@ -366,6 +381,7 @@ def steady_curving(
     """
     table = _table(geometry, float(youngs_modulus_pa), float(poissons_ratio))
     reach = table.shifts_m[-1]
+    flange_mu = friction_coefficient if flange_friction_coefficient is None else flange_friction_coefficient
 
     def problem(radius: float) -> tuple[_Scene, float, Callable[[np.ndarray], np.ndarray]]:
         speed = train_speed_km_h / 3.6
@@ -377,6 +393,7 @@ def steady_curving(
             unbalanced,
             float(wheel_load_n),
             float(friction_coefficient),
+            float(flange_mu),
             float(youngs_modulus_pa),
             float(poissons_ratio),
         )

@@ -360,6 +360,7 @@ def _planned(
                     float(v),
                     wheel_load_n=design.contact.normal_load,
                     friction_coefficient=design.contact.friction_coefficient,
+                    flange_friction_coefficient=design.contact.flange_friction_coefficient,
                     cant_mm=cant_mm,
                     youngs_modulus_pa=design.wheel.youngs_modulus,
                     poissons_ratio=design.wheel.poissons_ratio,

@@ -66,11 +66,13 @@ def wheel_sites(
 
     assert design.wheel.profile is not None  # contact_geometry refused a parametric wheel
     speed = train_speed_km_h / 3.6
-    mu = design.contact.friction_coefficient
+    tread_mu = design.contact.friction_coefficient
+    flange_mu = design.contact.flange_friction_coefficient
     sites = []
     for c in wheel.contacts:
         if c.load_share < LEAST_LOAD_SHARE or c.normal_force_n <= 0.0:
             continue
+        mu = flange_mu if c.on_flange and flange_mu is not None else tread_mu
         frame = frame_on_running_surface(design.wheel.profile, c.point.wheel_lateral_m)
         at = design.replace(
             normal_load=c.normal_force_n,

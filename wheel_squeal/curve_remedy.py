@@ -6,6 +6,11 @@ Treatments (:data:`TREATMENTS`):
 - a top-of-rail **friction modifier**: a flat creep curve beyond saturation (the
   ``constant`` friction law: no falling branch), the friction coefficient kept;
 - a **lower friction** coefficient, 0.2, what a top-of-rail product holds the rail at;
+- **flange lubrication**: the gauge face's friction coefficient at 0.1 (a lubricated
+  flange: 0.1 and below, Lewis & Olofsson (eds.), Wheel-rail interface handbook, 2009,
+  the chapters on friction management), the rail head's kept;
+- a **friction modifier and flange lubrication** together (the practice on curves where the
+  outer wheel's flange squeals beside the inner wheel's tread);
 - **wheel dampers** on the families of the squealing modes, at the damping ratio tuned
   absorbers and constrained layers give a railway wheel (0.005; Thompson 2009, ch. 14);
   where that is not enough, the ratio the squeal would need, to first order
@@ -38,6 +43,8 @@ __all__ = ["DAMPER_DAMPING_RATIO", "TREATMENTS", "CurveRemedy", "Treatment", "Tr
 DAMPER_DAMPING_RATIO = 0.005
 #: What a top-of-rail friction product holds the friction coefficient at
 MODIFIED_FRICTION = 0.2
+#: A lubricated gauge face's friction coefficient
+LUBRICATED_FLANGE_FRICTION = 0.1
 #: A steering bogie's primary yaw stiffness [N m/rad per wheelset]
 STEERING_YAW_STIFFNESS = 1.0e6
 #: The lower speed's share of each train speed
@@ -63,6 +70,21 @@ def _modifier(design: Design, cases: Sequence[CurveCase]) -> tuple[Design, dict[
 def _lower_friction(design: Design, cases: Sequence[CurveCase]) -> tuple[Design, dict[str, dict[str, Any]]]:
     mu = min(MODIFIED_FRICTION, design.contact.friction_coefficient)
     return design.replace(friction_coefficient=mu), {"contact": {"friction_coefficient": mu}}
+
+
+def _flange_lubrication(
+    design: Design, cases: Sequence[CurveCase]
+) -> tuple[Design, dict[str, dict[str, Any]]]:
+    mu = min(LUBRICATED_FLANGE_FRICTION, design.contact.friction_coefficient)
+    return design.replace(flange_friction_coefficient=mu), {"contact": {"flange_friction_coefficient": mu}}
+
+
+def _modifier_and_lubrication(
+    design: Design, cases: Sequence[CurveCase]
+) -> tuple[Design, dict[str, dict[str, Any]]]:
+    modified, top = _modifier(design, cases)
+    lubricated, flange = _flange_lubrication(modified, cases)
+    return lubricated, {"contact": top["contact"] | flange["contact"]}
 
 
 def _dampers(design: Design, cases: Sequence[CurveCase]) -> tuple[Design, dict[str, dict[str, Any]]]:
@@ -102,6 +124,18 @@ TREATMENTS: tuple[Treatment, ...] = (
         f"the rail head's friction held at {MODIFIED_FRICTION:g} by a top-of-rail product (the creep curve's "
         "shape kept)",
         _lower_friction,
+    ),
+    Treatment(
+        "flange lubrication",
+        f"the gauge face lubricated: the flange's friction coefficient {LUBRICATED_FLANGE_FRICTION:g}, "
+        "the rail head's kept",
+        _flange_lubrication,
+    ),
+    Treatment(
+        "friction modifier and flange lubrication",
+        "a top-of-rail friction modifier (the creep curve flat beyond saturation) and the gauge face "
+        f"lubricated (the flange's friction coefficient {LUBRICATED_FLANGE_FRICTION:g})",
+        _modifier_and_lubrication,
     ),
     Treatment(
         "wheel dampers",

@@ -131,6 +131,15 @@ class Contact(Fields):
     friction_coefficient: float = spec(
         0.3, "", "the friction coefficient mu_s = mu_0", flat="friction_coefficient", plausible=FRICTION_RANGE
     )
+    flange_friction_coefficient: float | None = spec(
+        None,
+        "",
+        "the friction coefficient where the flange touches (none: the rail head's; a lubricated gauge face "
+        "about 0.1)",
+        flat="flange_friction_coefficient",
+        when_set=True,
+        plausible=FRICTION_RANGE,
+    )
     friction_law: str = spec(
         DEFAULT_FRICTION_LAW,
         "-",
@@ -163,6 +172,8 @@ class Contact(Fields):
                 f"[contact] c22 = {self.c22:g} is outside the range of Kalker's creep coefficients "
                 f"({C22_RANGE[0]:g} to {C22_RANGE[1]:g}; 3.14 in the paper)"
             )
+        if self.flange_friction_coefficient is not None:
+            check_positive("contact", "flange_friction_coefficient", self.flange_friction_coefficient)
         self.check_plausible()
         if self.friction_law not in FRICTION_LAWS:
             raise DesignError(

@@ -256,7 +256,8 @@ def _add_curve_command(sub: argparse._SubParsersAction) -> None:
         "--no-remedy",
         action="store_true",
         help="leave out what would stop the squeal: each treatment (friction modifier, lower friction, "
-        "wheel dampers, steering bogie, lower speed) is checked by running the map again with it",
+        "flange lubrication, both, wheel dampers, steering bogie, lower speed) is checked by running the "
+        "map again with it",
     )
     p.add_argument(
         "--c22",
