@@ -36,7 +36,8 @@ def _summary(folder: Path) -> dict:
 @pytest.mark.parametrize(
     "command",
     [
-        ("run", "--modal-model"),
+        # two runs of the whole chain in subprocesses, the time domain's kernels loaded: ~3 s
+        pytest.param(("run", "--modal-model"), marks=pytest.mark.slow),
         ("stability", "--modal-model"),
         ("sweep", *TABLE1_MODE_ARGS, "--crab-velocity", "0.39", "--rpm", "800"),
     ],

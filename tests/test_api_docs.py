@@ -30,7 +30,13 @@ def test_every_public_name_has_a_numpydoc_docstring(name):
         assert "Attributes\n----------" in doc, name
 
 
-@pytest.mark.parametrize("name", ws.__all__)
+#: Examples that solve a wheel's modes and its steady curving (the curve's: about 6 s)
+SLOW_EXAMPLES = {"curve"}
+
+
+@pytest.mark.parametrize(
+    "name", [pytest.param(n, marks=pytest.mark.slow) if n in SLOW_EXAMPLES else n for n in ws.__all__]
+)
 def test_every_public_example_runs(name):
     """The examples solve small models (one given mode, or the fast preset below
     1.5 kHz): a few hundredths of a second each, 3 s in all."""

@@ -126,6 +126,7 @@ def _paste(design: Path, remedy_toml: Path, into: Path, name: str) -> Path:
     return into
 
 
+@pytest.mark.slow  # the run, then again with the remedy pasted: two chains in subprocesses (~3 s)
 def test_the_coupled_pairs_remedy_pasted_stops_it(tmp_path):
     """The modal model's pair squeals by mode coupling; its remedy.toml names both
     partners by their labels; pasted into the design, the same run says no squeal."""
