@@ -152,3 +152,20 @@ def test_a_lubricated_flange_holds_its_own_friction(geometry):
     total = sum(w.lateral_force_n for w in wheels)  # the rail's forces, toward the centre
     mass = 4 * load / GRAVITY_M_S2
     assert total == pytest.approx(mass * unbalanced, abs=8 * FORCE_TOLERANCE * load)
+
+
+def test_a_run_of_curves_started_from_its_neighbour_finds_the_same_equilibrium(geometry):
+    """Curves from 3000 m down to 120 m, each solve started from the last one's equilibrium
+    (what a map and a line do): every wheel's shift and angle of attack equal the cold
+    solve's to 1e-9 (one equilibrium; the solver's tolerance is far below)."""
+    from track.bogie_curving import contact_table, solve_curving
+
+    table = contact_table(geometry)
+    last = None
+    for radius in (3000.0, 1000.0, 450.0, 200.0, 120.0):
+        kwargs = dict(wheel_load_n=50e3, friction_coefficient=0.4, table=table)
+        cold = solve_curving(geometry, Vehicle(), radius, 60.0, **kwargs)
+        last = solve_curving(geometry, Vehicle(), radius, 60.0, start=last, **kwargs)
+        for a, b in zip(cold.wheels, last.wheels):
+            assert b.lateral_shift_m == pytest.approx(a.lateral_shift_m, abs=1e-9)
+            assert b.angle_of_attack_rad == pytest.approx(a.angle_of_attack_rad, abs=1e-9)

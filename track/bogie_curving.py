@@ -51,7 +51,17 @@ from reduced.contact import hertz_contact, kalker_coefficients
 from .contact_geometry import SHIFT_STEP_M, ContactGeometry, ContactPoint
 from .curving import GRAVITY_M_S2, MAX_ANGLE_OF_ATTACK_RAD, RAIL_SPACING_M, WHEELS, Axle, Rail
 
-__all__ = ["ContactState", "CurvingError", "Vehicle", "WheelContact", "steady_curving"]
+__all__ = [
+    "BogieCurving",
+    "ContactState",
+    "ContactTable",
+    "CurvingError",
+    "Vehicle",
+    "WheelContact",
+    "contact_table",
+    "solve_curving",
+    "steady_curving",
+]
 
 
 #: The least share of the friction coefficient the lateral creep force keeps where the
@@ -205,15 +215,25 @@ class WheelContact:
 
 
 @dataclass(frozen=True)
-class _Table:
+class ContactTable:
+    """A wheel's contacts on its rail at every tabulated lateral shift, with each contact's
+    Hertz ellipse at 1 N and Kalker's coefficients: what the curving interpolates (made
+    once per wheel and rail by :func:`contact_table`)."""
+
     shifts_m: np.ndarray
     contacts: tuple[tuple[ContactPoint, ...], ...]  # per shift: outer's, inner's first contacts
     # shift x side x (y_c, r, gamma, a and b at 1 N, C11, C22, C23): a Hertz ellipse keeps
     # its shape under any load and its semi-axes grow as N^(1/3)
     values: np.ndarray = field(repr=False)
+    youngs_modulus_pa: float = 210e9
+    poissons_ratio: float = 0.3
 
 
-def _table(geometry: ContactGeometry, youngs_modulus_pa: float, poissons_ratio: float) -> _Table:
+def contact_table(
+    geometry: ContactGeometry, youngs_modulus_pa: float = 210e9, poissons_ratio: float = 0.3
+) -> ContactTable:
+    """The :class:`ContactTable` of ``geometry`` for wheel and rail of Young's modulus
+    ``youngs_modulus_pa`` [Pa] and Poisson's ratio ``poissons_ratio``."""
     positions = geometry.tabulated
     shifts = np.array([p.lateral_shift_m for p in positions])
     contacts = tuple((p.outer[0], p.inner[0]) for p in positions)
@@ -244,7 +264,7 @@ def _table(geometry: ContactGeometry, youngs_modulus_pa: float, poissons_ratio: 
                 ]
             )
         values.append(sides)
-    return _Table(shifts, contacts, np.array(values))
+    return ContactTable(shifts, contacts, np.array(values), float(youngs_modulus_pa), float(poissons_ratio))
 
 
 @dataclass(frozen=True)
@@ -319,7 +339,7 @@ def _side_forces(
 JUMP_M = 1.0e-3
 
 
-def _rows(table: _Table, y: float, side: int) -> list[tuple[float, int, np.ndarray]]:
+def _rows(table: ContactTable, y: float, side: int) -> list[tuple[float, int, np.ndarray]]:
     """The contacts of one side at shift ``y`` as (share of the load, table index, values):
     one contact interpolated between its neighbours, or, where the contact jumps between
     them onto the flange, both, the load shared in proportion to the way across (two-point contact)."""
@@ -333,7 +353,7 @@ def _rows(table: _Table, y: float, side: int) -> list[tuple[float, int, np.ndarr
 
 
 def _wheelset(
-    scene: _Scene, table: _Table, y: float, psi: float, excess: float, transfer_n: float
+    scene: _Scene, table: ContactTable, y: float, psi: float, excess: float, transfer_n: float
 ) -> tuple[float, float, float, list[list[tuple[float, int, np.ndarray, float, tuple[Any, ...]]]]]:
     """A wheelset's contact forces: (lateral, yaw moment, longitudinal, per side its
     contacts' (share, table index, values, forces))."""
@@ -354,6 +374,15 @@ def _wheelset(
     if over > 0:
         lat -= math.copysign(1e10 * over, y)
     return lat, mom, lon, sides
+
+
+@dataclass(frozen=True)
+class BogieCurving:
+    """A bogie's steady curving (:func:`solve_curving`): its four wheels, and the solved
+    unknowns (scaled), a start for the same bogie in a neighbouring curve."""
+
+    wheels: tuple[WheelContact, ...]
+    unknowns: np.ndarray = field(repr=False)
 
 
 def steady_curving(
@@ -379,7 +408,35 @@ def steady_curving(
     CurvingError
         Where the wheelset would climb its flange or no equilibrium is found.
     """
-    table = _table(geometry, float(youngs_modulus_pa), float(poissons_ratio))
+    return solve_curving(
+        geometry,
+        vehicle,
+        radius_m,
+        train_speed_km_h,
+        wheel_load_n=wheel_load_n,
+        friction_coefficient=friction_coefficient,
+        flange_friction_coefficient=flange_friction_coefficient,
+        cant_mm=cant_mm,
+        table=contact_table(geometry, youngs_modulus_pa, poissons_ratio),
+    ).wheels
+
+
+def solve_curving(
+    geometry: ContactGeometry,
+    vehicle: Vehicle,
+    radius_m: float,
+    train_speed_km_h: float,
+    *,
+    wheel_load_n: float,
+    friction_coefficient: float,
+    table: ContactTable,
+    flange_friction_coefficient: float | None = None,
+    cant_mm: float = 0.0,
+    start: BogieCurving | None = None,
+) -> BogieCurving:
+    """:func:`steady_curving` with the wheel's :func:`contact_table` made once (its
+    elastic constants are the table's) and, for a run of curves, the solution of a
+    neighbouring one as the first ``start`` (the same equilibrium, found in a few steps)."""
     reach = table.shifts_m[-1]
     flange_mu = friction_coefficient if flange_friction_coefficient is None else flange_friction_coefficient
 
@@ -394,8 +451,8 @@ def steady_curving(
             float(wheel_load_n),
             float(friction_coefficient),
             float(flange_mu),
-            float(youngs_modulus_pa),
-            float(poissons_ratio),
+            table.youngs_modulus_pa,
+            table.poissons_ratio,
         )
         transfer = mass_per_wheelset * unbalanced * vehicle.centre_of_gravity_height_m / RAIL_SPACING_M
 
@@ -443,7 +500,7 @@ def steady_curving(
     mass_per_wheelset = 2.0 * wheel_load_n / GRAVITY_M_S2
     k_y, k_psi = vehicle.primary_lateral_stiffness_n_m, vehicle.primary_yaw_stiffness_n_m_rad
     scale = 1e-3  # the unknowns in mm, mrad and per mille
-    best = equilibrium(float(radius_m))
+    best = equilibrium(float(radius_m), () if start is None else (start.unknowns,))
     if best is None or np.max(np.abs(best.fun)) > FORCE_TOLERANCE:
         # continuation: from a wider curve, where the equilibrium is easy, to this one
         best = None
@@ -496,4 +553,4 @@ def steady_curving(
                 lateral_force_n=float(-sum(c[3] for c in contacts)),
             )
         )
-    return tuple(wheels)
+    return BogieCurving(tuple(wheels), np.array(best.x))

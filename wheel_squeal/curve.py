@@ -289,7 +289,7 @@ def _planned(
     """The request checked and priced in its three steps (``plan.curve_plan``), each
     refused beyond the budget before the next where ``check``: (the modes, the plan, each
     curve's wheels and their contact sites)."""
-    from track.bogie_curving import steady_curving
+    from track.bogie_curving import BogieCurving, contact_table, solve_curving
     from track.curving import check_curve
 
     from .api import compute_modes
@@ -334,8 +334,10 @@ def _planned(
     key = modes_cache_key(design, ctx.fidelity, ctx.fmax_hz)
     memo_key = ("curve", repr(key), design.wheel.profile, design.rolling_radius)
     if memo_key not in ctx.memo:
+        wheel_on_rail = contact_geometry(design)
         ctx.memo[memo_key] = (
-            contact_geometry(design),
+            wheel_on_rail,
+            contact_table(wheel_on_rail, design.wheel.youngs_modulus, design.wheel.poissons_ratio),
             compute_modes(
                 design,
                 ctx.fidelity,
@@ -345,15 +347,18 @@ def _planned(
                 budget=ctx.budget,
             ),
         )
-    geometry, modes = ctx.memo[memo_key]
+    geometry, table, modes = ctx.memo[memo_key]
     contact = contact_law(design)
     wheel_dofs = mode_dofs(excitable(modes, contact), design)
     checked(plan_of(wheel_dofs=wheel_dofs))
     curvings: Curvings = {}
     with ctx.progress.stage(f"steady curving of {size.curves:,} curves"):
-        for r in radii_m:
+        # each speed's curves from the widest to the tightest, each solve starting from the
+        # last one's equilibrium: the same equilibrium in a few steps
+        last: dict[float, BogieCurving] = {}
+        for r in sorted(radii_m, reverse=True):
             for v in train_speeds_km_h:
-                wheels = steady_curving(
+                solved = solve_curving(
                     geometry,
                     vehicle,
                     float(r),
@@ -362,10 +367,13 @@ def _planned(
                     friction_coefficient=design.contact.friction_coefficient,
                     flange_friction_coefficient=design.contact.flange_friction_coefficient,
                     cant_mm=cant_mm,
-                    youngs_modulus_pa=design.wheel.youngs_modulus,
-                    poissons_ratio=design.wheel.poissons_ratio,
+                    table=table,
+                    start=last.get(float(v)),
                 )
-                curvings[(float(r), float(v))] = [(w, wheel_sites(design, w, float(v), c22)) for w in wheels]
+                last[float(v)] = solved
+                curvings[(float(r), float(v))] = [
+                    (w, wheel_sites(design, w, float(v), c22)) for w in solved.wheels
+                ]
     if not (check or price):  # priced by the caller as a whole (a line): no pre-pass
         return modes, plan_of(wheel_dofs=wheel_dofs), curvings
     sites = [
