@@ -38,6 +38,7 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
@@ -53,6 +54,7 @@ __all__ = [
     "PERIODS",
     "BandPower",
     "CurveEmission",
+    "HeardPassby",
     "SquealState",
     "band_emission_power",
     "cnossos_curve_correction_db",
@@ -151,14 +153,47 @@ def cnossos_curve_correction_db(radius_m: float) -> float:
 
 
 @dataclass(frozen=True)
+class HeardPassby:
+    """What a state's pass-by leaves for the line source: its L_pAmax and SEL_A [dB(A)] at
+    the pass-by position and the bogie's directional power per band
+    (:func:`band_emission_power`); plain numbers, to cross between processes as a dict."""
+
+    lpamax_dba: float
+    sel_dba: float
+    power: BandPower
+
+    @classmethod
+    def of(cls, passby: PassbyResult, speed_m_s: float, distance_m: float) -> HeardPassby:
+        """The pass-by ``passby`` of bogies at ``speed_m_s`` [m/s], heard ``distance_m`` [m]
+        from the source."""
+        power = band_emission_power(passby, speed_m_s, distance_m)
+        return cls(float(passby.lpamax_dba), float(passby.sel_dba), power)
+
+    def to_dict(self) -> dict[str, Any]:
+        p = self.power
+        return {
+            "lpamax_dba": self.lpamax_dba,
+            "sel_dba": self.sel_dba,
+            "octaves_w": p.octaves.tolist(),
+            "thirds_w": p.thirds.tolist(),
+            "a_weighted_w": p.a_weighted_w,
+        }
+
+    @classmethod
+    def from_dict(cls, d: Mapping[str, Any]) -> HeardPassby:
+        power = BandPower(np.array(d["octaves_w"]), np.array(d["thirds_w"]), float(d["a_weighted_w"]))
+        return cls(float(d["lpamax_dba"]), float(d["sel_dba"]), power)
+
+
+@dataclass(frozen=True)
 class SquealState:
     """One state of the rail head a curve sees (a friction, say): its share of the time,
-    whether the bogie squeals in it, and its pass-by (None: silent, or squealing without
-    a level)."""
+    whether the bogie squeals in it, and what its pass-by leaves (None: silent, or
+    squealing without a level)."""
 
     share: float
     squeals: bool
-    passby: PassbyResult | None
+    heard: HeardPassby | None
 
 
 @dataclass(frozen=True)
@@ -203,11 +238,11 @@ def intermittent_emission(
         if not state.squeals:
             continue
         probability += state.share
-        if state.passby is None:
+        if state.heard is None:
             continue  # it squeals without a level (mode coupling alone): counted, not heard
-        lpamax.append((state.passby.lpamax_dba, state.share))
-        sel.append((state.passby.sel_dba, state.share))
-        power = band_emission_power(state.passby, speed_m_s, distance_m)
+        lpamax.append((state.heard.lpamax_dba, state.share))
+        sel.append((state.heard.sel_dba, state.share))
+        power = state.heard.power
         octaves = octaves + state.share * power.octaves
         thirds = thirds + state.share * power.thirds
         a_power += state.share * power.a_weighted_w

@@ -175,3 +175,38 @@ def test_a_line_writes_what_the_mapping_tools_read(tmp_path):
     assert summary["curves"] == 4
     for name in ("line.csv", "line.png", "report.html"):
         assert (out / name).stat().st_size > 200, name
+
+
+@pytest.mark.slow  # railway_920's modes in a new cache, then two curves in two states (~40 s)
+def test_a_line_on_local_processes_gives_the_same_numbers_and_resumes(tmp_path, monkeypatch):
+    """Two curves in two friction states: on two local processes the same numbers as in
+    this process; each task kept in the cache, so that the line run again computes nothing
+    (every task from the earlier run: a task that ran again would fail here)."""
+    import wheel_squeal as ws
+    import wheel_squeal.line as line_module
+    from wheel_squeal.cache import StageCache
+    from wheel_squeal.line import LineSpec, line, load_line
+
+    path = tmp_path / "line.csv"
+    path.write_text(f"{HEADER}\ntight,150,200,0,40\nwide,2000,500,0,40\n")
+    curves = load_line(path)
+    design = ws.load_design("railway_920_track")
+    spec = LineSpec(friction_coefficients=(0.3, 0.5), friction_weights=(1.0, 1.0))
+    cache = StageCache(tmp_path / "cache")
+    ctx = ws.RunContext.of("balanced", cache=cache)
+    pool = line(design, curves, spec, context=ctx, workers=2)
+    import shutil
+
+    shutil.rmtree(cache.root / "study")  # the tasks forgotten, the modes kept
+    here = line(design, curves, spec, context=ws.RunContext.of("balanced", cache=cache), workers=1)
+
+    def ran_again(*args, **kwargs):
+        raise AssertionError("a stored task ran again")
+
+    monkeypatch.setattr(line_module, "run_line_job", ran_again)
+    again = line(design, curves, spec, context=ctx, workers=2)
+    for a, b, c in zip(here, pool, again):
+        assert a.emission.probability == b.emission.probability == c.emission.probability
+        assert a.emission.laeq_dba == b.emission.laeq_dba == c.emission.laeq_dba
+        assert np.array_equal(a.emission.thirds_db["day"], b.emission.thirds_db["day"])
+    assert here[0].emission.probability > 0 and here[1].emission.probability == 0

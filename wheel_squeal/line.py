@@ -18,6 +18,7 @@ states); the emission is the expected one (the squealing states' power times the
 from __future__ import annotations
 
 import math
+import os
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -30,21 +31,23 @@ from track.line import LineCurve
 from .errors import RequestError
 
 if TYPE_CHECKING:
-    from acoustics.emission import CurveEmission
+    from acoustics.emission import CurveEmission, SquealState
 
     from .context import RunContext
-    from .curve_case import CurveCase
     from .design import Design
+    from .presets import Fidelity
 
 __all__ = [
     "PERIODS",
     "LineCurve",
+    "LineJob",
     "LineResult",
     "LineSpec",
     "line",
     "load_line",
     "load_line_spec",
     "read_line_spec",
+    "run_line_job",
 ]
 
 #: The default traffic: trains per hour in each period (an illustrative regional service)
@@ -194,28 +197,92 @@ class LineResult:
     cnossos_correction_db: float
 
 
-def _result(curve: LineCurve, states: list[tuple[float, list[CurveCase]]], spec: LineSpec) -> LineResult:
-    """One curve's result from its bogie's cases in each friction state (share, cases)."""
-    from acoustics.emission import (
-        CNOSSOS_SOURCE_HEIGHT_M,
-        SquealState,
-        cnossos_curve_correction_db,
-        intermittent_emission,
-    )
+def _result(curve: LineCurve, states: list[SquealState], spec: LineSpec) -> LineResult:
+    """One curve's result from its bogie's state in each friction state."""
+    from acoustics.emission import cnossos_curve_correction_db, intermittent_emission
+
+    per_hour = {p: spec.bogies_per_hour(p) for p, _ in PERIODS}
+    emission = intermittent_emission(states, curve.train_speed_km_h / 3.6, _passby_distance_m(), per_hour)
+    return LineResult(curve, emission, cnossos_curve_correction_db(curve.radius_m))
+
+
+def _passby_distance_m() -> float:
+    """From CNOSSOS-EU's wheel/rail source to the ISO 3095 microphone [m]."""
+    from acoustics.emission import CNOSSOS_SOURCE_HEIGHT_M
     from acoustics.passby import MICROPHONE_DISTANCE_M, MICROPHONE_HEIGHT_M
 
-    distance = math.hypot(MICROPHONE_DISTANCE_M, MICROPHONE_HEIGHT_M - CNOSSOS_SOURCE_HEIGHT_M)
-    squeal_states = [
-        SquealState(
-            share,
-            any(c.analysis.verdict.squeals for c in cases),
-            next((c.passby.free for c in cases if c.passby is not None), None),
+    return math.hypot(MICROPHONE_DISTANCE_M, MICROPHONE_HEIGHT_M - CNOSSOS_SOURCE_HEIGHT_M)
+
+
+#: The curves of one speed, cant and friction state one task takes (each curve's steady
+#: curving starts from the last one's equilibrium; more tasks spread over more workers)
+CURVES_PER_TASK = 25
+
+
+@dataclass(frozen=True)
+class LineJob:
+    """One task of a line: the curve map of ``radii_m`` at one speed and cant, of the design
+    in one friction state; the worker's cache folder (None: none; "": its default) and the
+    limit of its modal solve."""
+
+    design: Design
+    radii_m: tuple[float, ...]
+    train_speed_km_h: float
+    cant_mm: float
+    fidelity: Fidelity
+    fmax_hz: float
+    cache_dir: str | None
+    max_dofs: float | None
+
+
+def _failures() -> tuple[type[Exception], ...]:
+    """The failures a line's task reports as its result (bad input or an anticipated
+    failure of the computation), raised again in the caller's process by their name."""
+    from fem.eigen import EigenError
+    from geometry import MeshError
+    from reduced.model import IntegrationError
+    from track.bogie_curving import CurvingError
+
+    return (RequestError, CurvingError, MeshError, EigenError, IntegrationError)
+
+
+def run_line_job(job: LineJob, context: RunContext | None = None) -> dict:
+    """A :class:`LineJob` as a JSON-ready dict: ``status``, ``reason`` and per radius the
+    bogie's ``squeals`` and what its pass-by leaves (``acoustics.emission.HeardPassby``);
+    in ``context`` (this process's) or in a context of the job's own."""
+    from acoustics.emission import HeardPassby
+
+    from .budget import Budget
+    from .cache import StageCache
+    from .context import RunContext
+    from .curve import curve as curve_map
+    from .errors import BudgetError
+    from .study.runner import transient
+
+    if context is None:
+        cache = None if job.cache_dir is None else StageCache(job.cache_dir or None)
+        context = RunContext(job.fidelity, job.fmax_hz, cache, Budget.from_environment(job.max_dofs))
+    try:
+        cases = curve_map(
+            job.design,
+            list(job.radii_m),
+            [job.train_speed_km_h],
+            cant_mm=job.cant_mm,
+            context=context,
+            priced=True,
         )
-        for share, cases in states
-    ]
-    per_hour = {p: spec.bogies_per_hour(p) for p, _ in PERIODS}
-    emission = intermittent_emission(squeal_states, curve.train_speed_km_h / 3.6, distance, per_hour)
-    return LineResult(curve, emission, cnossos_curve_correction_db(curve.radius_m))
+    except BudgetError as exc:  # this run's limit, not the line's: computed again next time
+        return transient(f"refused by the budget: {exc}")
+    except _failures() as exc:
+        return {"status": "failed", "error": type(exc).__name__, "reason": str(exc)}
+    speed, distance = job.train_speed_km_h / 3.6, _passby_distance_m()
+    states = []
+    for i in range(len(job.radii_m)):
+        bogie = cases[4 * i : 4 * i + 4]
+        passby = next((c.passby.free for c in bogie if c.passby is not None), None)
+        heard = None if passby is None else HeardPassby.of(passby, speed, distance).to_dict()
+        states.append({"squeals": any(c.analysis.verdict.squeals for c in bogie), "heard": heard})
+    return {"status": "ok", "reason": "", "curves": states}
 
 
 def line(
@@ -224,15 +291,35 @@ def line(
     spec: LineSpec,
     *,
     context: RunContext | None = None,
+    workers: int | None = 1,
+    scheduler: str | None = None,
 ) -> list[LineResult]:
     """Every curve of a line under the friction of ``spec`` (module docstring), in the
-    line's order. The curves that share a speed and a cant are one map per friction state."""
+    line's order. The curves that share a speed and a cant are one map per friction state,
+    run as tasks of :data:`CURVES_PER_TASK` curves (:class:`LineJob`) as a study's cases
+    are: in this process (``workers`` 1), on local processes (None: the cores) or on the
+    dask scheduler at ``scheduler``; each finished task is kept in the context's cache, so
+    that a line stopped and started again computes only what is missing."""
+    import functools
+
+    from acoustics.emission import HeardPassby, SquealState
     from track.curving import check_curve
 
     from .context import RunContext
-    from .curve import curve as curve_map
+    from .provenance import CODE_PACKAGES, code_version
+    from .study.runner import (
+        SCHEDULER_ENV,
+        check_scheduler_address,
+        local_workers,
+        run_tasks,
+        store_result,
+        stored_results,
+    )
 
     ctx = context or RunContext.of("balanced")
+    scheduler = scheduler or os.environ.get(SCHEDULER_ENV) or None
+    if scheduler:
+        scheduler = check_scheduler_address(scheduler)
     vehicle = design.vehicle.vehicle()
     for c in curves:
         try:
@@ -243,17 +330,63 @@ def line(
     for c in curves:
         groups.setdefault((c.train_speed_km_h, c.cant_mm), []).append(c)
     states = spec.states()
-    by_curve: dict[str, list[tuple[float, list[CurveCase]]]] = {c.id: [] for c in curves}
-    done = 0
-    with ctx.progress.stage(f"{len(curves):,} curves x {len(states)} friction states"):
-        for (speed, cant), members in groups.items():
-            radii = sorted({spec.grid_radius_m(c.radius_m) for c in members})
-            for mu, law, share in states:
-                treated = design.replace(friction_coefficient=mu, friction_law=law)
-                cases = curve_map(treated, radii, [speed], cant_mm=cant, context=ctx, priced=True)
-                by_radius = {r: cases[4 * i : 4 * i + 4] for i, r in enumerate(radii)}
-                for c in members:
-                    by_curve[c.id].append((share, by_radius[spec.grid_radius_m(c.radius_m)]))
-            done += len(members)
-            ctx.progress.say(f"{done:,} of {len(curves):,} curves")
+    n_local = 1 if scheduler else local_workers(workers, ctx.progress)
+    cache_dir = (
+        None if ctx.cache is None or not ctx.cache.enabled else "" if scheduler else str(ctx.cache.root)
+    )
+    jobs: list[tuple[LineJob, int]] = []  # and the index of its friction state
+    for (speed, cant), members in groups.items():
+        radii = sorted({spec.grid_radius_m(c.radius_m) for c in members}, reverse=True)
+        for k, (mu, law, _) in enumerate(states):
+            treated = design.replace(friction_coefficient=mu, friction_law=law)
+            for i in range(0, len(radii), CURVES_PER_TASK):
+                chunk = tuple(radii[i : i + CURVES_PER_TASK])
+                job = LineJob(
+                    treated, chunk, speed, cant, ctx.fidelity, ctx.fmax_hz, cache_dir, ctx.budget.max_dofs
+                )
+                jobs.append((job, k))
+    base = {"stage": "line-task", "code": code_version(*CODE_PACKAGES), "fmax_hz": ctx.fmax_hz}
+    keys = [
+        {
+            **base,
+            "fidelity": repr(j.fidelity),
+            "design": j.design.content_hash(),
+            "radii": list(j.radii_m),
+            "speed": j.train_speed_km_h,
+            "cant": j.cant_mm,
+        }
+        for j, _ in jobs
+    ]
+    results = stored_results(keys, ctx.cache)
+    todo = {i: jobs[i][0] for i, r in enumerate(results) if r is None}
+    report = ctx.progress.counter(f"{len(curves):,} curves x {len(states)} friction states", "tasks")
+    ctx.progress.say(f"line: {len(jobs)} tasks, {len(jobs) - len(todo)} from an earlier run")
+
+    def done(i: int, result: dict) -> None:
+        ctx.budget.checkpoint(f"the line's task {i}")
+        results[i] = result
+        store_result(ctx.cache, keys[i], result)
+        report(sum(r is not None for r in results), len(results))
+
+    here = functools.partial(run_line_job, context=ctx)
+    if todo and not scheduler and n_local > 1:  # the first here: the workers inherit its modes
+        first = min(todo)
+        done(first, here(todo.pop(first)))
+    run_tasks(
+        todo, run_line_job if scheduler else here, done, n_local, scheduler, ctx.progress, lambda n: None
+    )
+    failed = next((r for r in results if r is not None and r["status"] != "ok"), None)
+    if failed is not None:
+        error = {e.__name__: e for e in _failures()}.get(failed.get("error", ""), RequestError)
+        raise error(failed["reason"])
+    by_curve: dict[str, list[SquealState]] = {c.id: [] for c in curves}
+    for (job, k), result in zip(jobs, results):
+        assert result is not None  # every task has run
+        at = dict(zip(job.radii_m, result["curves"]))
+        (speed, cant), share = (job.train_speed_km_h, job.cant_mm), states[k][2]
+        for c in groups[(speed, cant)]:
+            state = at.get(spec.grid_radius_m(c.radius_m))
+            if state is not None:
+                heard = None if state["heard"] is None else HeardPassby.from_dict(state["heard"])
+                by_curve[c.id].append(SquealState(share, state["squeals"], heard))
     return [_result(c, by_curve[c.id], spec) for c in curves]

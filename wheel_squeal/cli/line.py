@@ -33,7 +33,7 @@ def cmd_line(args: argparse.Namespace) -> int:
     curves = load_line(path)
     out = out_of(args, design.name)
     with result_folder(out, "line") as tmp:
-        results = line(design, curves, spec, context=ctx)
+        results = line(design, curves, spec, context=ctx, workers=args.workers, scheduler=args.scheduler)
         rows = write_line_files(tmp, design.name, results, spec, args.crs)
     squealing = sum(r["squeal_probability"] > 0 for r in rows)
     print(f"{design.name}: {squealing} of {len(rows)} curves squeal some of the time")

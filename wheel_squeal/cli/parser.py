@@ -290,6 +290,15 @@ def _add_line_command(sub: argparse._SubParsersAction) -> None:
     )
     p.add_argument("--traffic", help="a TOML file with a [line] table: traffic per period and friction")
     p.add_argument("--crs", help="the coordinates' projected system, as line.geojson names it (EPSG:25832)")
+    add_workers(p)
+
+
+def add_workers(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--workers", type=count, help="local worker processes (default: the machine's cores)")
+    p.add_argument(
+        "--scheduler",
+        help="dask.distributed scheduler address, e.g. tcp://host:8786 (default $DASK_SCHEDULER_ADDRESS)",
+    )
 
 
 def _add_study_command(sub: argparse._SubParsersAction) -> None:
@@ -298,11 +307,7 @@ def _add_study_command(sub: argparse._SubParsersAction) -> None:
     )
     p.add_argument("spec", type=Path, help="study specification TOML (see studies/)")
     add_out(p)
-    p.add_argument("--workers", type=count, help="local worker processes (default: the machine's cores)")
-    p.add_argument(
-        "--scheduler",
-        help="dask.distributed scheduler address, e.g. tcp://host:8786 (default $DASK_SCHEDULER_ADDRESS)",
-    )
+    add_workers(p)
     p.add_argument("--quiet", action="store_true", help="no progress on stderr")
     add_cache(p)
     add_budget(p)

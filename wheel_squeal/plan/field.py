@@ -243,10 +243,11 @@ def check_curve_files(size: CurveSize, max_file_bytes: float) -> None:
         )
 
 
-#: One curve of a line in one friction state [s]: the steady curving, its wheels' contacts'
-#: stability, balance and sound, most of it the radiation of the squeal's harmonics at tones
-#: not yet cached (measured 2.3 s on railway_920_track: benchmarks/bench_line.py, 10 curves)
-LINE_SECONDS_PER_CURVE_STATE = 2.3
+#: One curve of a line in one friction state, on one process [s]: the steady curving, its
+#: wheels' contacts' stability, balance and sound, with the radiation of the squeal's
+#: harmonics at tones not yet cached (railway_920_track, a new cache:
+#: benchmarks/bench_line.py, 100 curves x 4 states in 108 s on 2 processes)
+LINE_SECONDS_PER_CURVE_STATE = 0.55
 #: Memory a line keeps per curve until its files are written (its results) [bytes]
 LINE_BYTES_PER_CURVE = 2.0e4
 

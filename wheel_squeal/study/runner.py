@@ -37,6 +37,10 @@ __all__ = [
     "check_scheduler_address",
     "local_workers",
     "missing_dependencies",
+    "run_tasks",
+    "store_result",
+    "stored_results",
+    "transient",
 ]
 
 #: A case whose worker dies this many times is recorded as failed (for this run only).
@@ -109,7 +113,7 @@ def case_results(
         check_time(n_local, spec.n_cases)  # nothing stored: refused before its cases are made
     cases = spec.cases()
     keys = [_case_key(base, c.changes) for c in cases]
-    results = _stored_results(keys, cache)
+    results = stored_results(keys, cache)
     todo = [i for i, r in enumerate(results) if r is None]
     if not scheduler:
         check_time(n_local, len(todo))
@@ -125,30 +129,53 @@ def case_results(
     def done(i: int, result: dict) -> None:
         budget.checkpoint(f"the study's case {i}")
         results[i] = result
-        if cache is not None and not result.get("transient"):
-            cache.store("study", keys[i], {"result": np.array(json.dumps(result))})
+        store_result(cache, keys[i], result)
         report(sum(r is not None for r in results), len(results))
+
+    run_tasks(jobs, run_case, done, n_local, scheduler, progress, lambda p: check_time(p, len(todo)))
+    return results  # type: ignore[return-value]
+
+
+def run_tasks(
+    jobs: dict[int, Any],
+    task: Callable[[Any], dict],
+    done: Callable[[int, dict], None],
+    n_local: int,
+    scheduler: str | None,
+    progress: Progress,
+    check_time: Callable[[int], None],
+) -> None:
+    """``task(job)`` for every job, ``done(i, result)`` as each finishes: on the dask
+    scheduler at ``scheduler``, in this process (``n_local`` 1) or on ``n_local`` local
+    processes. A local worker that dies is charged to its job, which is run again up to
+    :data:`MAX_WORKER_DEATHS` times, then given a transient failure; ``check_time(n)``
+    refuses the work on n parallel workers once a cluster's size is known."""
 
     def died(death: Death) -> bool:
         if death.count >= MAX_WORKER_DEATHS:
-            done(death.case, _transient(f"its worker process died {death.count} times"))
+            done(death.case, transient(f"its worker process died {death.count} times"))
             return False
         progress.say(f"a worker process died: case {death.case} submitted again")
         return True
 
-    if not todo:
-        pass
-    elif scheduler:
-        _on_dask(scheduler, jobs, done, lambda parallel: check_time(parallel, len(todo)))
+    if not jobs:
+        return
+    if scheduler:
+        _on_dask(scheduler, jobs, task, done, check_time)
     elif n_local == 1:
         for i, job in jobs.items():
-            done(i, run_case(job))
+            done(i, task(job))
     else:
-        run_on_pool(n_local, jobs, run_case, done, died)
-    return results  # type: ignore[return-value]
+        run_on_pool(n_local, jobs, task, done, died)
 
 
-def _stored_results(keys: list[dict], cache: StageCache | None) -> list[dict | None]:
+def store_result(cache: StageCache | None, key: dict, result: dict) -> None:
+    """Keep a finished task's ``result`` under ``key``, unless the environment caused it."""
+    if cache is not None and not result.get("transient"):
+        cache.store("study", key, {"result": np.array(json.dumps(result))})
+
+
+def stored_results(keys: list[dict], cache: StageCache | None) -> list[dict | None]:
     """The results of an earlier run of the same cases (None where there is none)."""
     results: list[dict | None] = [None] * len(keys)
     if cache is not None:
@@ -195,7 +222,7 @@ def _started(base: dict, cache: StageCache | None) -> bool:
     return True
 
 
-def _transient(reason: str) -> dict:
+def transient(reason: str) -> dict:
     """A case's outcome caused by the environment: reported, never stored."""
     return {"status": "failed", "reason": reason, "transient": True}
 
@@ -284,7 +311,8 @@ def _connect(client_type: Any, address: str) -> Any:
 
 def _on_dask(
     address: str,
-    jobs: dict[int, CaseJob],
+    jobs: dict[int, Any],
+    task: Callable[[Any], dict],
     done: Callable[[int, dict], None],
     check_time: Callable[[int], None],
 ) -> None:
@@ -298,13 +326,13 @@ def _on_dask(
     with client:
         check_time(max(1, sum(client.nthreads().values())))
         order = list(jobs)
-        futures = client.map(run_case, [jobs[i] for i in order], pure=False, retries=1)
+        futures = client.map(task, [jobs[i] for i in order], pure=False, retries=1)
         index = {f.key: i for f, i in zip(futures, order)}
         for future in as_completed(futures):
             try:
                 result = future.result()
             except KilledWorker as exc:
-                result = _transient(f"its dask workers died ({exc})")
+                result = transient(f"its dask workers died ({exc})")
             done(index[future.key], result)
 
 
