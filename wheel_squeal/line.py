@@ -300,12 +300,14 @@ def line(
     are: in this process (``workers`` 1), on local processes (None: the cores) or on the
     dask scheduler at ``scheduler``; each finished task is kept in the context's cache, so
     that a line stopped and started again computes only what is missing."""
+    import dataclasses
     import functools
 
     from acoustics.emission import HeardPassby, SquealState
     from track.curving import check_curve
 
     from .context import RunContext
+    from .progress import Progress
     from .provenance import CODE_PACKAGES, code_version
     from .study.runner import (
         SCHEDULER_ENV,
@@ -368,7 +370,8 @@ def line(
         store_result(ctx.cache, keys[i], result)
         report(sum(r is not None for r in results), len(results))
 
-    here = functools.partial(run_line_job, context=ctx)
+    # the tasks quiet, the line's counter the one progress line; the memo (modes, radiation) shared
+    here = functools.partial(run_line_job, context=dataclasses.replace(ctx, progress=Progress(quiet=True)))
     if todo and not scheduler and n_local > 1:  # the first here: the workers inherit its modes
         first = min(todo)
         done(first, here(todo.pop(first)))
