@@ -45,10 +45,9 @@ from typing import Any
 import numpy as np
 from scipy.optimize import brentq, least_squares
 
-from geometry.outline import MAX_CONTACT_ANGLE_DEG
 from reduced.contact import hertz_contact, kalker_coefficients
 
-from .contact_geometry import SHIFT_STEP_M, ContactGeometry, ContactPoint
+from .contact_geometry import SHIFT_STEP_M, ContactGeometry, ContactPoint, is_flange_angle
 from .curving import GRAVITY_M_S2, MAX_ANGLE_OF_ATTACK_RAD, RAIL_SPACING_M, WHEELS, Axle, Rail
 
 __all__ = [
@@ -73,8 +72,6 @@ CONICITY_GUESS = 0.15
 #: Where no start finds the equilibrium, it is followed from a wider curve to the one asked,
 #: through these multiples of its radius
 CONTINUATION_RADII = np.array([4.0, 2.5, 1.8, 1.4, 1.2, 1.1, 1.0])
-#: Contacts steeper than this are on the flange (``ContactPoint.on_flange``) [rad]
-FLANGE_ANGLE_RAD = math.radians(MAX_CONTACT_ANGLE_DEG)
 #: The equilibrium is solved when every force is within this fraction of the wheel load
 FORCE_TOLERANCE = 1.0e-4
 
@@ -280,9 +277,9 @@ class _Scene:
     poissons_ratio: float
 
     def friction_at(self, contact_angle_rad: float) -> float:
-        """The friction coefficient of a contact: the flange's where it is steeper than the
-        tread's regime (``ContactPoint.on_flange``), else the rail head's."""
-        if abs(contact_angle_rad) > FLANGE_ANGLE_RAD:
+        """The friction coefficient of a contact: the flange's on the flange
+        (``contact_geometry.is_flange_angle``), else the rail head's."""
+        if is_flange_angle(contact_angle_rad):
             return self.flange_friction_coefficient
         return self.friction_coefficient
 

@@ -40,6 +40,7 @@ __all__ = [
     "ContactGeometry",
     "ContactPoint",
     "WheelsetPosition",
+    "is_flange_angle",
 ]
 
 Side = Literal["outer", "inner"]
@@ -59,6 +60,12 @@ CONFORMAL_CURVATURE_1_M = 1.0e-3
 SHIFT_STEP_M = 5.0e-5
 #: The largest roll of a wheelset the settling searches [rad]
 MAX_ROLL_RAD = 0.05
+
+
+def is_flange_angle(contact_angle_rad: float) -> bool:
+    """Whether a contact at this angle [rad] is on the flange: steeper than
+    :data:`MAX_CONTACT_ANGLE_DEG`, the tread's regime."""
+    return abs(contact_angle_rad) > math.radians(MAX_CONTACT_ANGLE_DEG)
 
 
 def _vertex_offset(g: np.ndarray, i: int) -> float:
@@ -98,8 +105,7 @@ class ContactPoint:
 
     @property
     def on_flange(self) -> bool:
-        """True where the contact is steeper than :data:`MAX_CONTACT_ANGLE_DEG`."""
-        return abs(self.contact_angle_rad) > math.radians(MAX_CONTACT_ANGLE_DEG)
+        return is_flange_angle(self.contact_angle_rad)
 
     @property
     def relative_transverse_radius_m(self) -> float:
