@@ -18,7 +18,6 @@ states); the emission is the expected one (the squealing states' power times the
 from __future__ import annotations
 
 import math
-import os
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -246,6 +245,15 @@ def _failures() -> tuple[type[Exception], ...]:
     return (RequestError, CurvingError, MeshError, EigenError, IntegrationError)
 
 
+def _failure_type(name: str | None) -> type[Exception]:
+    """The exception a task's failure named ``name`` is raised as in the caller's process:
+    its own (:func:`_failures`, a budget's refusal), or, unnamed, an exhausted budget."""
+    from .errors import BudgetError, BudgetExhausted
+
+    named = {e.__name__: e for e in (*_failures(), BudgetError)}
+    return named.get(name or "", BudgetExhausted)
+
+
 def run_line_job(job: LineJob, context: RunContext | None = None) -> dict:
     """A :class:`LineJob` as a JSON-ready dict: ``status``, ``reason`` and per radius the
     bogie's ``squeals`` and what its pass-by leaves (``acoustics.emission.HeardPassby``);
@@ -272,7 +280,7 @@ def run_line_job(job: LineJob, context: RunContext | None = None) -> dict:
             priced=True,
         )
     except BudgetError as exc:  # this run's limit, not the line's: computed again next time
-        return transient(f"refused by the budget: {exc}")
+        return {**transient(str(exc)), "error": "BudgetError"}
     except _failures() as exc:
         return {"status": "failed", "error": type(exc).__name__, "reason": str(exc)}
     speed, distance = job.train_speed_km_h / 3.6, _passby_distance_m()
@@ -308,20 +316,10 @@ def line(
 
     from .context import RunContext
     from .progress import Progress
-    from .provenance import CODE_PACKAGES, code_version
-    from .study.runner import (
-        SCHEDULER_ENV,
-        check_scheduler_address,
-        local_workers,
-        run_tasks,
-        store_result,
-        stored_results,
-    )
+    from .study.runner import code_key, local_workers, run_tasks, scheduler_of, store_result, stored_results
 
     ctx = context or RunContext.of("balanced")
-    scheduler = scheduler or os.environ.get(SCHEDULER_ENV) or None
-    if scheduler:
-        scheduler = check_scheduler_address(scheduler)
+    scheduler = scheduler_of(scheduler)
     vehicle = design.vehicle.vehicle()
     for c in curves:
         try:
@@ -347,7 +345,7 @@ def line(
                     treated, chunk, speed, cant, ctx.fidelity, ctx.fmax_hz, cache_dir, ctx.budget.max_dofs
                 )
                 jobs.append((job, k))
-    base = {"stage": "line-task", "code": code_version(*CODE_PACKAGES), "fmax_hz": ctx.fmax_hz}
+    base = {"stage": "line-task", **code_key(), "fmax_hz": ctx.fmax_hz}
     keys = [
         {
             **base,
@@ -380,8 +378,8 @@ def line(
     )
     failed = next((r for r in results if r is not None and r["status"] != "ok"), None)
     if failed is not None:
-        error = {e.__name__: e for e in _failures()}.get(failed.get("error", ""), RequestError)
-        raise error(failed["reason"])
+        # a task that failed without a name of its own lost its worker process (memory)
+        raise _failure_type(failed.get("error"))(f"the line: {failed['reason']}")
     by_curve: dict[str, list[SquealState]] = {c.id: [] for c in curves}
     for (job, k), result in zip(jobs, results):
         assert result is not None  # every task has run

@@ -35,9 +35,11 @@ __all__ = [
     "SCHEDULER_ENV",
     "case_results",
     "check_scheduler_address",
+    "code_key",
     "local_workers",
     "missing_dependencies",
     "run_tasks",
+    "scheduler_of",
     "store_result",
     "stored_results",
     "transient",
@@ -58,9 +60,24 @@ def _key_base(spec: StudySpec) -> dict:
     """What every case key of ``spec`` holds (computed once per study)."""
     return {
         "spec": spec.digest(),
+        **code_key(),
+    }
+
+
+def code_key() -> dict:
+    """What every stored task's key holds of the code that computed it: this tool's
+    packages and the numerical libraries."""
+    return {
         "code": code_version(*CODE_PACKAGES),
         "libraries": library_versions("numpy", "scipy", "scikit-fem", "gmsh", "numba"),
     }
+
+
+def scheduler_of(address: str | None) -> str | None:
+    """The dask scheduler to use: ``address``, else ``$DASK_SCHEDULER_ADDRESS``, checked
+    (:func:`check_scheduler_address`); None: none, the work stays on this machine."""
+    address = address or os.environ.get(SCHEDULER_ENV) or None
+    return check_scheduler_address(address) if address else None
 
 
 def _case_key(base: dict, changes: Sequence[tuple[str, float]]) -> dict:
@@ -95,9 +112,7 @@ def case_results(
     """
     progress = progress or Progress(quiet=True)
     budget = budget or Budget.from_environment()
-    scheduler = scheduler or os.environ.get(SCHEDULER_ENV) or None
-    if scheduler:
-        scheduler = check_scheduler_address(scheduler)
+    scheduler = scheduler_of(scheduler)
     cost = estimate_study(spec)
     check_modes_budget(spec.base, fidelity_for(spec.fidelity), spec.fmax_hz, budget)
     n_local = 1 if scheduler else local_workers(workers, progress)
