@@ -13,7 +13,8 @@ import wheel_squeal as ws
 from geometry.contact import frame_on_running_surface
 from track.bogie_curving import Vehicle, steady_curving
 
-RAILWAY = ws.load_design("railway_920_track")
+RAILWAY = ws.load_design("railway_920_track")  # S1002 in a curve ([contact] wheel_profile)
+CONE = RAILWAY.replace(wheel_profile="outline")  # its outline's own running surface, a 1:20 cone
 OUTLINE = RAILWAY.wheel.profile
 
 
@@ -46,7 +47,7 @@ def test_the_contact_frame_on_the_running_surface_has_the_outline_s_normal_and_c
 def geometry():
     from wheel_squeal.curve import contact_geometry
 
-    return contact_geometry(RAILWAY)
+    return contact_geometry(CONE)
 
 
 def test_the_cone_wheel_flanges_where_its_conicity_cannot_steer(geometry):
@@ -71,27 +72,59 @@ def test_the_cone_wheel_flanges_where_its_conicity_cannot_steer(geometry):
     assert sum(c.load_share for c in outer.contacts) == pytest.approx(1.0, rel=1e-12)
 
 
-def test_each_contact_reaches_the_chain_as_the_curving_found_it(geometry):
+@pytest.mark.parametrize("design", [CONE, RAILWAY], ids=["cone", "S1002"])
+def test_each_contact_reaches_the_chain_as_the_curving_found_it(design):
     """Each contact's design carries its normal force, Kalker's C22 of its ellipse and the
     friction its longitudinal creep leaves; the chain's Hertz ellipse at that contact is
-    the curving's (to 1e-3: the curving's angle includes the wheelset's roll of a few mrad);
-    the sliding speed is V |xi_y|."""
+    the curving's (to 5e-3: the curving's angle includes the wheelset's roll of a few mrad,
+    and it interpolates the ellipse between tabulated shifts 0.05 mm apart where the chain
+    takes the nearest one's curvatures, which on S1002's curved tread differ by up to 4.1e-3
+    over 150-1000 m; a jump of the contact across the wheel is two contacts, each its own);
+    the sliding speed is V |xi_y|. A standard profile's contact angle is the frame's (the
+    force's direction), the outline's point its place on the FE wheel."""
     from wheel_squeal.api import hertz_of
-    from wheel_squeal.curve import wheel_sites
+    from wheel_squeal.curve import contact_geometry, wheel_sites
 
+    geometry = contact_geometry(design)
     wheels = steady_curving(geometry, Vehicle(), 150.0, 40.0, wheel_load_n=50e3, friction_coefficient=0.3)
     for wheel in wheels:
-        for site in wheel_sites(RAILWAY, wheel, 40.0):
+        for site in wheel_sites(design, wheel, 40.0):
             c = site.state
             d = site.design
             assert d.contact.normal_load == c.normal_force_n and d.contact.c22 == c.c22
             assert d.contact.friction_coefficient == pytest.approx(c.lateral_friction_coefficient(0.3))
             assert d.contact.friction_coefficient <= 0.3
             h = hertz_of(d)
-            assert h.semi_axis_a_m == pytest.approx(c.semi_axis_a_m, rel=1e-3)
-            assert h.semi_axis_b_m == pytest.approx(c.semi_axis_b_m, rel=1e-3)
+            assert h.semi_axis_a_m == pytest.approx(c.semi_axis_a_m, rel=5e-3)
+            assert h.semi_axis_b_m == pytest.approx(c.semi_axis_b_m, rel=5e-3)
             assert site.op.crabbing_velocity_m_s == pytest.approx(40 / 3.6 * abs(c.lateral_creepage))
             assert d.contact_frame.z_m == c.point.wheel_lateral_m
+            if design is RAILWAY:
+                assert d.contact_frame.angle_rad == c.point.contact_angle_rad
+
+
+def test_the_shipped_wheel_s_s1002_steers_its_bogie_without_flanging_in_wide_curves():
+    """S1002 on UIC60 1:40 (the shipped wheel's [contact] wheel_profile): its rolling-radius
+    difference grows far faster than the 1:20 cone's beyond a few mm, so the default stiff
+    bogie keeps both axles off their flanges at 1000 m and beyond (the cone flanges there),
+    and its leading outer wheel flanges in a tight curve on the 70 deg flank."""
+    from wheel_squeal.curve import contact_geometry
+
+    geometry = contact_geometry(RAILWAY)
+    assert geometry.wheel.name == "S1002"
+    for radius in (1000.0, 3000.0):
+        wheels = steady_curving(
+            geometry, Vehicle(), radius, 40.0, wheel_load_n=50e3, friction_coefficient=0.3
+        )
+        assert not any(w.flange_contact for w in wheels)
+    cone = steady_curving(
+        contact_geometry(CONE), Vehicle(), 1000.0, 40.0, wheel_load_n=50e3, friction_coefficient=0.3
+    )
+    assert cone[1].flange_contact
+    tight = steady_curving(geometry, Vehicle(), 150.0, 40.0, wheel_load_n=50e3, friction_coefficient=0.3)
+    assert (
+        tight[1].flange_contact and math.degrees(max(c.contact_angle_rad for c in tight[1].contacts)) > 65.0
+    )
 
 
 @pytest.mark.slow  # two FE solves of the Table 1 wheel (about 4 s)

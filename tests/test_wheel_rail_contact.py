@@ -116,10 +116,13 @@ def _unbalanced_force_n(radius_m, speed_km_h, cant_mm=0.0):
 
 def test_a_free_wheelset_on_a_wide_curve_runs_radially_and_rolls_purely(geometry):
     """Zero yaw stiffness on 3000 m: every wheelset finds the shift whose rolling radius
-    difference matches the curvature; angle of attack and longitudinal creepage under 2e-4."""
+    difference matches the curvature; angle of attack and longitudinal creepage under 2e-4
+    (a wheel on two points of its tread, where S1002's contact jumps near the centre, rolls
+    purely on their load-weighted mean: each point's own radius creeps a little)."""
     wheels = _curving(geometry, 3000.0, 40.0, Vehicle(primary_yaw_stiffness_n_m_rad=0.0))
     for w in wheels:
-        assert abs(w.angle_of_attack_rad) < 2e-4 and abs(w.main.longitudinal_creepage) < 2e-4, w
+        creepage = sum(c.load_share * c.longitudinal_creepage for c in w.contacts)
+        assert abs(w.angle_of_attack_rad) < 2e-4 and abs(creepage) < 2e-4, w
         assert not w.flange_contact
     lead = wheels[0]
     assert lead.lateral_shift_m > 0  # outward, toward the larger radius on the outer wheel

@@ -331,20 +331,21 @@ def _side_forces(
     return lateral, fx, -sign * y_c * fx, details
 
 
-#: Neighbouring table shifts whose contacts lie further apart than this across the wheel,
-#: one on the flange and one not, straddle a jump of the contact to the flank [m]
+#: Neighbouring table shifts whose contacts lie further apart than this across the wheel
+#: straddle a jump of the contact (to the flank, or across a hollow of the tread) [m]
 JUMP_M = 1.0e-3
 
 
 def _rows(table: ContactTable, y: float, side: int) -> list[tuple[float, int, np.ndarray]]:
     """The contacts of one side at shift ``y`` as (share of the load, table index, values):
     one contact interpolated between its neighbours, or, where the contact jumps between
-    them onto the flange, both, the load shared in proportion to the way across (two-point contact)."""
+    them (onto the flange, or from one part of the tread to another), both, the load shared
+    in proportion to the way across (two-point contact)."""
     yy = float(np.clip(y, table.shifts_m[0], table.shifts_m[-1]))
     k = min(int((yy - table.shifts_m[0]) / SHIFT_STEP_M), table.shifts_m.size - 2)
     w = (yy - table.shifts_m[k]) / SHIFT_STEP_M
     lo, hi = table.contacts[k][side], table.contacts[k + 1][side]
-    if lo.on_flange != hi.on_flange and abs(lo.wheel_lateral_m - hi.wheel_lateral_m) > JUMP_M:
+    if abs(lo.wheel_lateral_m - hi.wheel_lateral_m) > JUMP_M:
         return [(1.0 - w, k, table.values[k, side]), (w, k + 1, table.values[k + 1, side])]
     return [(1.0, k if w < 0.5 else k + 1, (1.0 - w) * table.values[k, side] + w * table.values[k + 1, side])]
 

@@ -26,7 +26,16 @@ import numpy as np
 
 from geometry.outline import Outline
 
-__all__ = ["Profile", "cone_wheel", "profile_from_points", "running_surface", "s1002", "uic60"]
+__all__ = [
+    "STANDARD_WHEELS",
+    "Profile",
+    "cone_wheel",
+    "profile_from_points",
+    "running_surface",
+    "s1002",
+    "standard_wheel",
+    "uic60",
+]
 
 #: Points a built-in profile is sampled at (0.05 mm apart on S1002's 130 mm)
 SAMPLES = 2601
@@ -159,6 +168,17 @@ def s1002(samples: int = SAMPLES) -> Profile:
     """
     s_mm = np.linspace(_S1002_BOUNDS_MM[0], _S1002_BOUNDS_MM[-1], samples)
     return Profile("S1002", 1e-3 * s_mm, 1e-3 * _s1002_rise_mm(s_mm))
+
+
+#: The standard wheel profiles a design's contact may take by name
+STANDARD_WHEELS = ("S1002",)
+
+
+def standard_wheel(name: str) -> Profile:
+    """The standard wheel profile called ``name`` (one of :data:`STANDARD_WHEELS`)."""
+    if name != "S1002":
+        raise ValueError(f"wheel profile {name!r}: one of {', '.join(STANDARD_WHEELS)}")
+    return s1002()
 
 
 #: UIC60 E1's head (EN 13674-1): arc radii [m] from the crown outwards, the lateral

@@ -36,10 +36,11 @@ class ContactSiteAnalysis:
 
 
 def contact_geometry(design: Design) -> ContactGeometry:
-    """The design's wheel (its outline's running surface) on its rail (UIC60 at 1:40):
-    where each wheel of a wheelset touches for each lateral shift (``track.contact_geometry``)."""
+    """The design's wheel (its outline's running surface, or the standard profile of
+    ``[contact] wheel_profile``) on its rail (UIC60 at 1:40): where each wheel of a wheelset
+    touches for each lateral shift (``track.contact_geometry``)."""
     from track.contact_geometry import ContactGeometry
-    from track.profiles import running_surface
+    from track.profiles import running_surface, standard_wheel
 
     outline = design.wheel.profile
     if outline is None:
@@ -48,7 +49,9 @@ def contact_geometry(design: Design) -> ContactGeometry:
             "a design with a [profile] outline"
         )
     r0 = design.rolling_radius
-    return ContactGeometry(wheel=running_surface(outline, r0), rolling_radius_m=r0)
+    name = design.contact.wheel_profile
+    wheel = running_surface(outline, r0) if name == "outline" else standard_wheel(name)
+    return ContactGeometry(wheel=wheel, rolling_radius_m=r0)
 
 
 def wheel_sites(
@@ -74,6 +77,8 @@ def wheel_sites(
             continue
         mu = flange_mu if c.on_flange and flange_mu is not None else tread_mu
         frame = frame_on_running_surface(design.wheel.profile, c.point.wheel_lateral_m)
+        if design.contact.wheel_profile != "outline":  # the force's direction is the profile's
+            frame = replace(frame, angle_rad=c.point.contact_angle_rad)
         at = design.replace(
             normal_load=c.normal_force_n,
             c22=c.c22 if c22 is None else c22,

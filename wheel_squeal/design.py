@@ -97,6 +97,7 @@ _WORDS = {
     "friction_law": ("contact", "friction_law"),
     "normal_contact": ("contact", "normal_contact"),
     "transient_creep": ("contact", "transient_creep"),
+    "wheel_profile": ("contact", "wheel_profile"),
     "squeal_mode": ("squeal", "mode"),
     "mode_damping": ("damping", "by_mode"),
 }

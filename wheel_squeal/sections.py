@@ -19,6 +19,7 @@ from typing import ClassVar
 from geometry import DesignError
 from geometry.schema import Fields, spec
 from reduced.creep import FRICTION_LAWS, TABLE1_C22
+from track.profiles import STANDARD_WHEELS
 from track.sections import (
     COUNTER_BODIES,
     ROLLER_MODAL,
@@ -146,6 +147,13 @@ class Contact(Fields):
         "a name of reduced.FRICTION_LAWS: falling (the paper's) or constant",
         when_set=True,
     )
+    wheel_profile: str = spec(
+        "outline",
+        "-",
+        "the transverse profile the wheel touches the rail with in a curve: outline (the design's own "
+        "running surface) or S1002 (EN 13715)",
+        when_set=True,
+    )
     contact_angle: float = spec(
         0.0, "rad", "where on the tread the contact lies (0: the apex)", flat="contact_angle", when_set=True
     )
@@ -179,6 +187,11 @@ class Contact(Fields):
             raise DesignError(
                 f"[contact] friction_law must be one of {', '.join(map(repr, FRICTION_LAWS))}, "
                 f"got {self.friction_law!r}"
+            )
+        if self.wheel_profile not in ("outline", *STANDARD_WHEELS):
+            raise DesignError(
+                f"[contact] wheel_profile must be 'outline' or one of {', '.join(STANDARD_WHEELS)}, "
+                f"got {self.wheel_profile!r}"
             )
         if self.normal_contact not in NORMAL_CONTACTS:
             raise DesignError(
