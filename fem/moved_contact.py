@@ -10,7 +10,7 @@ u_z) projected on the new frame's tangent and normal (``geometry.contact.Contact
 
 At a mesh node the value is the solver's own; between nodes the linear interpolation's error
 is second order in the element size (a few mm on the default meshes: under 1 % of a
-contact displacement that varies over the rim's width, tests/test_moved_contact.py).
+contact displacement that varies over the rim's width, tests/test_curving_contacts.py).
 """
 
 from __future__ import annotations
@@ -23,7 +23,7 @@ from geometry.contact import ContactFrame
 
 from .modes import ModeSet, clean_contact
 
-__all__ = ["MeridianSliceError", "modes_at_contact"]
+__all__ = ["MeridianSlice", "MeridianSliceError", "modes_at_contact"]
 
 #: A node lies in the meridian half-plane when |y| is below this fraction of the mesh's size
 IN_PLANE_RTOL = 1e-9
@@ -74,7 +74,8 @@ def _barycentric(points: np.ndarray, triangles: np.ndarray, at: np.ndarray) -> t
 
 def modes_at_contact(modes: ModeSet, frame: ContactFrame) -> ModeSet:
     """``modes`` with every mode's contact values read at ``frame``'s point and in its
-    frame (module docstring); the shapes and the mesh are shared, not copied.
+    frame (module docstring); the shapes and the mesh are shared, not copied. For many
+    contacts of one mode set, :class:`MeridianSlice` finds the slice once.
 
     Raises
     ------
@@ -93,38 +94,58 @@ def modes_at_contact(modes: ModeSet, frame: ContactFrame) -> ModeSet:
     >>> abs(moved.modes[0].modal_mass / modes.modes[0].modal_mass - 1) < 1e-9
     True
     """
+    if _own(modes, frame):
+        return modes  # the solver's own values, as it cleaned them
+    return MeridianSlice(modes).modes_at(frame)
+
+
+def _own(modes: ModeSet, frame: ContactFrame) -> bool:
     own = modes.contact_point
-    if own is not None and (own[0], own[2], modes.contact_angle_rad) == (
+    return own is not None and (own[0], own[2], modes.contact_angle_rad) == (
         frame.r_m,
         frame.z_m,
         frame.angle_rad,
-    ):
-        return modes  # the solver's own values, as it cleaned them
-    triangles, _ = _meridian_triangles(modes)
-    p = np.asarray(modes.points, float)
-    rz = p[:, [0, 2]]
-    at = np.array([frame.r_m, frame.z_m])
-    k, weights = _barycentric(rz, triangles, at)
-    nodes = triangles[k]
-    reach = float(np.max(np.linalg.norm(rz[nodes] - rz[nodes].mean(axis=0), axis=1)))
-    gap = float(np.linalg.norm(weights @ rz[nodes] - at))
-    if gap > reach:
-        raise ValueError(
-            f"contact point ({frame.r_m:.4g}, {frame.z_m:.4g}) m is {gap * 1e3:.2g} mm off the wheel's mesh"
-        )
-    moved = []
-    for mode, shape in zip(modes.modes, modes.shapes):
-        lateral, normal = [], []
-        for member in np.asarray(shape, float):
-            u = weights @ member[nodes]
-            peak = float(np.abs(member).max())
-            t, n = frame.components(float(u[0]), float(u[2]))
-            lateral.append(clean_contact(t, peak))
-            normal.append(clean_contact(n, peak))
-        moved.append(dataclasses.replace(mode, contact_lateral=tuple(lateral), contact_normal=tuple(normal)))
-    return dataclasses.replace(
-        modes,
-        modes=moved,
-        contact_point=(frame.r_m, 0.0, frame.z_m),
-        contact_angle_rad=frame.angle_rad,
     )
+
+
+class MeridianSlice:
+    """A mode set's meridian slice (its triangles and each shape's peak), found once, to
+    read the modes at many contacts (:meth:`modes_at`, what :func:`modes_at_contact` does)."""
+
+    def __init__(self, modes: ModeSet) -> None:
+        self.modes = modes
+        self.triangles, _ = _meridian_triangles(modes)
+        self.rz = np.asarray(modes.points, float)[:, [0, 2]]
+        self.members = [[np.asarray(m, float) for m in np.asarray(shape, float)] for shape in modes.shapes]
+        self.peaks = [[float(np.abs(m).max()) for m in members] for members in self.members]
+
+    def modes_at(self, frame: ContactFrame) -> ModeSet:
+        """The modes read at ``frame`` (:func:`modes_at_contact`)."""
+        modes, rz = self.modes, self.rz
+        if _own(modes, frame):
+            return modes
+        at = np.array([frame.r_m, frame.z_m])
+        k, weights = _barycentric(rz, self.triangles, at)
+        nodes = self.triangles[k]
+        reach = float(np.max(np.linalg.norm(rz[nodes] - rz[nodes].mean(axis=0), axis=1)))
+        gap = float(np.linalg.norm(weights @ rz[nodes] - at))
+        if gap > reach:
+            point = f"({frame.r_m:.4g}, {frame.z_m:.4g}) m"
+            raise ValueError(f"contact point {point} is {gap * 1e3:.2g} mm off the wheel's mesh")
+        moved = []
+        for mode, members, peaks in zip(modes.modes, self.members, self.peaks):
+            lateral, normal = [], []
+            for member, peak in zip(members, peaks):
+                u = weights @ member[nodes]
+                t, n = frame.components(float(u[0]), float(u[2]))
+                lateral.append(clean_contact(t, peak))
+                normal.append(clean_contact(n, peak))
+            moved.append(
+                dataclasses.replace(mode, contact_lateral=tuple(lateral), contact_normal=tuple(normal))
+            )
+        return dataclasses.replace(
+            modes,
+            modes=moved,
+            contact_point=(frame.r_m, 0.0, frame.z_m),
+            contact_angle_rad=frame.angle_rad,
+        )

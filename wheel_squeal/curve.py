@@ -39,7 +39,10 @@ from .stability import excitable, mode_dofs
 from .types import AmplitudeMethod
 
 if TYPE_CHECKING:
+    from collections.abc import Callable
+
     from fem.modes import ModeSet
+    from geometry.contact import ContactFrame
     from track.bogie_curving import Vehicle, WheelContact
 
     from .context import RunContext
@@ -211,13 +214,14 @@ def _cases(
         check,
     )
     options = ChainOptions(mode="model", stop_after="sound", remedy=False, amplitude=method)
+    moved = _moved(modes, ctx)
     cases: list[CurveCase] = []
     for (radius, speed), wheels in curvings.items():
         ctx.budget.checkpoint(f"the curve of {radius:g} m at {speed:g} km/h")
         group = []
         for wheel, sites in wheels:
             analyses = tuple(
-                analyse(s.design, op=s.op, options=options, context=ctx, modes=_moved(modes, s.design))
+                analyse(s.design, op=s.op, options=options, context=ctx, modes=moved(s.design.contact_frame))
                 for s in sites
             )
             states = tuple(s.state for s in sites)
@@ -237,11 +241,31 @@ def _cases(
     return cases
 
 
-def _moved(modes: ModeSet, at: Design) -> ModeSet:
-    """The design's modes read at a contact site."""
-    from fem.moved_contact import modes_at_contact
+#: The contacts whose modes a process keeps read (each a list of the modes' contact values)
+MOVED_MODES_KEPT = 4096
 
-    return modes_at_contact(modes, at.contact_frame)
+
+def _moved(modes: ModeSet, ctx: RunContext) -> Callable[[ContactFrame], ModeSet]:
+    """The modes read at a contact frame: the mesh's meridian slice found once per mode set
+    in the context's memo, each frame read once (a curving's contacts lie on the contact
+    table's points, so that curves and friction states share them)."""
+    from fem.moved_contact import MeridianSlice
+
+    key = ("meridian slice", id(modes))
+    held = ctx.memo.get(key)
+    if held is None or held[0] is not modes:
+        read: dict[ContactFrame, ModeSet] = {}
+        held = ctx.memo[key] = (modes, MeridianSlice(modes), read)
+    _, meridian, read = held
+
+    def at(frame: ContactFrame) -> ModeSet:
+        if frame not in read:
+            if len(read) >= MOVED_MODES_KEPT:
+                read.clear()
+            read[frame] = meridian.modes_at(frame)
+        return read[frame]
+
+    return at
 
 
 def curve_estimate(
@@ -376,8 +400,9 @@ def _planned(
                 ]
     if not (check or price):  # priced by the caller as a whole (a line): no pre-pass
         return modes, plan_of(wheel_dofs=wheel_dofs), curvings
+    moved = _moved(modes, ctx)
     sites = [
-        (s.design, _moved(modes, s.design), s.law, s.op)
+        (s.design, moved(s.design.contact_frame), s.law, s.op)
         for wheels in curvings.values()
         for _, mine in wheels
         for s in mine

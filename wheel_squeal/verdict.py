@@ -206,7 +206,8 @@ class ModeOutcome:
         s = self.sound.summary() if self.sound is not None else {}
         return {k: s.get(k) for k in LEVELS}
 
-    def to_dict(self) -> dict:
+    def to_dict(self, levels: bool = True) -> dict:
+        """JSON-ready fields; ``levels`` False leaves out :meth:`levels` (a far field each)."""
         return {
             "mode": self.label,
             "mode_index": self.mode.index,
@@ -218,7 +219,7 @@ class ModeOutcome:
             "amplitude_m_s": self.amplitude_m_s,
             "amplitude_method": self.amplitude_method,
             "saturated": self.saturated,
-            **self.levels(),
+            **(self.levels() if levels else {}),
             **({"energy_share": self.energy_share} if self.energy_share is not None else {}),
             **({"energy_shares": self.shares} if self.shares is not None else {}),
         }
@@ -271,7 +272,11 @@ class Verdict:
 
     def get(self, key: str) -> Any:
         """A field of the verdict's outcome (None without squeal)."""
-        return None if self.outcome is None else self.outcome.to_dict().get(key)
+        if self.outcome is None:
+            return None
+        if key in LEVELS:  # the levels alone: the other fields cost nothing, these a far field
+            return self.outcome.levels().get(key)
+        return self.outcome.to_dict(levels=False).get(key)
 
     @property
     def amplitude_m_s(self) -> float | None:
