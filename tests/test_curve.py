@@ -200,6 +200,7 @@ def test_the_railway_wheel_squeals_at_its_tread_in_tight_curves_and_at_its_flang
         assert wheels[0]["amplitude_method"] == "harmonic balance" and wheels[0]["harmonic_distortion"] < 0.1
     summary = json.loads((tmp_path / "c" / "summary.json").read_text())
     assert "at a tread up to R = 300 m and not from 600 m" in summary["findings"][0]
+    assert summary["wheel_profile"] == "S1002"
     import xarray as xr
 
     with xr.open_dataset(tmp_path / "c" / "curve.nc") as ds:

@@ -209,6 +209,7 @@ FIELDS: dict[str, Field] = {
     "wav_full_scale_pa": Field("Pa", "the pressure of squeal.wav's full scale (its peak sample)"),
     "web_thickness": Field("m", "a study's design axis"),
     "what": Field("-", "what the file holds; a treatment of the curve's remedy: what it is, in words"),
+    "wheel_profile": Field("-", "curve: the profile the wheel touches its rail with (outline or S1002)"),
     "wheel_speed_rad_s": Field("rad/s", "wheel speed Omega = V0 / R1"),
     "why": Field("-", "why this mode"),
     "words": Field("-", "the same, in words"),

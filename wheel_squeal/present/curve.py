@@ -317,7 +317,7 @@ def curve_report(
                 + audio(folder / PASSBY_WAV),
             )
         )
-    inputs = [(k, summary[k]) for k in ("design", "vehicle", "cant_mm", "amplitude_method")]
+    inputs = [(k, summary[k]) for k in ("design", "vehicle", "wheel_profile", "cant_mm", "amplitude_method")]
     inputs += [
         ("microphone", "7.5 m from the track centre line, 1.2 m above the rail head (ISO 3095)"),
         ("ground", summary["ground"]),
@@ -358,6 +358,7 @@ def write_curve_files(
     summary: dict[str, Any] = {
         "design": design.name,
         "vehicle": dataclasses.asdict(vehicle),
+        "wheel_profile": design.contact.wheel_profile,
         "cant_mm": cant_mm,
         "amplitude_method": method,
         "microphone": {"distance_m": MICROPHONE_DISTANCE_M, "height_m": MICROPHONE_HEIGHT_M},
