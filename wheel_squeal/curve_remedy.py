@@ -16,7 +16,8 @@ Treatments (:data:`TREATMENTS`):
   where that is not enough, the ratio the squeal would need, to first order
   (zeta + sigma / omega of the still-squealing cases);
 - a **steering bogie**: a primary yaw stiffness ten times lower (1e6 N m/rad per wheelset),
-  so that the axles run nearer radial;
+  so that the axles run nearer radial (its running stability on straight track, the speed
+  at which it hunts, is the vehicle's to check: it is not modelled here);
 - a **lower speed**: every train speed of the map at three quarters (no design change).
 
 The recommended one leaves the fewest cases squealing (a case is one wheel at one radius
@@ -146,7 +147,8 @@ TREATMENTS: tuple[Treatment, ...] = (
     Treatment(
         "steering bogie",
         f"a primary yaw stiffness of {STEERING_YAW_STIFFNESS:.0e} N m/rad per wheelset (the axles run nearer "
-        "radial)",
+        "radial; a softer yaw stiffness lowers the speed at which the bogie hunts, which is not checked "
+        "here)",
         _steering,
     ),
     Treatment(
