@@ -464,6 +464,24 @@ def growth_rates(
     return np.array([max((lam[j].real for j in js), default=-math.inf) for js in assigned])
 
 
+def fastest_growth_rate(
+    modes: Modes,
+    contact: ContactLaw,
+    op: OperatingPoint,
+    wheel_speed_rad_s: float = 0.0,
+    body: BodyModel | None = None,
+) -> float:
+    """The largest real part of the system's eigenvalues at ``op`` [1/s]: what
+    :func:`linear_stability`'s fastest eigenvalue grows at, from the eigenvalues alone
+    (no eigenvectors, shares or mechanisms)."""
+    modes = as_modes(modes)
+    linear = LinearContact.at(contact, op)
+    damping = np.array([md.damping_ns_m for md in modes])
+    A = _state_matrix(modes, damping, linear, wheel_speed_rad_s, _blocks(modes, wheel_speed_rad_s, body))
+    lam, _ = _eigen(A, linear.relaxation_time_s, vectors=False)
+    return float(lam.real.max())
+
+
 def _decreasing_root(fn: Callable[[float], float], lo: float, hi: float, floor: float = -math.inf) -> float:
     """The root of a decreasing ``fn``: the bracket [lo, hi] is widened (never below
     ``floor``) until fn(lo) > 0 > fn(hi), then refined by Brent's method; ``floor`` if

@@ -389,3 +389,19 @@ def test_transient_creep_in_the_time_domain_grows_at_the_lagged_linear_rate():
     assert rate == pytest.approx(linear.growth_rate_1_s, rel=0.03)
     ref = r.simulate_reference([TABLE1], contact, OP, 0.15, _static_start([TABLE1], contact, OP, 1e-6))
     assert np.abs(np.interp(ref.t, hist.t, hist.v) - ref.v).max() < 0.01 * np.abs(ref.v).max()
+
+
+@pytest.mark.parametrize("relaxation", [False, True], ids=["steady creep", "transient creep"])
+def test_the_fastest_growth_rate_from_the_eigenvalues_alone_is_linear_stability_s(relaxation):
+    """``fastest_growth_rate`` (eigenvalues only, for the verdict's rigid-rail comparison)
+    is the fastest eigenvalue of ``linear_stability`` to round-off (1e-9 relative: the same
+    matrix, LAPACK's eigenvalues with and without vectors), with a counter-body mode in
+    series, a coupled pair and the Table 1 mode; and with transient creep, whose lag's own
+    eigenvalue both leave out."""
+    law = r.ContactLaw.from_hertz(HERTZ, 0.3, relaxation_length_m=HERTZ.semi_axis_a_m if relaxation else 0.0)
+    modes = [_mode(1000.0, 1e-3, *PAIR[0]), _mode(1025.0, 1e-3, *PAIR[1]), r.ModalDOF(3.1, 7.0e8, 42.0)]
+    body = r.BodyModel.from_modes([(r.NORMAL, 2500.0, 0.01, 7.0)], "a roller mode")
+    for b in (None, body):
+        full = r.linear_stability(modes, law, OP, body=b).eigenvalues.real.max()
+        assert r.fastest_growth_rate(modes, law, OP, body=b) == pytest.approx(full, rel=1e-9, abs=1e-9)
+        assert full > 0  # a growing system: the comparison is not of two decays

@@ -126,15 +126,16 @@ def analyse(
     timings["modes"] = time.perf_counter() - t0
     t0 = time.perf_counter()
     contact = contact_law(design, opts.c22, opts.friction_law)
+    seen = excitable(modes, contact)
+    dofs = mode_dofs(seen, design) if seen and table is None else None  # none: stability_table says so
     if table is None:
-        plan = stability_plan(design, modes, contact, opts.rotation, opts.remedy)
+        plan = stability_plan(design, modes, contact, opts.rotation, opts.remedy, dofs)
         plan.check(ctx.budget, "the linear stability", NO_REMEDY_HINT)
-        n = len(excitable(modes, contact))
-        with ctx.progress.stage(f"linear stability of {n} modes") if n > 200 else _nothing():
-            table = stability_table(design, modes, contact, op, opts.rotation)
+        with ctx.progress.stage(f"linear stability of {len(seen)} modes") if len(seen) > 200 else _nothing():
+            table = stability_table(design, modes, contact, op, opts.rotation, dofs=dofs)
     timings["stability"] = time.perf_counter() - t0
     ctx.budget.checkpoint("the linear stability")
-    chain = _Chain(design, opts, ctx, modes, contact, op, table)
+    chain = _Chain(design, opts, ctx, modes, contact, op, table, dofs)
     verdict = chain.verdict()
     timings["total"] = sum(timings.values())
     return Analysis(
@@ -187,10 +188,10 @@ class _Chain(Outcomes):
     def rigid_growth_rate(self) -> float:
         """The fastest growth rate [1/s] with the counter-body rigid (its degrees of
         freedom left out, the contact as it is)."""
-        from reduced import linear_stability
+        from reduced import fastest_growth_rate
 
-        dofs = mode_dofs([r.mode for r in self.rows], self.design)
-        return float(linear_stability(dofs, self.contact, self.op, self.omega).eigenvalues.real.max())
+        dofs = self.dofs if self.dofs is not None else mode_dofs([r.mode for r in self.rows], self.design)
+        return fastest_growth_rate(dofs, self.contact, self.op, self.omega)
 
     def decide_verdict(self) -> Verdict:
         """The one answer: the named mode as asked where it squeals, else the model's own

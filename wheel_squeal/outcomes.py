@@ -27,6 +27,8 @@ from .stability import StabilityTable, body_of, dof_labels, mode_dofs, named_mod
 from .verdict import COUPLING_ONLY, Balance, ModeOutcome, wave_of
 
 if TYPE_CHECKING:
+    from collections.abc import Sequence
+
     from fem.modes import Mode, ModeSet
     from reduced import BodyModel, ContactLaw, ModalDOF, OperatingPoint
 
@@ -47,6 +49,8 @@ class Outcomes:
     contact: ContactLaw
     op: OperatingPoint
     table: StabilityTable
+    #: the table's rows' modes as ``reduced.ModalDOF`` (None: found where needed)
+    dofs: Sequence[ModalDOF] | None = None
 
     def __post_init__(self) -> None:
         self.omega = wheel_speed_rad_s(self.design, self.op, self.opts.rotation)

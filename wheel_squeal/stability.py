@@ -174,6 +174,7 @@ def stability_table(
     op: OperatingPoint,
     rotation: bool = False,
     bounds: str | Sequence[int] | None = None,
+    dofs: Sequence[ModalDOF] | None = None,
 ) -> StabilityTable:
     """The linear stability of every mode the contact can excite at ``op``.
 
@@ -188,6 +189,8 @@ def stability_table(
     bounds : "all", sequence of int or None
         The rows whose critical damping ratio and friction slope are found (None: growth
         rates only, one eigen-solve; see ``reduced.linear_stability``).
+    dofs : sequence of reduced.ModalDOF, optional
+        The excitable modes' :func:`mode_dofs`, when the caller has them.
 
     Returns
     -------
@@ -208,7 +211,7 @@ def stability_table(
     if not modes:
         raise RequestError("no mode below fmax is seen at the contact: nothing can squeal there")
     omega = wheel_speed_rad_s(design, op, rotation)
-    dofs = mode_dofs(modes, design)
+    dofs = mode_dofs(modes, design) if dofs is None else dofs
     if bounds == "all":
         bounds = range(len(modes))
     result = linear_stability(dofs, contact, op, omega, bounds=bounds, body=body_of(design))
@@ -242,12 +245,19 @@ def eigenvalue_list(table: StabilityTable) -> list[dict]:
 
 
 def stability_seconds(
-    design: Design, modeset: ModeSet, contact: ContactLaw, rotation: bool = False, bounds: int = 0
+    design: Design,
+    modeset: ModeSet,
+    contact: ContactLaw,
+    rotation: bool = False,
+    bounds: int = 0,
+    dofs: Sequence[ModalDOF] | None = None,
 ) -> float:
-    """The estimated time of :func:`stability_table` with ``bounds`` modes' bounds [s]."""
+    """The estimated time of :func:`stability_table` with ``bounds`` modes' bounds [s]
+    (``dofs``: the excitable modes' :func:`mode_dofs`, when the caller has them)."""
     from reduced.stability import stability_seconds as seconds
 
-    dofs = mode_dofs(excitable(modeset, contact), design)
+    if dofs is None:
+        dofs = mode_dofs(excitable(modeset, contact), design)
     coupled = contact.normal_stiffness_n_m > 0 and any(d.normal != 0.0 for d in dofs)
     return seconds(dofs, rotation, bounds, coupled, design.counter_body.states())
 

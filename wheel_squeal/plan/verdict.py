@@ -19,7 +19,7 @@ from ..stability import body_of, excitable, mode_dofs, stability_seconds
 
 if TYPE_CHECKING:
     from fem.modes import Mode, ModeSet
-    from reduced import ContactLaw, OperatingPoint
+    from reduced import ContactLaw, ModalDOF, OperatingPoint
 
 __all__ = ["NO_REMEDY_HINT", "stability_plan", "stability_request_plan", "verdict_plan"]
 
@@ -31,20 +31,27 @@ NO_REMEDY_HINT = "lower fmax_hz, or leave out the remedy (remedy=False) or the s
 # a verdict
 # --------------------------------------------------------------------------------------
 def stability_plan(
-    design: Design, modeset: ModeSet, contact: ContactLaw, rotation: bool, remedy: bool
+    design: Design,
+    modeset: ModeSet,
+    contact: ContactLaw,
+    rotation: bool,
+    remedy: bool,
+    dofs: Sequence[ModalDOF] | None = None,
 ) -> CostPlan:
     """The linear stability of every excitable mode (time and memory) and, when asked
-    for (``remedy``), one mode's bounds among them."""
+    for (``remedy``), one mode's bounds among them (``dofs``: their ``mode_dofs``, when
+    the caller has them)."""
     from reduced.stability import eigen_solve_bytes
 
     plan = CostPlan()
-    dofs = mode_dofs(excitable(modeset, contact), design)
+    if dofs is None:
+        dofs = mode_dofs(excitable(modeset, contact), design)
     body = design.counter_body.states()
     if design.counter_body.model_seconds():
         plan.add(f"the {design.counter_body.KIND}'s model", design.counter_body.model_seconds())
     plan.add(
         f"stability of {len(dofs)} modes" + (f" and {body} states of the counter-body" if body else ""),
-        stability_seconds(design, modeset, contact, rotation),
+        stability_seconds(design, modeset, contact, rotation, dofs=dofs),
         eigen_solve_bytes(dofs, rotation, body),
     )
     if remedy:
