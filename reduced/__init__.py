@@ -29,7 +29,7 @@ from .counter_body import (
 from .coupling import coupling_stiffness, two_mode_coalesces
 from .creep import FRICTION_LAWS, ContactLaw, adhesion_ratio, adhesion_ratio_slope, falling_friction_factor
 from .integrate import METHODS, choose_method, simulate
-from .limit_cycle import Cycles, LimitCycle, analytic_growth_rate, cycles, limit_cycle
+from .limit_cycle import Cycles, LimitCycle, cycles, limit_cycle
 from .modal_content import ModalContent, modal_content
 from .model import (
     Integration,
@@ -58,8 +58,8 @@ from .stability import (
     StabilityResult,
     critical_damping_ratio,
     critical_friction_slope,
-    fastest_growth_rate,
     friction_damping_ns_m,
+    largest_growth_rate,
     linear_stability,
     mitigation,
     stability_map,
@@ -101,7 +101,6 @@ __all__ = [
     "LimitCycle",
     "cycles",
     "limit_cycle",
-    "analytic_growth_rate",
     "LimitCyclePrediction",
     "mean_power_per_cycle",
     "harmonic_contact_velocities",
@@ -118,7 +117,7 @@ __all__ = [
     "StabilityResult",
     "friction_damping_ns_m",
     "linear_stability",
-    "fastest_growth_rate",
+    "largest_growth_rate",
     "critical_damping_ratio",
     "critical_friction_slope",
     "StabilityMap",

@@ -50,7 +50,7 @@ Definitions (all on the contact-point lateral velocity v = sum_i y_i'):
   integral of P (trapezoid on stored samples; RK4 stage quadrature in sweeps).
 * **growth rate (analytic)**: the largest linear growth rate of steady sliding at the
   quasi-static creepage, the counter-body's own eigenvalues included
-  (:func:`reduced.stability.eigen_shares`; for one mode
+  (:func:`reduced.stability.largest_growth_rate`; for one mode
   sigma = -(c + W/V0 dmu/dzeta(Vc/V0)) / (2 m)), 1/s.
 """
 
@@ -63,16 +63,13 @@ from typing import Literal
 import numpy as np
 
 from . import _engine
-from .counter_body import BodyModel
-from .creep import ContactLaw
-from .model import Modes, OperatingPoint, TimeHistory, as_modes
-from .stability import LinearContact, eigen_shares
+from .model import TimeHistory
+from .stability import largest_growth_rate
 
 __all__ = [
     "Cycles",
     "LimitCycle",
     "State",
-    "analytic_growth_rate",
     "cycles",
     "limit_cycle",
     "envelope_growth_rate",
@@ -134,22 +131,6 @@ class LimitCycle:
     growth_rate_analytic_1_s: float
     cycles: Cycles = field(repr=False)
     state: State = "quiet"
-
-
-def analytic_growth_rate(
-    modes: Modes,
-    contact: ContactLaw,
-    op: OperatingPoint,
-    wheel_speed_rad_s: float = 0.0,
-    body: BodyModel | None = None,
-) -> float:
-    """Linear growth rate of steady sliding at the quasi-static creepage, 1/s: the
-    largest real part of the coupled eigenvalues (:mod:`reduced.stability`); for one
-    mode sigma = -(c + W/V0 dmu/dzeta(Vc/V0)) / (2 m) exactly (an underdamped one)."""
-    modes = as_modes(modes)
-    linear = LinearContact.at(contact, op)
-    lam, _ = eigen_shares(modes, linear, wheel_speed_rad_s, body)
-    return float(lam.real.max())
 
 
 def cycles(history: TimeHistory) -> Cycles:
@@ -288,7 +269,7 @@ def limit_cycle(
 ) -> LimitCycle:
     """Limit-cycle metrics of a TimeHistory (definitions in the module docstring)."""
     cyc = cycles(history)
-    sigma = analytic_growth_rate(
+    sigma = largest_growth_rate(
         history.modes, history.contact, history.operating_point, history.wheel_speed_rad_s, history.body
     )
     lc = metrics_from_cycles(

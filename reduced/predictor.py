@@ -33,8 +33,8 @@ from numpy.typing import ArrayLike
 
 from ._numerics import find_root
 from .creep import ContactLaw, adhesion_ratio, adhesion_ratio_slope
-from .limit_cycle import analytic_growth_rate
 from .model import ModalDOF, OperatingPoint
+from .stability import largest_growth_rate
 
 __all__ = [
     "LimitCyclePrediction",
@@ -112,10 +112,10 @@ def equivalent_mode(
     ...                               friction_coefficient=0.3)
     >>> op = r.OperatingPoint.from_rpm(800, 0.213, 0.39)
     >>> eq, clipped = equivalent_mode(r.ModalDOF(3.1, 1.6e8, 42.0), law, op, 5.0)
-    >>> round(analytic_growth_rate(eq, law, op), 9), clipped
+    >>> round(largest_growth_rate(eq, law, op), 9), clipped
     (5.0, False)
     """
-    sigma_1 = analytic_growth_rate(mode, contact, op)
+    sigma_1 = largest_growth_rate(mode, contact, op)
     c_eq = mode.damping_ns_m - 2.0 * mode.mass_kg * (growth_rate_1_s - sigma_1)
     clipped = c_eq < 0.0
     eq = ModalDOF(
@@ -173,7 +173,7 @@ def predict_limit_cycle(
         root = find_root(g_scalar, grid[i], grid[i + 1], xtol=1e-12, rtol=1e-10)
         # Pbar = V g(V); at a root dPbar/dV = V g'(V): the sign of g's change
         (stable if g[i] > 0 else unstable).append(float(root))
-    sigma = analytic_growth_rate(mode, contact, op)
+    sigma = largest_growth_rate(mode, contact, op)
     a0 = initial_amplitude(mode, contact, op)
     # from rest: the oscillation starts at a0 and moves towards the nearest stable
     # state in the direction of the power balance

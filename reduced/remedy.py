@@ -28,7 +28,7 @@ import numpy as np
 from .counter_body import BodyModel
 from .creep import ContactLaw
 from .model import ModalDOF, Modes, OperatingPoint, as_modes
-from .stability import MAX_DAMPING_RATIO, PARTNER_SHARE, LinearContact, eigen_shares
+from .stability import MAX_DAMPING_RATIO, PARTNER_SHARE, LinearContact, eigen_shares, largest_growth_rate
 
 __all__ = [
     "DECAY_RATE_1_S",
@@ -37,7 +37,6 @@ __all__ = [
     "friction_coefficient_to_stop",
     "friction_slope_to_stop",
     "held_growth_rates",
-    "largest_growth_rate",
     "remedy_solves",
     "round_up",
     "separation_to_stop",
@@ -70,19 +69,6 @@ def _round_down(x: float, digits: int = 2) -> float:
 
 def _with_ratios(modes: Sequence[ModalDOF], zeta: np.ndarray) -> list[ModalDOF]:
     return [md.with_damping_ratio(float(z)) for md, z in zip(modes, zeta)]
-
-
-def largest_growth_rate(
-    modes: Modes,
-    contact: ContactLaw,
-    op: OperatingPoint,
-    wheel_speed_rad_s: float = 0.0,
-    body: BodyModel | None = None,
-) -> float:
-    """The largest growth rate of every eigenvalue [1/s] (> 0: something grows), the
-    counter-body ``body``'s own included."""
-    lam, _ = eigen_shares(as_modes(modes), LinearContact.at(contact, op), wheel_speed_rad_s, body)
-    return float(lam.real.max())
 
 
 def _bisect_to_stable(grows: Callable[[float], float], lo: float, hi: float, limit: float) -> float | None:

@@ -464,16 +464,17 @@ def growth_rates(
     return np.array([max((lam[j].real for j in js), default=-math.inf) for js in assigned])
 
 
-def fastest_growth_rate(
+def largest_growth_rate(
     modes: Modes,
     contact: ContactLaw,
     op: OperatingPoint,
     wheel_speed_rad_s: float = 0.0,
     body: BodyModel | None = None,
 ) -> float:
-    """The largest real part of the system's eigenvalues at ``op`` [1/s]: what
-    :func:`linear_stability`'s fastest eigenvalue grows at, from the eigenvalues alone
-    (no eigenvectors, shares or mechanisms)."""
+    """The largest growth rate of every eigenvalue at ``op`` [1/s] (> 0: something
+    grows), the counter-body ``body``'s own included: what :func:`linear_stability`'s
+    fastest eigenvalue grows at, from the eigenvalues alone (no eigenvectors, shares or
+    mechanisms)."""
     modes = as_modes(modes)
     linear = LinearContact.at(contact, op)
     damping = np.array([md.damping_ns_m for md in modes])

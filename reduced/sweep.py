@@ -19,7 +19,7 @@ from numpy.typing import ArrayLike
 
 from . import _engine
 from .creep import ContactLaw
-from .limit_cycle import Cycles, analytic_growth_rate, limit_cycle, metrics_from_cycles
+from .limit_cycle import Cycles, limit_cycle, metrics_from_cycles
 from .model import (
     STEPS_PER_PERIOD,
     Modes,
@@ -31,6 +31,7 @@ from .model import (
     mode_arrays,
     simulate_rk4,
 )
+from .stability import largest_growth_rate
 
 
 def numba_threads() -> int:
@@ -216,7 +217,7 @@ def sweep_points(
                 lc = metrics_from_cycles(
                     cyc,
                     op.crabbing_velocity_m_s,
-                    analytic_growth_rate(modes, contact, op),
+                    largest_growth_rate(modes, contact, op),
                     record_end_s=float(n_steps[i] * h[i]),
                 )
             out["amp"][i] = lc.velocity_amplitude_m_s

@@ -392,8 +392,8 @@ def test_transient_creep_in_the_time_domain_grows_at_the_lagged_linear_rate():
 
 
 @pytest.mark.parametrize("relaxation", [False, True], ids=["steady creep", "transient creep"])
-def test_the_fastest_growth_rate_from_the_eigenvalues_alone_is_linear_stability_s(relaxation):
-    """``fastest_growth_rate`` (eigenvalues only, for the verdict's rigid-rail comparison)
+def test_the_largest_growth_rate_from_the_eigenvalues_alone_is_linear_stability_s(relaxation):
+    """``largest_growth_rate`` (eigenvalues only, for the verdict's rigid-rail comparison)
     is the fastest eigenvalue of ``linear_stability`` to round-off (1e-9 relative: the same
     matrix, LAPACK's eigenvalues with and without vectors), with a counter-body mode in
     series, a coupled pair and the Table 1 mode; and with transient creep, whose lag's own
@@ -403,5 +403,5 @@ def test_the_fastest_growth_rate_from_the_eigenvalues_alone_is_linear_stability_
     body = r.BodyModel.from_modes([(r.NORMAL, 2500.0, 0.01, 7.0)], "a roller mode")
     for b in (None, body):
         full = r.linear_stability(modes, law, OP, body=b).eigenvalues.real.max()
-        assert r.fastest_growth_rate(modes, law, OP, body=b) == pytest.approx(full, rel=1e-9, abs=1e-9)
+        assert r.largest_growth_rate(modes, law, OP, body=b) == pytest.approx(full, rel=1e-9, abs=1e-9)
         assert full > 0  # a growing system: the comparison is not of two decays

@@ -19,7 +19,6 @@ from reduced.remedy import (
     damping_to_stop,
     friction_coefficient_to_stop,
     friction_slope_to_stop,
-    largest_growth_rate,
     round_up,
     separation_to_stop,
 )
@@ -82,14 +81,14 @@ def test_a_coalesced_pair_is_stopped_by_both_partners_damping(law, op_fig6):
     """One partner's critical damping (the old per-mode remedy) leaves the pair growing;
     the remedy raises both, and with it every eigenvalue decays."""
     pair, contact = _coalesced_pair(law, op_fig6)
-    assert largest_growth_rate(pair, contact, op_fig6) > 50.0  # it grows fast by mode coupling
+    assert r.largest_growth_rate(pair, contact, op_fig6) > 50.0  # it grows fast by mode coupling
     found = damping_to_stop(pair, contact, op_fig6)
     assert found.settled and found.raised == (0, 1)
     damped = [m.with_damping_ratio(z) for m, z in zip(pair, found.damping_ratio)]
-    assert largest_growth_rate(damped, contact, op_fig6) <= -DECAY_RATE_1_S
+    assert r.largest_growth_rate(damped, contact, op_fig6) <= -DECAY_RATE_1_S
     one = r.critical_damping_ratio(pair, contact, op_fig6, 0)
     alone = [pair[0].with_damping_ratio(one * 1.01), pair[1]]
-    assert largest_growth_rate(alone, contact, op_fig6) > 0.0  # one partner alone: still grows
+    assert r.largest_growth_rate(alone, contact, op_fig6) > 0.0  # one partner alone: still grows
 
 
 def test_the_friction_levers_bracket_the_boundary(law, op_fig6):
@@ -100,7 +99,7 @@ def test_the_friction_levers_bracket_the_boundary(law, op_fig6):
 
     def grows(m: float) -> float:
         c = r.ContactLaw.from_hertz(r.hertz_contact(0.213, 0.300, 0.085, 0.040, 175e9, 0.28, 1000.0), m)
-        return largest_growth_rate([TABLE1], c, op_fig6)
+        return r.largest_growth_rate([TABLE1], c, op_fig6)
 
     assert grows(mu) <= 0.0 and grows(mu * 0.5) <= 0.0
     assert grows(mu + 2 * 10 ** (math.floor(math.log10(mu)) - 1)) > 0.0
@@ -114,7 +113,7 @@ def test_the_separation_stops_the_pair(law, op_fig6):
     f = separation_to_stop(pair, contact, op_fig6, (0, 1))
     assert f is not None and f > 1000.0
     moved = [r.ModalDOF.from_damping_ratio(4.0, 4.0 * (2 * math.pi * f) ** 2, 0.001, 0, 1.0, -0.1), pair[1]]
-    assert largest_growth_rate(moved, contact, op_fig6) <= 0.0
+    assert r.largest_growth_rate(moved, contact, op_fig6) <= 0.0
 
 
 def _paste(design: Path, remedy_toml: Path, into: Path, name: str) -> Path:

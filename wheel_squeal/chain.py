@@ -188,10 +188,10 @@ class _Chain(Outcomes):
     def rigid_growth_rate(self) -> float:
         """The fastest growth rate [1/s] with the counter-body rigid (its degrees of
         freedom left out, the contact as it is)."""
-        from reduced import fastest_growth_rate
+        from reduced import largest_growth_rate
 
         dofs = self.dofs if self.dofs is not None else mode_dofs([r.mode for r in self.rows], self.design)
-        return fastest_growth_rate(dofs, self.contact, self.op, self.omega)
+        return largest_growth_rate(dofs, self.contact, self.op, self.omega)
 
     def decide_verdict(self) -> Verdict:
         """The one answer: the named mode as asked where it squeals, else the model's own
