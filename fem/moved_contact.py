@@ -116,8 +116,8 @@ class MeridianSlice:
         self.modes = modes
         self.triangles, _ = _meridian_triangles(modes)
         self.rz = np.asarray(modes.points, float)[:, [0, 2]]
-        self.members = [[np.asarray(m, float) for m in np.asarray(shape, float)] for shape in modes.shapes]
-        self.peaks = [[float(np.abs(m).max()) for m in members] for members in self.members]
+        self.shapes = [np.asarray(shape, float) for shape in modes.shapes]  # (members, nodes, 3)
+        self.peaks = [np.abs(shape).reshape(len(shape), -1).max(axis=1) for shape in self.shapes]
 
     def modes_at(self, frame: ContactFrame) -> ModeSet:
         """The modes read at ``frame`` (:func:`modes_at_contact`)."""
@@ -133,13 +133,13 @@ class MeridianSlice:
             point = f"({frame.r_m:.4g}, {frame.z_m:.4g}) m"
             raise ValueError(f"contact point {point} is {gap * 1e3:.2g} mm off the wheel's mesh")
         moved = []
-        for mode, members, peaks in zip(modes.modes, self.members, self.peaks):
+        for mode, shape, peaks in zip(modes.modes, self.shapes, self.peaks):
             lateral, normal = [], []
-            for member, peak in zip(members, peaks):
+            for member, peak in zip(shape, peaks):
                 u = weights @ member[nodes]
                 t, n = frame.components(float(u[0]), float(u[2]))
-                lateral.append(clean_contact(t, peak))
-                normal.append(clean_contact(n, peak))
+                lateral.append(clean_contact(t, float(peak)))
+                normal.append(clean_contact(n, float(peak)))
             moved.append(
                 dataclasses.replace(mode, contact_lateral=tuple(lateral), contact_normal=tuple(normal))
             )

@@ -149,7 +149,7 @@ def test_band_maxima_sum_the_tones_of_each_band():
 
 
 @pytest.mark.slow  # railway_920's FE modes, the test track's fits and 4 radii (about 40 s cold)
-def test_the_railway_wheel_squeals_at_its_tread_in_tight_curves_and_at_its_flange_beyond(tmp_path):
+def test_the_railway_wheel_squeals_in_tight_curves_at_its_tread_and_its_flange_root(tmp_path):
     """railway_920 on the test track at 40 km/h in its bogie ([vehicle]), touching with
     S1002: the leading inner wheel squeals at its tread by falling friction at R = 150 and
     300 m and not at 600 and 1000 m (lateral creepage 1.6e-3 and 8e-4 there, below the creep
