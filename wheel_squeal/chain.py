@@ -170,18 +170,21 @@ class _Chain(Outcomes):
 
     # -- the verdict ----------------------------------------------------------------------
     def verdict(self) -> Verdict:
-        """The one answer (:meth:`decide_verdict`), with what a track adds to it."""
+        """The one answer (:meth:`decide_verdict`), with what a counter-body's own degrees of
+        freedom (a rail's, a roller's modes) add to it."""
         v = self.decide_verdict()
         if v.outcome is not None:
             v = replace(v, damping=self.design.damping_source(v.outcome.mode))
-        if self.design.counter_body.KIND != "track":
+        body = self.design.counter_body.model()
+        if body.states == 0:
             return v
         rigid = self.rigid_growth_rate()
         fastest = float(self.table.result.eigenvalues.real.max())
         effect = fastest - rigid
+        noun = body.name.removeprefix("the ")
         words = (
-            f"; the rail {'adds' if effect >= 0 else 'removes'} {abs(effect):.3g} 1/s at the fastest "
-            f"eigenvalue ({fastest:.3g} 1/s; {rigid:.3g} 1/s on a rigid rail)"
+            f"; {body.name} {'adds' if effect >= 0 else 'removes'} {abs(effect):.3g} 1/s at the fastest "
+            f"eigenvalue ({fastest:.3g} 1/s; {rigid:.3g} 1/s on a rigid {noun})"
         )
         return replace(v, reason=v.reason + words, counter_body_effect_1_s=effect)
 

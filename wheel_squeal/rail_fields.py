@@ -65,7 +65,11 @@ RAIL_FIELDS: dict[str, tuple[str, str]] = {
     },
     "band_hz": ("Hz", "the band fitted"),
     "convention": ("-", "the receptances' sign convention"),
-    "counter_body_effect_1_s": ("1/s", "on a track: what the rail adds to the fastest growth rate"),
+    "counter_body_effect_1_s": (
+        "1/s",
+        "with a counter-body that moves (a rail, a roller with modes): what it adds to the fastest"
+        " growth rate",
+    ),
     "counter_body_growth_rate_1_s": ("1/s", "the counter-body's own eigenvalue's growth (null: none)"),
     "frequency_range_hz": ("Hz", "the frequency grid's ends"),
     "max_relative_error": (

@@ -245,8 +245,9 @@ class Verdict:
     remedy : dict or None
         With a squeal: what would stop it.
     counter_body_effect_1_s : float or None
-        On a track: how much the rail adds to the fastest growth rate [1/s] (negative:
-        removes), against a rigid rail with the same contact.
+        With a counter-body that moves (a rail, a roller with modes): how much its own
+        degrees of freedom add to the fastest growth rate [1/s] (negative: remove),
+        against it rigid with the same contact.
     damping : (float, str) or None
         The squeal mode's damping ratio and where it comes from (the design's key for
         the mode, its family, ``modal_damping_ratio``, or "measured").

@@ -385,12 +385,13 @@ def analysis_text(a: Analysis) -> str:
         if outcome is not None and outcome.shares is not None and outcome.simulation is not None:
             lines.append(shares_text(outcome))
             break
-    if o is not None and o.simulation is not None and a.design.counter_body.KIND == "track":
+    if o is not None and o.simulation is not None and o.simulation.history.v_body is not None:
         from reduced.report import counter_body_motion
 
         m = counter_body_motion(o.simulation.history)
+        body = a.design.counter_body.model().name
         lines.append(
-            f"the rail at the end of the record: {m['counter_body_velocity_share']:.1%} of the slip velocity "
+            f"{body} at the end of the record: {m['counter_body_velocity_share']:.1%} of the slip velocity "
             f"(rms {m['counter_body_velocity_rms_m_s']:.3g} m/s), {m['counter_body_power_w']:.3g} W into it"
         )
     heard = a.verdict.outcome
