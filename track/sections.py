@@ -349,13 +349,23 @@ class Track(CounterBodySection):
         return _track_fits(self)
 
     def model(self) -> BodyModel:
-        from reduced import LATERAL, NORMAL, BodyModel
+        return _track_model(self)
 
-        vertical, lateral = self.fits()
-        return BodyModel.from_rational(
-            [(NORMAL, vertical.poles, vertical.residues), (LATERAL, lateral.poles, lateral.residues)],
-            "the rail",
-        )
+
+@functools.lru_cache(maxsize=8)
+def _track_model(track: Track) -> BodyModel:
+    """The rail's state space from its fits, once per track in a process (every contact
+    of a curve map takes it)."""
+    from reduced import LATERAL, NORMAL, BodyModel
+
+    vertical, lateral = track.fits()
+    model = BodyModel.from_rational(
+        [(NORMAL, vertical.poles, vertical.residues), (LATERAL, lateral.poles, lateral.residues)],
+        "the rail",
+    )
+    for values in (model.order, model.direction, model.a0, model.a1, model.b0, model.b1):
+        values.setflags(write=False)  # shared by every caller in the process
+    return model
 
 
 @functools.lru_cache(maxsize=8)
