@@ -43,7 +43,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
-from scipy.optimize import brentq, least_squares
+from scipy.optimize import OptimizeResult, brentq, least_squares
 
 from reduced.contact import hertz_contact, kalker_coefficients
 
@@ -374,6 +374,69 @@ def _wheelset(
     return lat, mom, lon, sides
 
 
+#: A Jacobian of the equilibrium's residuals at the (scaled) unknowns
+Jacobian = Callable[[np.ndarray], np.ndarray]
+#: The step of the contact forces' differences, in the scaled unknowns (mm, mrad, per mille):
+#: far above the normal force's bracketing tolerance, far below the contact table's step
+JACOBIAN_STEP = 1.0e-6
+#: Newton's iteration has converged when its step is below this, in the scaled unknowns
+#: (1e-12 m), with the forces balanced to :data:`FORCE_TOLERANCE`
+NEWTON_STEP = 1.0e-9
+
+
+def _suspension(vehicle: Vehicle, radius_m: float, unbalanced_n: float) -> tuple[np.ndarray, np.ndarray]:
+    """The equilibrium's suspension and inertia terms, linear in the unknowns u (shift,
+    attack, rolling-speed excess of each wheelset, then the frame's shift and yaw): the
+    matrix and the constant of ``springs @ u + preload`` [N, N m]. Wheelset i at x_i = +-a
+    from the frame's centre takes k_y (y_f + x_i psi_f + a^2 / 2R - y_i) laterally and
+    k_psi (psi_f + x_i / R - psi_i) in yaw (the frame sits on the curve's chord); the frame
+    carries the unbalanced force less both springs, and its yaw moment over a."""
+    a = 0.5 * vehicle.wheelbase_m
+    k_y, k_psi = vehicle.primary_lateral_stiffness_n_m, vehicle.primary_yaw_stiffness_n_m_rad
+    springs, preload = np.zeros((8, 8)), np.zeros(8)
+    preload[6] = unbalanced_n
+    for axle, x_i in enumerate((a, -a)):
+        lateral, lateral_0 = np.zeros(8), k_y * a * a / (2.0 * radius_m)
+        lateral[[6, 7, 3 * axle]] = k_y, k_y * x_i, -k_y
+        yaw, yaw_0 = np.zeros(8), k_psi * x_i / radius_m
+        yaw[[7, 3 * axle + 1]] = k_psi, -k_psi
+        springs[3 * axle] += lateral
+        springs[3 * axle + 1] += yaw
+        springs[6] -= lateral
+        springs[7] -= (yaw + x_i * lateral) / a
+        preload[3 * axle] += lateral_0
+        preload[3 * axle + 1] += yaw_0
+        preload[6] -= lateral_0
+        preload[7] -= (yaw_0 + x_i * lateral_0) / a
+    return springs, preload
+
+
+def _newton(
+    residuals: Callable[[np.ndarray], np.ndarray], jacobian: Jacobian, start: np.ndarray, iterations: int = 20
+) -> OptimizeResult | None:
+    """The equilibrium by Newton's iteration with a halved step where the forces would not
+    fall; None where it does not converge (a kink of the interpolated contact table, a
+    singular Jacobian), for the trust region to take over."""
+    x, f = np.array(start, float), residuals(start)
+    for _ in range(iterations):
+        try:
+            step = np.linalg.solve(jacobian(x), -f)
+        except np.linalg.LinAlgError:
+            return None
+        t = 1.0
+        while True:
+            trial = residuals(x + t * step)
+            if np.linalg.norm(trial) < np.linalg.norm(f) or t * np.max(np.abs(step)) <= NEWTON_STEP:
+                break
+            t *= 0.5
+            if t < 1.0 / 64.0:
+                return None
+        x, f = x + t * step, trial
+        if t * np.max(np.abs(step)) <= NEWTON_STEP and np.max(np.abs(f)) <= FORCE_TOLERANCE:
+            return OptimizeResult(x=x, fun=f, cost=0.5 * float(f @ f))
+    return None
+
+
 @dataclass(frozen=True)
 class BogieCurving:
     """A bogie's steady curving (:func:`solve_curving`): its four wheels, and the solved
@@ -438,7 +501,7 @@ def solve_curving(
     reach = table.shifts_m[-1]
     flange_mu = friction_coefficient if flange_friction_coefficient is None else flange_friction_coefficient
 
-    def problem(radius: float) -> tuple[_Scene, float, Callable[[np.ndarray], np.ndarray]]:
+    def problem(radius: float) -> tuple[_Scene, float, Callable[[np.ndarray], np.ndarray], Jacobian]:
         speed = train_speed_km_h / 3.6
         unbalanced = speed * speed / radius - GRAVITY_M_S2 * cant_mm * 1e-3 / RAIL_SPACING_M
         scene = _Scene(
@@ -453,22 +516,34 @@ def solve_curving(
             table.poissons_ratio,
         )
         transfer = mass_per_wheelset * unbalanced * vehicle.centre_of_gravity_height_m / RAIL_SPACING_M
+        springs, preload = _suspension(vehicle, radius, 2.0 * mass_per_wheelset * unbalanced)
+
+        def contact_forces(u: np.ndarray, axle: int) -> np.ndarray:
+            """Wheelset ``axle``'s (lateral force, yaw moment, longitudinal force) [N, N m]."""
+            y, p, e = u[3 * axle : 3 * axle + 3]
+            return np.array(_wheelset(scene, table, y, p, e, transfer)[:3])
 
         def residuals(x: np.ndarray) -> np.ndarray:
-            y1, p1, e1, y2, p2, e2, yf, pf = x * scale
-            out = []
-            frame_lat, frame_yaw = 2.0 * mass_per_wheelset * unbalanced, 0.0
-            for (y, p, e), xi in zip(((y1, p1, e1), (y2, p2, e2)), x_axle):
-                spring = k_y * (yf + xi * pf + a * a / (2.0 * radius) - y)
-                moment = k_psi * (pf + xi / radius - p)
-                lat, mom, lon, _ = _wheelset(scene, table, y, p, e, transfer)
-                out += [lat + spring, mom + moment, lon]
-                frame_lat -= spring
-                frame_yaw -= moment + xi * spring
-            out += [frame_lat, frame_yaw / a]
-            return np.array(out) / wheel_load_n
+            u = x * scale
+            forces = np.concatenate([contact_forces(u, 0), contact_forces(u, 1), [0.0, 0.0]])
+            return (forces + springs @ u + preload) / wheel_load_n
 
-        return scene, transfer, residuals
+        def jacobian(x: np.ndarray) -> np.ndarray:
+            # the contact forces of a wheelset depend on its own unknowns alone, the
+            # suspension's are linear: six differences instead of the whole system's eight
+            u = x * scale
+            jac = springs.copy()
+            for axle in (0, 1):
+                base = contact_forces(u, axle)
+                for j in range(3 * axle, 3 * axle + 3):
+                    moved = u.copy()
+                    moved[j] += JACOBIAN_STEP * scale
+                    jac[3 * axle : 3 * axle + 3, j] += (contact_forces(moved, axle) - base) / (
+                        JACOBIAN_STEP * scale
+                    )
+            return jac * scale / wheel_load_n
+
+        return scene, transfer, residuals, jacobian
 
     def equilibrium(radius: float, first: tuple[np.ndarray, ...] = ()) -> Any:
         """The first equilibrium found from ``first`` and the usual starts (a steady curving
@@ -481,10 +556,14 @@ def solve_curving(
             np.array([reach, 2 * psi, 0.0, 0.0, 0.0, 0.0, 0.0, psi]) / scale,  # the leading one flanging
             np.array([pure, psi, 0.0, pure, -psi, 0.0, pure, 0.0]) / scale,  # both near pure rolling
         )
-        residuals = problem(radius)[2]
+        _, _, residuals, jacobian = problem(radius)
         best = None
         for start in starts:
-            sol = least_squares(residuals, start, xtol=1e-12, ftol=1e-14, gtol=1e-14, max_nfev=2000)
+            sol = _newton(residuals, jacobian, start)
+            if sol is None:  # a kink of the contact table in the way: the trust region's care
+                sol = least_squares(
+                    residuals, start, jac=jacobian, xtol=1e-12, ftol=1e-14, gtol=1e-14, max_nfev=2000
+                )
             if max(abs(sol.x[1]), abs(sol.x[4])) * scale > MAX_ANGLE_OF_ATTACK_RAD:
                 continue  # saturated creep forces balance at any huge yaw too: not a curving
             if best is None or sol.cost < best.cost:
@@ -494,9 +573,7 @@ def solve_curving(
         return best
 
     a = 0.5 * vehicle.wheelbase_m
-    x_axle = (a, -a)
     mass_per_wheelset = 2.0 * wheel_load_n / GRAVITY_M_S2
-    k_y, k_psi = vehicle.primary_lateral_stiffness_n_m, vehicle.primary_yaw_stiffness_n_m_rad
     scale = 1e-3  # the unknowns in mm, mrad and per mille
     best = equilibrium(float(radius_m), () if start is None else (start.unknowns,))
     if best is None or np.max(np.abs(best.fun)) > FORCE_TOLERANCE:
@@ -506,7 +583,7 @@ def solve_curving(
             best = equilibrium(radius, () if best is None else (best.x,))
     if best is None:
         raise CurvingError(f"no steady curving found at R = {radius_m:g} m, {train_speed_km_h:g} km/h")
-    scene, transfer, _ = problem(float(radius_m))
+    scene, transfer, _, _ = problem(float(radius_m))
     if np.max(np.abs(best.fun)) > FORCE_TOLERANCE:
         raise CurvingError(
             f"no steady curving found at R = {radius_m:g} m, {train_speed_km_h:g} km/h "
