@@ -10,6 +10,7 @@ rotated a degenerate pair.
 from __future__ import annotations
 
 import dataclasses
+import functools
 import json
 import math
 from collections.abc import Iterable, Sequence
@@ -124,7 +125,7 @@ class Mode:
     def label(self) -> str:
         return self.name or f"({self.nodal_diameters},{self.nodal_circles}) {self.family}"
 
-    @property
+    @functools.cached_property
     def contact_components(self) -> tuple[float, float]:
         """(phi_t, phi_n) [1/sqrt(kg)]: the lateral and normal displacement at the contact
         of the member combination with the largest lateral motion there (phi_t >= 0;
