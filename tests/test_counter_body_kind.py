@@ -65,7 +65,8 @@ def _eigenvalues(design, modes) -> np.ndarray:
     return np.sort_complex(np.asarray(a.table.result.eigenvalues))
 
 
-def test_a_new_kind_loads_writes_hashes_and_reaches_the_stability(block_kind, tmp_path):
+def _block_design(tmp_path):
+    """(the coupled pair's modes, table1 on a rigid roller, the same on the block)."""
     pair = tmp_path / "pair.toml"
     pair.write_text(COUPLED_PAIR_TOML)
     modes = ws.load_modal_model(pair)
@@ -75,8 +76,11 @@ def test_a_new_kind_loads_writes_hashes_and_reaches_the_stability(block_kind, tm
     body = '[counter_body]\nkind = "block"\nmass_kg = 5.0\nstiffness_n_m = 2.0e8\ndamping_ratio = 0.02\n'
     path = tmp_path / "block.toml"
     path.write_text(head + body + ("\n[" + tail[1] if len(tail) > 1 else ""))
+    return modes, base, ws.load_design(path)
 
-    design = ws.load_design(path)
+
+def test_a_new_kind_loads_writes_hashes_and_reaches_the_stability(block_kind, tmp_path):
+    modes, base, design = _block_design(tmp_path)
     assert isinstance(design.counter_body, Block) and design.counter_body.stiffness_n_m == 2.0e8
     again = tmp_path / "again.toml"
     again.write_text(design.to_toml())
@@ -97,6 +101,22 @@ def test_a_new_kind_loads_writes_hashes_and_reaches_the_stability(block_kind, tm
     # and the block matters: the pair's fastest growth moves by more than 0.1 %
     fastest = [float(np.max(ev.real)) for ev in (with_block, rigid)]
     assert abs(fastest[0] - fastest[1]) > 1e-3 * abs(fastest[1]), fastest
+
+
+def test_what_a_new_kind_adds_reaches_the_verdict_by_its_model_not_its_kind(block_kind, tmp_path):
+    """The verdict says how much a counter-body's own degrees of freedom add to the fastest
+    growth rate whatever its kind: the block's effect is the fastest eigenvalue with it
+    less the one with it rigid (the rigid roller's, the same contact), named by its model;
+    a rigid counter-body has none."""
+    modes, base, design = _block_design(tmp_path)
+    op = ws.operating_point(design, rpm=800.0, crabbing_velocity_m_s=0.39)
+    options = ChainOptions(stop_after="stability", remedy=False)
+    verdict = ws.analyse(design, op=op, modes=modes, options=options).verdict
+    fastest = [float(np.max(_eigenvalues(d, modes).real)) for d in (design, base)]
+    # the same two eigen-solves by two paths: equal to their round-off
+    assert verdict.counter_body_effect_1_s == pytest.approx(fastest[0] - fastest[1], rel=1e-9, abs=1e-9)
+    assert "the block " in verdict.reason and "on a rigid block" in verdict.reason
+    assert ws.analyse(base, op=op, modes=modes, options=options).verdict.counter_body_effect_1_s is None
 
 
 def test_an_older_roller_section_is_the_roller_kind(tmp_path):

@@ -243,6 +243,21 @@ def test_low_rolling_speed_stiff_contact_stays_finite(law):
     assert not r.limit_cycle(hist).squeal
 
 
+def test_the_mean_power_is_the_midpoint_rule_over_the_whole_cycle(law):
+    """Each sine of the midpoint rule is evaluated once (th and pi - th share it): the
+    average is the whole grid's, to the round-off of a sum of 1024 terms, at every
+    amplitude and on both sides of the creep curve's peak."""
+    V = np.geomspace(1e-5, 3.0, 60)
+    for crabbing in (0.05, 0.39, 0.66):
+        op = r.OperatingPoint.from_rpm(800, 0.213, crabbing)
+        th = 2.0 * np.pi * (np.arange(1024) + 0.5) / 1024
+        vel = V[:, None] * np.sin(th)
+        q = -r.adhesion_ratio((crabbing + vel) / op.rolling_speed_m_s, law, op.rolling_speed_m_s)
+        whole = (q * law.normal_load_n * vel).mean(axis=-1) - 0.5 * TABLE1_MODE.damping_ns_m * V * V
+        half = r.mean_power_per_cycle(V, TABLE1_MODE, law, op)
+        assert np.allclose(half, whole, rtol=1e-12, atol=1e-12 * np.max(np.abs(whole)))
+
+
 def test_subcritical_branches_predicted_and_reproduced(law):
     # Vc = 0.66 m/s at 800 RPM: the equilibrium is linearly stable (sigma < 0) but the
     # predictor finds an unstable cycle (~0.24 m/s) below a stable one (~0.65 m/s).
