@@ -559,3 +559,22 @@ def test_a_stop_that_lands_in_a_native_callback_is_raised_after_it():
         [sys.executable, "-c", STOP_IN_A_CALLBACK], capture_output=True, text=True, cwd=ROOT, timeout=60
     )
     assert r.stderr.strip() == "stopped", r.stderr
+
+
+def test_a_stop_inside_logging_s_fork_hooks_is_sent_again_not_swallowed():
+    """A stop that lands while logging takes or releases its lock around a fork (a library
+    running a subprocess during the imports) is swallowed there, printed as "Exception
+    ignored" with a traceback: the handler knows those hooks (this Python's among them) and
+    sends the signal again a moment later instead; outside them it raises at once."""
+    import logging
+
+    from wheel_squeal.cli.stops import NATIVE_CALLBACKS, in_native_callback
+
+    names = [name for where, name in NATIVE_CALLBACKS if where == "logging/__init__.py"]
+    assert sum(hasattr(logging, name) for name in names) >= 2, names
+    for name in names:
+        space = {"sys": sys}
+        source = f"def {name}(probe):\n    return probe(sys._getframe())\n"
+        exec(compile(source, logging.__file__, "exec"), space)
+        assert space[name](in_native_callback), name
+    assert not in_native_callback(sys._getframe())

@@ -20,6 +20,7 @@ from types import FrameType
 from ..interrupts import STATE, STOPS, OutOfTime, StopState, Terminated, uninterrupted
 
 __all__ = [
+    "NATIVE_CALLBACKS",
     "STATE",
     "STOPS",
     "TERMINATE_GRACE_S",
@@ -27,22 +28,34 @@ __all__ = [
     "StopState",
     "Terminated",
     "grace_s",
+    "in_native_callback",
     "install_stop_handlers",
     "stop_line",
     "uninterrupted",
 ]
 
 
-#: Where Python code runs as a callback of native code (numba's LLVM object cache, through
-#: ctypes): an exception raised there is printed as "Exception ignored" with a traceback
-#: and swallowed, so a stop that lands there is sent again a moment later.
-CALLBACK_MODULES = ("llvmlite/binding",)
+#: Where Python code runs as a callback of native code, as (a file's path ending, the
+#: function's name or "" for any): numba's LLVM object cache (through ctypes) and logging's
+#: lock around a fork (``os.register_at_fork``, when a library runs a subprocess). An
+#: exception raised there is printed as "Exception ignored" with a traceback and swallowed,
+#: so a stop that lands there is sent again a moment later.
+NATIVE_CALLBACKS = (
+    ("llvmlite/binding", ""),
+    ("logging/__init__.py", "_acquireLock"),
+    ("logging/__init__.py", "_releaseLock"),
+    ("logging/__init__.py", "_after_at_fork_child_reinit_locks"),
+    ("logging/__init__.py", "_prepareFork"),  # the same hooks' names from Python 3.13
+    ("logging/__init__.py", "_afterFork"),
+)
 RESEND_AFTER_S = 0.05
 
 
-def _in_native_callback(frame: FrameType | None) -> bool:
+def in_native_callback(frame: FrameType | None) -> bool:
+    """Whether ``frame`` (a signal handler's) runs inside one of :data:`NATIVE_CALLBACKS`."""
     while frame is not None:
-        if any(m in frame.f_code.co_filename.replace("\\", "/") for m in CALLBACK_MODULES):
+        path = frame.f_code.co_filename.replace("\\", "/")
+        if any(where in path and name in ("", frame.f_code.co_name) for where, name in NATIVE_CALLBACKS):
             return True
         frame = frame.f_back
     return False
@@ -52,7 +65,7 @@ def _on_signal(signum: int, frame: FrameType | None) -> None:
     STATE.received.append(signum)
     if STATE.holding:
         return
-    if _in_native_callback(frame):
+    if in_native_callback(frame):
         main = threading.main_thread().ident
         assert main is not None
         threading.Timer(RESEND_AFTER_S, signal.pthread_kill, (main, signum)).start()
