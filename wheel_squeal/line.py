@@ -358,7 +358,10 @@ def line(
         for j, _ in jobs
     ]
     results = stored_results(keys, ctx.cache)
-    todo = {i: jobs[i][0] for i, r in enumerate(results) if r is None}
+    # the tightest curves first (their squeals' balance and sound cost most), so that no
+    # worker is left alone with one at the end
+    missing = sorted((i for i, r in enumerate(results) if r is None), key=lambda i: min(jobs[i][0].radii_m))
+    todo = {i: jobs[i][0] for i in missing}
     report = ctx.progress.counter(f"{len(curves):,} curves x {len(states)} friction states", "tasks")
     ctx.progress.say(f"line: {len(jobs)} tasks, {len(jobs) - len(todo)} from an earlier run")
 
@@ -370,8 +373,8 @@ def line(
 
     # the tasks quiet, the line's counter the one progress line; the memo (modes, radiation) shared
     here = functools.partial(run_line_job, context=dataclasses.replace(ctx, progress=Progress(quiet=True)))
-    if todo and not scheduler and n_local > 1:  # the first here: the workers inherit its modes
-        first = min(todo)
+    if todo and not scheduler and n_local > 1:  # the cheapest here: the workers inherit its modes
+        first = missing[-1]
         done(first, here(todo.pop(first)))
     run_tasks(
         todo, run_line_job if scheduler else here, done, n_local, scheduler, ctx.progress, lambda n: None
