@@ -170,15 +170,16 @@ def s1002(samples: int = SAMPLES) -> Profile:
     return Profile("S1002", 1e-3 * s_mm, 1e-3 * _s1002_rise_mm(s_mm))
 
 
-#: The standard wheel profiles a design's contact may take by name
-STANDARD_WHEELS = ("S1002",)
+#: The standard wheel profiles a design's contact may take, by name
+_STANDARD_WHEEL_PROFILES = {"S1002": s1002}
+STANDARD_WHEELS = tuple(_STANDARD_WHEEL_PROFILES)
 
 
 def standard_wheel(name: str) -> Profile:
     """The standard wheel profile called ``name`` (one of :data:`STANDARD_WHEELS`)."""
-    if name != "S1002":
+    if name not in _STANDARD_WHEEL_PROFILES:
         raise ValueError(f"wheel profile {name!r}: one of {', '.join(STANDARD_WHEELS)}")
-    return s1002()
+    return _STANDARD_WHEEL_PROFILES[name]()
 
 
 #: UIC60 E1's head (EN 13674-1): arc radii [m] from the crown outwards, the lateral

@@ -175,8 +175,8 @@ class _Chain(Outcomes):
         v = self.decide_verdict()
         if v.outcome is not None:
             v = replace(v, damping=self.design.damping_source(v.outcome.mode))
-        body = self.design.counter_body.model()
-        if body.states == 0:
+        body = body_of(self.design)
+        if body is None:
             return v
         rigid = self.rigid_growth_rate()
         fastest = float(self.table.result.eigenvalues.real.max())
