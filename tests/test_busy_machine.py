@@ -446,6 +446,7 @@ def test_a_measured_file_with_a_byte_order_mark_reads_and_its_speeds_are_checked
 # --------------------------------------------------------------------------------------
 # honest levels and words
 # --------------------------------------------------------------------------------------
+@pytest.mark.slow  # a whole chain with its FE modes and radiation: 1.6-10.6 s measured
 def test_a_microphone_on_a_silent_axis_hears_silence():
     import wheel_squeal as ws
     from wheel_squeal.listener import Listener, air_for
