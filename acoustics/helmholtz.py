@@ -502,15 +502,15 @@ def far_field(traces, n: int, k: float, cos_theta: np.ndarray) -> np.ndarray:
     (``traces``: points, normals pointing away from the sources, P, dP/dn, ds), its
     angular part in closed form: the integral of cos(n phi) e^{j a cos phi} over phi is
     2 pi j^n J_n(a)."""
-    from scipy.special import jv
+    from .bessel import bessel_j
 
     x, (nr, nz), p, dp, ds = traces
     r, z = x
     st, ct = np.sqrt(1.0 - cos_theta**2)[:, None], cos_theta[:, None]
     kappa = k * r[None, :] * st
-    # J_n' = J_{n-1} - (n / x) J_n: two Bessel evaluations instead of scipy's jvp's three
-    # (the far field's cost); at x = 0, J_n' is 1/2 for n = 1, else 0
-    jn, below = jv(n, kappa), jv(n - 1, kappa)
+    # J_n' = J_{n-1} - (n / x) J_n: two Bessel evaluations instead of three (the far
+    # field's cost); at x = 0, J_n' is 1/2 for n = 1, else 0
+    jn, below = bessel_j(n, kappa), bessel_j(n - 1, kappa)
     with np.errstate(divide="ignore", invalid="ignore"):
         jnp_ = np.where(kappa > 0.0, below - n * jn / kappa, 0.5 * (n == 1))
     phase = np.exp(1j * k * z[None, :] * ct)

@@ -60,6 +60,21 @@ def test_sphere_pressure_and_power_are_exact(spheres, l_, m, ka):
     assert field.sound_power_w == pytest.approx(ac.sphere_sound_power(l_, m, RADIUS, k), rel=0.01)
 
 
+@pytest.mark.parametrize("order", [-3, -1, 0, 1, 2, 5, 9, 16])
+def test_the_tabulated_bessel_functions_are_scipy_s_to_their_interpolation_bound(order):
+    """The far field's J_n (``acoustics.bessel``) against ``scipy.special.jv`` at random
+    arguments, the nodes' neighbours and 0: within 1e-10, the cubic Hermite bound
+    h^4 / 384 = 1.2e-11 with a margin for rounding (the table's values are jv's)."""
+    from scipy.special import jv
+
+    from acoustics.bessel import TABLE_STEP, bessel_j
+
+    rng = np.random.default_rng(7)
+    x = np.concatenate([rng.uniform(0.0, 60.0, 20_000), [0.0, 1e-12, TABLE_STEP * (1 - 1e-12), 60.0]])
+    x = x.reshape(4, -1)  # any shape
+    assert np.max(np.abs(bessel_j(order, x) - jv(order, x))) < 1e-10
+
+
 def test_power_from_the_near_field_fails_for_a_poor_radiator(spheres):
     """Why the power comes from the far field: l = 3 at ka = 0.2 radiates with an
     efficiency of about 1e-8, and the real part of P conj(vn) on the surface is lost in
