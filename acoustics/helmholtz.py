@@ -347,6 +347,23 @@ def _stretch(x, radius: float, thickness: float, attenuation: float, k: float):
     return a, b, r / rho, z / rho
 
 
+def _layer_coefficients(
+    x: np.ndarray, n: int, k: float, radius: float, thickness: float, attenuation: float
+) -> dict[str, np.ndarray]:
+    """The operator's coefficients at the quadrature points ``x`` (2, elements, points):
+    a r on the gradients, (b^2/a - a) r on their radial parts (along e_r, e_z), and
+    (a n^2 / r^2 - k^2 a b^2) r on the values (:func:`_stretch`)."""
+    a, b, er, ez = _stretch(x, radius, thickness, attenuation, k)
+    r = x[0]
+    return {
+        "stiffness": a * r,
+        "radial": (b * b / a - a) * r,
+        "mass": (a * n * n / (r * r) - k * k * a * b * b) * r,
+        "er": er,
+        "ez": ez,
+    }
+
+
 def _facets(mesh, where) -> np.ndarray:
     """Boundary facets whose both end points satisfy ``where(r, z)``."""
     f = mesh.boundary_facets()
@@ -379,16 +396,20 @@ def radiate(
 
     @fe.BilinearForm(dtype=np.complex128)
     def operator(u, v, w):
-        r = w.x[0]
-        a, b, er, ez = _stretch(w.x, radius, max(thickness, 1e-300), settings.pml_attenuation, k)
-        c = b * b / a - a  # L = a I + (b^2/a - a) e e^T
+        # L = a I + (b^2/a - a) e e^T; the layer's coefficients are made once per mesh
+        # (:func:`_layer_coefficients`), not once per pair of basis functions
         gu, gv = u.grad, v.grad
-        grads = a * (gu[0] * gv[0] + gu[1] * gv[1]) + c * (er * gu[0] + ez * gu[1]) * (
-            er * gv[0] + ez * gv[1]
+        along = w.er * gu[0] + w.ez * gu[1]
+        return (
+            w.stiffness * (gu[0] * gv[0] + gu[1] * gv[1])
+            + w.radial * along * (w.er * gv[0] + w.ez * gv[1])
+            + w.mass * u * v
         )
-        return (grads + (a * n * n / (r * r) - k * k * a * b * b) * u * v) * r
 
-    A = operator.assemble(basis)
+    coefficients = _layer_coefficients(
+        np.asarray(basis.global_coordinates()), n, k, radius, max(thickness, 1e-300), settings.pml_attenuation
+    )
+    A = operator.assemble(basis, **coefficients)
     body_facets = _facets(skm, lambda r, z: (r > tol) & (np.hypot(r, z) < radius - tol))
     fb = fe.FacetBasis(skm, fe.ElementTriP2(), facets=body_facets, intorder=6)
     x = np.asarray(fb.global_coordinates())

@@ -54,9 +54,9 @@ class Radiation:
         microphone (r, z[, theta])."""
         from .farfield import directivity
 
-        at_microphone = complex(field.pressure_at(np.array([microphone[:2]]))[0])
-        ring = field.pressure_at(ring_points(field.mesh.radius))
-        return cls(field, at_microphone, ring, directivity(field))
+        # one evaluation for both (each builds the air mesh's basis)
+        pressures = field.pressure_at(np.vstack([np.array([microphone[:2]]), ring_points(field.mesh.radius)]))
+        return cls(field, complex(pressures[0]), pressures[1:], directivity(field))
 
 
 @dataclass(frozen=True)
