@@ -23,6 +23,7 @@ the measured reason for the layer (README).
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import math
 from dataclasses import dataclass
@@ -161,6 +162,23 @@ class SoundField:
         """D(theta) [Pa m] with p ~ D(theta) cos(n phi) e^{-j k R} / R far from the body
         (theta from the +z axis)."""
         return far_field(self.body.as_tuple(), self.harmonic, self.wavenumber, np.asarray(cos_theta, float))
+
+    def scaled(self, factor: float) -> SoundField:
+        """The field of the same surface vibrating ``factor`` times as fast (factor > 0):
+        the pressures scale by it, the powers by its square, the efficiency not at all."""
+        b = self.body
+        body = dataclasses.replace(
+            b, pressure=factor * b.pressure, normal_derivative=factor * b.normal_derivative
+        )
+        f2 = factor * factor
+        return dataclasses.replace(
+            self,
+            pressure=factor * self.pressure,
+            body=body,
+            sound_power_w=f2 * self.sound_power_w,
+            surface_power_w=f2 * self.surface_power_w,
+            flux_power_w=f2 * self.flux_power_w,
+        )
 
     def vertex_pressure(self) -> np.ndarray:
         """P [Pa] at the air mesh's vertices (its first P2 unknowns), shape (N,)."""

@@ -58,6 +58,16 @@ class Radiation:
         pressures = field.pressure_at(np.vstack([np.array([microphone[:2]]), ring_points(field.mesh.radius)]))
         return cls(field, complex(pressures[0]), pressures[1:], directivity(field))
 
+    def scaled(self, factor: float) -> Radiation:
+        """The radiation of the same surface vibrating ``factor`` times as fast (factor >
+        0; ``SoundField.scaled``)."""
+        return Radiation(
+            self.field.scaled(factor),
+            factor * self.microphone_pressure_pa,
+            factor * self.ring_pressure_pa,
+            factor * self.directivity_pa_m,
+        )
+
 
 @dataclass(frozen=True)
 class Sound:

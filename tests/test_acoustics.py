@@ -120,13 +120,14 @@ def wheel_field():
     design = ws.load_design()
     ms = ws.compute_modes(design, "fast")
     mode, _ = ws.pick_mode(ms, "n=3,c=0")
-    return design, mode, mode_radiation(design, ms, mode, mode.frequency_hz, default_microphone(design)).field
+    field = mode_radiation(design, ms, mode, mode.frequency_hz, default_microphone(design)).field
+    return design, mode, field, ms
 
 
 def test_wheel_energy_balance(wheel_field):
     """The power through the circle around the wheel, the power the surface gives the air
     and the far-field power agree within 0.5 % (the (3,0) mode radiates well: sigma 0.18)."""
-    _, _, field = wheel_field
+    _, _, field, _ = wheel_field
     assert field.flux_power_w == pytest.approx(field.surface_power_w, rel=0.005)
     assert field.sound_power_w == pytest.approx(field.surface_power_w, rel=0.005)
     assert 0.05 < field.radiation_efficiency < 1.0
@@ -137,7 +138,7 @@ def test_wheel_radiation_scales_with_the_contact_velocity(wheel_field):
     from wheel_squeal.listener import default_microphone
     from wheel_squeal.sound import sound_of
 
-    design, _, field = wheel_field
+    design, _, field, _ = wheel_field
     mic = default_microphone(design)
     rad = Radiation.of(field, mic)
     one, half = sound_of(rad, 1.0, mic).summary(), sound_of(rad, 0.5, mic).summary()
@@ -151,6 +152,40 @@ def test_wheel_radiation_scales_with_the_contact_velocity(wheel_field):
 
 
 @pytest.mark.slow
+def test_a_mode_read_at_two_contacts_is_one_solve_scaled_to_each(wheel_field, tmp_path):
+    """The radiation is solved for the mode's shape and scaled to the contact it is read
+    at (``wheel_squeal.sound.mode_radiation``): a second contact, from the cache and the
+    memo the first one filled, hears what it hears solved alone (to 1e-9: the same solve,
+    scaled), which is the first one's pressure times the ratio of their contact
+    displacements."""
+    from fem.moved_contact import MeridianSlice
+    from geometry.contact import ContactFrame
+    from wheel_squeal.cache import StageCache
+    from wheel_squeal.listener import default_microphone
+    from wheel_squeal.modes import modes_cache_key
+    from wheel_squeal.presets import fidelity_for
+    from wheel_squeal.sound import mode_radiation
+
+    design, mode, _, ms = wheel_field
+    own = ms.contact_point
+    assert own is not None
+    # the same point, the frame turned: the lateral direction now takes the radial motion
+    turned = MeridianSlice(ms).modes_at(ContactFrame(own[0], own[2], math.radians(60.0)))
+    there = turned.modes[mode.index]
+    ratio = abs(mode.contact_lateral[0]) / abs(there.contact_lateral[0])
+    assert abs(math.log(ratio)) > 0.1  # the two contacts move differently
+    mic, f = default_microphone(design), mode.frequency_hz
+    cache, key, memo = StageCache(tmp_path), modes_cache_key(design, fidelity_for("fast"), 5000.0), {}
+    first = mode_radiation(design, ms, mode, f, mic, cache, key, memo=memo)
+    for shared in (memo, None):  # from the memo, then from the cache alone
+        second = mode_radiation(design, turned, there, f, mic, cache, key, memo=shared)
+        assert second.microphone_pressure_pa == pytest.approx(first.microphone_pressure_pa * ratio, rel=1e-9)
+        assert second.field.sound_power_w == pytest.approx(first.field.sound_power_w * ratio**2, rel=1e-9)
+    alone = mode_radiation(design, turned, there, f, mic)
+    assert alone.microphone_pressure_pa == pytest.approx(second.microphone_pressure_pa, rel=1e-9)
+    assert np.allclose(alone.directivity_pa_m, second.directivity_pa_m, rtol=1e-9, atol=0)
+
+
 def test_run_reports_sound_and_sweep_draws_fig5_in_db(tmp_path):
     cache = str(tmp_path / "c")
     r = run_cli(

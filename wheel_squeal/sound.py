@@ -50,16 +50,32 @@ def mode_surface(
 ) -> Surface:
     """The mode's outline and surface velocity (``acoustics.Surface``), scaled so that
     the axial velocity amplitude at the contact is ``contact_velocity_m_s`` [m/s]."""
+    return _shape_surface(modeset, mode, contact_velocity_m_s / _contact_amplitude(mode))
+
+
+def _contact_amplitude(mode: Mode) -> float:
+    """|phi| of the mode's lateral displacement at the contact it is read at; a mode that
+    does not move the contact is refused."""
+    v_c = abs(float(mode.contact_lateral[0]))
+    if not v_c > 0:
+        raise RequestError(f"mode {mode.index} ({mode.label()}) does not move the contact: it cannot squeal")
+    return v_c
+
+
+def _shape_peak(modeset: ModeSet, mode: Mode) -> float:
+    """The largest displacement component of the mode's shape (its cos member) anywhere:
+    the reference its radiation is solved for, the same whichever contact it is read at."""
+    return float(np.max(np.abs(modeset.shapes[mode.index][0])))
+
+
+def _shape_surface(modeset: ModeSet, mode: Mode, velocity_per_displacement: float) -> Surface:
+    """The mode's outline with the surface velocity j w u (the shape u) times
+    ``velocity_per_displacement`` / w [1/m]."""
     from acoustics import Surface
     from fem.shapes import meridian_outline
 
     points, displacement = meridian_outline(modeset, mode.index)
-    v_c = abs(float(mode.contact_lateral[0]))
-    if not v_c > 0:
-        raise RequestError(f"mode {mode.index} ({mode.label()}) does not move the contact: it cannot squeal")
-    omega = 2 * math.pi * frequency_hz
-    velocity = 1j * omega * displacement * (contact_velocity_m_s / (omega * v_c))
-    return Surface(points, velocity, int(mode.nodal_diameters))
+    return Surface(points, 1j * displacement * velocity_per_displacement, int(mode.nodal_diameters))
 
 
 def sound_cost(
@@ -112,8 +128,9 @@ def contact_velocity_phase(mode: Mode) -> complex:
 
 
 def radiation_key(modes_key: dict[str, Any], mode: Mode, frequency_hz: float, air: Air) -> dict[str, Any]:
-    """The cache key of a mode's radiation (its field at 1 m/s): the modes', the mode,
-    the frequency, the air, the settings and the acoustics code."""
+    """The cache key of a mode's radiation (its field at a unit peak velocity of its
+    shape, :func:`mode_radiation`): the modes', the mode, the frequency, the air, the
+    settings and the acoustics code."""
     from acoustics import RadiationSettings
     from acoustics.helmholtz import FIELD_ARRAYS
 
@@ -121,6 +138,7 @@ def radiation_key(modes_key: dict[str, Any], mode: Mode, frequency_hz: float, ai
         **modes_key,
         "stage": "sound",
         "mode": mode.index,
+        "velocity": "unit peak of the shape",
         "frequency_hz": round(float(frequency_hz), 6),
         "settings": repr(RadiationSettings()),
         "air": repr(air),
@@ -139,16 +157,49 @@ def mode_radiation(
     modes_key: dict[str, Any] | None = None,
     air: Air | None = None,
     budget: Budget | None = None,
+    memo: dict[Any, Any] | None = None,
 ) -> Radiation:
-    """The :class:`Radiation` of ``mode`` at 1 m/s contact velocity seen from the
-    microphone; the field is cached beside the modes when ``modes_key``
-    (:func:`wheel_squeal.api.modes_cache_key`) is given, and so are the pressures at
-    the microphone and on the plot's circle (a warm run needs no finite elements);
+    """The :class:`Radiation` of ``mode`` at 1 m/s contact velocity (at the contact its
+    components are read at) seen from the microphone.
+
+    The field is solved for the mode's shape at a unit peak velocity (:func:`_shape_peak`),
+    which does not depend on the contact, and scaled to the contact's velocity: the
+    contacts of a curve share one solve of a mode at a frequency. It is cached beside the
+    modes when ``modes_key`` (:func:`wheel_squeal.api.modes_cache_key`) is given, and so
+    are the pressures at the microphone and on the plot's circle (a warm run needs no
+    finite elements), and kept in ``memo`` (a dict) for later calls of the same process;
     ``air``: ``acoustics.Air`` (default: 1.21 kg/m^3, 343 m/s); ``budget``: a
     :class:`~wheel_squeal.budget.Budget` the solve is estimated against first."""
-    from acoustics import AIR, SoundField, radiate
+    from acoustics import AIR
 
     air = air or AIR
+    factor = _shape_peak(modeset, mode) / _contact_amplitude(mode)
+    # the moved mode sets of a curve's contacts share their shapes (the same list)
+    f = round(float(frequency_hz), 6)
+    memo_key = ("radiation", id(modeset.shapes), mode.index, f, repr(air), tuple(microphone[:2]))
+    held = None if memo is None else memo.get(memo_key)
+    if held is not None and held[0] is modeset.shapes:
+        return held[1].scaled(factor)
+    unit = _unit_radiation(modeset, mode, frequency_hz, microphone, cache, modes_key, air, budget)
+    if memo is not None:
+        memo[memo_key] = (modeset.shapes, unit)
+    return unit.scaled(factor)
+
+
+def _unit_radiation(
+    modeset: ModeSet,
+    mode: Mode,
+    frequency_hz: float,
+    microphone: tuple[float, float, float],
+    cache: StageCache | None,
+    modes_key: dict[str, Any] | None,
+    air: Air,
+    budget: Budget | None,
+) -> Radiation:
+    """The radiation of the mode's shape at a unit peak velocity (:func:`mode_radiation`),
+    from the cache or solved."""
+    from acoustics import SoundField, radiate
+
     key = at_key = None
     if cache is not None and modes_key is not None:
         key = radiation_key(modes_key, mode, frequency_hz, air)
@@ -172,7 +223,7 @@ def mode_radiation(
                 rad = Radiation.of(field, microphone)
                 cache.store("sound-at", at_key, _at_arrays(rad))
                 return rad
-    surface = mode_surface(modeset, mode, frequency_hz)
+    surface = _shape_surface(modeset, mode, 1.0 / _shape_peak(modeset, mode))
     if budget is not None:
         from acoustics import radiation_cost
 
@@ -264,11 +315,6 @@ def mode_sound(
         modeset = compute_modes(design, fid, fmax_hz=fmax_hz, cache=cache, budget=budget)
         mode, _ = pick_mode(modeset, f"n={mode.nodal_diameters},c={mode.nodal_circles}")
     mic = listener.microphone
-    memo_key = (id(modeset), mode.index, round(float(frequency_hz), 6), repr(listener.air), mic[:2])
-    rad = None if memo is None else memo.get(memo_key)
-    if rad is None:
-        key = modes_cache_key(design, fid, fmax_hz) if cache is not None else None
-        rad = mode_radiation(design, modeset, mode, frequency_hz, mic, cache, key, listener.air, budget)
-        if memo is not None:
-            memo[memo_key] = rad
+    key = modes_cache_key(design, fid, fmax_hz) if cache is not None else None
+    rad = mode_radiation(design, modeset, mode, frequency_hz, mic, cache, key, listener.air, budget, memo)
     return sound_of(rad, velocity_amplitude_m_s, mic, travelling)
