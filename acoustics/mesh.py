@@ -5,6 +5,7 @@ matched layer outside it)."""
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass
 
@@ -35,9 +36,9 @@ def _half_disc(occ, radius: float) -> list[tuple[int, int]]:
     return out
 
 
-def _body(occ, surface: Surface) -> list[tuple[int, int]]:
-    pts = surface.points.copy()
-    pts[np.abs(pts[:, 0]) <= 1e-12 * surface.scale, 0] = 0.0
+def _body(occ, points: np.ndarray, scale: float) -> list[tuple[int, int]]:
+    pts = points.copy()
+    pts[np.abs(pts[:, 0]) <= 1e-12 * scale, 0] = 0.0
     tags = [occ.addPoint(float(r), float(z), 0.0) for r, z in pts]
     loop = [occ.addLine(tags[i], tags[(i + 1) % len(tags)]) for i in range(len(tags))]
     return [(2, occ.addPlaneSurface([occ.addCurveLoop(loop)]))]
@@ -47,13 +48,43 @@ def air_mesh(
     surface: Surface, radius: float, pml_thickness: float, size_far: float, size_near: float
 ) -> AirMesh:
     """Mesh the air: elements of ``size_near`` [m] along the body growing to
-    ``size_far`` [m] a few sizes away, and ``size_far`` in the layer."""
+    ``size_far`` [m] a few sizes away, and ``size_far`` in the layer. The mesh depends on
+    the outline and the sizes only: below about a kilohertz a wheel's modes all mesh the
+    same air (the sizes are bounded by the body), and the process keeps the last
+    :data:`MESHES_KEPT` meshes (their arrays read-only)."""
     if radius <= surface.scale:
         raise ValueError(f"radius {radius:g} m must exceed the body's extent {surface.scale:g} m")
+    points = np.ascontiguousarray(surface.points, dtype=float)
+    return _meshed(
+        points.tobytes(),
+        len(points),
+        float(surface.scale),
+        float(radius),
+        float(pml_thickness),
+        float(size_far),
+        float(size_near),
+    )
+
+
+#: The air meshes a process keeps (:func:`air_mesh`)
+MESHES_KEPT = 16
+
+
+@functools.lru_cache(maxsize=MESHES_KEPT)
+def _meshed(
+    outline: bytes,
+    count: int,
+    scale: float,
+    radius: float,
+    pml_thickness: float,
+    size_far: float,
+    size_near: float,
+) -> AirMesh:
+    """:func:`air_mesh` of the outline's points (``count`` (r, z) pairs as bytes)."""
     outer = radius + pml_thickness
     with gmsh_session(False) as gmsh:
         occ = gmsh.model.occ
-        body = _body(occ, surface)
+        body = _body(occ, np.frombuffer(outline, dtype=float).reshape(count, 2), scale)
         inner = occ.cut(_half_disc(occ, radius), body)[0]
         ring = occ.cut(_half_disc(occ, outer), _half_disc(occ, radius))[0]
         occ.fragment(inner, ring)
@@ -99,4 +130,6 @@ def air_mesh(
     p0, p1, p2 = points[tri[:, 0]], points[tri[:, 1]], points[tri[:, 2]]
     cw = (p1[:, 0] - p0[:, 0]) * (p2[:, 1] - p0[:, 1]) - (p1[:, 1] - p0[:, 1]) * (p2[:, 0] - p0[:, 0]) < 0
     tri[cw] = tri[cw][:, [0, 2, 1]]
+    points.flags.writeable = False
+    tri.flags.writeable = False
     return AirMesh(points, tri, float(radius), float(pml_thickness))

@@ -112,6 +112,24 @@ def test_result_does_not_depend_on_the_layer(l_, m, ka):
         )
 
 
+def test_the_air_is_meshed_once_for_an_outline_and_its_sizes():
+    """Two frequencies whose element sizes the body bounds (ka 3 and 4 on the sphere: the
+    layer at its least thickness, half the body's, the elements an eighth of it) share
+    one air mesh, and each field is its own frequency's: the exact sphere's pressure
+    within the solver's 1 %."""
+    from acoustics.helmholtz import mesh_sizes
+
+    surface = ac.sphere_surface(1, 0, RADIUS)
+    low, high = _frequency(3.0), _frequency(4.0)
+    assert mesh_sizes(surface, low) == mesh_sizes(surface, high)
+    a, b = ac.radiate(surface, low), ac.radiate(surface, high)
+    assert a.mesh is b.mesh
+    on = _ring(1.2 * RADIUS)
+    for ka, field in ((3.0, a), (4.0, b)):
+        exact = ac.sphere_pressure(1, 0, RADIUS, ka / RADIUS, on)
+        assert np.max(np.abs(np.abs(field.pressure_at(on) / exact) - 1)) < 0.01
+
+
 @pytest.fixture(scope="module")
 def wheel_field():
     from wheel_squeal.listener import default_microphone

@@ -1,8 +1,10 @@
 """From the squeal mode to sound: the mode's surface velocity scaled to the contact's
 velocity amplitude, its radiation (``acoustics``), and the levels a user is judged on.
 
-The radiation of one mode per unit contact velocity (peak, 1 m/s) is a property of the
-mode alone; a limit cycle of amplitude v scales the pressure by v and the power by v^2.
+The radiation of one mode per unit contact velocity (peak, 1 m/s) is its shape's radiation
+scaled by the shape's displacement at the contact it is read at: one solve per mode and
+frequency serves every contact of a curve. A limit cycle of amplitude v scales the
+pressure by v and the power by v^2.
 The wheel is alone in free field (no roller, shaft or floor). Levels: SPL in dB re
 20 uPa of the rms pressure (a pure tone, rms = peak / sqrt 2), sound power level in dB
 re 1 pW.
