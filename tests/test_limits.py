@@ -448,6 +448,31 @@ def test_a_dead_worker_is_charged_only_with_its_own_case():
     assert [(d.case, d.count) for d in deaths] == [(1, 1), (1, 2), (1, 3)]
 
 
+def _blas_threads(job):
+    from threadpoolctl import threadpool_info
+
+    return max((p["num_threads"] for p in threadpool_info() if p["user_api"] == "blas"), default=0)
+
+
+def test_each_worker_runs_blas_on_its_share_of_the_cores(monkeypatch):
+    """Four workers on a machine of (say) four cores run BLAS on one thread each, not on
+    the library's default of every core (two here): that oversubscribes the machine (the
+    radiation's factorisation 4x slower, ``wheel_squeal.study.pool``)."""
+    import os
+
+    from threadpoolctl import threadpool_info
+
+    from wheel_squeal.study.pool import blas_threads_per_worker, run_on_pool
+
+    if not any(p["user_api"] == "blas" for p in threadpool_info()):
+        pytest.fail("numpy loads no BLAS threadpoolctl can see")
+    monkeypatch.setattr(os, "sched_getaffinity", lambda pid: set(range(4)))
+    assert blas_threads_per_worker(2) == 2 and blas_threads_per_worker(8) == 1
+    seen = {}
+    run_on_pool(4, dict.fromkeys(range(4)), _blas_threads, seen.__setitem__, lambda death: False)
+    assert seen == dict.fromkeys(range(4), 1)
+
+
 @pytest.mark.slow
 def test_transient_failures_are_not_kept_and_a_rerun_computes_exactly_them(tmp_path):
     """Under a temporary limit the four 13 mm webs of the smoke study are refused (3,511
