@@ -434,11 +434,12 @@ def _speaking(lam: np.ndarray, assigned: Sequence[Sequence[int]], share: np.ndar
     (a share of at least :data:`PARTNER_SHARE`: a coupled pair's, or one the counter-body
     holds most of, for each of its modes), else its own slowest-decaying one."""
     ranked = np.argsort(-lam.real, kind="stable")
+    growing = ranked[lam.real[ranked] > 0.0]  # the fastest first
     out = []
     for i, own in enumerate(assigned):
         j = max(own, key=lambda jj: lam[jj].real)
-        grows = (int(jj) for jj in ranked if lam[jj].real > 0.0 and share[i, jj] >= PARTNER_SHARE)
-        out.append(next(grows, j))
+        partners = growing[share[i, growing] >= PARTNER_SHARE]
+        out.append(int(partners[0]) if len(partners) else j)
     return out
 
 
