@@ -305,6 +305,14 @@ class ModeSet:
     contact_point: tuple[float, float, float] | None = None
     contact_angle_rad: float = 0.0
 
+    @functools.cached_property
+    def meridian_loop(self) -> np.ndarray:
+        """The nodes of the profile's outline, in order (``fem.shapes.outline_loop``; the
+        axisymmetric solver's mode sets only), found once."""
+        from .shapes import outline_loop
+
+        return outline_loop(self)
+
     def to_arrays(self) -> dict[str, np.ndarray]:
         """The mode set as plain arrays (the metadata as one JSON string), for ``.npz``
         files: :meth:`from_arrays` gives it back exactly."""

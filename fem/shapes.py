@@ -11,7 +11,7 @@ import math
 
 import numpy as np
 
-__all__ = ["expand_harmonic", "meridian_outline", "revolved_mesh"]
+__all__ = ["expand_harmonic", "meridian_outline", "outline_loop", "revolved_mesh"]
 
 
 def revolved_mesh(points_rz: np.ndarray, triangles: np.ndarray, n_theta: int):
@@ -64,8 +64,18 @@ def meridian_outline(modeset, index: int) -> tuple[np.ndarray, np.ndarray]:
 
     ``modeset`` from the axisymmetric-harmonic solver (its shapes live on the revolved
     mesh of :func:`revolved_mesh`, angle 0 first). Returns ((K, 2) points of the closed
-    outline, counter-clockwise in (r, z); (K, 2) displacements).
+    outline, counter-clockwise in (r, z); (K, 2) displacements). The outline's nodes are
+    found once per mode set (``ModeSet.meridian_loop``, :func:`outline_loop`).
     """
+    loop = modeset.meridian_loop
+    pts = modeset.points[loop][:, [0, 2]]
+    u = modeset.shapes[index][0][loop][:, [0, 2]]
+    return np.ascontiguousarray(pts), np.ascontiguousarray(u)
+
+
+def outline_loop(modeset) -> np.ndarray:
+    """The nodes of the profile's outline on the revolved mesh of the axisymmetric
+    solver's ``modeset`` (angle 0), in order, counter-clockwise in (r, z)."""
     if modeset.solver != "axisym" or "wedge" not in modeset.cells:
         raise ValueError(f"the outline needs the axisymmetric solver's modes, not {modeset.solver!r}")
     wedges = modeset.cells["wedge"]
@@ -88,9 +98,9 @@ def meridian_outline(modeset, index: int) -> tuple[np.ndarray, np.ndarray]:
         loop.append(step)
     if len(loop) != len(boundary):
         raise ValueError("the profile's outline is not one closed loop")
-    pts = modeset.points[loop][:, [0, 2]]
-    r, z = pts.T
+    r, z = modeset.points[loop][:, [0, 2]].T
     if np.sum(r * np.roll(z, -1) - np.roll(r, -1) * z) < 0:
-        loop, pts = loop[::-1], pts[::-1]
-    u = modeset.shapes[index][0][loop][:, [0, 2]]
-    return np.ascontiguousarray(pts), np.ascontiguousarray(u)
+        loop = loop[::-1]
+    out = np.array(loop, dtype=np.intp)
+    out.flags.writeable = False
+    return out

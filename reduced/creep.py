@@ -192,20 +192,14 @@ class ContactLaw:
 def falling_friction_factor(sliding_speed_m_s: ArrayLike, law: ContactLaw) -> np.ndarray:
     """F(s) = 1 - 0.5 exp(-s1/s) - 0.5 exp(-s2/s) for sliding speed s >= 0 (m/s).
 
-    Finite and equal to 1 at s = 0 (the limit), without warnings: below
-    s = min(s1, s2)/746 both exponentials are exactly 0 in double precision and the
-    division is skipped (no overflow for tiny or subnormal s).
+    Finite and equal to 1 at s = 0 (the limit), without warnings: there -s1/s is -inf and
+    its exponential exactly 0, as it is for an infinite decay speed (no falling term);
+    for a subnormal s the quotient overflows to -inf, and below s = s1/746 the exponential
+    underflows to 0.
     """
     s = np.abs(np.asarray(sliding_speed_m_s, dtype=float))
-    f = np.ones_like(s)
-    for decay in (law.decay_speed_1_m_s, law.decay_speed_2_m_s):
-        if math.isinf(decay):  # no falling term: exp(-inf / s) = 0
-            continue
-        live = s > decay / 746.0
-        inv = np.divide(1.0, s, out=np.zeros_like(s), where=live)
-        with np.errstate(under="ignore"):
-            f = f - np.where(live, 0.5 * np.exp(-decay * inv), 0.0)
-    return f
+    with np.errstate(divide="ignore", over="ignore", under="ignore"):
+        return 1.0 - 0.5 * np.exp(-law.decay_speed_1_m_s / s) - 0.5 * np.exp(-law.decay_speed_2_m_s / s)
 
 
 def _falling_friction_slope(s: np.ndarray, law: ContactLaw) -> np.ndarray:
@@ -222,13 +216,17 @@ def _falling_friction_slope(s: np.ndarray, law: ContactLaw) -> np.ndarray:
     return d
 
 
+def _creep_cubic(zp: np.ndarray) -> np.ndarray:
+    """The cubic of Eq. 3 in the normalised creepage z' >= 0: P = z'(1 - z'/3 + z'^2/27)
+    below z' = 3, 1 beyond."""
+    return np.where(zp < 3.0, zp * (1.0 - zp / 3.0 + zp * zp / 27.0), 1.0)
+
+
 def _creep_polynomial(zp: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """The cubic of Eq. 3 in the normalised creepage z' >= 0 and its derivative:
-    P = z'(1 - z'/3 + z'^2/27), P' = (1 - z'/3)^2 below z' = 3; P = 1, P' = 0 beyond."""
-    inside = zp < 3.0
-    poly = np.where(inside, zp * (1.0 - zp / 3.0 + zp * zp / 27.0), 1.0)
-    dpoly = np.where(inside, 1.0 - 2.0 * zp / 3.0 + zp * zp / 9.0, 0.0)
-    return poly, dpoly
+    """The cubic of Eq. 3 (:func:`_creep_cubic`) and its derivative P' = (1 - z'/3)^2
+    below z' = 3, 0 beyond."""
+    dpoly = np.where(zp < 3.0, 1.0 - 2.0 * zp / 3.0 + zp * zp / 9.0, 0.0)
+    return _creep_cubic(zp), dpoly
 
 
 def adhesion_ratio(creepage: ArrayLike, law: ContactLaw, rolling_speed_m_s: float) -> np.ndarray:
@@ -244,7 +242,7 @@ def adhesion_ratio(creepage: ArrayLike, law: ContactLaw, rolling_speed_m_s: floa
     """
     zeta = np.asarray(creepage, dtype=float)
     a = np.abs(zeta)
-    poly, _ = _creep_polynomial(a * law.normalised_creepage_per_creepage)
+    poly = _creep_cubic(a * law.normalised_creepage_per_creepage)
     f = falling_friction_factor(a * rolling_speed_m_s, law)
     return np.sign(zeta) * law.friction_coefficient * poly * f
 

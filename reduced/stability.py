@@ -605,7 +605,8 @@ def linear_stability(
         if i in wanted and modes[i].lateral != 0.0:  # else the friction's slope cannot act on it
             zeta_crit = critical_damping_ratio(modes, contact, op, i, wheel_speed_rad_s, body)
             slope_crit = critical_friction_slope(modes, contact, op, i, wheel_speed_rad_s, body)
-        partners = [i] + [int(k) for k in np.argsort(-share[:, j]) if k != i and share[k, j] >= PARTNER_SHARE]
+        order = np.argsort(-share[:, j])
+        partners = [i] + [int(k) for k in order[share[order, j] >= PARTNER_SHARE] if k != i]
         result.append(ModeStability(sigma, fd, zeta_crit, slope_crit, mechanisms[j], tuple(partners)))
     return StabilityResult(
         tuple(result),
