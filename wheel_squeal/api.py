@@ -12,6 +12,7 @@ and are estimated against a :class:`~wheel_squeal.budget.Budget` before they sta
 
 from __future__ import annotations
 
+import functools
 import math
 from pathlib import Path
 from typing import TYPE_CHECKING
@@ -34,7 +35,7 @@ from .presets import (
     designs_folder,
     rpm_to_speed,
 )
-from .sections import C22_RANGE
+from .sections import C22_RANGE, Damping
 
 if TYPE_CHECKING:
     from fem.modes import Mode
@@ -131,6 +132,16 @@ def modal_dof(mode: Mode, design: Design) -> ModalDOF:
     diameters (a pair, on a turning wheel) and how it moves the contact normally
     (``reduced.ModalDOF.from_components``: a mode that moves it only normally takes its
     normal modal mass)."""
+    return _modal_dof(mode, design.damping)
+
+
+#: The modal degrees of freedom a process keeps (a mode at a contact and a damping table
+#: give the same one whichever curve, friction state or design asks)
+MODAL_DOFS_KEPT = 16384
+
+
+@functools.lru_cache(maxsize=MODAL_DOFS_KEPT)
+def _modal_dof(mode: Mode, damping: Damping) -> ModalDOF:
     from reduced import ModalDOF
 
     phi_t, phi_n = mode.contact_components
@@ -139,7 +150,7 @@ def modal_dof(mode: Mode, design: Design) -> ModalDOF:
             f"mode {mode.index} ({mode.label()}) has a node at the contact point: "
             "it cannot be excited there; pick another mode"
         )
-    zeta = design.damping_ratio_of(mode)
+    zeta = damping.of_mode(mode)[0]
     if phi_n == 0.0:  # the paper's lateral mode, its modal mass as the FE gives it
         return ModalDOF.from_damping_ratio(mode.modal_mass, mode.modal_stiffness, zeta, mode.nodal_diameters)
     lateral_mass = mode.modal_mass if math.isfinite(mode.modal_mass) else None

@@ -183,12 +183,7 @@ class Design:
         label ([squeal.damping], a modal model's mode: a remedy pasted in overrides the
         modal test), else its own (a modal test's: "measured"), else the design's for its
         (n, c), its family or ``modal_damping_ratio`` (``Damping.source``)."""
-        by_label = self.damping.labelled(mode.name) if mode.name else None
-        if by_label is not None:
-            return by_label, mode.name
-        if mode.damping_ratio is not None:
-            return mode.damping_ratio, "measured"
-        return self.damping.source(mode.nodal_diameters, mode.nodal_circles, mode.family)
+        return self.damping.of_mode(mode)
 
     @property
     def rolling_radius(self) -> float:

@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-from typing import ClassVar
+from typing import TYPE_CHECKING, ClassVar
 
 from geometry import DesignError
 from geometry.schema import Fields, spec
@@ -31,6 +31,9 @@ from track.sections import (
     check_positive,
     counter_body_from_file,
 )
+
+if TYPE_CHECKING:
+    from fem.modes import Mode
 
 __all__ = [
     "C22_RANGE",
@@ -264,6 +267,18 @@ class Damping(Fields):
     def labelled(self, label: str) -> float | None:
         """The ratio ``[squeal.damping]`` gives a mode by its label (None: none)."""
         return dict(self.by_mode).get(label)
+
+    def of_mode(self, mode: Mode) -> tuple[float, str]:
+        """A mode's damping ratio and where it comes from: this table's for its label (a
+        modal model's mode: a remedy pasted in overrides the modal test), else its own (a
+        modal test's: "measured"), else this table's for its (n, c) or its family, or
+        ``modal_damping_ratio`` (:meth:`source`)."""
+        by_label = self.labelled(mode.name) if mode.name else None
+        if by_label is not None:
+            return by_label, mode.name
+        if mode.damping_ratio is not None:
+            return mode.damping_ratio, "measured"
+        return self.source(mode.nodal_diameters, mode.nodal_circles, mode.family)
 
 
 @dataclass(frozen=True)
