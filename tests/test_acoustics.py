@@ -204,6 +204,7 @@ def test_a_mode_read_at_two_contacts_is_one_solve_scaled_to_each(wheel_field, tm
     assert np.allclose(alone.directivity_pa_m, second.directivity_pa_m, rtol=1e-9, atol=0)
 
 
+@pytest.mark.slow  # two commands in subprocesses, 11.3 s in a fresh clone's fast run
 def test_run_reports_sound_and_sweep_draws_fig5_in_db(tmp_path):
     cache = str(tmp_path / "c")
     r = run_cli(
