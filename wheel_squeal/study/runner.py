@@ -26,7 +26,7 @@ from ..plan import estimate_study, study_plan
 from ..presets import fidelity_for
 from ..progress import Progress
 from ..provenance import CODE_PACKAGES, code_version, library_versions
-from .pool import Death, run_on_pool
+from .pool import Death, run_on_pool, usable_cores
 from .spec import StudySpec
 from .task import CaseJob, run_case
 
@@ -250,7 +250,7 @@ def local_workers(requested: int | None, progress: Progress | None = None) -> in
 
     if requested is not None and requested < 1:
         raise RequestError(f"workers must be at least 1, got {requested}")
-    cores = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1)
+    cores = usable_cores()
     memory = max(1, int(MEMORY_FRACTION * available_memory() // WORKER_BYTES))
     n = min(requested or cores, cores, memory)
     if requested is not None and n < requested and progress is not None:
