@@ -169,7 +169,8 @@ def mode_radiation(
     contacts of a curve share one solve of a mode at a frequency. It is cached beside the
     modes when ``modes_key`` (:func:`wheel_squeal.api.modes_cache_key`) is given, and so
     are the pressures at the microphone and on the plot's circle (a warm run needs no
-    finite elements), and kept in ``memo`` (a dict) for later calls of the same process;
+    finite elements), and kept in ``memo`` (a dict) for later calls of the same process,
+    with each contact's scaled copy (the contacts of a map repeat: their records share it);
     ``air``: ``acoustics.Air`` (default: 1.21 kg/m^3, 343 m/s); ``budget``: a
     :class:`~wheel_squeal.budget.Budget` the solve is estimated against first."""
     from acoustics import AIR
@@ -179,13 +180,19 @@ def mode_radiation(
     # the moved mode sets of a curve's contacts share their shapes (the same list)
     f = round(float(frequency_hz), 6)
     memo_key = ("radiation", id(modeset.shapes), mode.index, f, repr(air), tuple(microphone[:2]))
-    held = None if memo is None else memo.get(memo_key)
+    if memo is None:
+        unit = _unit_radiation(modeset, mode, frequency_hz, microphone, cache, modes_key, air, budget)
+        return unit.scaled(factor)
+    held = memo.get((*memo_key, factor))
     if held is not None and held[0] is modeset.shapes:
-        return held[1].scaled(factor)
-    unit = _unit_radiation(modeset, mode, frequency_hz, microphone, cache, modes_key, air, budget)
-    if memo is not None:
-        memo[memo_key] = (modeset.shapes, unit)
-    return unit.scaled(factor)
+        return held[1]
+    held = memo.get(memo_key)
+    if held is None or held[0] is not modeset.shapes:
+        unit = _unit_radiation(modeset, mode, frequency_hz, microphone, cache, modes_key, air, budget)
+        held = memo[memo_key] = (modeset.shapes, unit)
+    rad = held[1].scaled(factor)
+    memo[(*memo_key, factor)] = (modeset.shapes, rad)
+    return rad
 
 
 def _unit_radiation(
