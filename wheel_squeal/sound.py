@@ -51,7 +51,8 @@ def mode_surface(
     modeset: ModeSet, mode: Mode, frequency_hz: float, contact_velocity_m_s: float = 1.0
 ) -> Surface:
     """The mode's outline and surface velocity (``acoustics.Surface``), scaled so that
-    the axial velocity amplitude at the contact is ``contact_velocity_m_s`` [m/s]."""
+    the axial velocity amplitude at the contact is ``contact_velocity_m_s`` [m/s] (the
+    velocity j w u of the shape u so scaled does not depend on ``frequency_hz``)."""
     return _shape_surface(modeset, mode, contact_velocity_m_s / _contact_amplitude(mode))
 
 
@@ -71,8 +72,8 @@ def _shape_peak(modeset: ModeSet, mode: Mode) -> float:
 
 
 def _shape_surface(modeset: ModeSet, mode: Mode, velocity_per_displacement: float) -> Surface:
-    """The mode's outline with the surface velocity j w u (the shape u) times
-    ``velocity_per_displacement`` / w [1/m]."""
+    """The mode's outline with the surface velocity j s u: the shape u times
+    ``velocity_per_displacement`` s, a quarter period ahead of the displacement."""
     from acoustics import Surface
     from fem.shapes import meridian_outline
 
