@@ -40,6 +40,7 @@ __all__ = [
     "MAX_FILE_BYTES",
     "MEMORY_FRACTION",
     "machine_slowdown",
+    "usable_cores",
 ]
 
 DEFAULT_MAX_DOFS = 2_000_000
@@ -52,6 +53,11 @@ ENV_MAX_SECONDS = "WHEEL_SQUEAL_MAX_SECONDS"
 
 #: Bytes a running sweep case keeps per RK4 step (time, velocity, two power integrals).
 SWEEP_BYTES_PER_STEP = 32
+
+
+def usable_cores() -> int:
+    """The cores this process may run on (its affinity where the system says it)."""
+    return len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1)
 
 
 def available_memory() -> float:

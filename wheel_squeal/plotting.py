@@ -23,6 +23,8 @@ from collections.abc import Callable, Iterator, Sequence
 from concurrent.futures import Future, ProcessPoolExecutor
 from typing import Any
 
+from .budget import usable_cores
+
 __all__ = ["PLOT_MODULES", "PlotWorkers", "plot_workers"]
 
 #: What the plot process imports while it waits: matplotlib's object API on the Agg
@@ -121,17 +123,12 @@ def _stop_plot_processes() -> None:
                 child.join(5.0)
 
 
-def _cores() -> int:
-    """The cores this process may run on."""
-    return len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count() or 1
-
-
 @contextlib.contextmanager
 def plot_workers(processes: int | None = None) -> Iterator[PlotWorkers]:
     """:class:`PlotWorkers` for the ``with`` block, their process started (and importing
     :data:`PLOT_MODULES`) at once; ``processes``: children drawing side by side (default:
     the cores this process may use). Leaving the block discards what was not drawn."""
-    processes = processes or _cores()
+    processes = processes or usable_cores()
     if "fork" not in multiprocessing.get_all_start_methods():
         yield PlotWorkers(None, 1)
         return

@@ -23,7 +23,9 @@ from dataclasses import dataclass
 from multiprocessing.connection import Connection, wait
 from typing import Any
 
-__all__ = ["Death", "blas_threads_per_worker", "run_on_pool", "usable_cores"]
+from ..budget import usable_cores
+
+__all__ = ["Death", "blas_threads_per_worker", "run_on_pool"]
 
 #: prctl's option: the signal a process gets when its parent thread ends (Linux).
 _PR_SET_PDEATHSIG = 1
@@ -39,17 +41,12 @@ def die_with_parent(parent_pid: int) -> None:
         os._exit(1)
 
 
-def usable_cores() -> int:
-    """The cores this process may run on (its affinity where the system says it)."""
-    return len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1)
-
-
 def blas_threads_per_worker(workers: int) -> int:
-    """The BLAS and OpenMP threads each of ``workers`` processes may run: the
-    :func:`usable_cores` shared out, at least one. The native libraries' own default (every
-    core in each process) oversubscribes the machine: two workers each factorising a
-    radiation's air on two threads of a 2-core machine took 3.6-4.0 s a solve against
-    0.9 s on one thread each."""
+    """The BLAS and OpenMP threads each of ``workers`` processes may run: the cores this
+    process may use (``wheel_squeal.budget.usable_cores``) shared out, at least one. The
+    native libraries' own default (every core in each process) oversubscribes the machine:
+    two workers each factorising a radiation's air on two threads of a 2-core machine took
+    3.6-4.0 s a solve against 0.9 s on one thread each."""
     return max(1, usable_cores() // max(1, workers))
 
 

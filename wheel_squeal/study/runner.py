@@ -19,14 +19,14 @@ from typing import Any
 import numpy as np
 
 from ..api import check_modes_budget
-from ..budget import Budget
+from ..budget import Budget, usable_cores
 from ..cache import CacheMiss, StageCache
 from ..errors import RequestError
 from ..plan import estimate_study, study_plan
 from ..presets import fidelity_for
 from ..progress import Progress
 from ..provenance import CODE_PACKAGES, code_version, library_versions
-from .pool import Death, run_on_pool, usable_cores
+from .pool import Death, run_on_pool
 from .spec import StudySpec
 from .task import CaseJob, run_case
 
