@@ -177,19 +177,20 @@ def mode_radiation(
     from acoustics import AIR
 
     air = air or AIR
-    factor = _shape_peak(modeset, mode) / _contact_amplitude(mode)
+    peak = _shape_peak(modeset, mode)
+    factor = peak / _contact_amplitude(mode)
     # the moved mode sets of a curve's contacts share their shapes (the same list)
     f = round(float(frequency_hz), 6)
     memo_key = ("radiation", id(modeset.shapes), mode.index, f, repr(air), tuple(microphone[:2]))
     if memo is None:
-        unit = _unit_radiation(modeset, mode, frequency_hz, microphone, cache, modes_key, air, budget)
+        unit = _unit_radiation(modeset, mode, peak, frequency_hz, microphone, cache, modes_key, air, budget)
         return unit.scaled(factor)
     held = memo.get((*memo_key, factor))
     if held is not None and held[0] is modeset.shapes:
         return held[1]
     held = memo.get(memo_key)
     if held is None or held[0] is not modeset.shapes:
-        unit = _unit_radiation(modeset, mode, frequency_hz, microphone, cache, modes_key, air, budget)
+        unit = _unit_radiation(modeset, mode, peak, frequency_hz, microphone, cache, modes_key, air, budget)
         held = memo[memo_key] = (modeset.shapes, unit)
     rad = held[1].scaled(factor)
     memo[(*memo_key, factor)] = (modeset.shapes, rad)
@@ -199,6 +200,7 @@ def mode_radiation(
 def _unit_radiation(
     modeset: ModeSet,
     mode: Mode,
+    peak: float,
     frequency_hz: float,
     microphone: tuple[float, float, float],
     cache: StageCache | None,
@@ -206,8 +208,8 @@ def _unit_radiation(
     air: Air,
     budget: Budget | None,
 ) -> Radiation:
-    """The radiation of the mode's shape at a unit peak velocity (:func:`mode_radiation`),
-    from the cache or solved."""
+    """The radiation of the mode's shape at a unit peak velocity (its shape's ``peak``,
+    :func:`mode_radiation`), from the cache or solved."""
     from acoustics import SoundField, radiate
 
     key = at_key = None
@@ -233,7 +235,7 @@ def _unit_radiation(
                 rad = Radiation.of(field, microphone)
                 cache.store("sound-at", at_key, _at_arrays(rad))
                 return rad
-    surface = _shape_surface(modeset, mode, 1.0 / _shape_peak(modeset, mode))
+    surface = _shape_surface(modeset, mode, 1.0 / peak)
     if budget is not None:
         from acoustics import radiation_cost
 
