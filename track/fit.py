@@ -153,6 +153,22 @@ def _split(lam: np.ndarray, lowest: float) -> np.ndarray:
     return np.array([x for x in out if x.imag >= 0.0])
 
 
+#: Poles closer than this (relative) are one: the fit's basis cannot tell them apart
+REPEATED_POLE = 1e-9
+
+
+def _distinct(poles: np.ndarray) -> np.ndarray:
+    """``poles`` less those repeating an earlier one to :data:`REPEATED_POLE`: the slowest
+    allowed pole comes back several times from relocation, and a repeated pole adds a state
+    that no force moves apart from its twin's (an eigenvalue of the counter-body's model
+    repeated, and no new function fitted)."""
+    kept: list[complex] = []
+    for p in poles.tolist():
+        if all(abs(p - q) > REPEATED_POLE * abs(p) for q in kept):
+            kept.append(p)
+    return np.array(kept, complex)
+
+
 def _relocate(s: np.ndarray, h: np.ndarray, poles: np.ndarray, weight: np.ndarray) -> np.ndarray:
     """One vector-fitting step: the zeros of the weighting function sigma(s) = 1 + sum
     c~/(s - p) fitted with sigma h = sum c/(s - p) become the new poles."""
@@ -266,6 +282,7 @@ def _fit(frequencies_hz: ArrayLike, alpha: ArrayLike, pole_pairs: int) -> Ration
     poles = -2 * math.pi * start * 0.01 + 2j * math.pi * start
     for _ in range(ITERATIONS):
         poles = _relocate(s, h, poles, weight)
+    poles = _distinct(poles)
     grid = _passivity_grid(poles, lo, hi)
     passive_at = np.zeros(0)
     floor = PASSIVITY_TOLERANCE * float(np.abs(h).max())
