@@ -34,6 +34,7 @@ exact values are found by root finding on the coupled eigenvalues.
 
 from __future__ import annotations
 
+import functools
 import math
 from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass, replace
@@ -247,18 +248,19 @@ def _blocks(modes: Sequence[ModalDOF], wheel_speed_rad_s: float, body: BodyModel
     return _Layout(out, body if body is not None and body.states else None)
 
 
-def _state_matrix(
+def _state_parts(
     modes: Sequence[ModalDOF],
     damping: np.ndarray,
     linear: LinearContact,
     wheel_speed_rad_s: float,
     layout: _Layout,
-) -> np.ndarray:
-    """A of z' = A z for the modes with dampings ``damping`` [N s/m] and the counter-body:
-    z = (q, q', x) with a steady creep force, (q, q', x, the lagged force) with transient
-    creep. Linearised: the normal force dN = k_H u_n, u_n = b.q - Cn x; the lateral force
-    dQ = -g v - mu0 dN, v = a.q' + e.q - Cvt x; the modes take a dQ - b dN, the
-    counter-body -dQ laterally and +dN normally."""
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """A of z' = A z as ``A0 + U V^T`` (returned as A0, U, V): A0 the uncoupled modes and
+    counter-body terms (block diagonal, :func:`_state_blocks`), U V^T the contact's coupling
+    (rank 2, 3 with the lag). z = (q, q', x) with a steady creep force, (q, q', x, the
+    lagged force) with transient creep. Linearised: the normal force dN = k_H u_n,
+    u_n = b.q - Cn x; the lateral force dQ = -g v - mu0 dN, v = a.q' + e.q - Cvt x; the modes
+    take a dQ - b dN, the counter-body -dQ laterally and +dN normally."""
     blocks, nq, nb = layout.blocks, layout.coordinates, layout.body_states
     M, D, S = np.zeros(nq), np.zeros((nq, nq)), np.zeros((nq, nq))
     a, b, e = np.zeros(nq), np.zeros(nq), np.zeros(nq)
@@ -298,26 +300,156 @@ def _state_matrix(
         d_q[2 * nq :] = g * Cv_b[1]
     d_q -= mu0 * d_n
     lag = tau > 0.0
-    A = np.zeros((n_state + lag, n_state + lag))
-    A[:nq, nq : 2 * nq] = np.eye(nq)
-    A[nq : 2 * nq, :nq] = -S / M[:, None]
-    A[nq : 2 * nq, nq : 2 * nq] = -D / M[:, None]
-    A[nq : 2 * nq, :n_state] -= np.outer(b / M, d_n)
-    if layout.body is not None:
-        A[2 * nq : n_state, 2 * nq : n_state] = A_b
-        A[2 * nq : n_state, :n_state] += np.outer(B_b[:, 0], d_n)
+    n = n_state + int(lag)
+    A0 = np.zeros((n, n))
+    A0[:nq, nq : 2 * nq] = np.eye(nq)
+    A0[nq : 2 * nq, :nq] = -S / M[:, None]
+    A0[nq : 2 * nq, nq : 2 * nq] = -D / M[:, None]
+    A0[2 * nq : n_state, 2 * nq : n_state] = A_b
+    # the normal force's column: the modes take -b dN, the counter-body +dN
+    takes_n = np.concatenate([np.zeros(nq), -b / M, B_b[:, 0], np.zeros(int(lag))])
+    # the lateral force's column: the modes take a Q, the counter-body -Q (Q = dQ, or the lagged f)
+    takes_q = np.concatenate([np.zeros(nq), a / M, -B_b[:, 1], np.zeros(int(lag))])
     if not lag:
-        A[nq : 2 * nq, :n_state] += np.outer(a / M, d_q)
-        if layout.body is not None:
-            A[2 * nq : n_state, :n_state] -= np.outer(B_b[:, 1], d_q)
-    else:
-        # the lagged force f: tau f' = -f + dQ; the modes and the counter-body take f
-        A[nq : 2 * nq, n_state] = a / M
-        if layout.body is not None:
-            A[2 * nq : n_state, n_state] = -B_b[:, 1]
-        A[n_state, :n_state] = d_q / tau
-        A[n_state, n_state] = -1.0 / tau
-    return A
+        return A0, np.column_stack([takes_n, takes_q]), np.column_stack([d_n, d_q])
+    # the lagged force f: tau f' = -f + dQ
+    A0[n_state, n_state] = -1.0 / tau
+    lag_row = np.zeros(n)
+    lag_row[n_state] = 1.0
+    U = np.column_stack([takes_n, takes_q, lag_row])
+    V = np.column_stack([np.append(d_n, 0.0), lag_row, np.append(d_q / tau, 0.0)])
+    return A0, U, V
+
+
+def _state_matrix(
+    modes: Sequence[ModalDOF],
+    damping: np.ndarray,
+    linear: LinearContact,
+    wheel_speed_rad_s: float,
+    layout: _Layout,
+) -> np.ndarray:
+    """A of z' = A z (:func:`_state_parts`: A0 + U V^T)."""
+    A0, U, V = _state_parts(modes, damping, linear, wheel_speed_rad_s, layout)
+    return A0 + U @ V.T
+
+
+def _state_blocks(layout: _Layout, lag: bool) -> list[np.ndarray]:
+    """The states of each diagonal block of A0 (:func:`_state_parts`), as index arrays of
+    shape (blocks, size) grouped by size: a mode's (q, q') (its two coordinates' for a
+    rotating pair), a counter-body pair's (q, q'), a first-order term's and the lag's."""
+    nq = layout.coordinates
+    by_size: dict[int, list[np.ndarray]] = {}
+    starts = np.array([i for i, _ in layout.blocks], dtype=np.intp)
+    sizes = np.array([size for _, size in layout.blocks], dtype=np.intp)
+    for size in (1, 2):
+        i = starts[sizes == size][:, None] + np.arange(size)
+        if len(i):
+            by_size.setdefault(2 * size, []).append(np.hstack([i, nq + i]))
+    at = 2 * nq
+    if layout.body is not None:
+        for order, offsets in _body_blocks(layout.body).items():
+            by_size.setdefault(order, []).append(at + offsets)
+        at += layout.body.states
+    if lag:
+        by_size.setdefault(1, []).append(np.array([[at]], dtype=np.intp))
+    return [np.vstack(parts) for parts in by_size.values()]
+
+
+@functools.lru_cache(maxsize=8)
+def _body_blocks(body: BodyModel) -> dict[int, np.ndarray]:
+    """A counter-body's terms' states, (terms, order) per order, from its first state."""
+    first = np.concatenate([[0], np.cumsum(body.order)[:-1]]).astype(np.intp)
+    return {int(k): first[body.order == k][:, None] + np.arange(k) for k in np.unique(body.order)}
+
+
+#: An eigenvector found from its eigenvalue (:func:`_secular_vectors`) is kept when its
+#: backward error ||A x - lambda x|| / (||A|| ||x||) is at most this (LAPACK's own are
+#: about 1e-15); a larger one is found by inverse iteration, or else by LAPACK
+SECULAR_BACKWARD_ERROR = 1e-10
+#: Steps of inverse iteration for an eigenvector the low-rank coupling does not give
+INVERSE_STEPS = 3
+
+
+def _backward_errors(A: np.ndarray, X: np.ndarray, lam: np.ndarray) -> np.ndarray:
+    """||A x - lambda x|| / (||A|| ||x||) per column x of ``X`` (inf where not finite)."""
+    with np.errstate(invalid="ignore", over="ignore"):
+        AX = A @ X.real + 1j * (A @ X.imag)  # two real products: A is real
+        out = np.linalg.norm(AX - X * lam, axis=0) / (np.linalg.norm(A) * np.linalg.norm(X, axis=0))
+    return np.where(np.isfinite(out), out, np.inf)
+
+
+def _block_solve(A0: np.ndarray, states: np.ndarray, U: np.ndarray, lam: np.ndarray) -> np.ndarray:
+    """(B - lambda)^-1 U_B for every diagonal block B of ``A0`` on ``states`` (blocks, size)
+    and every eigenvalue of ``lam``: shape (eigenvalues, blocks, size, columns of U). In
+    closed form up to 2 x 2; a singular one gives inf or nan, not an error (the eigenvalue
+    is the block's own)."""
+    size = states.shape[1]
+    z = lam[:, None, None]
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        if size == 1:
+            i = states[:, 0]
+            return (U[i] / (A0[i, i][None, :, None] - z))[:, :, None, :]
+        if size == 2:
+            i, j = states[:, 0], states[:, 1]
+            a, b = A0[i, i][None, :, None] - z, A0[i, j][None, :, None]
+            c, d = A0[j, i][None, :, None], A0[j, j][None, :, None] - z
+            det = a * d - b * c
+            return np.stack([(d * U[i] - b * U[j]) / det, (a * U[j] - c * U[i]) / det], axis=2)
+    shifted = A0[states[:, :, None], states[:, None, :]][None] - lam[:, None, None, None] * np.eye(size)
+    try:
+        return np.linalg.solve(shifted, np.broadcast_to(U[states][None], (len(lam), *U[states].shape)))
+    except np.linalg.LinAlgError:
+        return np.full((len(lam), *U[states].shape), np.nan, complex)
+
+
+def _secular_vectors(
+    A0: np.ndarray, U: np.ndarray, V: np.ndarray, lam: np.ndarray, blocks: Sequence[np.ndarray]
+) -> np.ndarray:
+    """The eigenvectors (columns) of A = A0 + U V^T for its eigenvalues ``lam``, from the
+    low-rank coupling: (A0 - lambda) x = -U c with c = V^T x, so x = -W c with
+    W = (A0 - lambda)^-1 U (A0's small diagonal blocks solved per eigenvalue) and c the null
+    vector of I + V^T W. Not accurate for an eigenvalue of a block the contact does not
+    move (W is then infinite): the caller checks each column's backward error."""
+    n, r = U.shape
+    W = np.zeros((len(lam), n, r), complex)
+    for states in blocks:
+        W[:, states] = _block_solve(A0, states, U, lam)
+    with np.errstate(invalid="ignore", over="ignore"):
+        K = np.eye(r) + V.T @ W  # (eigenvalues, r, r)
+        K = np.where(np.isfinite(K), K, 0.0)
+        if r == 2:  # the null vector of a singular 2 x 2: either row turned, the longer
+            first = np.stack([-K[:, 0, 1], K[:, 0, 0]], axis=1)
+            second = np.stack([-K[:, 1, 1], K[:, 1, 0]], axis=1)
+            longer = np.linalg.norm(first, axis=1) >= np.linalg.norm(second, axis=1)
+            c = np.where(longer[:, None], first, second)
+        else:
+            c = np.linalg.svd(K)[2][:, -1, :].conj()  # the smallest singular value's
+        return (W @ c[:, :, None])[:, :, 0].T
+
+
+def _inverse_iteration(A: np.ndarray, lam: np.ndarray, columns: np.ndarray) -> np.ndarray:
+    """Eigenvectors of ``A`` for ``lam[columns]`` by inverse iteration, shifted by the
+    eigenvalue itself (nudged by 1e-13 ||A|| if that is singular to the last bit), from
+    starts that differ between equal eigenvalues (a repeated eigenvalue's vectors span its
+    eigenspace rather than repeat one vector)."""
+    import scipy.linalg
+
+    n = A.shape[0]
+    out = np.zeros((n, len(columns)), complex)
+    scale = np.linalg.norm(A)
+    for k, j in enumerate(columns):
+        twin = int(np.sum(np.abs(lam[columns[:k]] - lam[j]) <= 1e-8 * scale))
+        x = np.cos((twin + 1) * np.arange(1, n + 1)) + 0j
+        for nudge in (0.0, 1e-13 * scale):
+            with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+                lu = scipy.linalg.lu_factor(A - (lam[j] + nudge) * np.eye(n), check_finite=False)
+                y = x
+                for _ in range(INVERSE_STEPS):
+                    y = scipy.linalg.lu_solve(lu, y / np.linalg.norm(y), check_finite=False)
+            if np.all(np.isfinite(y)):
+                break
+        out[:, k] = y / np.linalg.norm(y)
+    return out
 
 
 def _eigen(
@@ -331,12 +463,45 @@ def _eigen(
             lam, vec = np.linalg.eig(A)
         else:
             lam, vec = np.linalg.eigvals(A), None
+    keep = _kept(lam, relaxation_time_s)
+    return lam[keep], (vec[:, keep] if vec is not None else None)
+
+
+def _kept(lam: np.ndarray, relaxation_time_s: float) -> np.ndarray:
+    """Which of ``lam`` :func:`_eigen` keeps: Im >= 0, less the lag's own real one."""
     keep = lam.imag >= 0.0
     if relaxation_time_s > 0.0:
         real = np.flatnonzero(lam.imag == 0.0)
         if len(real):
             keep[real[np.argmin(np.abs(lam[real].real + 1.0 / relaxation_time_s))]] = False
-    return lam[keep], (vec[:, keep] if vec is not None else None)
+    return keep
+
+
+def _eigen_vectors(
+    modes: Sequence[ModalDOF],
+    damping: np.ndarray,
+    linear: LinearContact,
+    wheel_speed_rad_s: float,
+    layout: _Layout,
+) -> tuple[np.ndarray, np.ndarray]:
+    """The eigenvalues with Im >= 0 of the coupled system and their eigenvectors: the
+    eigenvalues by LAPACK, the vectors from the coupling's low rank
+    (:func:`_secular_vectors`) or, where those are not accurate, by inverse iteration; all
+    of them by LAPACK if that fails too."""
+    A0, U, V = _state_parts(modes, damping, linear, wheel_speed_rad_s, layout)
+    A = A0 + U @ V.T
+    with one_blas_thread():
+        lam = np.linalg.eigvals(A)
+        lam = lam[_kept(lam, linear.relaxation_time_s)]
+        vec = _secular_vectors(A0, U, V, lam, _state_blocks(layout, linear.relaxation_time_s > 0.0))
+        bad = np.flatnonzero(_backward_errors(A, vec, lam) > SECULAR_BACKWARD_ERROR)
+        if len(bad):
+            vec[:, bad] = _inverse_iteration(A, lam, bad)
+            if np.any(_backward_errors(A, vec[:, bad], lam[bad]) > SECULAR_BACKWARD_ERROR):
+                full_lam, full = _eigen(A, linear.relaxation_time_s)
+                assert full is not None
+                return full_lam, full
+    return lam, vec
 
 
 def _eigen_shares(
@@ -349,9 +514,7 @@ def _eigen_shares(
     """The eigenvalues with Im >= 0, for each mode the ones assigned to it, and each
     mode's share of each eigenvalue's vibration energy, shape (modes, eigenvalues)."""
     linear = LinearContact.of(linear)
-    A = _state_matrix(modes, damping, linear, wheel_speed_rad_s, blocks)
-    lam, vec = _eigen(A, linear.relaxation_time_s)
-    assert vec is not None
+    lam, vec = _eigen_vectors(modes, damping, linear, wheel_speed_rad_s, blocks)
     nq = blocks.coordinates
     q = vec[:nq]
     k = np.concatenate([[md.stiffness_n_m] * size for md, (_, size) in zip(modes, blocks.blocks)])

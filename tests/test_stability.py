@@ -285,6 +285,69 @@ def test_measured_damping_moves_the_winner(table1_fe):
 
 
 # --------------------------------------------------------------------------------------
+# the eigenvectors from the contact's low-rank coupling
+# --------------------------------------------------------------------------------------
+def _rail_like(repeated: bool) -> r.BodyModel:
+    """A fitted-receptance-like counter-body: pairs along both directions and first-order
+    terms, the normal ones twice at one pole with ``repeated`` (as relocation can leave)."""
+    firsts = [
+        (r.NORMAL, -40.0, 2e-9),
+        (r.NORMAL, -40.0 if repeated else -70.0, 3e-9),
+        (r.LATERAL, -25.0, 4e-9),
+    ]
+    pairs = [(r.NORMAL, 2 * math.pi * (-30 + 900j)), (r.LATERAL, 2 * math.pi * (-50 + 400j))]
+    terms = []
+    for d, pole in pairs:
+        lead = -sum(res for dd, _, res in firsts if dd == d)  # no feedthrough: the leads sum to 0
+        terms.append((d, [pole], [lead / 2 + 1e-9j]))
+    terms += [(d, [complex(p)], [complex(res)]) for d, p, res in firsts]
+    return r.BodyModel.from_rational(terms, "a rail-like body")
+
+
+@pytest.mark.parametrize(
+    "omega, tau, repeated",
+    [(0.0, 0.0, False), (60.0, 2e-4, False), (0.0, 0.0, True)],
+    ids=["rail-like", "rotation-and-lag", "repeated-pole"],
+)
+def test_the_eigenvectors_from_the_low_rank_coupling_are_lapack_s(omega, tau, repeated):
+    from reduced import stability as s
+
+    modes = [
+        r.ModalDOF(
+            3.1, 3.1 * (2 * math.pi * f) ** 2, 2.0 + f / 100, nodal_diameters=n, lateral=1.0, normal=nr
+        )
+        for f, n, nr in (
+            (420.0, 2, 0.3),
+            (1100.0, 0, 0.8),
+            (1135.0, 3, -0.4),
+            (2500.0, 4, 0.1),
+            (3900.0, 0, 1.2),
+        )
+    ]
+    damping = np.array([md.damping_ns_m for md in modes])
+    linear = s.LinearContact(-60.0, 0.35, 8e8, tau)
+    layout = s._blocks(modes, omega, _rail_like(repeated))
+    lam, vec = s._eigen_vectors(modes, damping, linear, omega, layout)
+    A = s._state_matrix(modes, damping, linear, omega, layout)
+    ref_lam, ref_vec = np.linalg.eig(A)
+    # the kept eigenvalues: LAPACK's with Im >= 0 less the lag's own (one more with the lag)
+    assert len(lam) == int(np.sum(ref_lam.imag >= 0.0)) - (tau > 0)
+    for j, x in enumerate(lam):
+        k = int(np.argmin(np.abs(ref_lam - x)))
+        # eigvals and eig take different paths through LAPACK: 1e-9 of the largest eigenvalue
+        assert abs(ref_lam[k] - x) <= 1e-9 * np.max(np.abs(ref_lam))
+        y = ref_vec[:, k]
+        cosine = abs(np.vdot(vec[:, j], y)) / (np.linalg.norm(vec[:, j]) * np.linalg.norm(y))
+        # parallel to LAPACK's to its own accuracy (simple eigenvalues: one direction each)
+        assert cosine > 1 - 1e-8, (j, x, cosine)
+    A0, U, V = s._state_parts(modes, damping, linear, omega, layout)
+    secular = s._secular_vectors(A0, U, V, lam, s._state_blocks(layout, tau > 0))
+    missed = s._backward_errors(A, secular, lam) > s.SECULAR_BACKWARD_ERROR
+    # a repeated pole leaves an eigenvalue the contact does not move: inverse iteration's
+    assert np.any(missed) == repeated
+
+
+# --------------------------------------------------------------------------------------
 # item 4: wheel rotation
 # --------------------------------------------------------------------------------------
 def test_rotation_to_zero_is_the_paper_model(law, op_fig6):
