@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["TABLE_STEP", "bessel_j"]
+__all__ = ["TABLE_STEP", "BesselTable", "bessel_j"]
 
 #: The table's argument step: h^4 / 384 = 1.2e-11 (module docstring)
 TABLE_STEP = 2.0**-7
@@ -24,25 +24,40 @@ TABLE_STEP = 2.0**-7
 def bessel_j(order: int, x: np.ndarray) -> np.ndarray:
     """J_order(x) for an integer ``order`` (of either sign) at real ``x`` >= 0 (any shape),
     to 1e-11 absolute (module docstring)."""
-    from scipy.special import jv
-
     x = np.asarray(x, dtype=float)
     if x.size == 0:
         return np.zeros_like(x)
-    if np.min(x) < 0.0:
-        raise ValueError("bessel_j takes arguments >= 0")
-    h = TABLE_STEP
-    nodes = np.arange(int(np.max(x) / h) + 2) * h
-    values = jv(order, nodes)
-    slopes = 0.5 * (jv(order - 1, nodes) - jv(order + 1, nodes))
-    u = x / h
-    i = np.minimum(u.astype(np.intp), len(nodes) - 2)
-    t = u - i
-    t2 = t * t
-    t3 = t2 * t
-    # the cubic Hermite basis on [0, 1]
-    h00 = 2.0 * t3 - 3.0 * t2 + 1.0
-    h10 = t3 - 2.0 * t2 + t
-    h01 = 3.0 * t2 - 2.0 * t3
-    h11 = t3 - t2
-    return h00 * values[i] + h * h10 * slopes[i] + h01 * values[i + 1] + h * h11 * slopes[i + 1]
+    return BesselTable((order,), float(np.max(x)))(x)[0]
+
+
+class BesselTable:
+    """J_n for each integer n of ``orders`` tabulated up to the argument ``largest``
+    (module docstring); called with arguments in [0, largest], the values of each order,
+    to 1e-11 absolute. The tables are made once for many calls (a far field's blocks)."""
+
+    def __init__(self, orders: tuple[int, ...], largest: float) -> None:
+        from scipy.special import jv
+
+        self.nodes = np.arange(int(largest / TABLE_STEP) + 2) * TABLE_STEP
+        self.values = [jv(n, self.nodes) for n in orders]
+        self.slopes = [0.5 * (jv(n - 1, self.nodes) - jv(n + 1, self.nodes)) for n in orders]
+
+    def __call__(self, x: np.ndarray) -> tuple[np.ndarray, ...]:
+        x = np.asarray(x, dtype=float)
+        if x.size and (np.min(x) < 0.0 or np.max(x) > self.nodes[-1]):
+            raise ValueError(f"the table holds arguments in [0, {self.nodes[-1]:g}]")
+        h = TABLE_STEP
+        u = x / h
+        i = np.minimum(u.astype(np.intp), len(self.nodes) - 2)
+        t = u - i
+        t2 = t * t
+        t3 = t2 * t
+        # the cubic Hermite basis on [0, 1]
+        h00 = 2.0 * t3 - 3.0 * t2 + 1.0
+        h10 = h * (t3 - 2.0 * t2 + t)
+        h01 = 1.0 - h00
+        h11 = h * (t3 - t2)
+        j = i + 1
+        return tuple(
+            h00 * v[i] + h10 * s[i] + h01 * v[j] + h11 * s[j] for v, s in zip(self.values, self.slopes)
+        )

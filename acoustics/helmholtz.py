@@ -24,9 +24,11 @@ the measured reason for the layer (README).
 from __future__ import annotations
 
 import dataclasses
+import functools
 import json
 import math
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
@@ -57,6 +59,9 @@ class RadiationSettings:
         (and beyond every requested field point).
     pml_wavelengths, pml_min_fraction : the layer's thickness d, the larger of that
         many wavelengths and that fraction of R.
+    pml_ladder : where the wavelengths set d (low frequencies), d is rounded up to
+        pml_min_fraction R times a power of this ratio: neighbouring tones then mesh
+        the same air (a layer thicker than needed absorbs as well or better).
     pml_elements : elements across the layer at least.
     pml_attenuation : A, nepers at the layer's outer edge.
     boundary : "pml" or "abc" (see the module docstring).
@@ -66,6 +71,7 @@ class RadiationSettings:
     margin: float = 0.25
     pml_wavelengths: float = 0.25
     pml_min_fraction: float = 0.5
+    pml_ladder: float = 1.25
     pml_elements: int = 8
     pml_attenuation: float = 12.0
     boundary: str = "pml"
@@ -77,6 +83,8 @@ class RadiationSettings:
             v = getattr(self, name)
             if not (math.isfinite(v) and v > 0):
                 raise ValueError(f"RadiationSettings.{name} must be positive, got {v!r}")
+        if not (math.isfinite(self.pml_ladder) and self.pml_ladder > 1.0):
+            raise ValueError(f"RadiationSettings.pml_ladder must exceed 1, got {self.pml_ladder!r}")
 
 
 @dataclass(frozen=True, eq=False)
@@ -275,6 +283,17 @@ BYTES_PER_DOF = 7000.0
 LU_FILL_DOFS = 1e5
 
 
+def _layer_thickness(wavelength_m: float, radius_m: float, settings: RadiationSettings) -> float:
+    """The layer's thickness d [m] (:class:`RadiationSettings`: the rung of its ladder at
+    or above the wavelengths' thickness, at least the fraction of R)."""
+    floor = settings.pml_min_fraction * radius_m
+    wanted = settings.pml_wavelengths * wavelength_m
+    if wanted <= floor:
+        return floor
+    rung = math.ceil(math.log(wanted / floor) / math.log(settings.pml_ladder) - 1e-9)
+    return floor * settings.pml_ladder**rung
+
+
 def mesh_sizes(
     surface: Surface, frequency_hz: float, air: Air = AIR, settings: RadiationSettings | None = None
 ) -> MeshSizes:
@@ -288,7 +307,7 @@ def mesh_sizes(
     size_far = min(lam / settings.elements_per_wavelength, radius / 4)
     size_near = min(size_far, float(np.median(seg_len)))
     pml = settings.boundary == "pml"
-    thickness = max(settings.pml_wavelengths * lam, settings.pml_min_fraction * radius) if pml else 0.0
+    thickness = _layer_thickness(lam, radius, settings) if pml else 0.0
     size_far = min(size_far, thickness / settings.pml_elements) if pml else size_far
     return MeshSizes(radius, thickness, size_far, size_near)
 
@@ -348,10 +367,55 @@ def _skfem_mesh(mesh: AirMesh):
     return fe.MeshTri(np.ascontiguousarray(mesh.points.T), np.ascontiguousarray(mesh.triangles.T))
 
 
-def _basis(mesh: AirMesh, intorder: int = 4):
+@dataclass(frozen=True, eq=False)
+class _Discretised:
+    """What :func:`radiate` builds on an air mesh whatever the frequency and the surface:
+    the P2 basis, the body's facet basis and its quadrature points, the circle rho = R's
+    facet bases (each side), and the degrees of freedom on the layer's outer edge and on
+    the axis."""
+
+    skm: Any
+    basis: Any
+    body: Any
+    body_points: np.ndarray
+    circle: tuple[tuple[Any, int], ...]
+    outer_dofs: np.ndarray
+    axis_dofs: np.ndarray
+    tolerance_m: float
+
+
+#: The discretised air meshes a process keeps (:func:`_discretised`): a radiation's
+#: neighbouring tones of one mode share one below about a kilohertz
+DISCRETISED_KEPT = 4
+
+
+@functools.lru_cache(maxsize=DISCRETISED_KEPT)
+def _discretised(mesh: AirMesh) -> _Discretised:
     import skfem as fe
 
-    return fe.Basis(_skfem_mesh(mesh), fe.ElementTriP2(), intorder=intorder)
+    skm = _skfem_mesh(mesh)
+    radius, thickness = mesh.radius, mesh.pml_thickness
+    tol = 1e-6 * (radius + thickness)
+    basis = fe.Basis(skm, fe.ElementTriP2(), intorder=4)
+    body_facets = _facets(skm, lambda r, z: (r > tol) & (np.hypot(r, z) < radius - tol))
+    body = fe.FacetBasis(skm, fe.ElementTriP2(), facets=body_facets, intorder=6)
+    outer = basis.get_dofs(_facets(skm, lambda r, z: np.abs(np.hypot(r, z) - radius - thickness) < tol)).all()
+    axis = basis.get_dofs(_facets(skm, lambda r, z: r <= tol)).all()
+    return _Discretised(
+        skm,
+        basis,
+        body,
+        np.asarray(body.global_coordinates()),
+        _circle_bases(skm, radius, tol),
+        outer,
+        axis,
+        tol,
+    )
+
+
+def _basis(mesh: AirMesh):
+    """The P2 basis of the air mesh (:func:`_discretised`)."""
+    return _discretised(mesh).basis
 
 
 def _stretch(x, radius: float, thickness: float, attenuation: float, k: float):
@@ -408,9 +472,8 @@ def radiate(
     sizes = mesh_sizes(surface, frequency_hz, air, settings)
     radius, thickness, pml = sizes.radius_m, sizes.pml_thickness_m, settings.boundary == "pml"
     mesh = air_mesh(surface, radius, thickness, sizes.size_far_m, sizes.size_near_m)
-    skm = _skfem_mesh(mesh)
-    basis = fe.Basis(skm, fe.ElementTriP2(), intorder=4)
-    tol = 1e-6 * (radius + thickness)
+    air_fe = _discretised(mesh)
+    skm, basis, fb, tol = air_fe.skm, air_fe.basis, air_fe.body, air_fe.tolerance_m
 
     @fe.BilinearForm(dtype=np.complex128)
     def operator(u, v, w):
@@ -428,9 +491,7 @@ def radiate(
         np.asarray(basis.global_coordinates()), n, k, radius, max(thickness, 1e-300), settings.pml_attenuation
     )
     A = operator.assemble(basis, **coefficients)
-    body_facets = _facets(skm, lambda r, z: (r > tol) & (np.hypot(r, z) < radius - tol))
-    fb = fe.FacetBasis(skm, fe.ElementTriP2(), facets=body_facets, intorder=6)
-    x = np.asarray(fb.global_coordinates())
+    x = air_fe.body_points
     vn = surface.normal_velocity_at(np.stack([x[0].ravel(), x[1].ravel()], axis=1)).reshape(x[0].shape)
     omega = 2 * math.pi * frequency_hz
 
@@ -449,14 +510,10 @@ def radiate(
             return (1j * k + 1.0 / rho) * u * v * w.x[0]
 
         A = A + robin.assemble(eb)
-    fixed = []
-    if pml:
-        fixed.append(
-            basis.get_dofs(_facets(skm, lambda r, z: np.abs(np.hypot(r, z) - radius - thickness) < tol))
-        )
+    fixed = [air_fe.outer_dofs] if pml else []
     if n >= 1:
-        fixed.append(basis.get_dofs(_facets(skm, lambda r, z: r <= tol)))
-    D = np.unique(np.concatenate([f.all() for f in fixed])) if fixed else np.array([], dtype=np.int64)
+        fixed.append(air_fe.axis_dofs)
+    D = np.unique(np.concatenate(fixed)) if fixed else np.array([], dtype=np.int64)
     P = np.zeros(basis.N, dtype=complex)
     free = np.setdiff1d(np.arange(basis.N), D)
     A = A.tocsr()
@@ -476,7 +533,7 @@ def radiate(
         (-1j * omega * air.density_kg_m3 * vn).ravel(),
         np.asarray(jac).ravel(),
     )
-    flux = _flux(_circle_traces(skm, P, radius, tol), omega, air, angular)
+    flux = _flux(_circle_traces(air_fe.circle, P), omega, air, angular)
     far = _far_field_power(body.as_tuple(), n, k, air, angular)
     return SoundField(
         mesh,
@@ -493,10 +550,9 @@ def radiate(
     )
 
 
-def _circle_traces(skm, P, radius: float, tol: float):
-    """(x, normal, P, dP/dn, weights) at quadrature points of the circle rho = R (the
-    normal radial), taken from the elements inside it; weights are ds (the r of the
-    measure not included)."""
+def _circle_bases(skm, radius: float, tol: float) -> tuple[tuple[Any, int], ...]:
+    """The facet bases of the circle rho = R, each from the elements inside it (the side
+    of each facet's element inside), with the side."""
     import skfem as fe
 
     f = skm.facets
@@ -507,11 +563,19 @@ def _circle_traces(skm, P, radius: float, tol: float):
     facets = np.nonzero(on)[0]
     centroid = skm.p[:, skm.t].mean(axis=1)
     inside_first = np.hypot(*centroid[:, skm.f2t[0, facets]]) < radius
+    return tuple(
+        (fe.FacetBasis(skm, fe.ElementTriP2(), facets=facets[sel], side=side, intorder=8), side)
+        for side, sel in ((0, inside_first), (1, ~inside_first))
+        if np.any(sel)
+    )
+
+
+def _circle_traces(circle: tuple[tuple[Any, int], ...], P: np.ndarray):
+    """(x, normal, P, dP/dn, weights) at quadrature points of the circle rho = R (the
+    normal radial), taken from the elements inside it (:func:`_circle_bases`); weights
+    are ds (the r of the measure not included)."""
     parts = []
-    for side, sel in ((0, inside_first), (1, ~inside_first)):
-        if not np.any(sel):
-            continue
-        fb = fe.FacetBasis(skm, fe.ElementTriP2(), facets=facets[sel], side=side, intorder=8)
+    for fb, _ in circle:
         field = fb.interpolate(P)
         x = np.asarray(fb.global_coordinates())
         normal = x / np.hypot(x[0], x[1])
@@ -535,33 +599,71 @@ def _flux(traces, omega: float, air: Air, angular: float) -> float:
     return angular * 0.5 * float(np.real(np.sum(p * np.conj(v_rho) * x[0] * ds)))
 
 
+#: The far field is summed over this many (direction, point) pairs at a time: its
+#: temporaries stay in the processor's cache (whole arrays of a few hundred thousand pairs
+#: cost more in fresh memory's page faults than in arithmetic)
+FAR_FIELD_CHUNK = 32768
+
+
 def far_field(traces, n: int, k: float, cos_theta: np.ndarray) -> np.ndarray:
     """D(theta) [Pa m]: p ~ D(theta) cos(n phi) e^{-j k R} / R far away, from the
     Kirchhoff-Helmholtz integral over a closed surface of revolution around the sources
     (``traces``: points, normals pointing away from the sources, P, dP/dn, ds), its
     angular part in closed form: the integral of cos(n phi) e^{j a cos phi} over phi is
-    2 pi j^n J_n(a)."""
-    from .bessel import bessel_j
+    2 pi j^n J_n(a), and of cos(n phi) cos(phi) e^{j a cos phi} 2 pi j^(n-1) J_n'(a).
 
+    Per direction and point the integrand is e^{j k z cos(theta)} (J_n (a0 + cos(theta) a1)
+    + sin(theta) J_n' b) with a0, a1, b of the point alone: the real arrays (the phase's
+    cosine and sine times J_n and J_n') are summed against them as matrix products, a
+    block of directions at a time (:data:`FAR_FIELD_CHUNK`)."""
     x, (nr, nz), p, dp, ds = traces
     r, z = x
-    st, ct = np.sqrt(1.0 - cos_theta**2)[:, None], cos_theta[:, None]
-    kappa = k * r[None, :] * st
-    # J_n' = J_{n-1} - (n / x) J_n: two Bessel evaluations instead of three (the far
-    # field's cost); at x = 0, J_n' is 1/2 for n = 1, else 0
-    jn, below = bessel_j(n, kappa), bessel_j(n - 1, kappa)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        jnp_ = np.where(kappa > 0.0, below - n * jn / kappa, 0.5 * (n == 1))
-    phase = np.exp(1j * k * z[None, :] * ct)
-    ring_cos = 2 * np.pi * (1j**n) * jn  # integral of cos(n phi) e^{j kappa cos phi}
-    ring_cos1 = 2 * np.pi * (1j ** (n - 1)) * jnp_  # ... times cos(phi)
-    dG = 1j * k * p[None, :] * (st * nr[None, :] * ring_cos1 + ct * nz[None, :] * ring_cos)
-    integrand = phase * (dG - dp[None, :] * ring_cos) * (r * ds)[None, :]
-    return integrand.sum(axis=1) / (4 * np.pi)
+    weight = r * ds / (4 * np.pi)
+    ring, ring1 = 2 * np.pi * (1j**n), 2 * np.pi * (1j ** (n - 1))
+    a0 = -dp * ring * weight
+    a1 = 1j * k * p * nz * ring * weight
+    b = 1j * k * p * nr * ring1 * weight
+    # the real and imaginary parts of the three coefficients as six columns
+    columns = np.stack([a0.real, a0.imag, a1.real, a1.imag, b.real, b.imag], axis=1)
+    from .bessel import BesselTable
+
+    # J_n' = J_{n-1} - (n / x) J_n: two orders instead of three (at x = 0, J_n' is 1/2 for
+    # n = 1, else 0)
+    table = BesselTable((n, n - 1), k * float(np.max(r, initial=0.0)))
+    cos_theta = np.asarray(cos_theta, float)
+    out = np.zeros(len(cos_theta), complex)
+    rows = max(1, FAR_FIELD_CHUNK // max(len(r), 1))
+    for start in range(0, len(cos_theta), rows):
+        ct = cos_theta[start : start + rows]
+        st = np.sqrt(1.0 - ct**2)
+        kappa = np.outer(st, k * r)
+        jn, below = table(kappa)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            jnp_ = np.where(kappa > 0.0, below - n * jn / kappa, 0.5 * (n == 1))
+        angle = np.outer(ct, k * z)
+        cos_phase, sin_phase = np.cos(angle), np.sin(angle)
+        # (cos + j sin)(J_n (a0 + ct a1)) + st (cos + j sin) J_n' b, each real block times
+        # the real and imaginary parts of its coefficients
+        cn, sn = (cos_phase * jn) @ columns[:, :4], (sin_phase * jn) @ columns[:, :4]
+        cd, sd = (cos_phase * jnp_) @ columns[:, 4:], (sin_phase * jnp_) @ columns[:, 4:]
+        a0_sum = cn[:, 0] - sn[:, 1] + 1j * (cn[:, 1] + sn[:, 0])
+        a1_sum = cn[:, 2] - sn[:, 3] + 1j * (cn[:, 3] + sn[:, 2])
+        b_sum = cd[:, 0] - sd[:, 1] + 1j * (cd[:, 1] + sd[:, 0])
+        out[start : start + rows] = a0_sum + ct * a1_sum + st * b_sum
+    return out
+
+
+@functools.lru_cache(maxsize=4)
+def _gauss_legendre(points: int) -> tuple[np.ndarray, np.ndarray]:
+    """Gauss-Legendre nodes and weights on [-1, 1] (made once: an eigenvalue problem)."""
+    nodes, weights = np.polynomial.legendre.leggauss(points)
+    nodes.setflags(write=False)
+    weights.setflags(write=False)
+    return nodes, weights
 
 
 def _far_field_power(traces, n: int, k: float, air: Air, angular: float, points: int = 96) -> float:
     """W = (pi or 2 pi) / (2 rho c) integral |D|^2 d(cos theta)."""
-    c, w = np.polynomial.legendre.leggauss(points)
+    c, w = _gauss_legendre(points)
     d = far_field(traces, n, k, c)
     return angular / (2 * air.impedance) * float(np.sum(w * np.abs(d) ** 2))
