@@ -202,3 +202,26 @@ def test_a_run_of_curves_started_from_its_neighbour_finds_the_same_equilibrium(g
         for a, b in zip(cold.wheels, last.wheels):
             assert b.lateral_shift_m == pytest.approx(a.lateral_shift_m, abs=1e-9)
             assert b.angle_of_attack_rad == pytest.approx(a.angle_of_attack_rad, abs=1e-9)
+
+
+@pytest.mark.parametrize("guess_factor", [1.0, 1.0 + 3e-7, 0.7, 1.9])
+def test_a_contact_s_normal_force_from_a_guess_is_the_bracketed_one(guess_factor):
+    """The normal force of each contact of the S1002 wheel across its shifts (tread and
+    flange, both rails) found from a guess (the secant step the Jacobian's differences
+    take, from the force itself, a little off, or far off: then bracketed as without one)
+    balances the vertical load as the bracketed solve does: the same force to the
+    bracketing's tolerance, 1e-9 of the load."""
+    from track import bogie_curving as bc
+    from wheel_squeal.curve import contact_geometry
+
+    geometry = contact_geometry(RAILWAY)
+    table = bc.contact_table(geometry)
+    scene = bc._Scene(
+        geometry, 200.0, 11.1, 0.6, 50e3, 0.4, 0.4, table.youngs_modulus_pa, table.poissons_ratio
+    )
+    for k in range(0, len(table.shifts_m), 7):
+        for side, sign in ((0, 1), (1, -1)):
+            row = table.values[k, side]
+            alone = bc._side_forces(scene, row, sign, 50e3, 4e-3, 1e-4)[3][0]
+            guessed = bc._side_forces(scene, row, sign, 50e3, 4e-3, 1e-4, guess_factor * alone)[3][0]
+            assert guessed == pytest.approx(alone, abs=2e-9 * 50e3)

@@ -275,6 +275,8 @@ class _Scene:
     flange_friction_coefficient: float
     youngs_modulus_pa: float
     poissons_ratio: float
+    #: each contact's last normal force [N] by (side, table index): the next solve's guess
+    normal_guesses: dict[tuple[int, int], float] = field(default_factory=dict, compare=False, repr=False)
 
     def friction_at(self, contact_angle_rad: float) -> float:
         """The friction coefficient of a contact: the flange's on the flange
@@ -284,15 +286,28 @@ class _Scene:
         return self.friction_coefficient
 
 
+#: A normal force's guess (the same contact's last) is refined by one secant step over this
+#: relative width; kept where it balances to the bracketing's tolerance (the Jacobian's
+#: differences and Newton's last steps move the force far less than the width)
+GUESS_STEP = 1.0e-7
+
+
 def _side_forces(
-    scene: _Scene, row: np.ndarray, sign: int, vertical_n: float, psi: float, excess: float
+    scene: _Scene,
+    row: np.ndarray,
+    sign: int,
+    vertical_n: float,
+    psi: float,
+    excess: float,
+    guess_n: float | None = None,
 ) -> tuple[float, float, float, tuple[Any, ...]]:
     """One wheel's contact forces: (lateral global, longitudinal, yaw moment, details).
 
     The normal force N carries the vertical load with the creep force's vertical part,
     N cos(gamma) + sign F_t(N) sin(gamma) = W, where F_t grows with N (the ellipse's area
     as N^(2/3), the saturation's limit as mu N): solved by bracketing, since on a flank
-    (mu tan(gamma) near 1) a fixed-point iteration converges slowly or not at all."""
+    (mu tan(gamma) near 1) a fixed-point iteration converges slowly or not at all; first
+    by a secant step from ``guess_n`` (:data:`GUESS_STEP`), kept where it balances."""
     y_c, r, gamma, a1, b1, c11, c22, c23 = row
     r0 = scene.geometry.rolling_radius_m
     xi_x = (1.0 + sign * y_c / scene.radius_m) - (1.0 + excess) * r / r0
@@ -315,15 +330,25 @@ def _side_forces(
     def imbalance(normal: float) -> float:
         return normal * cos_g + sign * forces(normal)[1] * sin_g - vertical_n
 
-    high = max(vertical_n, 1.0) / cos_g
-    while imbalance(high) < 0.0 and high < 1e3 * max(vertical_n, 1.0) / cos_g:
-        high *= 2.0
-    if imbalance(0.0) >= 0.0:  # no load on this contact (a wheel lifting, a vanishing share)
-        normal = 0.0
-    elif imbalance(high) > 0.0:
-        normal = brentq(imbalance, 0.0, high, xtol=1e-9 * max(vertical_n, 1.0))
-    else:
-        normal = high
+    xtol = 1e-9 * max(vertical_n, 1.0)
+    normal = math.nan
+    if guess_n is not None and guess_n > 0.0:
+        f0, step = imbalance(guess_n), GUESS_STEP * guess_n
+        slope = (imbalance(guess_n + step) - f0) / step
+        if slope > 0.0:
+            trial = guess_n - f0 / slope
+            if trial > 0.0 and abs(imbalance(trial)) <= slope * xtol:
+                normal = trial
+    if math.isnan(normal):
+        high = max(vertical_n, 1.0) / cos_g
+        while imbalance(high) < 0.0 and high < 1e3 * max(vertical_n, 1.0) / cos_g:
+            high *= 2.0
+        if imbalance(0.0) >= 0.0:  # no load on this contact (a wheel lifting, a vanishing share)
+            normal = 0.0
+        elif imbalance(high) > 0.0:
+            normal = brentq(imbalance, 0.0, high, xtol=xtol)
+        else:
+            normal = high
     fx, ft, used = forces(normal)
     lateral = -sign * normal * sin_g + ft * cos_g
     grow = max(normal, 1.0) ** (1.0 / 3.0)
@@ -363,7 +388,9 @@ def _wheelset(
         for share, k, row in _rows(table, y, side):
             if share <= 0.0:
                 continue
-            f_lat, f_x, m_z, d = _side_forces(scene, row, sign, share * vertical, psi, excess)
+            guess = scene.normal_guesses.get((side, k))
+            f_lat, f_x, m_z, d = _side_forces(scene, row, sign, share * vertical, psi, excess, guess)
+            scene.normal_guesses[(side, k)] = d[0]
             lat, mom, lon = lat + f_lat, mom + m_z, lon + f_x
             contacts.append((share, k, row, f_lat, d))
         sides.append(contacts)
