@@ -166,14 +166,16 @@ def mode_cycle(
     wheel_speed_rad_s: float = 0.0,
     body: BodyModel | None = None,
     linear_rates: np.ndarray | None = None,
+    balance: tuple[ModalDOF, bool, float] | None = None,
 ) -> ModeCycle:
     """Mode ``k``'s harmonic-balance cycle (its damping lumped so that it grows as the
     whole linear model says, ``reduced.equivalent_mode``) and every mode's growth rate on it
     (0 for the modes of its eigenvalue, ``eigenvalues`` naming each mode's);
-    ``linear_rates``: the modes' growth rates at steady sliding, where already solved."""
+    ``linear_rates``: the modes' growth rates at steady sliding, and ``balance`` its
+    equivalent mode, clipping and amplitude on them, where already solved."""
     if linear_rates is None:
         linear_rates = growth_on_cycle(0.0, modes, contact, op, wheel_speed_rad_s, body)
-    eq, clipped, amplitude = _balance(k, modes, contact, op, linear_rates)
+    eq, clipped, amplitude = balance or _balance(k, modes, contact, op, linear_rates)
     if amplitude == 0.0:
         return ModeCycle(k, 0.0, 0.0, clipped, tuple(float(x) for x in linear_rates))
     rates = growth_on_cycle(amplitude, modes, contact, op, wheel_speed_rad_s, body)
@@ -200,17 +202,21 @@ def surviving_cycle(
     one oscillation)."""
     visited: list[ModeCycle] = []
     linear_rates = growth_on_cycle(0.0, modes, contact, op, wheel_speed_rad_s, body)
+    balances: dict[int, tuple[ModalDOF, bool, float]] = {}  # each mode's on the linear rates
     if start is None:
         # the cycles' amplitudes are the creep curve's more than the modes' (within a quarter
         # of each other on the railway wheel's maps): the fastest-growing mode's stands for
         # all, and the time goes with its logarithm (a quarter: 0.22 against ln(A/a0) of 3-10)
         fastest = int(np.argmax(linear_rates))
-        reference = _balance(fastest, modes, contact, op, linear_rates)[2]
+        balances[fastest] = _balance(fastest, modes, contact, op, linear_rates)
+        reference = balances[fastest][2]
         times = [saturation_time_s(j, modes, contact, op, linear_rates, reference) for j in range(len(modes))]
         start = int(np.argmin(times)) if math.isfinite(min(times)) else fastest
     k: int | None = start
     while k is not None and all(c.index != k for c in visited):
-        cycle = mode_cycle(k, modes, eigenvalues, contact, op, wheel_speed_rad_s, body, linear_rates)
+        cycle = mode_cycle(
+            k, modes, eigenvalues, contact, op, wheel_speed_rad_s, body, linear_rates, balances.get(k)
+        )
         visited.append(cycle)
         if cycle.amplitude_m_s == 0.0:
             return None, tuple(visited)
