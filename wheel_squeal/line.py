@@ -373,9 +373,11 @@ def line(
 
     # the tasks quiet, the line's counter the one progress line; the memo (modes, radiation) shared
     here = functools.partial(run_line_job, context=dataclasses.replace(ctx, progress=Progress(quiet=True)))
-    if todo and not scheduler and n_local > 1:  # the cheapest here: the workers inherit its modes
-        first = missing[-1]
-        done(first, here(todo.pop(first)))
+    if todo and not scheduler and n_local > 1:
+        # one curve of the cheapest task here first: the workers inherit its modes, the
+        # rail's fits and the contact tables instead of each making them
+        first = todo[missing[-1]]
+        here(dataclasses.replace(first, radii_m=first.radii_m[-1:]))
     run_tasks(
         todo, run_line_job if scheduler else here, done, n_local, scheduler, ctx.progress, lambda n: None
     )
