@@ -13,6 +13,8 @@ order and the argument.
 
 from __future__ import annotations
 
+import functools
+
 import numpy as np
 
 __all__ = ["TABLE_STEP", "BesselTable", "bessel_j"]
@@ -30,17 +32,32 @@ def bessel_j(order: int, x: np.ndarray) -> np.ndarray:
     return BesselTable((order,), float(np.max(x)))(x)[0]
 
 
+#: Tables are made in whole blocks of this many nodes (:class:`BesselTable`)
+TABLE_BLOCK = 1024
+
+
+@functools.lru_cache(maxsize=32)
+def _tabulated(orders: tuple[int, ...], count: int) -> tuple[np.ndarray, list[np.ndarray], list[np.ndarray]]:
+    """The nodes and each order's values and slopes there (read-only: shared)."""
+    from scipy.special import jv
+
+    nodes = np.arange(count) * TABLE_STEP
+    values = [jv(n, nodes) for n in orders]
+    slopes = [0.5 * (jv(n - 1, nodes) - jv(n + 1, nodes)) for n in orders]
+    for a in (nodes, *values, *slopes):
+        a.setflags(write=False)
+    return nodes, values, slopes
+
+
 class BesselTable:
     """J_n for each integer n of ``orders`` tabulated up to the argument ``largest``
     (module docstring); called with arguments in [0, largest], the values of each order,
     to 1e-11 absolute. The tables are made once for many calls (a far field's blocks)."""
 
     def __init__(self, orders: tuple[int, ...], largest: float) -> None:
-        from scipy.special import jv
-
-        self.nodes = np.arange(int(largest / TABLE_STEP) + 2) * TABLE_STEP
-        self.values = [jv(n, self.nodes) for n in orders]
-        self.slopes = [0.5 * (jv(n - 1, self.nodes) - jv(n + 1, self.nodes)) for n in orders]
+        # the node count rounded up to a whole block: the fields of a process share tables
+        count = -(-(int(largest / TABLE_STEP) + 2) // TABLE_BLOCK) * TABLE_BLOCK
+        self.nodes, self.values, self.slopes = _tabulated(tuple(orders), count)
 
     def __call__(self, x: np.ndarray) -> tuple[np.ndarray, ...]:
         x = np.asarray(x, dtype=float)
