@@ -3,7 +3,8 @@ without cant, the shipped railway wheel, the default traffic and friction (four 
 ``--workers`` local processes with a new stage cache: the first line with everything to
 compute (the modes, the squeals' radiation), then a second line of other radii with the
 modes and the radiation solved so far in the cache (what a second line on the same wheel
-costs); the time per curve and how many squeal by radius class; with ``--compare``, the
+costs); the time per curve beside the line's estimate (``wheel_squeal.plan.line_plan``)
+and how many squeal by radius class; with ``--compare``, the
 same curves at their own radii and on the radius grid of ``--radius-step``, and what the
 grid changes (probability, L_Aeq,day, the day's emission).
 
@@ -27,6 +28,7 @@ sys.path.insert(0, str(ROOT))
 import wheel_squeal as ws  # noqa: E402
 from wheel_squeal.cache import StageCache  # noqa: E402
 from wheel_squeal.line import LineSpec, line, load_line  # noqa: E402
+from wheel_squeal.plan import line_plan  # noqa: E402
 
 
 def _line(count: int, seed: int, folder: Path) -> list:
@@ -54,9 +56,11 @@ def main() -> None:
         t0 = time.perf_counter()
         results = line(design, curves, spec, context=ctx, workers=args.workers)
         seconds = time.perf_counter() - t0
+        estimate = line_plan(len(curves), len(spec.states()), args.workers).seconds
         print(
             f"{what}: {len(curves)} curves x 4 friction states on {args.workers} processes: "
-            f"{seconds:.1f} s, {seconds / len(curves):.2f} s a curve"
+            f"{seconds:.1f} s, {seconds / len(curves):.2f} s a curve (estimated {estimate:.0f} s, "
+            f"{estimate / seconds:.2f}x)"
         )
     if args.compare:
         exact = line(design, curves, LineSpec(), context=ctx)

@@ -131,6 +131,22 @@ def test_a_line_too_long_is_refused_before_it_is_read(tmp_path):
     assert not (tmp_path / "out").exists()
 
 
+def test_the_issue_s_line_is_priced_within_the_default_budget_on_this_machine():
+    """2,000 curves in four friction states on two local processes: estimated under the
+    default half hour (measured: 500 curves in about a minute, ``benchmarks/bench_line.py``,
+    which prints the estimate beside the time), at half the one process's time; on a
+    cluster only its results' memory is priced, as a study's."""
+    from wheel_squeal.budget import Budget
+    from wheel_squeal.plan import line_plan
+
+    two, one = line_plan(2000, 4, 2), line_plan(2000, 4, 1)
+    assert two.seconds < Budget().max_seconds
+    two.check(Budget(), "the line", "")  # not refused
+    fixed = line_plan(0, 4, 1).seconds
+    assert two.seconds - fixed == pytest.approx(0.5 * (one.seconds - fixed))
+    assert line_plan(10**7, 4, None).seconds == fixed
+
+
 @pytest.mark.slow  # railway_920's modes and four curves in four friction states (about 60 s cold)
 def test_a_line_writes_what_the_mapping_tools_read(tmp_path):
     """Four curves with coordinates: the tight one squeals some of the time, the 2000 m one

@@ -21,6 +21,7 @@ def cmd_line(args: argparse.Namespace) -> int:
     from ..line import line, load_line, read_line_spec
     from ..plan import line_plan
     from ..present.line import write_line_files
+    from ..study.runner import local_workers, scheduler_of
 
     path = Path(args.line)
     if not path.is_file():
@@ -28,12 +29,14 @@ def cmd_line(args: argparse.Namespace) -> int:
     design = design_of(args)
     spec = read_line_spec(Path(args.traffic) if args.traffic else None)
     ctx = context_of(args)
-    plan = line_plan(count_rows(path), len(spec.states()))
+    scheduler = scheduler_of(args.scheduler)
+    workers = None if scheduler else local_workers(args.workers, ctx.progress)
+    plan = line_plan(count_rows(path), len(spec.states()), workers)
     plan.check(ctx.budget, "the line", "")  # before reading it: a line too long is refused at once
     curves = load_line(path)
     out = out_of(args, design.name)
     with result_folder(out, "line") as tmp:
-        results = line(design, curves, spec, context=ctx, workers=args.workers, scheduler=args.scheduler)
+        results = line(design, curves, spec, context=ctx, workers=workers or 1, scheduler=scheduler)
         rows = write_line_files(tmp, design.name, results, spec, args.crs)
     squealing = sum(r["squeal_probability"] > 0 for r in rows)
     print(f"{design.name}: {squealing} of {len(rows)} curves squeal some of the time")

@@ -243,22 +243,36 @@ def check_curve_files(size: CurveSize, max_file_bytes: float) -> None:
         )
 
 
-#: One curve of a line in one friction state, on one process [s]: the steady curving, its
-#: wheels' contacts' stability, balance and sound, with the radiation of the squeal's
-#: harmonics at tones not yet cached (railway_920_track, a new cache:
-#: benchmarks/bench_line.py, 100 curves x 4 states in 108 s on 2 processes)
-LINE_SECONDS_PER_CURVE_STATE = 0.55
+#: One curve of a line in one friction state, on one process [s]: the steady curving and
+#: its wheels' contacts' stability, balance and sound (railway_920_track, the first line of
+#: ``benchmarks/bench_line.py``: 2,000 curve states in 128 CPU-s, 27 of them radiating 180 new
+#: tones; 0.035 s a state of the curves of 1000 m and more, 0.11 s of those under 200 m)
+LINE_SECONDS_PER_CURVE_STATE = 0.06
+#: A tone the cache does not hold yet, radiated with its views [s] (that line's 27 CPU-s
+#: over 180 tones), and how many a line may radiate: at most this many per curve state (a
+#: line of 100 curves radiated 114 tones in 400 states), and a wheel's squealing modes on
+#: their tone grid at most :data:`LINE_TONES_MOST`
+LINE_TONE_SECONDS = 0.15
+LINE_TONES_PER_CURVE_STATE = 0.3
+LINE_TONES_MOST = 300
+#: Once per line [s]: the wheel's modes, the rail's fits and the contact tables
+LINE_FIXED_SECONDS = 3.0
 #: Memory a line keeps per curve until its files are written (its results) [bytes]
 LINE_BYTES_PER_CURVE = 2.0e4
 
 
-def line_plan(curves: int, states: int) -> CostPlan:
-    """The ``line`` command: ``curves`` curves, each in ``states`` friction states."""
+def line_plan(curves: int, states: int, workers: int | None = 1) -> CostPlan:
+    """The ``line`` command: ``curves`` curves, each in ``states`` friction states, on
+    ``workers`` local processes (None: a cluster's, whose time is not priced here, as a
+    study's is not)."""
     plan = CostPlan()
-    hint = "split the line, or give fewer friction states"
+    hint = "split the line, give fewer friction states, or use more workers (a cluster)"
+    count = curves * states
+    tones = min(LINE_TONES_PER_CURVE_STATE * count, LINE_TONES_MOST)
+    share = 0.0 if workers is None else 1.0 / max(workers, 1)
     plan.add(
-        f"{curves:,} curves x {states} friction states",
-        curves * states * LINE_SECONDS_PER_CURVE_STATE,
+        f"{curves:,} curves x {states} friction states on {workers or 'a cluster'} process(es)",
+        share * (count * LINE_SECONDS_PER_CURVE_STATE + tones * LINE_TONE_SECONDS) + LINE_FIXED_SECONDS,
         curves * LINE_BYTES_PER_CURVE,
         remedy=hint,
     )
