@@ -43,6 +43,7 @@ __all__ = [
     "RadiationSettings",
     "SoundField",
     "far_field",
+    "forget_air_meshes",
     "kirchhoff_pressure",
     "mesh_sizes",
     "radiate",
@@ -411,6 +412,16 @@ def _discretised(mesh: AirMesh) -> _Discretised:
         axis,
         tol,
     )
+
+
+def forget_air_meshes() -> None:
+    """Drop the air meshes and their bases this process keeps (:data:`DISCRETISED_KEPT`,
+    ``acoustics.mesh.MESHES_KEPT``): the next radiation meshes its air anew, as a cost
+    estimate assumes."""
+    from .mesh import forget_meshes
+
+    _discretised.cache_clear()
+    forget_meshes()
 
 
 def _basis(mesh: AirMesh):

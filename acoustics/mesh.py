@@ -15,7 +15,7 @@ from geometry.gmsh_mesh import gmsh_session
 
 from .surface import Surface
 
-__all__ = ["AirMesh", "air_mesh"]
+__all__ = ["AirMesh", "air_mesh", "forget_meshes"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -68,6 +68,11 @@ def air_mesh(
 
 #: The air meshes a process keeps (:func:`air_mesh`)
 MESHES_KEPT = 16
+
+
+def forget_meshes() -> None:
+    """Drop the air meshes this process keeps."""
+    _meshed.cache_clear()
 
 
 @functools.lru_cache(maxsize=MESHES_KEPT)

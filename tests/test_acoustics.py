@@ -124,6 +124,8 @@ def test_the_air_is_meshed_once_for_an_outline_and_its_sizes():
     assert mesh_sizes(surface, low) == mesh_sizes(surface, high)
     a, b = ac.radiate(surface, low), ac.radiate(surface, high)
     assert a.mesh is b.mesh
+    ac.forget_air_meshes()  # what a cost estimate assumes: meshed anew
+    assert ac.radiate(surface, low).mesh is not a.mesh
     on = _ring(1.2 * RADIUS)
     for ka, field in ((3.0, a), (4.0, b)):
         exact = ac.sphere_pressure(1, 0, RADIUS, ka / RADIUS, on)
