@@ -379,7 +379,7 @@ class _Discretised:
     basis: Any
     body: Any
     body_points: np.ndarray
-    circle: tuple[tuple[Any, int], ...]
+    circle: tuple[Any, ...]
     outer_dofs: np.ndarray
     axis_dofs: np.ndarray
     tolerance_m: float
@@ -561,9 +561,9 @@ def radiate(
     )
 
 
-def _circle_bases(skm, radius: float, tol: float) -> tuple[tuple[Any, int], ...]:
-    """The facet bases of the circle rho = R, each from the elements inside it (the side
-    of each facet's element inside), with the side."""
+def _circle_bases(skm, radius: float, tol: float) -> tuple[Any, ...]:
+    """The facet bases of the circle rho = R, taken from the elements inside it (per side:
+    the facets whose first or second element lies inside)."""
     import skfem as fe
 
     f = skm.facets
@@ -575,18 +575,18 @@ def _circle_bases(skm, radius: float, tol: float) -> tuple[tuple[Any, int], ...]
     centroid = skm.p[:, skm.t].mean(axis=1)
     inside_first = np.hypot(*centroid[:, skm.f2t[0, facets]]) < radius
     return tuple(
-        (fe.FacetBasis(skm, fe.ElementTriP2(), facets=facets[sel], side=side, intorder=8), side)
+        fe.FacetBasis(skm, fe.ElementTriP2(), facets=facets[sel], side=side, intorder=8)
         for side, sel in ((0, inside_first), (1, ~inside_first))
         if np.any(sel)
     )
 
 
-def _circle_traces(circle: tuple[tuple[Any, int], ...], P: np.ndarray):
+def _circle_traces(circle: tuple[Any, ...], P: np.ndarray):
     """(x, normal, P, dP/dn, weights) at quadrature points of the circle rho = R (the
     normal radial), taken from the elements inside it (:func:`_circle_bases`); weights
     are ds (the r of the measure not included)."""
     parts = []
-    for fb, _ in circle:
+    for fb in circle:
         field = fb.interpolate(P)
         x = np.asarray(fb.global_coordinates())
         normal = x / np.hypot(x[0], x[1])

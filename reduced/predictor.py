@@ -134,15 +134,27 @@ def _midpoint_sines(n_phase: int) -> np.ndarray:
     return np.concatenate([quarter, -quarter])
 
 
+#: Amplitude-and-phase pairs evaluated at a time by :func:`mean_power_per_cycle`: its
+#: temporaries stay in the processor's cache (a whole grid's, a megabyte each, cost four
+#: times as much in fresh memory's page faults)
+PHASE_BLOCK = 16384
+
+
 def mean_power_per_cycle(
     amplitude_m_s: ArrayLike, mode: ModalDOF, contact: ContactLaw, op: OperatingPoint, n_phase: int = 1024
 ) -> np.ndarray:
     """Pbar(V) in W for velocity amplitude(s) V in m/s (array-broadcast)."""
     V = np.asarray(amplitude_m_s, dtype=float)
-    vel = V[..., None] * _midpoint_sines(n_phase)
-    zeta = (op.crabbing_velocity_m_s + vel) / op.rolling_speed_m_s
-    Q = -adhesion_ratio(zeta, contact, op.rolling_speed_m_s) * contact.normal_load_n
-    return (Q * vel).mean(axis=-1) - 0.5 * mode.damping_ns_m * V * V
+    sines = _midpoint_sines(n_phase)
+    flat = V.reshape(-1)
+    out = np.empty(flat.shape)
+    rows = max(1, PHASE_BLOCK // len(sines))
+    for i in range(0, flat.size, rows):
+        vel = flat[i : i + rows, None] * sines
+        zeta = (op.crabbing_velocity_m_s + vel) / op.rolling_speed_m_s
+        Q = -adhesion_ratio(zeta, contact, op.rolling_speed_m_s) * contact.normal_load_n
+        out[i : i + rows] = (Q * vel).mean(axis=-1)
+    return out.reshape(V.shape) - 0.5 * mode.damping_ns_m * V * V
 
 
 def initial_amplitude(mode: ModalDOF, contact: ContactLaw, op: OperatingPoint) -> float:

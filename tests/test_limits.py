@@ -12,6 +12,8 @@ from __future__ import annotations
 
 import json
 import resource
+import subprocess
+import sys
 import time
 from pathlib import Path
 
@@ -943,3 +945,36 @@ def test_random_study_specs_are_a_study_or_one_line_that_says_why(
     assert spec.n_cases == {"rim_depth": n, "web": 3, "wear": 2}[axis] == len(spec.cases())
     cost = estimate_study(spec)
     assert 0 < cost.case_seconds < 60 and cost.memory_bytes > 0
+
+
+_FAULTS = """
+import resource, sys
+import reduced as r
+import reduced.predictor as p
+if sys.argv[1] == "kept":
+    from wheel_squeal.study.pool import keep_freed_memory
+    assert keep_freed_memory()
+p.PHASE_BLOCK = 10**9  # the whole grid at once: megabyte temporaries
+law = r.ContactLaw.from_hertz(r.hertz_contact(0.46, 0.3, 0.085, 0.04, 210e9, 0.3, 5e4), friction_coefficient=0.3)
+op, mode = r.OperatingPoint(11.1, 0.2), r.ModalDOF(3.1, 1.6e8, 5.0)
+p.predict_limit_cycle(mode, law, op)
+before = resource.getrusage(resource.RUSAGE_SELF).ru_minflt
+for _ in range(20):
+    p.predict_limit_cycle(mode, law, op)
+print(resource.getrusage(resource.RUSAGE_SELF).ru_minflt - before)
+"""
+
+
+@pytest.mark.skipif(not sys.platform.startswith("linux"), reason="glibc's allocator: Linux only")
+def test_a_worker_reuses_freed_memory_instead_of_faulting_in_fresh_pages():
+    """Twenty limit-cycle predictions over their whole grid at once (megabyte temporaries):
+    glibc's default hands their memory back to the system and faults fresh pages in for the
+    next; with ``keep_freed_memory`` (each pool worker and the command line) it is reused."""
+    counts = {}
+    for mode in ("default", "kept"):
+        r = subprocess.run(
+            [sys.executable, "-c", _FAULTS, mode], capture_output=True, text=True, cwd=ROOT, check=True
+        )
+        counts[mode] = int(r.stdout.strip())
+    assert counts["default"] > 20 * 1000, counts  # the premise: fresh pages every round
+    assert counts["kept"] < counts["default"] / 10, counts

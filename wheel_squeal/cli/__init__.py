@@ -22,6 +22,7 @@ from geometry import DesignError
 
 from ..errors import BudgetExhausted, RequestError
 from ..plotting import plot_workers
+from ..study.pool import keep_freed_memory
 from .parser import DRAWING_COMMANDS, build_parser
 from .stops import STATE, STOPS, Terminated, install_stop_handlers, stop_line, uninterrupted
 
@@ -75,6 +76,7 @@ def main(
     if unknown:  # the subcommand's own error: it points to its --help
         parser.subcommands[args.command].error(f"unrecognized arguments: {' '.join(unknown)}")
     args._started_s = started_s
+    keep_freed_memory()  # this process's own work, as each worker's
     STATE.holding = STATE.committed = STATE.retiring = False  # a new command in this process
     if not os.environ.get("DISPLAY"):
         # Without an X server VTK tries X first and warns before falling back to EGL;

@@ -50,8 +50,9 @@ MAX_WORKER_DEATHS = 3
 #: The environment variable dask itself reads for the scheduler's address.
 SCHEDULER_ENV = "DASK_SCHEDULER_ADDRESS"
 #: Memory one local worker takes besides its case's modal solve [bytes] (the imports of
-#: the chain and a case's arrays: measured about 300 MB).
-WORKER_BYTES = 400e6
+#: the chain and a case's arrays: measured about 300 MB; and the freed memory it keeps,
+#: ``wheel_squeal.study.pool.KEPT_FREE_BYTES``).
+WORKER_BYTES = 530e6
 #: Seconds to wait for a dask scheduler's handshake.
 SCHEDULER_TIMEOUT_S = 5.0
 
