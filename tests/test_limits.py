@@ -955,7 +955,8 @@ if sys.argv[1] == "kept":
     from wheel_squeal.study.pool import keep_freed_memory
     assert keep_freed_memory()
 p.PHASE_BLOCK = 10**9  # the whole grid at once: megabyte temporaries
-law = r.ContactLaw.from_hertz(r.hertz_contact(0.46, 0.3, 0.085, 0.04, 210e9, 0.3, 5e4), friction_coefficient=0.3)
+hertz = r.hertz_contact(0.46, 0.3, 0.085, 0.04, 210e9, 0.3, 5e4)
+law = r.ContactLaw.from_hertz(hertz, friction_coefficient=0.3)
 op, mode = r.OperatingPoint(11.1, 0.2), r.ModalDOF(3.1, 1.6e8, 5.0)
 p.predict_limit_cycle(mode, law, op)
 before = resource.getrusage(resource.RUSAGE_SELF).ru_minflt
