@@ -432,6 +432,8 @@ def _inverse_iteration(A: np.ndarray, lam: np.ndarray, columns: np.ndarray) -> n
     eigenvalue itself (nudged by 1e-13 ||A|| if that is singular to the last bit), from
     starts that differ between equal eigenvalues (a repeated eigenvalue's vectors span its
     eigenspace rather than repeat one vector)."""
+    import warnings
+
     import scipy.linalg
 
     n = A.shape[0]
@@ -441,7 +443,9 @@ def _inverse_iteration(A: np.ndarray, lam: np.ndarray, columns: np.ndarray) -> n
         twin = int(np.sum(np.abs(lam[columns[:k]] - lam[j]) <= 1e-8 * scale))
         x = np.cos((twin + 1) * np.arange(1, n + 1)) + 0j
         for nudge in (0.0, 1e-13 * scale):
-            with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+            # singular to the last bit is what the shift aims at: said by the nudge, not a warning
+            with np.errstate(divide="ignore", invalid="ignore", over="ignore"), warnings.catch_warnings():
+                warnings.simplefilter("ignore", scipy.linalg.LinAlgWarning)
                 lu = scipy.linalg.lu_factor(A - (lam[j] + nudge) * np.eye(n), check_finite=False)
                 y = x
                 for _ in range(INVERSE_STEPS):
