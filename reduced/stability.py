@@ -487,6 +487,15 @@ def _kept(lam: np.ndarray, relaxation_time_s: float) -> np.ndarray:
 LOW_RANK_STATES = 96
 
 
+def _apart(U: np.ndarray, V: np.ndarray, blocks: Sequence[np.ndarray]) -> bool:
+    """Whether a block of A0 (:func:`_state_blocks`) lies apart from the coupling U V^T
+    (no force reaches its states and they move none): each of its eigenvalues is then one
+    of A's whose vector the low rank cannot give (a rail's normal terms under a constant
+    normal load: LAPACK's vectors are cheaper than an inverse iteration for each)."""
+    touched = np.any(U != 0.0, axis=1) | np.any(V != 0.0, axis=1)
+    return any(bool(np.any(~np.any(touched[states], axis=1))) for states in blocks)
+
+
 def _eigen_vectors(
     modes: Sequence[ModalDOF],
     damping: np.ndarray,
@@ -496,20 +505,24 @@ def _eigen_vectors(
     low_rank: bool | None = None,
 ) -> tuple[np.ndarray, np.ndarray]:
     """The eigenvalues with Im >= 0 of the coupled system and their eigenvectors: with
-    ``low_rank`` (None: from :data:`LOW_RANK_STATES` states on) the eigenvalues by LAPACK,
-    the vectors from the coupling's low rank (:func:`_secular_vectors`) or, where those are
-    not accurate, by inverse iteration, and all of them by LAPACK if that fails too;
-    without, all of them by LAPACK."""
+    ``low_rank`` (None: from :data:`LOW_RANK_STATES` states on) and no block apart from the
+    coupling (:func:`_apart`), the eigenvalues by LAPACK, the vectors from the coupling's low
+    rank (:func:`_secular_vectors`, its forces that act) or, where those are not accurate,
+    by inverse iteration, and all of them by LAPACK if that fails too; else all of them by
+    LAPACK."""
     A0, U, V = _state_parts(modes, damping, linear, wheel_speed_rad_s, layout)
     A = A0 + U @ V.T
-    if not (A.shape[0] >= LOW_RANK_STATES if low_rank is None else low_rank):
+    acting = np.any(U != 0.0, axis=0) & np.any(V != 0.0, axis=0)  # a force that is exerted and felt
+    U, V = U[:, acting], V[:, acting]
+    blocks = _state_blocks(layout, linear.relaxation_time_s > 0.0)
+    if not (A.shape[0] >= LOW_RANK_STATES if low_rank is None else low_rank) or _apart(U, V, blocks):
         lam, full = _eigen(A, linear.relaxation_time_s)
         assert full is not None
         return lam, full
     with one_blas_thread():
         lam = np.linalg.eigvals(A)
         lam = lam[_kept(lam, linear.relaxation_time_s)]
-        vec = _secular_vectors(A0, U, V, lam, _state_blocks(layout, linear.relaxation_time_s > 0.0))
+        vec = _secular_vectors(A0, U, V, lam, blocks)
         bad = np.flatnonzero(_backward_errors(A, vec, lam) > SECULAR_BACKWARD_ERROR)
         if len(bad):
             vec[:, bad] = _inverse_iteration(A, lam, bad)

@@ -350,6 +350,23 @@ def test_the_eigenvectors_from_the_low_rank_coupling_are_lapack_s(omega, tau, re
     assert np.any(missed) == repeated
 
 
+def test_a_rail_s_normal_terms_under_a_constant_normal_load_leave_the_vectors_to_lapack():
+    """With no Hertz spring (k_H = 0: a constant normal load) no force reaches the rail's
+    normal terms and they move none: each is an eigenvalue of its own that the low rank
+    cannot give (10 inverse iterations on a line's contact, 5x LAPACK's time), so LAPACK's
+    vectors are taken; with the spring every block is coupled and the low rank serves."""
+    from reduced import stability as s
+
+    modes = [r.ModalDOF(3.1, 3.1 * (2 * math.pi * f) ** 2, 5.0, normal=0.5) for f in (400.0, 1200.0)]
+    damping = np.array([md.damping_ns_m for md in modes])
+    layout = s._blocks(modes, 0.0, _rail_like(False))
+    blocks = s._state_blocks(layout, False)
+    for k_h, apart in ((0.0, True), (8e8, False)):
+        _, U, V = s._state_parts(modes, damping, s.LinearContact(-60.0, 0.35, k_h), 0.0, layout)
+        acting = np.any(U != 0.0, axis=0) & np.any(V != 0.0, axis=0)
+        assert s._apart(U[:, acting], V[:, acting], blocks) == apart
+
+
 # --------------------------------------------------------------------------------------
 # item 4: wheel rotation
 # --------------------------------------------------------------------------------------
