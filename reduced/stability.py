@@ -510,26 +510,31 @@ def _eigen_vectors(
     rank (:func:`_secular_vectors`, its forces that act) or, where those are not accurate,
     by inverse iteration, and all of them by LAPACK if that fails too; else all of them by
     LAPACK."""
+    tau = linear.relaxation_time_s
     A0, U, V = _state_parts(modes, damping, linear, wheel_speed_rad_s, layout)
     A = A0 + U @ V.T
+
+    def lapack() -> tuple[np.ndarray, np.ndarray]:
+        lam, vec = _eigen(A, tau)
+        assert vec is not None
+        return lam, vec
+
+    if not (A.shape[0] >= LOW_RANK_STATES if low_rank is None else low_rank):
+        return lapack()  # small: the low rank's bookkeeping costs more than it saves
     acting = np.any(U != 0.0, axis=0) & np.any(V != 0.0, axis=0)  # a force that is exerted and felt
     U, V = U[:, acting], V[:, acting]
-    blocks = _state_blocks(layout, linear.relaxation_time_s > 0.0)
-    if not (A.shape[0] >= LOW_RANK_STATES if low_rank is None else low_rank) or _apart(U, V, blocks):
-        lam, full = _eigen(A, linear.relaxation_time_s)
-        assert full is not None
-        return lam, full
+    blocks = _state_blocks(layout, tau > 0.0)
+    if _apart(U, V, blocks):
+        return lapack()
     with one_blas_thread():
         lam = np.linalg.eigvals(A)
-        lam = lam[_kept(lam, linear.relaxation_time_s)]
+        lam = lam[_kept(lam, tau)]
         vec = _secular_vectors(A0, U, V, lam, blocks)
         bad = np.flatnonzero(_backward_errors(A, vec, lam) > SECULAR_BACKWARD_ERROR)
         if len(bad):
             vec[:, bad] = _inverse_iteration(A, lam, bad)
             if np.any(_backward_errors(A, vec[:, bad], lam[bad]) > SECULAR_BACKWARD_ERROR):
-                full_lam, full = _eigen(A, linear.relaxation_time_s)
-                assert full is not None
-                return full_lam, full
+                return lapack()
     return lam, vec
 
 

@@ -26,7 +26,7 @@ from ..plan import estimate_study, study_plan
 from ..presets import fidelity_for
 from ..progress import Progress
 from ..provenance import CODE_PACKAGES, code_version, library_versions
-from .pool import Death, run_on_pool
+from .pool import KEPT_FREE_BYTES, Death, run_on_pool
 from .spec import StudySpec
 from .task import CaseJob, run_case
 
@@ -49,10 +49,10 @@ __all__ = [
 MAX_WORKER_DEATHS = 3
 #: The environment variable dask itself reads for the scheduler's address.
 SCHEDULER_ENV = "DASK_SCHEDULER_ADDRESS"
-#: Memory one local worker takes besides its case's modal solve [bytes] (the imports of
-#: the chain and a case's arrays: measured about 300 MB; and the freed memory it keeps,
-#: ``wheel_squeal.study.pool.KEPT_FREE_BYTES``).
-WORKER_BYTES = 530e6
+#: Memory one local worker takes besides its case's modal solve [bytes]: the imports of
+#: the chain and a case's arrays (measured about 300 MB, allowed 400 MB) and the freed
+#: memory it keeps (``wheel_squeal.study.pool.KEPT_FREE_BYTES``).
+WORKER_BYTES = 400e6 + KEPT_FREE_BYTES
 #: Seconds to wait for a dask scheduler's handshake.
 SCHEDULER_TIMEOUT_S = 5.0
 
