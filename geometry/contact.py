@@ -14,6 +14,7 @@ contact, a different regime.
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
@@ -46,6 +47,10 @@ FLAT_CURVATURE_1_M = 1.0e-3
 #: The contact stays this fraction of the crown arc's reach inside the tread's edge
 #: (a contact on the rim's corner has no single normal).
 EDGE_MARGIN = 0.999
+#: The frames a process keeps found, per function (a wheel's frames are pure functions of
+#: its outline and the point: a curve map's contacts, on the contact table's points,
+#: repeat them over curves and friction states)
+FRAMES_KEPT = 1024
 
 
 class ContactPointError(ValueError):
@@ -110,6 +115,7 @@ def largest_contact_angle_rad(wheel: WheelDesign) -> float:
     return min(reach, math.radians(MAX_CONTACT_ANGLE_DEG))
 
 
+@functools.lru_cache(maxsize=FRAMES_KEPT)
 def contact_frame(wheel: WheelDesign, contact_angle_rad: float = 0.0) -> ContactFrame:
     """The contact frame of ``wheel`` at ``contact_angle_rad`` [rad] (parametric wheels;
     an outline's contact point sets its own angle, so it takes 0 here). Raises
@@ -147,6 +153,7 @@ def contact_frame(wheel: WheelDesign, contact_angle_rad: float = 0.0) -> Contact
     return ContactFrame(wheel.rolling_radius - rt * (1.0 - math.cos(g)), rt * math.sin(g), g, rt)
 
 
+@functools.lru_cache(maxsize=FRAMES_KEPT)
 def frame_on_running_surface(outline: Outline, z_m: float) -> ContactFrame:
     """The contact frame on an outline's running surface (its largest radius,
     ``Outline.outer_radius``) at the axial position ``z_m`` [m]: the point, the angle of

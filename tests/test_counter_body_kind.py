@@ -13,7 +13,7 @@ physics by another door), and differ from the rigid counter-body's.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import ClassVar
 
 import numpy as np
@@ -132,3 +132,17 @@ def test_an_older_roller_section_is_the_roller_kind(tmp_path):
     (tmp_path / "both.toml").write_text(new + "\n[roller]\nrolling_radius = 0.085\n")
     with pytest.raises(DesignError, match="not both"):
         ws.load_design(tmp_path / "both.toml")
+
+
+def test_a_verdict_without_the_counter_body_s_effect_is_otherwise_the_same(block_kind, tmp_path):
+    """``counter_body_effect=False`` (a line's verdicts) leaves out the rigid counter-body's
+    eigen-solve and its words and nothing else: the same verdict, field by field."""
+    modes, _, design = _block_design(tmp_path)
+    op = ws.operating_point(design, rpm=800.0, crabbing_velocity_m_s=0.39)
+    options = ChainOptions(stop_after="stability", remedy=False)
+    full = ws.analyse(design, op=op, modes=modes, options=options).verdict
+    without = replace(options, counter_body_effect=False)
+    plain = ws.analyse(design, op=op, modes=modes, options=without).verdict
+    assert full.counter_body_effect_1_s is not None and plain.counter_body_effect_1_s is None
+    assert full.reason.startswith(plain.reason) and "on a rigid block" not in plain.reason
+    assert replace(full, reason=plain.reason, counter_body_effect_1_s=None) == plain

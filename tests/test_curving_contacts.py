@@ -225,3 +225,50 @@ def test_a_contact_s_normal_force_from_a_guess_is_the_bracketed_one(guess_factor
             alone = bc._side_forces(scene, row, sign, 50e3, 4e-3, 1e-4)[3][0]
             guessed = bc._side_forces(scene, row, sign, 50e3, 4e-3, 1e-4, guess_factor * alone)[3][0]
             assert guessed == pytest.approx(alone, abs=2e-9 * 50e3)
+
+
+def test_an_equilibrium_with_its_jacobian_kept_is_newton_s_own(monkeypatch):
+    """A run of curves (1000 m down to 120 m, each from the last one's equilibrium, at both
+    ends of the friction range) solved with Newton's Jacobian kept while a step cuts the
+    forces fourfold is the equilibrium a new Jacobian at every step finds: the same
+    unknowns to Newton's convergence step (1e-9, scaled), with fewer evaluations of the
+    contact forces (equal if the Jacobian were never kept)."""
+    from track import bogie_curving as bc
+    from wheel_squeal.curve import contact_geometry
+
+    geometry = contact_geometry(RAILWAY)
+    table = bc.contact_table(geometry)
+    vehicle = RAILWAY.vehicle.vehicle()
+    evaluations = [0]
+    wheelset = bc._wheelset
+
+    def counted(*args, **kwargs):
+        evaluations[0] += 1
+        return wheelset(*args, **kwargs)
+
+    monkeypatch.setattr(bc, "_wheelset", counted)
+
+    def run() -> tuple[list[np.ndarray], int]:
+        evaluations[0], out = 0, []
+        for mu in (0.2, 0.5):
+            last = None
+            for radius in (1000.0, 700.0, 450.0, 300.0, 200.0, 150.0, 120.0):
+                last = bc.solve_curving(
+                    geometry,
+                    vehicle,
+                    radius,
+                    40.0,
+                    wheel_load_n=50e3,
+                    friction_coefficient=mu,
+                    table=table,
+                    start=last,
+                )
+                out.append(last.unknowns)
+        return out, evaluations[0]
+
+    kept, kept_count = run()
+    monkeypatch.setattr(bc, "KEPT_JACOBIAN_CONTRACTION", 0.0)  # a new Jacobian at every step
+    fresh, fresh_count = run()
+    assert kept_count < 0.9 * fresh_count  # measured 0.81 here, 0.66 over a line's 3,312 curvings
+    for a, b in zip(kept, fresh):
+        np.testing.assert_allclose(a, b, rtol=0, atol=bc.NEWTON_STEP)

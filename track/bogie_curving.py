@@ -409,6 +409,9 @@ JACOBIAN_STEP = 1.0e-6
 #: Newton's iteration has converged when its step is below this, in the scaled unknowns
 #: (1e-12 m), with the forces balanced to :data:`FORCE_TOLERANCE`
 NEWTON_STEP = 1.0e-9
+#: Newton's iteration keeps its Jacobian for the next step while a step leaves at most this
+#: share of the forces' norm (a new Jacobian is six evaluations of the contact forces)
+KEPT_JACOBIAN_CONTRACTION = 0.25
 
 
 def _suspension(vehicle: Vehicle, radius_m: float, unbalanced_n: float) -> tuple[np.ndarray, np.ndarray]:
@@ -442,22 +445,38 @@ def _newton(
     residuals: Callable[[np.ndarray], np.ndarray], jacobian: Jacobian, start: np.ndarray, iterations: int = 20
 ) -> OptimizeResult | None:
     """The equilibrium by Newton's iteration with a halved step where the forces would not
-    fall; None where it does not converge (a kink of the interpolated contact table, a
-    singular Jacobian), for the trust region to take over."""
+    fall, its Jacobian kept for the next step while a step cuts the forces to
+    :data:`KEPT_JACOBIAN_CONTRACTION` of theirs (a kept one's step costs one evaluation of
+    the forces, a new Jacobian six more) and made anew where a kept one's step would not
+    lower them; None where it does not converge (a kink of the interpolated contact table,
+    a singular Jacobian), for the trust region to take over."""
     x, f = np.array(start, float), residuals(start)
-    for _ in range(iterations):
+    jac: np.ndarray | None = None
+    for _ in range(2 * iterations):  # a pass takes a step or lets a kept Jacobian go
+        fresh = jac is None
+        if jac is None:
+            jac = jacobian(x)
         try:
-            step = np.linalg.solve(jacobian(x), -f)
+            step = np.linalg.solve(jac, -f)
         except np.linalg.LinAlgError:
-            return None
+            if fresh:
+                return None
+            jac = None
+            continue
         t = 1.0
         while True:
             trial = residuals(x + t * step)
-            if np.linalg.norm(trial) < np.linalg.norm(f) or t * np.max(np.abs(step)) <= NEWTON_STEP:
+            downhill = np.linalg.norm(trial) < np.linalg.norm(f) or t * np.max(np.abs(step)) <= NEWTON_STEP
+            if downhill or not fresh:
                 break
             t *= 0.5
             if t < 1.0 / 64.0:
                 return None
+        if not downhill:
+            jac = None  # a kept Jacobian that no longer leads downhill: a new one from here
+            continue
+        if np.linalg.norm(trial) > KEPT_JACOBIAN_CONTRACTION * np.linalg.norm(f):
+            jac = None
         x, f = x + t * step, trial
         if t * np.max(np.abs(step)) <= NEWTON_STEP and np.max(np.abs(f)) <= FORCE_TOLERANCE:
             return OptimizeResult(x=x, fun=f, cost=0.5 * float(f @ f))

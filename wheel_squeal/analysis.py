@@ -65,6 +65,10 @@ class ChainOptions:
         How the limit cycle's amplitude is found: the time domain from rest of the modes
         the decision integrates (its harmonics radiated), or the harmonic balance of the
         squeal mode (fast: no time domain; the fundamental radiated).
+    counter_body_effect : bool
+        With a counter-body that moves (a rail, a roller with modes), what it adds to the
+        fastest growth rate (one more eigen-solve, of the wheel on a rigid one); False
+        leaves it out (a line, which reads neither it nor the reason's words).
 
     Examples
     --------
@@ -85,6 +89,7 @@ class ChainOptions:
     simulate_stable: bool = True
     beside: bool = True
     amplitude: AmplitudeMethod = "time domain"
+    counter_body_effect: bool = True
 
     def reaches(self, stage: Stage) -> bool:
         """Whether the request goes as far as ``stage``."""

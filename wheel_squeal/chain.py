@@ -176,7 +176,7 @@ class _Chain(Outcomes):
         if v.outcome is not None:
             v = replace(v, damping=self.design.damping_source(v.outcome.mode))
         body = body_of(self.design)
-        if body is None:
+        if body is None or not self.opts.counter_body_effect:
             return v
         rigid = self.rigid_growth_rate()
         fastest = float(self.table.result.eigenvalues.real.max())

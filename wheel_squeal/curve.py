@@ -31,7 +31,7 @@ from .api import contact_law
 from .budget import CostPlan
 from .chain import AMPLITUDE_METHODS
 from .curve_case import AxleSound, BogiePassby, CurveCase, axle_sound, bogie_sources
-from .curve_contacts import ContactSiteAnalysis, contact_geometry, wheel_sites
+from .curve_contacts import ContactSiteAnalysis, contact_geometry, modes_at_contacts, wheel_sites
 from .design import Design
 from .errors import RequestError
 from .plan import CurveSize, check_curve_files, curve_plan, squealing_axles
@@ -39,10 +39,7 @@ from .stability import excitable, mode_dofs
 from .types import AmplitudeMethod
 
 if TYPE_CHECKING:
-    from collections.abc import Callable
-
     from fem.modes import ModeSet
-    from geometry.contact import ContactFrame
     from track.bogie_curving import Vehicle, WheelContact
 
     from .context import RunContext
@@ -122,6 +119,7 @@ def curve(
     context: RunContext | None = None,
     ground_reflection: float | None = None,
     priced: bool = False,
+    counter_body_effect: bool = True,
 ) -> list[CurveCase]:
     """Every wheel of the design's bogie at every radius and train speed (module docstring).
 
@@ -147,6 +145,9 @@ def curve(
     priced : bool
         The caller has priced and allowed the work as part of a larger whole (a line):
         neither priced nor refused here.
+    counter_body_effect : bool
+        Each verdict's ``ChainOptions.counter_body_effect`` (False: what the rail adds to the
+        fastest growth rate left out, as a line leaves it).
 
     Returns
     -------
@@ -172,6 +173,7 @@ def curve(
         context=context,
         ground_reflection=ground_reflection,
         check=not priced,
+        counter_body_effect=counter_body_effect,
     )
 
 
@@ -188,6 +190,7 @@ def _cases(
     ground_reflection: float | None,
     maps: int = 1,
     check: bool = True,
+    counter_body_effect: bool = True,
 ) -> list[CurveCase]:
     """:func:`curve`, its plan counting ``maps`` runs of the map (refused where ``check``)."""
     from dataclasses import replace
@@ -213,8 +216,14 @@ def _cases(
         maps,
         check,
     )
-    options = ChainOptions(mode="model", stop_after="sound", remedy=False, amplitude=method)
-    moved = _moved(modes, ctx)
+    options = ChainOptions(
+        mode="model",
+        stop_after="sound",
+        remedy=False,
+        amplitude=method,
+        counter_body_effect=counter_body_effect,
+    )
+    moved = modes_at_contacts(modes, ctx.memo)
     cases: list[CurveCase] = []
     for (radius, speed), wheels in curvings.items():
         ctx.budget.checkpoint(f"the curve of {radius:g} m at {speed:g} km/h")
@@ -239,33 +248,6 @@ def _cases(
             group = [replace(c, passby=bp) for c in group]
         cases += group
     return cases
-
-
-#: The contacts whose modes a process keeps read (each a list of the modes' contact values)
-MOVED_MODES_KEPT = 4096
-
-
-def _moved(modes: ModeSet, ctx: RunContext) -> Callable[[ContactFrame], ModeSet]:
-    """The modes read at a contact frame: the mesh's meridian slice found once per mode set
-    in the context's memo, each frame read once (a curving's contacts lie on the contact
-    table's points, so that curves and friction states share them)."""
-    from fem.moved_contact import MeridianSlice
-
-    key = ("meridian slice", id(modes))
-    held = ctx.memo.get(key)
-    if held is None or held[0] is not modes:
-        read: dict[ContactFrame, ModeSet] = {}
-        held = ctx.memo[key] = (modes, MeridianSlice(modes), read)
-    _, meridian, read = held
-
-    def at(frame: ContactFrame) -> ModeSet:
-        if frame not in read:
-            if len(read) >= MOVED_MODES_KEPT:
-                read.clear()
-            read[frame] = meridian.modes_at(frame)
-        return read[frame]
-
-    return at
 
 
 def curve_estimate(
@@ -400,7 +382,7 @@ def _planned(
                 ]
     if not (check or price):  # priced by the caller as a whole (a line): no pre-pass
         return modes, plan_of(wheel_dofs=wheel_dofs), curvings
-    moved = _moved(modes, ctx)
+    moved = modes_at_contacts(modes, ctx.memo)
     sites = [
         (s.design, moved(s.design.contact_frame), s.law, s.op)
         for wheels in curvings.values()

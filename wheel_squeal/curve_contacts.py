@@ -6,18 +6,29 @@ what :mod:`wheel_squeal.curve` runs the chain on."""
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 from .api import contact_law
 from .design import Design
 from .errors import RequestError
 
 if TYPE_CHECKING:
+    from collections.abc import Callable
+
+    from fem.modes import ModeSet
+    from geometry.contact import ContactFrame
     from reduced import ContactLaw, OperatingPoint
     from track.bogie_curving import ContactState, WheelContact
     from track.contact_geometry import ContactGeometry
 
-__all__ = ["LEAST_LOAD_SHARE", "ContactSiteAnalysis", "contact_geometry", "wheel_sites"]
+__all__ = [
+    "LEAST_LOAD_SHARE",
+    "MOVED_MODES_KEPT",
+    "ContactSiteAnalysis",
+    "contact_geometry",
+    "modes_at_contacts",
+    "wheel_sites",
+]
 
 #: A contact carrying less than this share of its wheel's load is not analysed (it is
 #: the first touch of a two-point contact, about to lift)
@@ -88,3 +99,30 @@ def wheel_sites(
         op = OperatingPoint(speed, speed * c.crabbing_velocity_fraction)
         sites.append(ContactSiteAnalysis(c, at, op, contact_law(at)))
     return sites
+
+
+#: The contacts whose modes a process keeps read (each a list of the modes' contact values)
+MOVED_MODES_KEPT = 4096
+
+
+def modes_at_contacts(modes: ModeSet, memo: dict[Any, Any]) -> Callable[[ContactFrame], ModeSet]:
+    """The modes read at a contact frame: the mesh's meridian slice found once per mode set
+    in ``memo`` (a run context's), each frame read once (a curving's contacts lie on the contact
+    table's points, so that curves and friction states share them)."""
+    from fem.moved_contact import MeridianSlice
+
+    key = ("meridian slice", id(modes))
+    held = memo.get(key)
+    if held is None or held[0] is not modes:
+        read: dict[ContactFrame, ModeSet] = {}
+        held = memo[key] = (modes, MeridianSlice(modes), read)
+    _, meridian, read = held
+
+    def at(frame: ContactFrame) -> ModeSet:
+        if frame not in read:
+            if len(read) >= MOVED_MODES_KEPT:
+                read.clear()
+            read[frame] = meridian.modes_at(frame)
+        return read[frame]
+
+    return at

@@ -278,6 +278,7 @@ def run_line_job(job: LineJob, context: RunContext | None = None) -> dict:
             cant_mm=job.cant_mm,
             context=context,
             priced=True,
+            counter_body_effect=False,
         )
     except BudgetError as exc:  # this run's limit, not the line's: computed again next time
         return {**transient(str(exc)), "error": "BudgetError"}
