@@ -63,6 +63,10 @@ class RadiationSettings:
     pml_ladder : where the wavelengths set d (low frequencies), d is rounded up to
         pml_min_fraction R times a power of this ratio: neighbouring tones then mesh
         the same air (a layer thicker than needed absorbs as well or better).
+    size_ladder : where the wavelength sets the far element size (high frequencies), it
+        is rounded down to R / 4 over a power of this ratio: neighbouring tones then mesh
+        the same air (elements smaller than needed resolve as well or better), at most
+        ``size_ladder**2`` the unknowns.
     pml_elements : elements across the layer at least.
     pml_attenuation : A, nepers at the layer's outer edge.
     boundary : "pml" or "abc" (see the module docstring).
@@ -73,6 +77,7 @@ class RadiationSettings:
     pml_wavelengths: float = 0.25
     pml_min_fraction: float = 0.5
     pml_ladder: float = 1.25
+    size_ladder: float = 1.05
     pml_elements: int = 8
     pml_attenuation: float = 12.0
     boundary: str = "pml"
@@ -84,8 +89,10 @@ class RadiationSettings:
             v = getattr(self, name)
             if not (math.isfinite(v) and v > 0):
                 raise ValueError(f"RadiationSettings.{name} must be positive, got {v!r}")
-        if not (math.isfinite(self.pml_ladder) and self.pml_ladder > 1.0):
-            raise ValueError(f"RadiationSettings.pml_ladder must exceed 1, got {self.pml_ladder!r}")
+        for name in ("pml_ladder", "size_ladder"):
+            v = getattr(self, name)
+            if not (math.isfinite(v) and v > 1.0):
+                raise ValueError(f"RadiationSettings.{name} must exceed 1, got {v!r}")
 
 
 @dataclass(frozen=True, eq=False)
@@ -297,6 +304,15 @@ def _layer_thickness(wavelength_m: float, radius_m: float, settings: RadiationSe
     return floor * settings.pml_ladder**rung
 
 
+def _far_size(wanted_m: float, largest_m: float, ladder: float) -> float:
+    """The far element size [m]: ``largest_m``, or where the wavelength asks for less
+    (``wanted_m``), the rung of ``largest_m`` / ladder^k at or below it."""
+    if wanted_m >= largest_m:
+        return largest_m
+    rung = math.ceil(math.log(largest_m / wanted_m) / math.log(ladder) - 1e-9)
+    return largest_m / ladder**rung
+
+
 def mesh_sizes(
     surface: Surface, frequency_hz: float, air: Air = AIR, settings: RadiationSettings | None = None
 ) -> MeshSizes:
@@ -307,7 +323,7 @@ def mesh_sizes(
     radius = surface.scale * (1 + settings.margin)
     seg = surface.segments()
     seg_len = np.linalg.norm(surface.points[seg[:, 1]] - surface.points[seg[:, 0]], axis=1)
-    size_far = min(lam / settings.elements_per_wavelength, radius / 4)
+    size_far = _far_size(lam / settings.elements_per_wavelength, radius / 4, settings.size_ladder)
     size_near = min(size_far, float(np.median(seg_len)))
     pml = settings.boundary == "pml"
     thickness = _layer_thickness(lam, radius, settings) if pml else 0.0

@@ -155,6 +155,30 @@ def test_neighbouring_low_tones_share_a_layer_on_its_ladder():
         assert np.max(np.abs(np.abs(field.pressure_at(on) / exact) - 1)) < 0.01
 
 
+def test_neighbouring_high_tones_share_an_element_size_on_its_ladder():
+    """Where the wavelength sets the far element size (ka 12 and 12.4 on the sphere:
+    eight elements a wavelength finer than the layer's eight across) it is rounded down
+    to one rung of its ladder: both tones mesh the same air, the elements at most an
+    eighth of each wavelength and at least a rung (1.05) less, and each field is its own
+    frequency's, the exact sphere's pressure within 0.2 dB (the quadratic elements'
+    dispersion at eight a wavelength over two wavelengths of air: 0.12 dB at ka 12)."""
+    from acoustics.helmholtz import RadiationSettings, mesh_sizes
+
+    settings = RadiationSettings()
+    surface = ac.sphere_surface(1, 0, RADIUS)
+    low, high = _frequency(12.0), _frequency(12.4)
+    assert mesh_sizes(surface, low) == mesh_sizes(surface, high)
+    for f in (low, high):
+        wanted = ac.AIR.wavelength(f) / settings.elements_per_wavelength
+        assert wanted / settings.size_ladder <= mesh_sizes(surface, f).size_far_m <= wanted
+    a, b = ac.radiate(surface, low), ac.radiate(surface, high)
+    assert a.mesh is b.mesh
+    on = _ring(1.2 * RADIUS)
+    for ka, field in ((12.0, a), (12.4, b)):
+        exact = ac.sphere_pressure(1, 0, RADIUS, ka / RADIUS, on)
+        assert np.max(np.abs(20 * np.log10(np.abs(field.pressure_at(on) / exact)))) < 0.2
+
+
 @pytest.fixture(scope="module")
 def wheel_field():
     from wheel_squeal.listener import default_microphone

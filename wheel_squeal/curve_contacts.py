@@ -5,6 +5,7 @@ what :mod:`wheel_squeal.curve` runs the chain on."""
 
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
@@ -43,7 +44,12 @@ class ContactSiteAnalysis:
     state: ContactState
     design: Design
     op: OperatingPoint
-    law: ContactLaw
+
+    @functools.cached_property
+    def law(self) -> ContactLaw:
+        """The contact's creep law (its Hertz ellipse found when first asked: the chain
+        finds its own, a curve map's pricing reads this one)."""
+        return contact_law(self.design)
 
 
 def contact_geometry(design: Design) -> ContactGeometry:
@@ -97,7 +103,7 @@ def wheel_sites(
         )
         at = replace(at, contact_site=ContactSite(frame, c.point.relative_transverse_radius_m))
         op = OperatingPoint(speed, speed * c.crabbing_velocity_fraction)
-        sites.append(ContactSiteAnalysis(c, at, op, contact_law(at)))
+        sites.append(ContactSiteAnalysis(c, at, op))
     return sites
 
 
