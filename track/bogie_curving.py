@@ -442,20 +442,27 @@ def _suspension(vehicle: Vehicle, radius_m: float, unbalanced_n: float) -> tuple
 
 
 def _newton(
-    residuals: Callable[[np.ndarray], np.ndarray], jacobian: Jacobian, start: np.ndarray, iterations: int = 20
+    residuals: Callable[[np.ndarray], np.ndarray],
+    jacobian: Jacobian,
+    start: np.ndarray,
+    iterations: int = 20,
+    kept: np.ndarray | None = None,
 ) -> OptimizeResult | None:
     """The equilibrium by Newton's iteration with a halved step where the forces would not
-    fall, its Jacobian kept for the next step while a step cuts the forces to
-    :data:`KEPT_JACOBIAN_CONTRACTION` of theirs (a kept one's step costs one evaluation of
-    the forces, a new Jacobian six more) and made anew where a kept one's step would not
-    lower them; None where it does not converge (a kink of the interpolated contact table,
-    a singular Jacobian), for the trust region to take over."""
+    fall, its Jacobian kept for the next step (with Broyden's update) while a step cuts the
+    forces to :data:`KEPT_JACOBIAN_CONTRACTION` of theirs (a kept one's step costs one
+    evaluation of the forces, a new Jacobian six more) and made anew where a kept one's
+    step would not lower them; None where it does not converge (a kink of the interpolated contact table,
+    a singular Jacobian), for the trust region to take over. ``kept``: a Jacobian to start
+    with (a neighbouring curve's); the result's ``jac`` the last one used."""
     x, f = np.array(start, float), residuals(start)
-    jac: np.ndarray | None = None
+    jac = kept
+    last = kept
     for _ in range(2 * iterations):  # a pass takes a step or lets a kept Jacobian go
         fresh = jac is None
         if jac is None:
             jac = jacobian(x)
+        last = jac
         try:
             step = np.linalg.solve(jac, -f)
         except np.linalg.LinAlgError:
@@ -475,11 +482,14 @@ def _newton(
         if not downhill:
             jac = None  # a kept Jacobian that no longer leads downhill: a new one from here
             continue
+        moved = t * step
         if np.linalg.norm(trial) > KEPT_JACOBIAN_CONTRACTION * np.linalg.norm(f):
             jac = None
-        x, f = x + t * step, trial
+        elif moved @ moved > 0.0:  # Broyden's update: the kept Jacobian true along the step
+            jac = jac + np.outer(trial - f - jac @ moved, moved) / (moved @ moved)
+        x, f = x + moved, trial
         if t * np.max(np.abs(step)) <= NEWTON_STEP and np.max(np.abs(f)) <= FORCE_TOLERANCE:
-            return OptimizeResult(x=x, fun=f, cost=0.5 * float(f @ f))
+            return OptimizeResult(x=x, fun=f, cost=0.5 * float(f @ f), jac=last)
     return None
 
 
@@ -490,6 +500,7 @@ class BogieCurving:
 
     wheels: tuple[WheelContact, ...]
     unknowns: np.ndarray = field(repr=False)
+    jacobian: np.ndarray | None = field(default=None, repr=False)
 
 
 def steady_curving(
@@ -591,9 +602,10 @@ def solve_curving(
 
         return scene, transfer, residuals, jacobian
 
-    def equilibrium(radius: float, first: tuple[np.ndarray, ...] = ()) -> Any:
-        """The first equilibrium found from ``first`` and the usual starts (a steady curving
-        has one), else the closest; None where every start ran off to a huge yaw."""
+    def equilibrium(radius: float, first: tuple[np.ndarray, ...] = (), kept: np.ndarray | None = None) -> Any:
+        """The first equilibrium found from ``first`` (with the Jacobian ``kept``) and the
+        usual starts (a steady curving has one), else the closest; None where every start
+        ran off to a huge yaw."""
         psi = a / radius
         pure = min(reach, geometry.rolling_radius_m * 0.5 * RAIL_SPACING_M / (radius * CONICITY_GUESS))
         starts = (
@@ -604,8 +616,8 @@ def solve_curving(
         )
         _, _, residuals, jacobian = problem(radius)
         best = None
-        for start in starts:
-            sol = _newton(residuals, jacobian, start)
+        for i, start in enumerate(starts):
+            sol = _newton(residuals, jacobian, start, kept=kept if i == 0 and first else None)
             if sol is None:  # a kink of the contact table in the way: the trust region's care
                 sol = least_squares(
                     residuals, start, jac=jacobian, xtol=1e-12, ftol=1e-14, gtol=1e-14, max_nfev=2000
@@ -621,7 +633,9 @@ def solve_curving(
     a = 0.5 * vehicle.wheelbase_m
     mass_per_wheelset = 2.0 * wheel_load_n / GRAVITY_M_S2
     scale = 1e-3  # the unknowns in mm, mrad and per mille
-    best = equilibrium(float(radius_m), () if start is None else (start.unknowns,))
+    best = equilibrium(
+        float(radius_m), () if start is None else (start.unknowns,), None if start is None else start.jacobian
+    )
     if best is None or np.max(np.abs(best.fun)) > FORCE_TOLERANCE:
         # continuation: from a wider curve, where the equilibrium is easy, to this one
         best = None
@@ -674,4 +688,4 @@ def solve_curving(
                 lateral_force_n=float(-sum(c[3] for c in contacts)),
             )
         )
-    return BogieCurving(tuple(wheels), np.array(best.x))
+    return BogieCurving(tuple(wheels), np.array(best.x), best.jac)
