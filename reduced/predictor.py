@@ -23,6 +23,7 @@ Above ``DISTORTION_WARNING`` (10 %) a RuntimeWarning says so: use the time domai
 
 from __future__ import annotations
 
+import functools
 import math
 import warnings
 from collections.abc import Sequence
@@ -145,6 +146,30 @@ def mean_power_per_cycle(
 ) -> np.ndarray:
     """Pbar(V) in W for velocity amplitude(s) V in m/s (array-broadcast)."""
     V = np.asarray(amplitude_m_s, dtype=float)
+    return _friction_power(V, contact, op, n_phase) - 0.5 * mode.damping_ns_m * V * V
+
+
+#: The grids of :func:`_friction_power_on_grid` a process keeps (each a few kB)
+GRIDS_KEPT = 256
+
+
+@functools.lru_cache(maxsize=GRIDS_KEPT)
+def _friction_power_on_grid(
+    contact: ContactLaw, op: OperatingPoint, v_hi: float, n_grid: int, n_phase: int
+) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`predict_limit_cycle`'s amplitude grid and the friction's mean power on it:
+    the modes balanced at one contact (a competition's, the verdict's) share it where
+    their grids end at the same amplitude (read-only arrays)."""
+    grid = np.geomspace(1e-5, v_hi, n_grid)
+    power = _friction_power(grid, contact, op, n_phase)
+    grid.flags.writeable = False
+    power.flags.writeable = False
+    return grid, power
+
+
+def _friction_power(V: np.ndarray, contact: ContactLaw, op: OperatingPoint, n_phase: int) -> np.ndarray:
+    """The friction's mean power per cycle [W] into a contact velocity of amplitude(s) V,
+    the mode's own damping left out."""
     sines = _midpoint_sines(n_phase)
     flat = V.reshape(-1)
     out = np.empty(flat.shape)
@@ -154,7 +179,7 @@ def mean_power_per_cycle(
         zeta = (op.crabbing_velocity_m_s + vel) / op.rolling_speed_m_s
         Q = -adhesion_ratio(zeta, contact, op.rolling_speed_m_s) * contact.normal_load_n
         out[i : i + rows] = (Q * vel).mean(axis=-1)
-    return out.reshape(V.shape) - 0.5 * mode.damping_ns_m * V * V
+    return out.reshape(V.shape)
 
 
 def initial_amplitude(mode: ModalDOF, contact: ContactLaw, op: OperatingPoint) -> float:
@@ -181,8 +206,8 @@ def predict_limit_cycle(
     mus = contact.friction_coefficient
     v_hi = 100.0 if mode.damping_ns_m == 0.0 else min(100.0, 4.0 * mus * W / (math.pi * mode.damping_ns_m))
     v_hi = max(v_hi, 3.0 * abs(op.crabbing_velocity_m_s), 1e-3)
-    grid = np.geomspace(1e-5, v_hi, n_grid)
-    g = mean_power_per_cycle(grid, mode, contact, op, n_phase) / grid
+    grid, power = _friction_power_on_grid(contact, op, v_hi, n_grid, n_phase)
+    g = (power - 0.5 * mode.damping_ns_m * grid * grid) / grid
 
     def g_scalar(v: float) -> float:
         return float(mean_power_per_cycle(v, mode, contact, op, n_phase)) / v

@@ -961,6 +961,7 @@ op, mode = r.OperatingPoint(11.1, 0.2), r.ModalDOF(3.1, 1.6e8, 5.0)
 p.predict_limit_cycle(mode, law, op)
 before = resource.getrusage(resource.RUSAGE_SELF).ru_minflt
 for _ in range(20):
+    p._friction_power_on_grid.cache_clear()  # each round its grid anew
     p.predict_limit_cycle(mode, law, op)
 print(resource.getrusage(resource.RUSAGE_SELF).ru_minflt - before)
 """

@@ -310,3 +310,19 @@ def test_the_exponential_integrator_meets_rk4_with_a_counter_body(law, op_fig6):
     assert exp.velocity_amplitude_m_s == pytest.approx(rk4.velocity_amplitude_m_s, rel=2e-3)
     assert exp.frequency_hz == pytest.approx(rk4.frequency_hz, rel=1e-5)
     assert abs(rk4.velocity_amplitude_m_s / alone.velocity_amplitude_m_s - 1) > 3 * 2e-3
+
+
+def test_modes_balanced_at_one_contact_share_its_friction_power_and_predict_as_alone(law):
+    """Two modes balanced at one contact whose amplitude grids end alike (the same damping,
+    other masses and stiffnesses) share the friction's mean power on the grid, made once:
+    each prediction equals, to the bit, its own with the grid made anew."""
+    from reduced import predictor
+
+    op = r.OperatingPoint.from_rpm(800, 0.213, 0.39)
+    modes = [r.ModalDOF(3.1, 1.6e8, 42.0), r.ModalDOF(5.0, 3.0e8, 42.0)]
+    predictor._friction_power_on_grid.cache_clear()
+    shared = [predictor.predict_limit_cycle(m, law, op) for m in modes]
+    assert predictor._friction_power_on_grid.cache_info().hits == 1
+    for m, s in zip(modes, shared):
+        predictor._friction_power_on_grid.cache_clear()
+        assert predictor.predict_limit_cycle(m, law, op) == s
