@@ -8,6 +8,14 @@ import subprocess
 import sys
 from pathlib import Path
 
+# numba's machine code in one folder for the whole session (the tool's default stage cache's),
+# unless the user set one: else the first test's sandbox cache would take it, cold, and each
+# worker compile the kernels anew (six seconds in its first test of the time domain)
+if not os.environ.get("NUMBA_CACHE_DIR", "").strip():
+    from wheel_squeal.cache import COMPILED_FOLDER, default_cache_root
+
+    os.environ["NUMBA_CACHE_DIR"] = str(default_cache_root() / COMPILED_FOLDER)
+
 if "PYTEST_XDIST_WORKER" in os.environ:  # the workers share the cores: one thread each
     for _var in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS", "NUMBA_NUM_THREADS"):
         os.environ.setdefault(_var, "1")
