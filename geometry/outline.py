@@ -89,6 +89,15 @@ class Outline:
         # 1e9 chords is round-off)
         flat = tuple(0.0 if abs(b) < STRAIGHT_BULGE else float(b) for b in self.bulges)
         object.__setattr__(self, "bulges", flat)
+        # tuples whatever sequences were given: an outline is hashed (its polygon and
+        # frames are kept per outline)
+        try:
+            object.__setattr__(self, "points", tuple((float(r), float(z)) for r, z in self.points))
+            object.__setattr__(self, "clamp", tuple(int(i) for i in self.clamp))
+            r, z = self.contact
+            object.__setattr__(self, "contact", (float(r), float(z)))
+        except (TypeError, ValueError) as exc:
+            raise OutlineError(f"an outline's points and contact: (r, z) pairs of numbers ({exc})") from None
         check(self)
 
     # -- segments ---------------------------------------------------------------------

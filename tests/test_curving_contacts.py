@@ -273,3 +273,20 @@ def test_an_equilibrium_with_its_jacobian_kept_is_newton_s_own(monkeypatch):
     assert kept_count < 0.8 * fresh_count  # measured 0.74 here, 0.52 over a line's 3,312 curvings
     for a, b in zip(kept, fresh):
         np.testing.assert_allclose(a, b, rtol=0, atol=bc.NEWTON_STEP)
+
+
+def test_an_outline_given_as_lists_is_the_same_hashable_outline():
+    """An outline built from lists (a script's, a TOML table's) equals and hashes as the
+    one built from tuples (its polygon and contact frames are kept per outline, by hash;
+    lists were refused with a TypeError), and a point that is no (r, z) pair is named."""
+    from geometry.outline import Outline, OutlineError
+
+    assert OUTLINE is not None
+    listed = Outline(
+        [list(p) for p in OUTLINE.points], list(OUTLINE.bulges), list(OUTLINE.clamp), list(OUTLINE.contact)
+    )
+    assert listed == OUTLINE and hash(listed) == hash(OUTLINE)
+    assert frame_on_running_surface(listed, 0.01) == frame_on_running_surface(OUTLINE, 0.01)
+    with pytest.raises(OutlineError, match="pairs of numbers"):
+        bad = [(*OUTLINE.points[0], 0.0), *OUTLINE.points[1:]]
+        Outline(bad, OUTLINE.bulges, OUTLINE.clamp, OUTLINE.contact)
