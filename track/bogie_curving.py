@@ -452,17 +452,16 @@ def _newton(
     fall, its Jacobian kept for the next step (with Broyden's update) while a step cuts the
     forces to :data:`KEPT_JACOBIAN_CONTRACTION` of theirs (a kept one's step costs one
     evaluation of the forces, a new Jacobian six more) and made anew where a kept one's
-    step would not lower them; None where it does not converge (a kink of the interpolated contact table,
-    a singular Jacobian), for the trust region to take over. ``kept``: a Jacobian to start
-    with (a neighbouring curve's); the result's ``jac`` the last one used."""
+    step would not lower them; None where it does not converge (a kink of the
+    interpolated contact table, a singular Jacobian), for the trust region to take over.
+    ``kept``: a Jacobian to start with (a neighbouring curve's); the result's ``jac`` the
+    latest one (a start for the next curve)."""
     x, f = np.array(start, float), residuals(start)
-    jac = kept
-    last = kept
+    jac = last = kept
     for _ in range(2 * iterations):  # a pass takes a step or lets a kept Jacobian go
         fresh = jac is None
         if jac is None:
-            jac = jacobian(x)
-        last = jac
+            jac = last = jacobian(x)
         try:
             step = np.linalg.solve(jac, -f)
         except np.linalg.LinAlgError:
@@ -486,7 +485,7 @@ def _newton(
         if np.linalg.norm(trial) > KEPT_JACOBIAN_CONTRACTION * np.linalg.norm(f):
             jac = None
         elif moved @ moved > 0.0:  # Broyden's update: the kept Jacobian true along the step
-            jac = jac + np.outer(trial - f - jac @ moved, moved) / (moved @ moved)
+            jac = last = jac + np.outer(trial - f - jac @ moved, moved) / (moved @ moved)
         x, f = x + moved, trial
         if t * np.max(np.abs(step)) <= NEWTON_STEP and np.max(np.abs(f)) <= FORCE_TOLERANCE:
             return OptimizeResult(x=x, fun=f, cost=0.5 * float(f @ f), jac=last)
@@ -496,7 +495,8 @@ def _newton(
 @dataclass(frozen=True)
 class BogieCurving:
     """A bogie's steady curving (:func:`solve_curving`): its four wheels, and the solved
-    unknowns (scaled), a start for the same bogie in a neighbouring curve."""
+    unknowns (scaled) and the equilibrium's Jacobian (None: not kept), a start for the
+    same bogie in a neighbouring curve."""
 
     wheels: tuple[WheelContact, ...]
     unknowns: np.ndarray = field(repr=False)
