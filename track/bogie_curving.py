@@ -275,8 +275,6 @@ class _Scene:
     flange_friction_coefficient: float
     youngs_modulus_pa: float
     poissons_ratio: float
-    #: each contact's last normal force [N] by (side, table index): the next solve's guess
-    normal_guesses: dict[tuple[int, int], float] = field(default_factory=dict, compare=False, repr=False)
 
     def friction_at(self, contact_angle_rad: float) -> float:
         """The friction coefficient of a contact: the flange's on the flange
@@ -376,10 +374,17 @@ def _rows(table: ContactTable, y: float, side: int) -> list[tuple[float, int, np
 
 
 def _wheelset(
-    scene: _Scene, table: ContactTable, y: float, psi: float, excess: float, transfer_n: float
+    scene: _Scene,
+    table: ContactTable,
+    y: float,
+    psi: float,
+    excess: float,
+    transfer_n: float,
+    guesses: dict[tuple[int, int], float],
 ) -> tuple[float, float, float, list[list[tuple[float, int, np.ndarray, float, tuple[Any, ...]]]]]:
     """A wheelset's contact forces: (lateral, yaw moment, longitudinal, per side its
-    contacts' (share, table index, values, forces))."""
+    contacts' (share, table index, values, forces)); ``guesses``: each contact's last normal
+    force [N] by (side, table index), its next solve's start, updated here."""
     lat = mom = lon = 0.0
     sides = []
     for side, sign in ((0, 1), (1, -1)):
@@ -388,9 +393,9 @@ def _wheelset(
         for share, k, row in _rows(table, y, side):
             if share <= 0.0:
                 continue
-            guess = scene.normal_guesses.get((side, k))
+            guess = guesses.get((side, k))
             f_lat, f_x, m_z, d = _side_forces(scene, row, sign, share * vertical, psi, excess, guess)
-            scene.normal_guesses[(side, k)] = d[0]
+            guesses[(side, k)] = d[0]
             lat, mom, lon = lat + f_lat, mom + m_z, lon + f_x
             contacts.append((share, k, row, f_lat, d))
         sides.append(contacts)
@@ -574,11 +579,12 @@ def solve_curving(
         )
         transfer = mass_per_wheelset * unbalanced * vehicle.centre_of_gravity_height_m / RAIL_SPACING_M
         springs, preload = _suspension(vehicle, radius, 2.0 * mass_per_wheelset * unbalanced)
+        guesses: dict[tuple[int, int], float] = {}  # the normal forces of this radius's last evaluation
 
         def contact_forces(u: np.ndarray, axle: int) -> np.ndarray:
             """Wheelset ``axle``'s (lateral force, yaw moment, longitudinal force) [N, N m]."""
             y, p, e = u[3 * axle : 3 * axle + 3]
-            return np.array(_wheelset(scene, table, y, p, e, transfer)[:3])
+            return np.array(_wheelset(scene, table, y, p, e, transfer, guesses)[:3])
 
         def residuals(x: np.ndarray) -> np.ndarray:
             u = x * scale
@@ -655,8 +661,9 @@ def solve_curving(
             f"R = {radius_m:g} m at {train_speed_km_h:g} km/h: the leading wheelset would climb its flange"
         )
     wheels = []
+    guesses: dict[tuple[int, int], float] = {}
     for (axle, rail), (y, p, e) in zip(WHEELS, ((y1, p1, e1), (y1, p1, e1), (y2, p2, e2), (y2, p2, e2))):
-        _, _, _, sides = _wheelset(scene, table, y, p, e, transfer)
+        _, _, _, sides = _wheelset(scene, table, y, p, e, transfer, guesses)
         side, sign = (0, 1) if rail == "outer" else (1, -1)
         contacts = sides[side]
         states = []
