@@ -475,6 +475,25 @@ def _layer_coefficients(
     }
 
 
+#: The most unknowns of air factorised in SuperLU's symmetric mode (:func:`_factorised`);
+#: beyond, its column ordering. On the railway wheel's air (3.4-9 kHz) the symmetric mode
+#: took 0.5-0.8 of the time with 0.6 of the fill up to 121k unknowns (one run of five there
+#: 1.2), 1.1-1.6x the time at 179k and 290k unknowns, where its fill catches up (0.76, 1.04).
+SYMMETRIC_LU_MAX_DOFS = 150_000
+
+
+def _factorised(A):
+    """The sparse LU of the air's operator ``A`` (CSC). The operator is complex symmetric:
+    SuperLU's symmetric mode orders A^T + A by minimum degree and prefers diagonal pivots
+    (its threshold still pivots where one is small), with less fill than the column
+    ordering on these 2-D meshes up to :data:`SYMMETRIC_LU_MAX_DOFS` unknowns."""
+    import scipy.sparse.linalg as spla
+
+    if A.shape[0] <= SYMMETRIC_LU_MAX_DOFS:
+        return spla.splu(A, permc_spec="MMD_AT_PLUS_A", options={"SymmetricMode": True})
+    return spla.splu(A, permc_spec="COLAMD")
+
+
 def _facets(mesh, where) -> np.ndarray:
     """Boundary facets whose both end points satisfy ``where(r, z)``."""
     f = mesh.boundary_facets()
@@ -490,7 +509,6 @@ def radiate(
 ) -> SoundField:
     """The sound field of ``surface`` vibrating at ``frequency_hz`` [Hz] (its air region
     is sized by the body alone: :meth:`SoundField.pressure_at` reaches any distance)."""
-    import scipy.sparse.linalg as spla
     import skfem as fe
 
     if not (math.isfinite(frequency_hz) and frequency_hz > 0):
@@ -546,11 +564,7 @@ def radiate(
     P = np.zeros(basis.N, dtype=complex)
     free = np.setdiff1d(np.arange(basis.N), D)
     A = A.tocsr()
-    # the operator is complex symmetric: SuperLU's symmetric mode orders A^T + A by minimum
-    # degree and prefers diagonal pivots while its threshold still pivots where one is
-    # small; less fill than COLAMD's column ordering on these 2-D meshes
-    lu = spla.splu(A[free][:, free].tocsc(), permc_spec="MMD_AT_PLUS_A", options={"SymmetricMode": True})
-    P[free] = lu.solve(rhs[free])
+    P[free] = _factorised(A[free][:, free].tocsc()).solve(rhs[free])
 
     angular = 2 * math.pi if n == 0 else math.pi
     p_surf = np.asarray(fb.interpolate(P))
