@@ -390,8 +390,9 @@ def _skfem_mesh(mesh: AirMesh):
 class _Discretised:
     """What :func:`radiate` builds on an air mesh whatever the frequency and the surface:
     the P2 basis, the body's facet basis and its quadrature points, the circle rho = R's
-    facet bases (each side), and the degrees of freedom on the layer's outer edge and on
-    the axis."""
+    facet bases (each side), the degrees of freedom on the layer's outer edge and on the
+    axis, the basis on the layer's elements (None: no layer) and the operator's parts on
+    the elements inside the circle (:func:`_interior_parts`)."""
 
     skm: Any
     basis: Any
@@ -401,6 +402,8 @@ class _Discretised:
     outer_dofs: np.ndarray
     axis_dofs: np.ndarray
     tolerance_m: float
+    layer: Any
+    interior: tuple[Any, Any, Any]
 
 
 #: The discretised air meshes a process keeps (:func:`_discretised`): a radiation's
@@ -420,6 +423,14 @@ def _discretised(mesh: AirMesh) -> _Discretised:
     body = fe.FacetBasis(skm, fe.ElementTriP2(), facets=body_facets, intorder=6)
     outer = basis.get_dofs(_facets(skm, lambda r, z: np.abs(np.hypot(r, z) - radius - thickness) < tol)).all()
     axis = basis.get_dofs(_facets(skm, lambda r, z: r <= tol)).all()
+    # the mesh follows the circle rho = R: each element lies inside it or in the layer
+    centroid = skm.p[:, skm.t].mean(axis=1)
+    beyond = np.hypot(centroid[0], centroid[1]) > radius
+    layer = (
+        fe.CellBasis(skm, fe.ElementTriP2(), elements=np.flatnonzero(beyond), intorder=4)
+        if np.any(beyond)
+        else None
+    )
     return _Discretised(
         skm,
         basis,
@@ -429,7 +440,52 @@ def _discretised(mesh: AirMesh) -> _Discretised:
         outer,
         axis,
         tol,
+        layer,
+        _interior_parts(skm, np.flatnonzero(~beyond)),
     )
+
+
+def _interior_parts(skm, elements: np.ndarray) -> tuple[Any, Any, Any]:
+    """The operator inside the circle, where the layer's coefficients are those of the air
+    itself (a = b = 1), in three parts made once per mesh: the integrals of r grad u .
+    grad v, of r u v and of u v / r over ``elements`` (CSR), so that a tone's operator there
+    is the first + n^2 the third - k^2 the second."""
+    import skfem as fe
+
+    inside = fe.CellBasis(skm, fe.ElementTriP2(), elements=elements, intorder=4)
+
+    @fe.BilinearForm
+    def stiffness(u, v, w):
+        return w.x[0] * (u.grad[0] * v.grad[0] + u.grad[1] * v.grad[1])
+
+    @fe.BilinearForm
+    def mass(u, v, w):
+        return w.x[0] * u * v
+
+    @fe.BilinearForm
+    def over_r(u, v, w):
+        return u * v / w.x[0]
+
+    return tuple(form.assemble(inside).tocsr() for form in (stiffness, mass, over_r))
+
+
+@functools.lru_cache(maxsize=4 * DISCRETISED_KEPT)
+def _free_dofs(air_fe: _Discretised, pml: bool, axis: bool) -> np.ndarray:
+    """The unknowns of a radiation on ``air_fe``: all but the layer's outer edge (``pml``)
+    and the axis (``axis``: a harmonic n >= 1 vanishes there)."""
+    fixed = ([air_fe.outer_dofs] if pml else []) + ([air_fe.axis_dofs] if axis else [])
+    if not fixed:
+        return np.arange(air_fe.basis.N)
+    return np.setdiff1d(np.arange(air_fe.basis.N), np.concatenate(fixed))
+
+
+@functools.lru_cache(maxsize=4 * DISCRETISED_KEPT)
+def _body_location(air_fe: _Discretised, outline: bytes) -> tuple[np.ndarray, np.ndarray]:
+    """Where the body's quadrature points of ``air_fe`` lie on the outline whose vertices'
+    bytes are ``outline`` (``Surface.locate``): the modes of one body share it."""
+    points = np.frombuffer(outline).reshape(-1, 2)
+    x = air_fe.body_points
+    return Surface(points, np.zeros(points.shape), 0).locate(np.stack([x[0].ravel(), x[1].ravel()], axis=1))
 
 
 def forget_air_meshes() -> None:
@@ -534,12 +590,23 @@ def radiate(
             + w.mass * u * v
         )
 
-    coefficients = _layer_coefficients(
-        np.asarray(basis.global_coordinates()), n, k, radius, max(thickness, 1e-300), settings.pml_attenuation
-    )
-    A = operator.assemble(basis, **coefficients)
+    stiffness, mass, over_r = air_fe.interior
+    A = (stiffness + (n * n) * over_r - (k * k) * mass).astype(np.complex128)
+    if air_fe.layer is not None:
+        coefficients = _layer_coefficients(
+            np.asarray(air_fe.layer.global_coordinates()),
+            n,
+            k,
+            radius,
+            max(thickness, 1e-300),
+            settings.pml_attenuation,
+        )
+        A = A + operator.assemble(air_fe.layer, **coefficients)
     x = air_fe.body_points
-    vn = surface.normal_velocity_at(np.stack([x[0].ravel(), x[1].ravel()], axis=1)).reshape(x[0].shape)
+    located = _body_location(air_fe, np.ascontiguousarray(surface.points, dtype=float).tobytes())
+    vn = surface.normal_velocity_at(np.stack([x[0].ravel(), x[1].ravel()], axis=1), located).reshape(
+        x[0].shape
+    )
     omega = 2 * math.pi * frequency_hz
 
     @fe.LinearForm(dtype=np.complex128)
@@ -557,12 +624,8 @@ def radiate(
             return (1j * k + 1.0 / rho) * u * v * w.x[0]
 
         A = A + robin.assemble(eb)
-    fixed = [air_fe.outer_dofs] if pml else []
-    if n >= 1:
-        fixed.append(air_fe.axis_dofs)
-    D = np.unique(np.concatenate(fixed)) if fixed else np.array([], dtype=np.int64)
     P = np.zeros(basis.N, dtype=complex)
-    free = np.setdiff1d(np.arange(basis.N), D)
+    free = _free_dofs(air_fe, pml, n >= 1)
     A = A.tocsr()
     P[free] = _factorised(A[free][:, free].tocsc()).solve(rhs[free])
 
@@ -662,7 +725,9 @@ def far_field(traces, n: int, k: float, cos_theta: np.ndarray) -> np.ndarray:
     Per direction and point the integrand is e^{j k z cos(theta)} (J_n (a0 + cos(theta) a1)
     + sin(theta) J_n' b) with a0, a1, b of the point alone: the real arrays (the phase's
     cosine and sine times J_n and J_n') are summed against them as matrix products, a
-    block of directions at a time (:data:`FAR_FIELD_CHUNK`)."""
+    block of directions at a time (:data:`FAR_FIELD_CHUNK`). The directions theta and
+    pi - theta share their Bessel factors and their phase's cosine (its sine changes sign):
+    each |cos(theta)| is summed once for both."""
     x, (nr, nz), p, dp, ds = traces
     r, z = x
     weight = r * ds / (4 * np.pi)
@@ -678,10 +743,14 @@ def far_field(traces, n: int, k: float, cos_theta: np.ndarray) -> np.ndarray:
     # n = 1, else 0)
     table = BesselTable((n, n - 1), k * float(np.max(r, initial=0.0)))
     cos_theta = np.asarray(cos_theta, float)
+    # a direction and its mirror pi - theta computed in floating point differ in the last
+    # bit of their cosines: rounded to 1e-15 they are one |cos(theta)|
+    magnitudes, which = np.unique(np.round(np.abs(cos_theta), 15), return_inverse=True)
+    mirrored = cos_theta < 0.0
     out = np.zeros(len(cos_theta), complex)
     rows = max(1, FAR_FIELD_CHUNK // max(len(r), 1))
-    for start in range(0, len(cos_theta), rows):
-        ct = cos_theta[start : start + rows]
+    for start in range(0, len(magnitudes), rows):
+        ct = magnitudes[start : start + rows]
         st = np.sqrt(1.0 - ct**2)
         kappa = np.outer(st, k * r)
         jn, below = table(kappa)
@@ -690,13 +759,17 @@ def far_field(traces, n: int, k: float, cos_theta: np.ndarray) -> np.ndarray:
         angle = np.outer(ct, k * z)
         cos_phase, sin_phase = np.cos(angle), np.sin(angle)
         # (cos + j sin)(J_n (a0 + ct a1)) + st (cos + j sin) J_n' b, each real block times
-        # the real and imaginary parts of its coefficients
+        # the real and imaginary parts of its coefficients; the mirror: sin -> -sin, ct -> -ct
         cn, sn = (cos_phase * jn) @ columns[:, :4], (sin_phase * jn) @ columns[:, :4]
         cd, sd = (cos_phase * jnp_) @ columns[:, 4:], (sin_phase * jnp_) @ columns[:, 4:]
+        block = (which >= start) & (which < start + len(ct))
+        at = which[block] - start
+        sign = np.where(mirrored[block], -1.0, 1.0)
+        cn, sn, cd, sd = cn[at], sn[at] * sign[:, None], cd[at], sd[at] * sign[:, None]
         a0_sum = cn[:, 0] - sn[:, 1] + 1j * (cn[:, 1] + sn[:, 0])
         a1_sum = cn[:, 2] - sn[:, 3] + 1j * (cn[:, 3] + sn[:, 2])
         b_sum = cd[:, 0] - sd[:, 1] + 1j * (cd[:, 1] + sd[:, 0])
-        out[start : start + rows] = a0_sum + ct * a1_sum + st * b_sum
+        out[block] = a0_sum + sign * ct[at] * a1_sum + st[at] * b_sum
     return out
 
 

@@ -81,9 +81,10 @@ class Surface:
             n = -n
         return n / np.linalg.norm(n, axis=1, keepdims=True)
 
-    def normal_velocity_at(self, x: np.ndarray) -> np.ndarray:
-        """The outward normal velocity [m/s] at points ``x`` (N, 2) on the outline (each
-        taken on its nearest segment, the velocity linear along it)."""
+    def locate(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Where points ``x`` (N, 2) on the outline lie: each one's nearest segment (an
+        index of :meth:`segments`) and its place along it (0 to 1). It depends on the
+        outline alone: the surfaces of one outline (a body's modes) share it."""
         x = np.asarray(x, dtype=float).reshape(-1, 2)
         seg = self.segments()
         a, b = self.points[seg[:, 0]], self.points[seg[:, 1]]
@@ -92,7 +93,17 @@ class Surface:
         t = np.clip(t, 0.0, 1.0)
         foot = a[None] + t[..., None] * d[None]
         nearest = np.argmin(np.linalg.norm(x[:, None, :] - foot, axis=2), axis=1)
-        tt = t[np.arange(len(x)), nearest][:, None]
+        return nearest, t[np.arange(len(x)), nearest]
+
+    def normal_velocity_at(
+        self, x: np.ndarray, located: tuple[np.ndarray, np.ndarray] | None = None
+    ) -> np.ndarray:
+        """The outward normal velocity [m/s] at points ``x`` (N, 2) on the outline (each
+        taken on its nearest segment, the velocity linear along it); ``located``: the
+        points' :meth:`locate`, where known."""
+        nearest, t = self.locate(x) if located is None else located
+        seg = self.segments()
+        tt = t[:, None]
         va, vb = self.velocity[seg[nearest, 0]], self.velocity[seg[nearest, 1]]
         v = (1 - tt) * va + tt * vb
         return np.einsum("nk,nk->n", v, self.normals()[nearest])

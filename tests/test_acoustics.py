@@ -75,6 +75,22 @@ def test_the_tabulated_bessel_functions_are_scipy_s_to_their_interpolation_bound
     assert np.max(np.abs(bessel_j(order, x) - jv(order, x))) < 1e-10
 
 
+@pytest.mark.parametrize("l_,m", [(1, 0), (2, 1)])
+def test_the_far_field_is_the_sphere_s_on_both_sides_of_its_equator(spheres, l_, m):
+    """The far field sums each direction theta with its mirror pi - theta (their Bessel
+    factors shared, the phase's sine turned): against the sphere's exact pressure far out
+    (k R = 2000, where it is the far field to 0.1 %) times R e^{jkR}, on both sides of the
+    equator (odd l turns the sign across it), within the pressure's 0.1 dB and 1 degree."""
+    k = 1.0 / RADIUS
+    theta = np.array([0.3, math.pi - 0.3, 1.0, math.pi - 1.0, 1.3, math.pi - 1.3])
+    distance = 2000.0 / k
+    points = distance * np.stack([np.sin(theta), np.cos(theta)], axis=1)
+    exact = ac.sphere_pressure(l_, m, RADIUS, k, points) * distance * np.exp(1j * k * distance)
+    ratio = spheres[l_, m, 1.0].far_field(np.cos(theta)) / exact
+    assert np.max(np.abs(20 * np.log10(np.abs(ratio)))) < 0.1
+    assert np.max(np.abs(np.degrees(np.angle(ratio)))) < 1.0
+
+
 def test_power_from_the_near_field_fails_for_a_poor_radiator(spheres):
     """Why the power comes from the far field: l = 3 at ka = 0.2 radiates with an
     efficiency of about 1e-8, and the real part of P conj(vn) on the surface is lost in
