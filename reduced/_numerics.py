@@ -31,17 +31,32 @@ __all__ = ["elliptic_ke", "find_root", "one_blas_thread"]
 
 
 @functools.cache
-def _threadpools() -> Any:
+def _blas_pools() -> tuple[Any, ...]:
+    """The loaded BLAS libraries' thread controls (``threadpoolctl``), found once: the
+    inspection of the loaded libraries takes tens of microseconds."""
+    import numpy.linalg  # noqa: F401  (its BLAS loaded before the inspection)
     from threadpoolctl import ThreadpoolController
 
-    return ThreadpoolController()  # made once: it inspects the loaded libraries
+    return tuple(c for c in ThreadpoolController().lib_controllers if c.user_api == "blas")
 
 
 @contextlib.contextmanager
 def one_blas_thread() -> Iterator[None]:
-    """Run the block with BLAS and LAPACK on one thread (about 10 us to enter)."""
-    with _threadpools().limit(limits=1, user_api="blas"):
+    """Run the block with BLAS and LAPACK on one thread, each library's own count set
+    back after it (a few microseconds; none where every library runs on one already, as
+    in a dask worker)."""
+    pools = _blas_pools()
+    before = [c.num_threads for c in pools]
+    if all(n == 1 for n in before):
         yield
+        return
+    for c in pools:
+        c.set_num_threads(1)
+    try:
+        yield
+    finally:
+        for c, n in zip(pools, before):
+            c.set_num_threads(n)
 
 
 def elliptic_ke(m: float) -> tuple[float, float]:

@@ -26,6 +26,7 @@ The paper's roller is rigid and fixed (no terms). A roller with measured modes i
 
 from __future__ import annotations
 
+import functools
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass, field
@@ -202,7 +203,11 @@ class BodyModel:
         the lateral tangent) [N]; its displacement at the contact u = C x and velocity
         u' = Cv x (Cv = C A: no feedthrough), each (normal, lateral). A pair's states are
         (q, q') with q'' + a1 q' + a0 q = f, u = b0 q + b1 q'; a first-order term's x' = -a1 x + f,
-        u = b0 x."""
+        u = b0 x. Made once (every eigen-solve of a curve map asks for them): read-only."""
+        return self._state_space
+
+    @functools.cached_property
+    def _state_space(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         n = self.states
         A, B, C = np.zeros((n, n)), np.zeros((n, 2)), np.zeros((2, n))
         i = 0
@@ -219,12 +224,19 @@ class BodyModel:
                 B[i, d] = 1.0
                 C[d, i] = self.b0[k]
                 i += 1
-        return A, B, C, C @ A
+        parts = (A, B, C, C @ A)
+        for a in parts:
+            a.setflags(write=False)
+        return parts
 
     def energy_weights(self) -> np.ndarray:
         """Per state, the weight of its square in the counter-body's vibration energy (for
         energy shares): a pair's |b0| (q'^2 + a0 q^2), as a mass 1/b0 moving the contact by
-        b0 q would hold; a first-order term's |b0| a1 x^2."""
+        b0 q would hold; a first-order term's |b0| a1 x^2. Made once: read-only."""
+        return self._energy_weights
+
+    @functools.cached_property
+    def _energy_weights(self) -> np.ndarray:
         w = np.zeros(self.states)
         i = 0
         for k in range(self.terms):
@@ -234,6 +246,7 @@ class BodyModel:
             else:
                 w[i] = abs(self.b0[k]) * self.a1[k]
                 i += 1
+        w.setflags(write=False)
         return w
 
     def static_state(self, force_n: np.ndarray) -> np.ndarray:

@@ -367,6 +367,18 @@ def test_a_rail_s_normal_terms_under_a_constant_normal_load_leave_the_vectors_to
         assert s._apart(U[:, acting], V[:, acting], blocks) == apart
 
 
+def test_one_blas_thread_sets_each_library_to_one_and_back():
+    """The model's dense eigen-solves run on one BLAS thread, each library set back after."""
+    from reduced._numerics import _blas_pools, one_blas_thread
+
+    pools = _blas_pools()
+    assert pools, "numpy's BLAS is found"
+    before = [c.num_threads for c in pools]
+    with one_blas_thread():
+        assert [c.num_threads for c in pools] == [1] * len(pools)
+    assert [c.num_threads for c in pools] == before
+
+
 # --------------------------------------------------------------------------------------
 # item 4: wheel rotation
 # --------------------------------------------------------------------------------------
