@@ -159,7 +159,8 @@ class ModeStability:
 class StabilityResult:
     """The linear stability of every mode at one operating point.
 
-    modes : one :class:`ModeStability` per input mode, in input order.
+    modes : one :class:`ModeStability` per input mode, in input order (none where
+        ``linear_stability`` was asked for no stable modes and nothing grows).
     eigenvalues : every eigenvalue of the coupled system with Im >= 0, 1/s.
     friction_damping_ns_m : g, N s/m.
     wheel_speed_rad_s : Omega (0: rotation off), rad/s.
@@ -192,7 +193,10 @@ class StabilityResult:
 
     @property
     def growth_rate_1_s(self) -> float:
-        """The largest growth rate of the system, 1/s."""
+        """The largest growth rate of the system, 1/s (of its modes; without them, of
+        its eigenvalues)."""
+        if not self.modes:
+            return float(self.eigenvalues.real.max())
         return max(m.growth_rate_1_s for m in self.modes)
 
     def ranked(self) -> list[int]:
@@ -503,12 +507,14 @@ def _eigen_vectors(
     wheel_speed_rad_s: float,
     layout: _Layout,
     low_rank: bool | None = None,
+    known: np.ndarray | None = None,
 ) -> tuple[np.ndarray, np.ndarray]:
     """The eigenvalues with Im >= 0 of the coupled system and their eigenvectors: with
     ``low_rank`` (None: from :data:`LOW_RANK_STATES` states on) and no block apart from the
-    coupling (:func:`_apart`), the eigenvalues by LAPACK, the vectors from the coupling's low
-    rank (:func:`_secular_vectors`, its forces that act) or, where those are not accurate,
-    by inverse iteration, and all of them by LAPACK if that fails too; else all of them by
+    coupling (:func:`_apart`), the eigenvalues by LAPACK (``known``: already found by
+    :func:`_eigen` on the same matrix), the vectors from the coupling's low rank
+    (:func:`_secular_vectors`, its forces that act) or, where those are not accurate, by
+    inverse iteration, and all of them by LAPACK if that fails too; else all of them by
     LAPACK."""
     tau = linear.relaxation_time_s
     A0, U, V = _state_parts(modes, damping, linear, wheel_speed_rad_s, layout)
@@ -526,9 +532,8 @@ def _eigen_vectors(
     blocks = _state_blocks(layout, tau > 0.0)
     if _apart(U, V, blocks):
         return lapack()
+    lam = _eigen(A, tau, vectors=False)[0] if known is None else known
     with one_blas_thread():
-        lam = np.linalg.eigvals(A)
-        lam = lam[_kept(lam, tau)]
         vec = _secular_vectors(A0, U, V, lam, blocks)
         bad = np.flatnonzero(_backward_errors(A, vec, lam) > SECULAR_BACKWARD_ERROR)
         if len(bad):
@@ -544,11 +549,13 @@ def _eigen_shares(
     linear: LinearContact | float,
     wheel_speed_rad_s: float,
     blocks: _Layout,
+    known: np.ndarray | None = None,
 ) -> tuple[np.ndarray, list[list[int]], np.ndarray]:
     """The eigenvalues with Im >= 0, for each mode the ones assigned to it, and each
-    mode's share of each eigenvalue's vibration energy, shape (modes, eigenvalues)."""
+    mode's share of each eigenvalue's vibration energy, shape (modes, eigenvalues)
+    (``known``: the eigenvalues, where :func:`_eigen` found them already)."""
     linear = LinearContact.of(linear)
-    lam, vec = _eigen_vectors(modes, damping, linear, wheel_speed_rad_s, blocks)
+    lam, vec = _eigen_vectors(modes, damping, linear, wheel_speed_rad_s, blocks, known=known)
     nq = blocks.coordinates
     q = vec[:nq]
     k = np.concatenate([[md.stiffness_n_m] * size for md, (_, size) in zip(modes, blocks.blocks)])
@@ -775,6 +782,8 @@ def linear_stability(
     wheel_speed_rad_s: float = 0.0,
     bounds: Bounds = None,
     body: BodyModel | None = None,
+    *,
+    stable_modes: bool = True,
 ) -> StabilityResult:
     """The linear stability of every mode at ``op`` (see the module docstring).
 
@@ -784,14 +793,25 @@ def linear_stability(
     the modes whose critical damping ratio and friction slope are found (``"all"``, a
     sequence of indices, or None): growth rates and frequencies take one eigen-solve,
     each mode's bounds :func:`bound_solves` more
-    (:func:`stability_seconds`); the others' bounds are NaN.
+    (:func:`stability_seconds`); the others' bounds are NaN. ``stable_modes`` False (no
+    bounds asked): where no eigenvalue grows, the eigenvalues alone, without the
+    eigenvectors that give each mode its own (``modes`` empty, no shares): what a caller
+    needs that reads only whether something grows, at about half the cost.
     """
     modes = as_modes(modes)
     wanted = _bound_indices(bounds, len(modes))
     linear = LinearContact.at(contact, op)
     damping = np.array([md.damping_ns_m for md in modes])
     blocks = _blocks(modes, wheel_speed_rad_s, body)
-    lam, assigned, share = _eigen_shares(modes, damping, linear, wheel_speed_rad_s, blocks)
+    known = None
+    if not (stable_modes or wanted):
+        A = _state_matrix(modes, damping, linear, wheel_speed_rad_s, blocks)
+        known = _eigen(A, linear.relaxation_time_s, vectors=False)[0]
+        if not np.any(known.real > 0.0):
+            return StabilityResult(
+                (), known, linear.friction_damping_ns_m, float(wheel_speed_rad_s), linear=linear
+            )
+    lam, assigned, share = _eigen_shares(modes, damping, linear, wheel_speed_rad_s, blocks, known)
     mechanisms = _mechanisms(modes, damping, linear, wheel_speed_rad_s, blocks, lam)
     result = []
     speaking = _speaking(lam, assigned, share)

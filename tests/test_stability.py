@@ -367,6 +367,33 @@ def test_a_rail_s_normal_terms_under_a_constant_normal_load_leave_the_vectors_to
         assert s._apart(U[:, acting], V[:, acting], blocks) == apart
 
 
+@pytest.mark.parametrize("low_rank", [False, True], ids=["lapack", "low-rank"])
+def test_a_point_where_nothing_grows_is_said_by_its_eigenvalues_alone(law, op_fig6, monkeypatch, low_rank):
+    """Asked for no stable modes, the linear stability of a point where no eigenvalue
+    grows is its eigenvalues alone (no rows: one LAPACK solve without vectors), the same
+    eigenvalues as the whole solve's; where one grows, it is the whole solve, bit for bit
+    (the eigenvalues it found reused by the low-rank vectors, or LAPACK's taken again)."""
+    from reduced import stability as s
+
+    monkeypatch.setattr(s, "LOW_RANK_STATES", 0 if low_rank else 10_000)
+    modes = [
+        r.ModalDOF(3.1, 3.1 * (2 * math.pi * f) ** 2, 4.0, lateral=1.0, normal=0.4) for f in (420.0, 1143.0)
+    ]
+    body = _rail_like(False)
+    quiet = r.OperatingPoint(op_fig6.rolling_speed_m_s, 0.02)  # on the creep curve's rising side
+    full = r.linear_stability(modes, law, quiet, body=body)
+    lean = r.linear_stability(modes, law, quiet, body=body, stable_modes=False)
+    assert max(m.growth_rate_1_s for m in full.modes) < 0.0
+    assert lean.modes == () and lean.shares is None
+    assert np.array_equal(np.sort_complex(lean.eigenvalues), np.sort_complex(full.eigenvalues))
+    assert lean.growth_rate_1_s == pytest.approx(float(full.eigenvalues.real.max()), abs=0.0)
+    grows = r.linear_stability(modes, law, op_fig6, body=body)
+    assert grows.growth_rate_1_s > 0.0
+    again = r.linear_stability(modes, law, op_fig6, body=body, stable_modes=False)
+    assert again.modes == grows.modes and again.mechanisms == grows.mechanisms
+    assert np.array_equal(again.eigenvalues, grows.eigenvalues) and np.array_equal(again.shares, grows.shares)
+
+
 def test_one_blas_thread_sets_each_library_to_one_and_back():
     """The model's dense eigen-solves run on one BLAS thread, each library set back after."""
     from reduced._numerics import _blas_pools, one_blas_thread

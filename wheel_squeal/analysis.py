@@ -69,6 +69,12 @@ class ChainOptions:
         With a counter-body that moves (a rail, a roller with modes), what it adds to the
         fastest growth rate (one more eigen-solve, of the wheel on a rigid one); False
         leaves it out (a line, which reads neither it nor the reason's words).
+    stable_rows : bool
+        Where no eigenvalue grows, every mode's row of the stability table (its own
+        eigenvalue, from the eigenvectors); False leaves them out there, the eigenvalues
+        alone saying that nothing grows, at about half the cost (a curve map, which reads
+        only its contacts' verdicts). A request that names a mode or asks for the remedy
+        reads the rows: it has them whatever this says.
 
     Examples
     --------
@@ -90,6 +96,7 @@ class ChainOptions:
     beside: bool = True
     amplitude: AmplitudeMethod = "time domain"
     counter_body_effect: bool = True
+    stable_rows: bool = True
 
     def reaches(self, stage: Stage) -> bool:
         """Whether the request goes as far as ``stage``."""

@@ -132,7 +132,8 @@ def analyse(
         plan = stability_plan(design, modes, contact, opts.rotation, opts.remedy, dofs)
         plan.check(ctx.budget, "the linear stability", NO_REMEDY_HINT)
         with ctx.progress.stage(f"linear stability of {len(seen)} modes") if len(seen) > 200 else _nothing():
-            table = stability_table(design, modes, contact, op, opts.rotation, dofs=dofs)
+            rows = opts.stable_rows or opts.remedy or opts.mode != "model"  # who reads them
+            table = stability_table(design, modes, contact, op, opts.rotation, dofs=dofs, stable_rows=rows)
     timings["stability"] = time.perf_counter() - t0
     ctx.budget.checkpoint("the linear stability")
     chain = _Chain(design, opts, ctx, modes, contact, op, table, dofs)

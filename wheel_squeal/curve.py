@@ -222,6 +222,7 @@ def _cases(
         remedy=False,
         amplitude=method,
         counter_body_effect=counter_body_effect,
+        stable_rows=False,
     )
     moved = modes_at_contacts(modes, ctx.memo)
     cases: list[CurveCase] = []

@@ -70,8 +70,9 @@ class CurveCase:
     """One wheel at one radius and train speed: its steady curving, the chain's analysis at
     each of its contacts it analysed (``analyses``, of the contacts ``states``: those
     carrying load, in ``wheel.contacts`` order; ``analysis`` the one
-    that decides), its squeal's amplitude and sound (None: silent) and the bogie's pass-by
-    it takes part in (None: no wheel of the bogie squeals audibly)."""
+    that decides; at a contact where nothing grows, the eigenvalues without per-mode rows,
+    ``ChainOptions.stable_rows``), its squeal's amplitude and sound (None: silent) and the
+    bogie's pass-by it takes part in (None: no wheel of the bogie squeals audibly)."""
 
     radius_m: float
     train_speed_km_h: float

@@ -175,6 +175,7 @@ def stability_table(
     rotation: bool = False,
     bounds: str | Sequence[int] | None = None,
     dofs: Sequence[ModalDOF] | None = None,
+    stable_rows: bool = True,
 ) -> StabilityTable:
     """The linear stability of every mode the contact can excite at ``op``.
 
@@ -191,6 +192,9 @@ def stability_table(
         rates only, one eigen-solve; see ``reduced.linear_stability``).
     dofs : sequence of reduced.ModalDOF, optional
         The excitable modes' :func:`mode_dofs`, when the caller has them.
+    stable_rows : bool
+        False: where no eigenvalue grows, no rows, the eigenvalues alone saying so
+        (``ChainOptions.stable_rows``; ``reduced.linear_stability``'s ``stable_modes``).
 
     Returns
     -------
@@ -214,7 +218,9 @@ def stability_table(
     dofs = mode_dofs(modes, design) if dofs is None else dofs
     if bounds == "all":
         bounds = range(len(modes))
-    result = linear_stability(dofs, contact, op, omega, bounds=bounds, body=body_of(design))
+    result = linear_stability(
+        dofs, contact, op, omega, bounds=bounds, body=body_of(design), stable_modes=stable_rows
+    )
     labels = tuple(dof_labels(modes, design))
     rows = [ModeStabilityRow(m, s, tuple(labels[k] for k in s.partners)) for m, s in zip(modes, result.modes)]
     return StabilityTable(rows, result, labels, omega)
