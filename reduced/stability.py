@@ -621,8 +621,9 @@ def _mechanisms(
     )
     alone: list[tuple[Mechanism, np.ndarray]] = []
     for name, lin in limits:
-        A = _state_matrix(modes, damping, lin, wheel_speed_rad_s, blocks)
-        alone.append((name, _eigen(A, lin.relaxation_time_s, vectors=False)[0]))
+        A0, U, V = _state_parts(modes, damping, lin, wheel_speed_rad_s, blocks)
+        parts = _state_blocks(blocks, lin.relaxation_time_s > 0.0)
+        alone.append((name, _triangular_eigenvalues(A0, U, V, parts, lin.relaxation_time_s)))
     out: list[Mechanism | None] = []
     for x, up in zip(lam, grows):
         if not up:
@@ -631,6 +632,30 @@ def _mechanisms(
         names: list[Mechanism] = [name for name, ev in alone if ev[np.argmin(np.abs(ev - x))].real > 0.0]
         out.append(names[0] if len(names) == 1 else "both")
     return out
+
+
+def _triangular_eigenvalues(
+    A0: np.ndarray, U: np.ndarray, V: np.ndarray, blocks: Sequence[np.ndarray], relaxation_time_s: float
+) -> np.ndarray:
+    """The eigenvalues of A = A0 + U V^T that :func:`_eigen` keeps, the blocks of A0
+    (:func:`_state_blocks`) that feed no force (V naught on their states) or take none (U
+    naught) solved apart: A's columns (rows) on such a block hold that block alone, so A
+    is block triangular and its eigenvalues are theirs and those of the coupled rest,
+    one smaller LAPACK solve (the mode-coupling limit, g = 0: the rail's lateral terms take
+    mu0 dN and feed nothing, a third of a wheel on the rail's states)."""
+    feeds, takes = np.any(V != 0.0, axis=1), np.any(U != 0.0, axis=1)
+    coupled = np.zeros(A0.shape[0], dtype=bool)
+    apart = []
+    for states in blocks:
+        inside = np.any(feeds[states], axis=1) & np.any(takes[states], axis=1)
+        coupled[states[inside].ravel()] = True
+        if not np.all(inside):
+            alone = states[~inside]
+            apart.append(np.linalg.eigvals(A0[alone[:, :, None], alone[:, None, :]]).ravel())
+    rest = np.flatnonzero(coupled)
+    with one_blas_thread():
+        lam = np.concatenate([np.linalg.eigvals(A0[np.ix_(rest, rest)] + U[rest] @ V[rest].T), *apart])
+    return lam[_kept(lam, relaxation_time_s)]
 
 
 def _speaking(lam: np.ndarray, assigned: Sequence[Sequence[int]], share: np.ndarray) -> list[int]:

@@ -394,6 +394,34 @@ def test_a_point_where_nothing_grows_is_said_by_its_eigenvalues_alone(law, op_fi
     assert np.array_equal(again.eigenvalues, grows.eigenvalues) and np.array_equal(again.shares, grows.shares)
 
 
+@pytest.mark.parametrize("omega, tau", [(0.0, 0.0), (60.0, 2e-4)], ids=["steady", "rotation-and-lag"])
+@pytest.mark.parametrize("g", [0.0, -60.0], ids=["mode-coupling-limit", "whole"])
+def test_blocks_that_feed_no_force_are_solved_apart_to_the_same_eigenvalues(omega, tau, g):
+    """The eigenvalues of A0 + U V^T with the blocks that feed no force or take none solved
+    apart (A block triangular: without the friction damping the rail-like body's lateral
+    terms take a force and feed none) are LAPACK's of the whole matrix, to 1e-9 of the
+    largest (two paths through LAPACK), each once."""
+    from reduced import stability as s
+
+    modes = [
+        r.ModalDOF(3.1, 3.1 * (2 * math.pi * f) ** 2, 3.0, nodal_diameters=n, lateral=1.0, normal=nr)
+        for f, n, nr in ((420.0, 2, 0.3), (1100.0, 0, 0.0), (2500.0, 3, 0.7))
+    ]
+    damping = np.array([md.damping_ns_m for md in modes])
+    layout = s._blocks(modes, omega, _rail_like(False))
+    A0, U, V = s._state_parts(modes, damping, s.LinearContact(g, 0.35, 8e8, tau), omega, layout)
+    blocks = s._state_blocks(layout, tau > 0)
+    feeds, takes = np.any(V != 0.0, axis=1), np.any(U != 0.0, axis=1)
+    apart = sum(int(np.sum(~(np.any(feeds[b], axis=1) & np.any(takes[b], axis=1)))) for b in blocks)
+    assert (apart > 0) == (g == 0.0)  # the limit's lateral terms (and the mode with no normal part)
+    lam = s._triangular_eigenvalues(A0, U, V, blocks, tau)
+    ref = s._eigen(A0 + U @ V.T, tau, vectors=False)[0]
+    assert len(lam) == len(ref)
+    scale = np.max(np.abs(ref))
+    distance = np.abs(lam[:, None] - ref[None, :])
+    assert np.max(distance.min(axis=1)) <= 1e-9 * scale and np.max(distance.min(axis=0)) <= 1e-9 * scale
+
+
 def test_one_blas_thread_sets_each_library_to_one_and_back():
     """The model's dense eigen-solves run on one BLAS thread, each library set back after."""
     from reduced._numerics import _blas_pools, one_blas_thread
