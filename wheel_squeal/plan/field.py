@@ -245,14 +245,14 @@ def check_curve_files(size: CurveSize, max_file_bytes: float) -> None:
 
 #: One curve of a line in one friction state, on one process [s]: the steady curving and
 #: its wheels' contacts' stability, balance and sound (railway_920_track, the first line of
-#: ``benchmarks/bench_line.py``: 2,000 curve states in 128 CPU-s, 27 of them radiating 180 new
-#: tones; 0.035 s a state of the curves of 1000 m and more, 0.11 s of those under 200 m)
-LINE_SECONDS_PER_CURVE_STATE = 0.06
-#: A tone the cache does not hold yet, radiated with its views [s] (that line's 27 CPU-s
-#: over 180 tones), and how many a line may radiate: at most this many per curve state (a
+#: ``benchmarks/bench_line.py``: 2,000 curve states in 93-123 CPU-s as the shared machine
+#: ran, 20 of them radiating 179 new tones)
+LINE_SECONDS_PER_CURVE_STATE = 0.045
+#: A tone the cache does not hold yet, radiated with its views [s] (that line's 20 CPU-s
+#: over 179 tones), and how many a line may radiate: at most this many per curve state (a
 #: line of 100 curves radiated 114 tones in 400 states), and a wheel's squealing modes on
 #: their tone grid at most :data:`LINE_TONES_MOST`
-LINE_TONE_SECONDS = 0.15
+LINE_TONE_SECONDS = 0.12
 LINE_TONES_PER_CURVE_STATE = 0.3
 LINE_TONES_MOST = 300
 #: Once per line [s]: the wheel's modes, the rail's fits and the contact tables
