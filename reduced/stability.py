@@ -93,14 +93,10 @@ class LinearContact:
 
     @classmethod
     def at(cls, contact: ContactLaw, op: OperatingPoint) -> LinearContact:
-        """The contact ``contact`` linearised at ``op``."""
-        mu0 = float(adhesion_ratio(op.creepage, contact, op.rolling_speed_m_s))
-        return cls(
-            friction_damping_ns_m(contact, op),
-            mu0,
-            contact.normal_stiffness_n_m,
-            contact.relaxation_time_s(op.rolling_speed_m_s),
-        )
+        """The contact ``contact`` linearised at ``op`` (kept per process for the last
+        :data:`LINEARISED_KEPT` pairs: a squealing contact's analysis asks for it at every
+        eigen-solve of its stability, competition and balance)."""
+        return _linearised(contact, op)
 
     @classmethod
     def of(cls, linear: LinearContact | float) -> LinearContact:
@@ -115,6 +111,21 @@ class LinearContact:
             and self.adhesion_ratio != 0.0
             and any(md.normal != 0.0 for md in modes)
         )
+
+
+#: The linearised contacts a process keeps (:meth:`LinearContact.at`)
+LINEARISED_KEPT = 64
+
+
+@functools.lru_cache(maxsize=LINEARISED_KEPT)
+def _linearised(contact: ContactLaw, op: OperatingPoint) -> LinearContact:
+    mu0 = float(adhesion_ratio(op.creepage, contact, op.rolling_speed_m_s))
+    return LinearContact(
+        friction_damping_ns_m(contact, op),
+        mu0,
+        contact.normal_stiffness_n_m,
+        contact.relaxation_time_s(op.rolling_speed_m_s),
+    )
 
 
 Mechanism = Literal["falling friction", "mode coupling", "both"]
