@@ -245,7 +245,7 @@ def check_curve_files(size: CurveSize, max_file_bytes: float) -> None:
 
 #: One curve of a line in one friction state, on one process [s]: the steady curving and
 #: its wheels' contacts' stability, balance and sound (railway_920_track, the first line of
-#: ``benchmarks/bench_line.py``: 2,000 curve states in 93-123 CPU-s as the shared machine
+#: ``benchmarks/bench_line.py``: 2,000 curve states in 93-128 CPU-s as the shared machine
 #: ran, 20 of them radiating 179 new tones)
 LINE_SECONDS_PER_CURVE_STATE = 0.045
 #: A tone the cache does not hold yet, radiated with its views [s] (that line's 20 CPU-s
