@@ -154,9 +154,12 @@ class Analysis:
 
     def __repr__(self) -> str:
         op = self.operating_point
+        # a table without rows: nothing grows and the request left them out (stable_rows)
+        eigenvalues = len(self.stability.eigenvalues)
+        modes = f"{len(self.rows)} modes" if self.rows else f"{eigenvalues} eigenvalues, no rows"
         return (
             f"Analysis({self.design.name!r}, V0 = {op.rolling_speed_m_s:.4g} m/s, Vc = "
-            f"{op.crabbing_velocity_m_s:.4g} m/s, {len(self.rows)} modes, stopped after "
+            f"{op.crabbing_velocity_m_s:.4g} m/s, {modes}, stopped after "
             f"{self.options.stop_after!r}: {self.verdict.headline()})"
         )
 
