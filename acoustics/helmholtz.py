@@ -27,6 +27,7 @@ import dataclasses
 import functools
 import json
 import math
+import weakref
 from dataclasses import dataclass
 from typing import Any
 
@@ -405,6 +406,19 @@ class _Discretised:
     layer: Any
     interior: tuple[Any, Any, Any]
 
+    @functools.cached_property
+    def free_dofs(self) -> np.ndarray:
+        """The unknowns of an axisymmetric harmonic (n = 0): all but the layer's outer edge
+        (where the air has a layer; without one its edge is the Robin boundary's)."""
+        if self.layer is None:
+            return np.arange(self.basis.N)
+        return np.setdiff1d(np.arange(self.basis.N), self.outer_dofs)
+
+    @functools.cached_property
+    def free_dofs_off_axis(self) -> np.ndarray:
+        """The unknowns of a harmonic n >= 1, which vanishes on the axis too."""
+        return np.setdiff1d(self.free_dofs, self.axis_dofs)
+
 
 #: The discretised air meshes a process keeps (:func:`_discretised`): a radiation's
 #: neighbouring tones of one mode share one below about a kilohertz
@@ -469,23 +483,20 @@ def _interior_parts(skm, elements: np.ndarray) -> tuple[Any, Any, Any]:
     return tuple(form.assemble(inside).tocsr() for form in (stiffness, mass, over_r))
 
 
-@functools.lru_cache(maxsize=4 * DISCRETISED_KEPT)
-def _free_dofs(air_fe: _Discretised, pml: bool, axis: bool) -> np.ndarray:
-    """The unknowns of a radiation on ``air_fe``: all but the layer's outer edge (``pml``)
-    and the axis (``axis``: a harmonic n >= 1 vanishes there)."""
-    fixed = ([air_fe.outer_dofs] if pml else []) + ([air_fe.axis_dofs] if axis else [])
-    if not fixed:
-        return np.arange(air_fe.basis.N)
-    return np.setdiff1d(np.arange(air_fe.basis.N), np.concatenate(fixed))
+#: Each kept air's body quadrature points located on its outline (``Surface.locate``), with
+#: the outline's bytes: an air is meshed for one outline (``acoustics.mesh.air_mesh``), so
+#: every mode of a body radiated on it shares them; an entry goes with its air
+_LOCATED: weakref.WeakKeyDictionary[_Discretised, tuple[bytes, Any]] = weakref.WeakKeyDictionary()
 
 
-@functools.lru_cache(maxsize=4 * DISCRETISED_KEPT)
-def _body_location(air_fe: _Discretised, outline: bytes) -> tuple[np.ndarray, np.ndarray]:
-    """Where the body's quadrature points of ``air_fe`` lie on the outline whose vertices'
-    bytes are ``outline`` (``Surface.locate``): the modes of one body share it."""
-    points = np.frombuffer(outline).reshape(-1, 2)
-    x = air_fe.body_points
-    return Surface(points, np.zeros(points.shape), 0).locate(np.stack([x[0].ravel(), x[1].ravel()], axis=1))
+def _body_location(air_fe: _Discretised, surface: Surface) -> tuple[np.ndarray, np.ndarray]:
+    """Where the body's quadrature points of ``air_fe`` lie on ``surface``'s outline."""
+    outline = np.ascontiguousarray(surface.points, dtype=float).tobytes()
+    held = _LOCATED.get(air_fe)
+    if held is None or held[0] != outline:
+        x = air_fe.body_points
+        held = _LOCATED[air_fe] = (outline, surface.locate(np.stack([x[0].ravel(), x[1].ravel()], axis=1)))
+    return held[1]
 
 
 def forget_air_meshes() -> None:
@@ -603,7 +614,7 @@ def radiate(
         )
         A = A + operator.assemble(air_fe.layer, **coefficients)
     x = air_fe.body_points
-    located = _body_location(air_fe, np.ascontiguousarray(surface.points, dtype=float).tobytes())
+    located = _body_location(air_fe, surface)
     vn = surface.normal_velocity_at(np.stack([x[0].ravel(), x[1].ravel()], axis=1), located).reshape(
         x[0].shape
     )
@@ -625,7 +636,7 @@ def radiate(
 
         A = A + robin.assemble(eb)
     P = np.zeros(basis.N, dtype=complex)
-    free = _free_dofs(air_fe, pml, n >= 1)
+    free = air_fe.free_dofs_off_axis if n >= 1 else air_fe.free_dofs
     A = A.tocsr()
     P[free] = _factorised(A[free][:, free].tocsc()).solve(rhs[free])
 
