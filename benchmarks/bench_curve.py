@@ -47,14 +47,13 @@ def one_by_one(design: ws.Design, ctx: ws.RunContext) -> int:
                     wheel_load_n=design.contact.normal_load,
                     friction_coefficient=design.contact.friction_coefficient,
                 )[index]
-                analyses = tuple(
-                    ws.analyse(s.design, op=s.op, options=options, context=ctx)
-                    for s in wheel_sites(design, wheel, speed)
-                )
-                case = CurveCase(radius, speed, wheel, analyses)
+                sites = wheel_sites(design, wheel, speed)
+                analyses = tuple(ws.analyse(s.design, op=s.op, options=options, context=ctx) for s in sites)
+                states = tuple(s.state for s in sites)
+                case = CurveCase(radius, speed, wheel, analyses, states=states)
                 sound = axle_sound(case.analysis)
                 if sound is not None:
-                    case = CurveCase(radius, speed, wheel, analyses, sound)
+                    case = CurveCase(radius, speed, wheel, analyses, sound, states=states)
                 sources, _ = bogie_sources([case], vehicle.wheelbase_m, design.rolling_radius)
                 if sources:
                     passby(sources, speed / 3.6)

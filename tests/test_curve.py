@@ -237,6 +237,8 @@ def test_a_curve_case_reads_as_the_api_documents_it():
 
     cases = ws.curve(ws.load_design("railway_920_track"), [150.0], [40.0], context=ws.RunContext.of("fast"))
     lead = cases[0]
+    with pytest.raises(ValueError, match="analyses for"):  # not aligned with the contacts: refused
+        type(lead)(lead.radius_m, lead.train_speed_km_h, lead.wheel, lead.analyses * 2)
     text = repr(lead)
     assert text.startswith("CurveCase(") and len(text) < 400 and "\n" not in text, text
     v = lead.analysis.verdict

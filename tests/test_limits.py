@@ -745,6 +745,31 @@ def test_a_terminated_run_cleans_up_as_an_interrupted_one(tmp_path):
 # --------------------------------------------------------------------------------------
 # a bounded cache
 # --------------------------------------------------------------------------------------
+def test_a_run_contexts_memo_lets_go_of_all_but_its_last_mode_sets():
+    """A notebook analysing design after design in one context: the memo keeps what it derived
+    from the last MEMO_MODE_SETS_KEPT mode sets (their shapes some 50 MB each), every entry of
+    an older one goes with it, and its shapes are freed (each key holding an id is checked
+    against its owner: a freed object's id is reused)."""
+    import gc
+    import weakref
+
+    from wheel_squeal.context import MEMO_MODE_SETS_KEPT, memo_get, memo_put
+
+    memo: dict = {}
+    shapes = [np.zeros(10) for _ in range(MEMO_MODE_SETS_KEPT + 1)]
+    first = weakref.ref(shapes[0])
+    for i, owner in enumerate(shapes):
+        for tone in range(3):  # a mode set's radiation at several tones
+            memo_put(memo, ("radiation", id(owner), tone), owner, f"field {i} {tone}")
+    assert all(memo_get(memo, ("radiation", id(shapes[0]), t)) is None for t in range(3))
+    assert memo_get(memo, ("radiation", id(shapes[1]), 2), shapes[1]) == "field 1 2"
+    assert memo_get(memo, ("radiation", id(shapes[1]), 2), shapes[2]) is None  # another owner's
+    del shapes[0]
+    gc.collect()
+    assert first() is None  # nothing in the memo holds the oldest shapes any more
+    assert len([k for k in memo if k[0] == "radiation"]) == 3 * MEMO_MODE_SETS_KEPT
+
+
 def test_the_cache_keeps_under_its_limit_evicting_the_least_recently_used(tmp_path, monkeypatch):
     import os
 

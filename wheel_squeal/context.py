@@ -12,7 +12,7 @@ from .cache import StageCache
 from .presets import DEFAULT_FIDELITY, DEFAULT_FMAX_HZ, Fidelity, fidelity_for
 from .progress import Progress
 
-__all__ = ["RunContext"]
+__all__ = ["MEMO_MODE_SETS_KEPT", "RunContext", "memo_get", "memo_put"]
 
 
 @dataclass
@@ -33,7 +33,8 @@ class RunContext:
         Progress of long work (quiet by default).
     memo : dict
         What one process keeps between requests (a study's operating points): each mode's
-        radiation at its frequencies, computed once.
+        radiation at its frequencies, computed once, for the last
+        :data:`MEMO_MODE_SETS_KEPT` mode sets (:func:`memo_put`).
 
     Examples
     --------
@@ -63,3 +64,45 @@ class RunContext:
         """A context from a preset's name (and another solver for it)."""
         fid = fidelity if isinstance(fidelity, Fidelity) else fidelity_for(fidelity, solver)
         return cls(fid, fmax_hz, cache, budget or Budget.from_environment(), progress or Progress(quiet=True))
+
+
+#: The mode sets whose derived results a memo keeps (the radiation of their modes, their
+#: meridian slice, a curve map's tables): a curve map's or a line's contacts share one;
+#: each other design brings its own, with its shapes (some 50 MB for the railway wheel),
+#: and beyond this many the oldest one's entries go
+MEMO_MODE_SETS_KEPT = 4
+_OWNERS = ("the mode sets held, oldest first",)
+
+
+def memo_get(memo: dict[Any, Any], key: Any, owner: object = None) -> Any:
+    """What :func:`memo_put` kept in ``memo`` under ``key`` (None: nothing, or it was kept
+    for another ``owner`` than the one given: a key holding an object's ``id`` outlives it)."""
+    held = memo.get(key)
+    if held is None or (owner is not None and held[0] is not owner):
+        return None
+    return held[1]
+
+
+def memo_put(memo: dict[Any, Any], key: Any, owner: object, value: Any) -> Any:
+    """Keep ``value`` in ``memo`` (a :class:`RunContext`'s) under ``key``, derived from
+    ``owner`` (a mode set's shapes): the memo holds what :data:`MEMO_MODE_SETS_KEPT`
+    owners gave, and a new one's arrival drops the oldest one's entries. Returns ``value``.
+
+    Examples
+    --------
+    >>> memo = {}
+    >>> owners = [object() for _ in range(MEMO_MODE_SETS_KEPT + 1)]
+    >>> for i, o in enumerate(owners):
+    ...     _ = memo_put(memo, ("x", i), o, i)
+    >>> memo_get(memo, ("x", 0)) is None, memo_get(memo, ("x", 1), owners[1])
+    (True, 1)
+    """
+    owners: list[object] = memo.setdefault(_OWNERS, [])
+    if not any(o is owner for o in owners):
+        owners.append(owner)
+        if len(owners) > MEMO_MODE_SETS_KEPT:
+            gone = owners.pop(0)
+            for k in [k for k, v in memo.items() if k != _OWNERS and v[0] is gone]:
+                del memo[k]
+    memo[key] = (owner, value)
+    return value

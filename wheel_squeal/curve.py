@@ -30,6 +30,7 @@ from .analysis import ChainOptions
 from .api import contact_law
 from .budget import CostPlan
 from .chain import AMPLITUDE_METHODS
+from .context import memo_get, memo_put
 from .curve_case import AxleSound, BogiePassby, CurveCase, axle_sound, bogie_sources
 from .curve_contacts import ContactSiteAnalysis, contact_geometry, modes_at_contacts, wheel_sites
 from .design import Design
@@ -340,21 +341,20 @@ def _planned(
     # kept for the process: a line runs the map of many (speed, cant, friction) groups
     key = modes_cache_key(design, ctx.fidelity, ctx.fmax_hz)
     memo_key = ("curve", repr(key), design.wheel.profile, design.rolling_radius)
-    if memo_key not in ctx.memo:
+    held = memo_get(ctx.memo, memo_key)
+    if held is None:
         wheel_on_rail = contact_geometry(design)
-        ctx.memo[memo_key] = (
-            wheel_on_rail,
-            contact_table(wheel_on_rail, design.wheel.youngs_modulus, design.wheel.poissons_ratio),
-            compute_modes(
-                design,
-                ctx.fidelity,
-                fmax_hz=ctx.fmax_hz,
-                cache=ctx.cache,
-                progress=ctx.progress,
-                budget=ctx.budget,
-            ),
+        wheel_modes = compute_modes(
+            design,
+            ctx.fidelity,
+            fmax_hz=ctx.fmax_hz,
+            cache=ctx.cache,
+            progress=ctx.progress,
+            budget=ctx.budget,
         )
-    geometry, table, modes = ctx.memo[memo_key]
+        table = contact_table(wheel_on_rail, design.wheel.youngs_modulus, design.wheel.poissons_ratio)
+        held = memo_put(ctx.memo, memo_key, wheel_modes.shapes, (wheel_on_rail, table, wheel_modes))
+    geometry, table, modes = held
     contact = contact_law(design)
     wheel_dofs = mode_dofs(excitable(modes, contact), design)
     checked(plan_of(wheel_dofs=wheel_dofs))

@@ -82,6 +82,13 @@ class CurveCase:
     passby: BogiePassby | None = None
     states: tuple[ContactState, ...] = ()
 
+    def __post_init__(self) -> None:
+        if len(self.analyses) != len(self.contacts):
+            raise ValueError(
+                f"{len(self.analyses)} analyses for {len(self.contacts)} contacts: give the "
+                "states of the contacts analysed (those carrying load) when they are not all the wheel's"
+            )
+
     @property
     def contacts(self) -> tuple[ContactState, ...]:
         """The contacts analysed, in ``analyses``' order."""

@@ -10,6 +10,7 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
 from .api import contact_law
+from .context import memo_get, memo_put
 from .design import Design
 from .errors import RequestError
 
@@ -118,10 +119,10 @@ def modes_at_contacts(modes: ModeSet, memo: dict[Any, Any]) -> Callable[[Contact
     from fem.moved_contact import MeridianSlice
 
     key = ("meridian slice", id(modes))
-    held = memo.get(key)
+    held = memo_get(memo, key, modes.shapes)
     if held is None or held[0] is not modes:
         read: dict[ContactFrame, ModeSet] = {}
-        held = memo[key] = (modes, MeridianSlice(modes), read)
+        held = memo_put(memo, key, modes.shapes, (modes, MeridianSlice(modes), read))
     _, meridian, read = held
 
     def at(frame: ContactFrame) -> ModeSet:

@@ -21,6 +21,7 @@ import numpy as np
 from acoustics.tone import Radiation, Sound
 
 from .cache import CacheMiss, StageCache
+from .context import memo_get, memo_put
 from .design import Design
 from .errors import RequestError
 from .listener import Listener, default_microphone
@@ -185,16 +186,14 @@ def mode_radiation(
     if memo is None:
         unit = _unit_radiation(modeset, mode, peak, frequency_hz, microphone, cache, modes_key, air, budget)
         return unit.scaled(factor)
-    held = memo.get((*memo_key, factor))
-    if held is not None and held[0] is modeset.shapes:
-        return held[1]
-    held = memo.get(memo_key)
-    if held is None or held[0] is not modeset.shapes:
+    scaled = memo_get(memo, (*memo_key, factor), modeset.shapes)
+    if scaled is not None:
+        return scaled
+    unit = memo_get(memo, memo_key, modeset.shapes)
+    if unit is None:
         unit = _unit_radiation(modeset, mode, peak, frequency_hz, microphone, cache, modes_key, air, budget)
-        held = memo[memo_key] = (modeset.shapes, unit)
-    rad = held[1].scaled(factor)
-    memo[(*memo_key, factor)] = (modeset.shapes, rad)
-    return rad
+        memo_put(memo, memo_key, modeset.shapes, unit)
+    return memo_put(memo, (*memo_key, factor), modeset.shapes, unit.scaled(factor))
 
 
 def _unit_radiation(
