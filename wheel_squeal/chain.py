@@ -24,7 +24,7 @@ from .context import RunContext
 from .decision import modes_of_eigenvalue
 from .design import Design
 from .errors import RequestError
-from .modes import compute_modes
+from .modes import context_modes
 from .outcomes import Outcomes
 from .plan import NO_REMEDY_HINT, stability_plan, verdict_plan
 from .presets import Fidelity, fidelity_for
@@ -115,14 +115,7 @@ def analyse(
     timings: dict[str, float] = {}
     t0 = time.perf_counter()
     if modes is None:
-        modes = compute_modes(
-            design,
-            ctx.fidelity,
-            fmax_hz=ctx.fmax_hz,
-            cache=ctx.cache,
-            progress=ctx.progress,
-            budget=ctx.budget,
-        )
+        modes = context_modes(design, ctx)
     timings["modes"] = time.perf_counter() - t0
     t0 = time.perf_counter()
     contact = contact_law(design, opts.c22, opts.friction_law)

@@ -300,8 +300,7 @@ def _planned(
     from track.bogie_curving import BogieCurving, contact_table, solve_curving
     from track.curving import check_curve
 
-    from .api import compute_modes
-    from .modes import modes_cache_key
+    from .modes import context_modes, modes_cache_key
     from .sound import radiation_cached
 
     if design.counter_body.KIND != "track":
@@ -344,14 +343,7 @@ def _planned(
     held = memo_get(ctx.memo, memo_key)
     if held is None:
         wheel_on_rail = contact_geometry(design)
-        wheel_modes = compute_modes(
-            design,
-            ctx.fidelity,
-            fmax_hz=ctx.fmax_hz,
-            cache=ctx.cache,
-            progress=ctx.progress,
-            budget=ctx.budget,
-        )
+        wheel_modes = context_modes(design, ctx)
         table = contact_table(wheel_on_rail, design.wheel.youngs_modulus, design.wheel.poissons_ratio)
         held = memo_put(ctx.memo, memo_key, wheel_modes.shapes, (wheel_on_rail, table, wheel_modes))
     geometry, table, modes = held

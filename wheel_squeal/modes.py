@@ -27,12 +27,15 @@ if TYPE_CHECKING:
     from fem.cost import SolveCost
     from fem.modes import ModeSet, SelectedMode
 
+    from .context import RunContext
+
 __all__ = [
     "DENSE_OUTLINE_SEGMENTS",
     "build_mesh",
     "check_modes_budget",
     "check_named_modes",
     "compute_modes",
+    "context_modes",
     "mode_views",
     "modes_cache_key",
     "pick_mode",
@@ -230,6 +233,19 @@ def compute_modes(
         cache.store("modes", key, ms.to_arrays())
     check_named_modes(design, ms, fmax_hz)
     return ms
+
+
+def context_modes(design: Design, context: RunContext) -> ModeSet:
+    """The design's modes as ``context`` computes them (:func:`compute_modes` with its
+    preset, band, stage cache, progress and budget)."""
+    return compute_modes(
+        design,
+        context.fidelity,
+        fmax_hz=context.fmax_hz,
+        cache=context.cache,
+        progress=context.progress,
+        budget=context.budget,
+    )
 
 
 def check_named_modes(design: Design, modeset: ModeSet, fmax_hz: float) -> None:

@@ -19,6 +19,7 @@ from ..context import RunContext
 from ..design import Design
 from ..errors import RequestError
 from ..listener import Listener, air_for, microphone_for
+from ..modes import context_modes
 from ..presets import DEFAULT_SPEEDS_RPM, MAX_MULTIMODE, fidelity_for, rpm_to_speed
 from ..progress import Progress
 from ..types import Stage
@@ -180,9 +181,7 @@ def modes_of(args: argparse.Namespace, design: Design) -> Any:
     if given is not None:
         ctx.progress.say(f"modes: {len(given.modes)} given (no FE)")
         return given
-    return api.compute_modes(
-        design, ctx.fidelity, fmax_hz=ctx.fmax_hz, cache=ctx.cache, progress=ctx.progress, budget=ctx.budget
-    )
+    return context_modes(design, ctx)
 
 
 def operating_point_of(args: argparse.Namespace, design: Design) -> Any:
