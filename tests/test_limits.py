@@ -755,7 +755,7 @@ def test_a_run_contexts_memo_lets_go_of_all_but_its_last_mode_sets():
 
     from wheel_squeal.context import MEMO_MODE_SETS_KEPT, memo_get, memo_put
 
-    memo: dict = {}
+    memo: dict = {"a caller's own": 3}  # not put there by memo_put: left as it is
     shapes = [np.zeros(10) for _ in range(MEMO_MODE_SETS_KEPT + 1)]
     first = weakref.ref(shapes[0])
     for i, owner in enumerate(shapes):
@@ -768,6 +768,7 @@ def test_a_run_contexts_memo_lets_go_of_all_but_its_last_mode_sets():
     gc.collect()
     assert first() is None  # nothing in the memo holds the oldest shapes any more
     assert len([k for k in memo if k[0] == "radiation"]) == 3 * MEMO_MODE_SETS_KEPT
+    assert memo["a caller's own"] == 3
 
 
 def test_the_cache_keeps_under_its_limit_evicting_the_least_recently_used(tmp_path, monkeypatch):

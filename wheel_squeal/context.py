@@ -102,7 +102,13 @@ def memo_put(memo: dict[Any, Any], key: Any, owner: object, value: Any) -> Any:
         owners.append(owner)
         if len(owners) > MEMO_MODE_SETS_KEPT:
             gone = owners.pop(0)
-            for k in [k for k, v in memo.items() if k != _OWNERS and v[0] is gone]:
+            for k in [k for k, v in memo.items() if _owned_by(v, gone)]:
                 del memo[k]
     memo[key] = (owner, value)
     return value
+
+
+def _owned_by(held: Any, owner: object) -> bool:
+    """Whether a memo entry is one :func:`memo_put` kept for ``owner`` (a list of owners or
+    anything else put there is not)."""
+    return isinstance(held, tuple) and len(held) == 2 and held[0] is owner
