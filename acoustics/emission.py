@@ -181,8 +181,17 @@ class HeardPassby:
 
     @classmethod
     def from_dict(cls, d: Mapping[str, Any]) -> HeardPassby:
-        power = BandPower(np.array(d["octaves_w"]), np.array(d["thirds_w"]), float(d["a_weighted_w"]))
-        return cls(float(d["lpamax_dba"]), float(d["sel_dba"]), power)
+        """The pass-by :meth:`to_dict` gave, checked (it may come back from a cache):
+        ``ValueError`` unless it has a finite level and a non-negative power per band."""
+        octaves, thirds = np.asarray(d["octaves_w"], float), np.asarray(d["thirds_w"], float)
+        power = BandPower(octaves, thirds, float(d["a_weighted_w"]))
+        heard = cls(float(d["lpamax_dba"]), float(d["sel_dba"]), power)
+        if octaves.shape != (len(CNOSSOS_OCTAVES_HZ),) or thirds.shape != (len(CNOSSOS_THIRDS),):
+            raise ValueError("a pass-by's bands are not the emission's bands")
+        numbers = np.array([heard.lpamax_dba, heard.sel_dba, power.a_weighted_w, *octaves, *thirds])
+        if not np.isfinite(numbers).all() or (numbers[2:] < 0).any():
+            raise ValueError("a pass-by's level or power is not a finite number")
+        return heard
 
 
 @dataclass(frozen=True)

@@ -33,6 +33,8 @@ from typing import Any
 
 import numpy as np
 
+from geometry.files import stored_array, stored_json
+
 from .medium import AIR, Air
 from .mesh import AirMesh, air_mesh
 from .surface import Surface
@@ -232,28 +234,45 @@ class SoundField:
 
     @classmethod
     def from_arrays(cls, arrays: dict[str, np.ndarray]) -> SoundField:
-        """The field of :meth:`to_arrays`."""
-        s = json.loads(str(arrays["scalars"]))
-        mesh = AirMesh(arrays["points"], arrays["triangles"], s["radius_m"], s["pml_thickness_m"])
-        body = BodyTraces(
-            arrays["body_points"],
-            arrays["body_normals"],
-            arrays["body_pressure"],
-            arrays["body_normal_derivative"],
-            arrays["body_weights"],
-        )
+        """The field of :meth:`to_arrays`, checked before use (a stored field is read back
+        from a cache: ``ValueError`` or ``KeyError`` where it is not a field)."""
+        s = stored_json(arrays, "scalars")
+        points = stored_array(arrays, "points", "f", ndim=2, columns=2)
+        triangles = stored_array(arrays, "triangles", "iu", ndim=2, columns=(3, 6), index_below=len(points))
+        mesh = AirMesh(points, triangles, float(s["radius_m"]), float(s["pml_thickness_m"]))
+        body_points = stored_array(arrays, "body_points", "f", ndim=2)
+        quadrature = body_points.shape[1]
+        traces = [
+            stored_array(arrays, name, kinds, ndim=1)
+            for name, kinds in (
+                ("body_pressure", "fc"),
+                ("body_normal_derivative", "fc"),
+                ("body_weights", "f"),
+            )
+        ]
+        normals = stored_array(arrays, "body_normals", "f", ndim=2)
+        if (
+            len(body_points) != 2
+            or normals.shape != body_points.shape
+            or any(len(t) != quadrature for t in traces)
+        ):
+            raise ValueError("a stored field's body traces are not over one outline")
+        dof_points = stored_array(arrays, "dof_points", "f", ndim=2)
+        pressure = stored_array(arrays, "pressure", "fc", ndim=1)
+        if len(pressure) != len(dof_points):
+            raise ValueError("a stored field's pressure is not one per degree of freedom")
         return cls(
             mesh,
-            arrays["dof_points"],
-            arrays["pressure"],
-            body,
-            s["frequency_hz"],
+            dof_points,
+            pressure,
+            BodyTraces(body_points, normals, *traces),
+            float(s["frequency_hz"]),
             int(s["harmonic"]),
-            s["sound_power_w"],
-            s["radiation_efficiency"],
-            s["surface_power_w"],
-            s["flux_power_w"],
-            Air(s["density_kg_m3"], s["sound_speed_m_s"]),
+            float(s["sound_power_w"]),
+            float(s["radiation_efficiency"]),
+            float(s["surface_power_w"]),
+            float(s["flux_power_w"]),
+            Air(float(s["density_kg_m3"]), float(s["sound_speed_m_s"])),
         )
 
 

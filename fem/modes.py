@@ -19,6 +19,8 @@ from typing import NamedTuple
 
 import numpy as np
 
+from geometry.files import stored_array, stored_json
+
 FAMILIES = ("axial", "radial", "circumferential")
 #: Default upper end of the band every solver computes [Hz]: the squeal tones of these
 #: rigs lie near 1-3 kHz; 5 kHz keeps every mode a squeal could pick.
@@ -334,29 +336,56 @@ class ModeSet:
 
     @classmethod
     def from_arrays(cls, arrays: dict[str, np.ndarray]) -> ModeSet:
-        """The mode set :meth:`to_arrays` wrote."""
-        meta = json.loads(str(arrays["meta"]))
+        """The mode set :meth:`to_arrays` wrote, checked before use (a stored mode set is
+        read back from a cache: ``ValueError``, ``KeyError`` or ``TypeError`` where it is
+        not one)."""
+        meta = stored_json(arrays, "meta")
+        points = stored_array(arrays, "points", "f", ndim=2, columns=3)
         modes = [
             Mode(
                 **{
                     **m,
-                    "contact_lateral": tuple(m["contact_lateral"]),
-                    "contact_normal": tuple(m["contact_normal"]),
+                    "contact_lateral": tuple(float(v) for v in m["contact_lateral"]),
+                    "contact_normal": tuple(float(v) for v in m["contact_normal"]),
                 }
             )
             for m in meta["modes"]
         ]
+        for m in modes:
+            if not (isinstance(m.index, int) and isinstance(m.nodal_diameters, int) and m.frequency_hz >= 0):
+                raise ValueError(f"stored mode {m.index!r} is not a mode")
+            if not (m.family in FAMILIES and isinstance(m.name, str) and isinstance(m.nodal_circles, int)):
+                raise ValueError(f"stored mode {m.index} is not a mode")
+        shapes = [stored_array(arrays, f"shape_{i}", "f", ndim=3) for i in range(len(modes))]
+        if any(
+            s.shape[1:] != (len(points), 3) or len(s) != m.multiplicity
+            for s, m in zip(shapes, modes, strict=True)
+        ):
+            raise ValueError("a stored mode shape does not match its mesh")
         return cls(
             modes=modes,
-            points=arrays["points"],
-            cells={t: arrays[f"cells_{t}"] for t in meta["cell_types"]},
-            shapes=[arrays[f"shape_{i}"] for i in range(len(modes))],
-            solver=meta["solver"],
-            dofs=meta["dofs"],
-            timings_s=meta["timings_s"],
-            contact_point=None if meta.get("contact_point") is None else tuple(meta["contact_point"]),
+            points=points,
+            cells={
+                str(t): stored_array(arrays, f"cells_{t}", "iu", ndim=2, index_below=len(points))
+                for t in meta["cell_types"]
+            },
+            shapes=shapes,
+            solver=str(meta["solver"]),
+            dofs=int(meta["dofs"]),
+            timings_s={str(k): float(v) for k, v in meta["timings_s"].items()},
+            contact_point=_stored_point(meta.get("contact_point")),
             contact_angle_rad=float(meta.get("contact_angle_rad", 0.0)),
         )
+
+
+def _stored_point(point: object) -> tuple[float, float, float] | None:
+    """A stored contact point (r, 0, z) [m], or None."""
+    if point is None:
+        return None
+    if not isinstance(point, list) or len(point) != 3:
+        raise ValueError("a stored contact point is not a point")
+    r, y, z = (float(v) for v in point)
+    return (r, y, z)
 
 
 __all__ = [

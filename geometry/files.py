@@ -1,5 +1,6 @@
 """Files: reading a user's text file (a design, an outline CSV, a study spec), writing
-any file atomically, and the one rule for a name that becomes a file or folder name.
+any file atomically, the one rule for a name that becomes a file or folder name, and the
+checks of a record read back from stored arrays (:func:`stored_array`).
 
 A text file is read from regular files only, of a bounded size, in UTF-8, each
 failure one line naming the file.
@@ -11,6 +12,7 @@ a traceback or a hang.
 from __future__ import annotations
 
 import contextlib
+import json
 import os
 import re
 import stat
@@ -18,7 +20,9 @@ import tempfile
 import tomllib
 from collections.abc import Iterator
 from pathlib import Path
-from typing import BinaryIO
+from typing import Any, BinaryIO
+
+import numpy as np
 
 __all__ = [
     "LABEL_PATTERN",
@@ -27,7 +31,10 @@ __all__ = [
     "atomic_file",
     "check_label",
     "read_text",
+    "printable",
     "read_toml",
+    "stored_array",
+    "stored_json",
     "umask",
     "write_atomic",
 ]
@@ -87,6 +94,17 @@ def read_toml(path: str | Path, what: str, error: type[Exception] = ValueError) 
         raise error(f"{path}: not valid TOML ({exc})") from None
 
 
+#: The characters that reorder text on a terminal (Unicode's bidirectional controls): a
+#: printable string holding one can show other text than it holds.
+BIDI_CONTROLS = re.compile("[\u061c\u200e\u200f\u202a-\u202e\u2066-\u2069]")
+
+
+def printable(text: str) -> bool:
+    """Whether ``text`` shows on a terminal as what it is: no control characters (escape
+    sequences, newlines, bells) and no bidirectional controls."""
+    return text.isprintable() and not BIDI_CONTROLS.search(text)
+
+
 def check_label(name: object, what: str, error: type[Exception] = ValueError) -> str:
     """``name`` if it is a label (:data:`LABEL_PATTERN`), else ``error(message)`` naming
     ``what`` and the rule: a name that becomes a folder is never a path."""
@@ -127,3 +145,47 @@ def write_atomic(path: str | Path, data: bytes | str) -> Path:
     with atomic_file(path) as f:
         f.write(data.encode() if isinstance(data, str) else data)
     return Path(path)
+
+
+def stored_array(
+    arrays: dict[str, np.ndarray],
+    name: str,
+    kinds: str = "f",
+    ndim: int | tuple[int, ...] | None = None,
+    columns: int | tuple[int, ...] | None = None,
+    index_below: int | None = None,
+) -> np.ndarray:
+    """``arrays[name]`` checked to be what a record stored there, before any use: stored
+    arrays are read back from a cache that anyone who can write it could have made.
+
+    ``kinds``: the allowed numpy kinds ("f" float, "c" complex, "i"/"u" integer, "b"
+    bool, "U" text); ``ndim`` / ``columns``: the allowed number of dimensions and of
+    columns (the last axis of a 2-D array); ``index_below``: an array of indices into
+    something of that length (each in ``[0, index_below)``). Numbers are finite. Raises
+    ``ValueError`` naming the array (a ``KeyError`` where it is missing).
+    """
+    a = arrays[name]
+    if not isinstance(a, np.ndarray) or a.dtype.kind not in kinds:
+        raise ValueError(f"stored array {name!r} is not of kind {kinds!r}")
+    if ndim is not None and a.ndim not in (ndim if isinstance(ndim, tuple) else (ndim,)):
+        raise ValueError(f"stored array {name!r} has {a.ndim} dimensions")
+    if columns is not None and (
+        a.ndim != 2 or a.shape[1] not in (columns if isinstance(columns, tuple) else (columns,))
+    ):
+        raise ValueError(f"stored array {name!r} has shape {a.shape}")
+    if a.dtype.kind in "fc" and not np.isfinite(a).all():
+        raise ValueError(f"stored array {name!r} holds a number that is not finite")
+    if index_below is not None and a.size and not (a.min() >= 0 and a.max() < index_below):
+        raise ValueError(f"stored array {name!r} indexes beyond its {index_below} items")
+    return a
+
+
+def stored_json(arrays: dict[str, np.ndarray], name: str) -> Any:
+    """The JSON text stored as the 0-d text array ``arrays[name]``, parsed; every number in
+    it finite (``ValueError`` otherwise)."""
+    text = stored_array(arrays, name, "U", ndim=0)
+
+    def refuse(constant: str) -> float:
+        raise ValueError(f"stored {name!r} holds {constant}")
+
+    return json.loads(str(text), parse_constant=refuse)

@@ -103,6 +103,38 @@ def _held(handlers: dict[int, Any]) -> Iterator[None]:
             signal.pthread_sigmask(signal.SIG_SETMASK, old)
 
 
+#: A home folder that cannot exist (``/dev/null`` is not a folder), and the user "nobody"
+_NO_HOME, _NOBODY_UID = "/dev/null/no-home", 65534
+
+
+@contextmanager
+def _no_preference_files() -> Iterator[None]:
+    """gmsh's initialisation without the preference files its FLTK writes: FLTK creates
+    ``$HOME/.fltk/fltk.org/fltk.prefs`` and, for a process that may, the system-wide
+    ``/etc/fltk/fltk.org/fltk.prefs``. Neither is the tool's to write (it writes only its
+    result and its cache), so both writes are made to fail: HOME names no folder, and a
+    root process is the user "nobody" for the call. gmsh reads no preference it needs
+    from them (its own options are set by the session)."""
+    home = os.environ.get("HOME")
+    os.environ["HOME"] = _NO_HOME
+    dropped = False
+    if hasattr(os, "geteuid") and os.geteuid() == 0:
+        try:
+            os.seteuid(_NOBODY_UID)
+            dropped = True
+        except OSError:  # a container without the capability: the system file is written
+            pass
+    try:
+        yield
+    finally:
+        if dropped:
+            os.seteuid(0)
+        if home is None:
+            os.environ.pop("HOME", None)
+        else:
+            os.environ["HOME"] = home
+
+
 @contextmanager
 def gmsh_session(verbose: bool) -> Iterator[Any]:
     """An initialised gmsh with one fresh model; finalised (or, if someone else had
@@ -117,7 +149,7 @@ def gmsh_session(verbose: bool) -> Iterator[Any]:
         if owner:
             interruptible = threading.current_thread() is threading.main_thread()
             handlers = _python_handlers() if interruptible else {}
-            with _held(handlers):
+            with _held(handlers), _no_preference_files():
                 gmsh.initialize(readConfigFiles=False, interruptible=interruptible)
                 _restore(handlers)
         else:

@@ -39,6 +39,7 @@ from typing import TYPE_CHECKING, Any, cast
 import numpy as np
 
 from .design import WheelDesign
+from .files import stored_array
 from .profile import half_profile
 from .simplex import jacobians
 
@@ -74,6 +75,13 @@ def readonly(a: np.ndarray) -> np.ndarray:
     a = np.ascontiguousarray(a)
     a.setflags(write=False)
     return a
+
+
+#: the nodes per cell a stored mesh's connectivity may have (linear, quadratic), by dimension
+_STORED_COLUMNS = {
+    2: {"triangles": (3, 6), "bore_facets": (2, 3), "tread_facets": (2, 3)},
+    3: {"tetra": (4, 10), "bore_facets": (3, 6), "tread_facets": (3, 6)},
+}
 
 
 class _MeshBase:
@@ -147,12 +155,27 @@ class _MeshBase:
 
     @classmethod
     def from_arrays(cls, arrays: dict[str, np.ndarray]):
-        """The mesh :meth:`to_arrays` wrote."""
-        kwargs = {}
+        """The mesh :meth:`to_arrays` wrote, checked before use (a stored mesh is read
+        back from a cache: ``ValueError`` where it is not a mesh of this kind)."""
+        dim = 2 if cls is ProfileMesh else 3
+        points = stored_array(arrays, "points", "f", ndim=2, columns=dim)
+        kwargs: dict[str, Any] = {"points": points}
         for f in fields(cast(Any, cls)):
-            if f.init:
-                v = arrays[f.name]
+            if not f.init or f.name == "points":
+                continue
+            if f.name == "design_name":
+                kwargs[f.name] = str(stored_array(arrays, f.name, "U", ndim=0))
+            elif f.name == "size":
+                kwargs[f.name] = float(stored_array(arrays, f.name, "f", ndim=0))
+            elif f.name in ("order", "n_sectors"):
+                kwargs[f.name] = int(stored_array(arrays, f.name, "iu", ndim=0))
+            else:  # connectivity and node sets: indices of the points
+                columns = _STORED_COLUMNS[dim].get(f.name)
+                ndim = 2 if columns else (0 if f.name == "contact_node" else 1)
+                v = stored_array(arrays, f.name, "iu", ndim=ndim, columns=columns, index_below=len(points))
                 kwargs[f.name] = v.item() if v.ndim == 0 else v
+        if kwargs["order"] not in (1, 2):
+            raise ValueError(f"stored mesh of order {kwargs['order']}")
         return cls(**kwargs)
 
 

@@ -14,7 +14,7 @@ as (mass, stiffness, damping, nodal diameters) at the contact.
 All quantities are SI (m, s, kg, N, Pa, W, Hz).
 """
 
-from ._engine import load_compiled_kernels
+from ._engine import CompiledCodeNotKept, load_compiled_kernels
 from .contact import HertzContact, hertz_contact, kalker_c22
 from .counter_body import (
     LATERAL,
@@ -96,6 +96,7 @@ __all__ = [
     "choose_method",
     "simulate",
     "simulate_reference",
+    "CompiledCodeNotKept",
     "load_compiled_kernels",
     "Cycles",
     "LimitCycle",

@@ -18,6 +18,8 @@ from __future__ import annotations
 import dataclasses
 import functools
 import types
+import warnings
+from collections.abc import Callable
 from typing import Any
 
 from . import _exponential, _kernels
@@ -65,10 +67,45 @@ class _Interpreted:
 _INTERPRETED = _Interpreted()
 
 
+class CompiledCodeNotKept(UserWarning):
+    """numba could not write a kernel's machine code into its cache folder (a full disk,
+    no permission): the kernel runs all the same, and the next process compiles it again.
+    ``error`` is the failed write's ``OSError``."""
+
+    def __init__(self, error: OSError) -> None:
+        why = error.strerror or error
+        super().__init__(f"the compiled kernels cannot be kept ({why}); they run all the same")
+        self.error = error
+
+
+def _kept_or_not(dispatcher: Any) -> Callable[..., Any]:
+    """``dispatcher`` whose failure to save its machine code is a warning, not an error.
+
+    numba adds a compiled overload to its dispatcher before it saves it, and lets the
+    save's ``OSError`` out of the call; called again, the dispatcher finds the overload.
+    A kernel that calls others compiles them first, each of which may fail once: at most
+    one retry per kernel, then the error is real."""
+
+    @functools.wraps(dispatcher.py_func)
+    def call(*args: Any) -> Any:
+        for attempt in range(len(_KERNELS) + 1):
+            try:
+                return dispatcher(*args)
+            except OSError as exc:
+                if attempt == len(_KERNELS):
+                    raise
+                if attempt == 0:
+                    warnings.warn(CompiledCodeNotKept(exc), stacklevel=2)
+        raise AssertionError("unreachable")
+
+    return call
+
+
 @functools.cache
 def compiled() -> types.SimpleNamespace:
     """The numba-compiled twins of :mod:`reduced._kernels` (cache=True), made once per
-    process: each twin is the kernel's own code with its calls bound to the other twins."""
+    process: each twin is the kernel's own code with its calls bound to the other twins,
+    and a failure to keep its machine code is a warning (:class:`CompiledCodeNotKept`)."""
     import numba
 
     namespace = {k: v for m in _MODULES for k, v in vars(m).items()} | {"prange": numba.prange}
@@ -79,7 +116,7 @@ def compiled() -> types.SimpleNamespace:
         twin.__doc__ = kernel.__doc__
         # nogil: a stop signal's watcher thread can run while a long kernel does
         namespace[name] = numba.njit(cache=True, parallel=parallel, nogil=True)(twin)
-    return types.SimpleNamespace(**{name: namespace[name] for name in _KERNELS})
+    return types.SimpleNamespace(**{name: _kept_or_not(namespace[name]) for name in _KERNELS})
 
 
 def load_compiled_kernels() -> None:

@@ -8,13 +8,17 @@ import subprocess
 import sys
 from pathlib import Path
 
-# numba's machine code in one folder for the whole session (the tool's default stage cache's),
-# unless the user set one: else the first test's sandbox cache would take it, cold, and each
-# worker compile the kernels anew (six seconds in its first test of the time domain)
-if not os.environ.get("NUMBA_CACHE_DIR", "").strip():
-    from wheel_squeal.cache import COMPILED_FOLDER, default_cache_root
+# The libraries' own files (numba's machine code, matplotlib's font list, Mesa's shaders) in
+# one folder for the whole session, the tool's default stage cache's, unless the user set
+# one: else the first test's sandbox cache would take them, cold, and each worker compile the
+# kernels anew (six seconds in its first test of the time domain); and a command run in this
+# process would point them into a sandbox that is removed after its test.
+from wheel_squeal.cache import default_cache_root  # noqa: E402
+from wheel_squeal.library_folders import LIBRARY_FOLDERS  # noqa: E402
 
-    os.environ["NUMBA_CACHE_DIR"] = str(default_cache_root() / COMPILED_FOLDER)
+for _module, _variable, _name in LIBRARY_FOLDERS.values():
+    if not os.environ.get(_variable, "").strip():
+        os.environ[_variable] = str(default_cache_root() / "libraries" / _name)
 
 if "PYTEST_XDIST_WORKER" in os.environ:  # the workers share the cores: one thread each
     for _var in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS", "NUMBA_NUM_THREADS"):

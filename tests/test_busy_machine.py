@@ -323,7 +323,8 @@ def test_a_full_disk_is_one_line_and_the_earlier_result_stays(tmp_path):
 
 
 def test_enospc_anywhere_is_one_line(tmp_path, monkeypatch, capsys):
-    import wheel_squeal.outputs as outputs
+    import wheel_squeal.cli.commands  # noqa: F401 (every command's module bound to the real
+    import wheel_squeal.outputs as outputs  # writer first: one imported under the patch keeps the fake)
 
     (tmp_path / "o").mkdir()
     (tmp_path / "o" / ".wheel-squeal-result").write_text("{}")

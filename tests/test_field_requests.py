@@ -109,13 +109,14 @@ def test_numba_keeps_its_compiled_code_in_the_cache(tmp_path, monkeypatch):
     code = (
         f"import sys, os; sys.path.insert(0, {str(ROOT)!r})\n"
         "from wheel_squeal.cache import StageCache\n"
-        f"StageCache({str(tmp_path / 'cache')!r})\n"
+        "from wheel_squeal.library_folders import keep_library_files\n"
+        f"keep_library_files(StageCache({str(tmp_path / 'cache')!r}))\n"
         "import numba; print(os.environ.get('NUMBA_CACHE_DIR'), numba.config.CACHE_DIR)\n"
     )
     env = {k: v for k, v in os.environ.items() if k != "NUMBA_CACHE_DIR"}
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=env, timeout=60)
     assert out.returncode == 0, out.stderr
-    assert out.stdout.split() == [str(tmp_path / "cache" / "compiled")] * 2
+    assert out.stdout.split() == [str(tmp_path / "cache" / "libraries" / "numba")] * 2
     env["NUMBA_CACHE_DIR"] = str(tmp_path / "mine")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=env, timeout=60)
     assert out.stdout.split() == [str(tmp_path / "mine")] * 2

@@ -30,7 +30,7 @@ import wheel_squeal.folders as folders
 from geometry import WheelDesign
 from geometry.design import SECTIONS
 from wheel_squeal.budget import Budget
-from wheel_squeal.cache import COMPILED_FOLDER, StageCache
+from wheel_squeal.cache import LIBRARIES_FOLDER, StageCache
 from wheel_squeal.cache import MARKER as CACHE_MARKER
 from wheel_squeal.design import FIELDS
 from wheel_squeal.errors import BudgetError, RequestError
@@ -312,7 +312,7 @@ def test_cache_of_a_concurrent_run_before_its_first_store_is_accepted(tmp_path):
     ``compiled`` before its first store writes the marker; the second must not take the
     folder for a user's."""
     root = tmp_path / "cache"
-    (root / COMPILED_FOLDER).mkdir(parents=True)
+    (root / LIBRARIES_FOLDER / "numba").mkdir(parents=True)
     StageCache(root).store("modes", {"k": 1}, {"a": np.arange(3.0)})
     assert (root / CACHE_MARKER).is_file()
 

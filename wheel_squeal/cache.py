@@ -29,21 +29,27 @@ entry is written straight from its arrays to the file (no copy of it in memory).
 from __future__ import annotations
 
 import contextlib
+import errno
 import hashlib
 import json
+import math
 import os
 import re
+import shutil
+import stat
 import sys
 import time
+import typing
 import zipfile
 from collections.abc import Callable
 from pathlib import Path
-from typing import Any
+from typing import Any, TypeVar
 
 import numpy as np
 
 from geometry.files import atomic_file, write_atomic
 
+from .entry_reading import checksum, entry_bytes, is_regular, read_entry, read_small, shown
 from .errors import RequestError
 
 __all__ = [
@@ -53,7 +59,7 @@ __all__ = [
     "ENV_VAR",
     "MARKER",
     "StageCache",
-    "keep_compiled_code_in",
+    "LIBRARIES_FOLDER",
     "default_cache_root",
     "parse_size",
 ]
@@ -80,19 +86,10 @@ _TMP = re.compile(r"[0-9a-f]{32}\.npz\..+\.tmp")
 _LEGACY_STAGES = {"mesh2d", "mesh3d", "modes", "views"}
 
 
-#: The cache's folder of numba's machine code for the squeal model's kernels, and the
-#: environment variable numba reads it from
-COMPILED_FOLDER, NUMBA_CACHE_ENV = "compiled", "NUMBA_CACHE_DIR"
-
-
-def keep_compiled_code_in(folder: Path) -> None:
-    """Have numba keep the kernels' machine code in ``folder`` (the stage cache's) instead
-    of beside the installed package, which may be read-only and is not the tool's to
-    write. Set before numba is imported (it reads the variable then); a
-    ``NUMBA_CACHE_DIR`` the user set is left as it is."""
-    if "numba" in sys.modules or os.environ.get(NUMBA_CACHE_ENV, "").strip():
-        return
-    os.environ[NUMBA_CACHE_ENV] = str(folder)
+#: The folder of the libraries' own caches (numba's compiled kernels, matplotlib's font
+#: list, Mesa's shaders: ``wheel_squeal.library_folders``), and the folder an earlier
+#: version kept numba's kernels in (a cache that holds it is still a cache)
+LIBRARIES_FOLDER, LEGACY_COMPILED_FOLDER = "libraries", "compiled"
 
 
 def default_cache_root() -> Path:
@@ -117,28 +114,8 @@ def parse_size(text: str) -> int:
     return int(size)
 
 
-def _human(n: float) -> str:
-    return f"{n / 1e9:.2f} GB" if n >= 1e9 else f"{n / 1e6:.1f} MB"
-
-
 class CacheMiss(Exception):
     """No usable entry for the key (absent, corrupt or foreign)."""
-
-
-def _checksum(arrays: dict[str, np.ndarray]) -> str:
-    h = hashlib.sha256()
-    for k in sorted(arrays):
-        a = np.ascontiguousarray(arrays[k])
-        h.update(k.encode())
-        h.update(str(a.dtype).encode())
-        h.update(str(a.shape).encode())
-        h.update(a.reshape(-1).view(np.uint8).data if a.size else b"")  # the buffer itself, no copy
-    return h.hexdigest()
-
-
-def entry_bytes(arrays: dict[str, np.ndarray]) -> int:
-    """The size an entry of ``arrays`` takes on disk, near enough [bytes]."""
-    return sum(int(np.asarray(a).nbytes) + 256 for a in arrays.values()) + 4096
 
 
 class StageCache:
@@ -162,7 +139,6 @@ class StageCache:
         if enabled:
             self._check_root()
             self.max_bytes  # noqa: B018 (a bad $WHEEL_SQUEAL_CACHE_SIZE is refused before any work)
-            keep_compiled_code_in(self.root / COMPILED_FOLDER)
 
     # -- the root -----------------------------------------------------------------------
     def _check_root(self) -> None:
@@ -177,9 +153,9 @@ class StageCache:
                 children = {c.name for c in os.scandir(root)}
             except OSError as exc:
                 raise RequestError(f"cache folder {root} cannot be read ({exc.strerror})") from None
-            # numba may write the kernels' machine code before this process's first store
-            # writes the marker: a concurrent run's ``compiled`` folder is ours too
-            if children - _LEGACY_STAGES - {COMPILED_FOLDER}:
+            # a concurrent run may have made the libraries' folder before its first store
+            # writes the marker: that folder is ours too
+            if children - _LEGACY_STAGES - {LIBRARIES_FOLDER, LEGACY_COMPILED_FOLDER}:
                 raise RequestError(
                     f"cache folder {root} is not empty and not a wheel-squeal cache (no {MARKER}): "
                     f"choose an empty or new folder for the cache"
@@ -187,23 +163,42 @@ class StageCache:
 
     def _ensure_root(self) -> bool:
         """Create the root and its marker on the first store; False if it cannot be."""
-        if (self.root / MARKER).is_file():
+        if is_regular(self.root / MARKER):
             return True
         try:
             self.root.mkdir(parents=True, exist_ok=True)
-            (self.root / MARKER).write_text(json.dumps({"tool": ENTRY_TOOL}) + "\n")
+            write_atomic(self.root / MARKER, json.dumps({"tool": ENTRY_TOOL}) + "\n")
         except OSError as exc:
-            self._cannot_store(exc)
+            self.cannot_store(exc)
             return False
         return True
 
-    def _cannot_store(self, exc: OSError) -> None:
+    def cannot_store(self, exc: OSError) -> None:
+        """The one path of every write that failed (an entry, the marker, a library's
+        own cache): the first gives one warning, and the run goes on without storing."""
         if self.writable:
             self.warn(
                 f"cache folder {self.root} cannot be written ({exc.strerror or exc}); "
                 "going on without storing results"
             )
         self.writable = False
+
+    def folder(self, name: str) -> Path | None:
+        """The cache's own folder ``name`` below :data:`LIBRARIES_FOLDER` (a library's
+        cache), made if need be; None where the cache is off or cannot be written (after
+        :meth:`cannot_store`'s one warning), or where the folder is a link (never followed)."""
+        if not (self.enabled and self.writable and self._ensure_root()):
+            return None
+        path = self.root / LIBRARIES_FOLDER / name
+        try:
+            for p in (path.parent, path):
+                p.mkdir(exist_ok=True)
+                if not stat.S_ISDIR(os.lstat(p).st_mode):
+                    return None
+        except OSError as exc:
+            self.cannot_store(exc)
+            return None
+        return path
 
     # -- entries ------------------------------------------------------------------------
     @staticmethod
@@ -213,9 +208,24 @@ class StageCache:
     def path(self, stage: str, key: dict) -> Path:
         return self.root / stage / f"{self.digest(key)[:32]}.npz"
 
-    def load(self, stage: str, key: dict) -> dict[str, np.ndarray]:
-        """The entry's arrays; raises :class:`CacheMiss` (after one warning if the entry
-        exists but is unusable)."""
+    @typing.overload
+    def load(self, stage: str, key: dict) -> dict[str, np.ndarray]: ...
+
+    @typing.overload
+    def load(self, stage: str, key: dict, read: Callable[[dict[str, np.ndarray]], T]) -> T: ...
+
+    def load(self, stage: str, key: dict, read: Callable[[dict[str, np.ndarray]], Any] | None = None) -> Any:
+        """The entry's arrays, or what ``read`` makes of them; raises :class:`CacheMiss`.
+
+        An entry is input that anyone who can write the cache could have made, so it is
+        read as untrusted: a regular file only (a link, a pipe or a device is never
+        opened, nor is a stage folder that is a link), at most the cache's size limit, an
+        uncompressed archive of plain arrays whose every header (type, shape, size) is
+        checked before its data is read, its key and checksum, and then ``read`` (the
+        record's own checks: a ``ValueError``, ``KeyError``, ``TypeError`` or
+        ``IndexError`` there means the entry does not hold what its stage holds). An
+        entry that fails any of these is corrupt: one warning, and the stage is
+        computed again."""
         if not self.enabled:
             raise CacheMiss
         p = self.path(stage, key)
@@ -223,21 +233,22 @@ class StageCache:
             self.misses.append(stage)
             raise CacheMiss
         try:
-            with np.load(p, allow_pickle=False) as z:
-                arrays = {k: z[k] for k in z.files}
+            arrays = read_entry(p, self.max_bytes)
             meta = json.loads(str(arrays.pop("__meta__")))
-            if meta.get("key") != key:
+            if not isinstance(meta, dict) or meta.get("key") != key:
                 raise ValueError("entry belongs to another key")
-            if meta.get("checksum") != _checksum(arrays):
+            if meta.get("checksum") != checksum(arrays):
                 raise ValueError("checksum mismatch")
-        except (OSError, ValueError, KeyError, zipfile.BadZipFile, EOFError) as exc:
-            self.warn(f"cache entry {p} is corrupt or foreign ({exc}); recomputing {stage}")
+            value = arrays if read is None else read(arrays)
+        except (OSError, ValueError, KeyError, TypeError, IndexError, zipfile.BadZipFile, EOFError) as exc:
+            reason = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
+            self.warn(f"cache entry {p} is corrupt or foreign ({shown(reason)}); recomputing {stage}")
             self.misses.append(stage)
             raise CacheMiss from None
         self.hits.append(stage)
         with contextlib.suppress(OSError):
-            os.utime(p)  # recently used: the last to be evicted
-        return arrays
+            os.utime(p, follow_symlinks=False)  # recently used: the last to be evicted
+        return value
 
     def store(self, stage: str, key: dict, arrays: dict[str, np.ndarray]) -> None:
         """Store an entry atomically; a cache that cannot be written is warned about once."""
@@ -256,34 +267,38 @@ class StageCache:
         if not self._ensure_root():
             return
         p = self.path(stage, key)
-        meta = json.dumps({"tool": ENTRY_TOOL, "key": key, "checksum": _checksum(arrays)})
+        meta = json.dumps({"tool": ENTRY_TOOL, "key": key, "checksum": checksum(arrays)})
         payload: dict[str, Any] = {"__meta__": np.array(meta), **arrays}
         try:
             p.parent.mkdir(exist_ok=True)
+            if not stat.S_ISDIR(os.lstat(p.parent).st_mode):  # a link planted for the folder
+                raise OSError(errno.ENOTDIR, "the stage folder is not a folder", str(p.parent))
             with atomic_file(p) as f:
                 np.savez(f, **payload)
         except OSError as exc:
-            self._cannot_store(exc)
+            self.cannot_store(exc)
             return
         self.evict()
 
     # -- housekeeping -------------------------------------------------------------------
     def _entries(self) -> list[Path]:
-        if not (self.root / MARKER).is_file() and not self.root.is_dir():
+        if not self.root.is_dir():
             return []
         out = []
-        for stage_dir in sorted(p for p in self.root.iterdir() if p.is_dir() and not p.is_symlink()):
+        for stage_dir in sorted(_stage_dirs(self.root)):
             out += [
-                f
-                for f in sorted(stage_dir.iterdir())
-                if f.is_file() and _ENTRY.fullmatch(f.name) and _is_entry(f)
+                Path(stage_dir) / name
+                for name in sorted(os.listdir(stage_dir))
+                if _ENTRY.fullmatch(name)
+                and is_regular(Path(stage_dir) / name)
+                and _is_entry(Path(stage_dir) / name)
             ]
         return out
 
     def info(self) -> tuple[int, int]:
         """(number of entries, their total size in bytes)."""
         entries = self._entries()
-        return len(entries), sum(f.stat().st_size for f in entries)
+        return len(entries), sum(f.lstat().st_size for f in entries)
 
     # -- size --------------------------------------------------------------------------
     @property
@@ -297,7 +312,7 @@ class StageCache:
             except RequestError as exc:
                 raise RequestError(f"{ENV_SIZE}={env!r}: {exc}") from None
         try:
-            own = json.loads((self.root / MARKER).read_text()).get("max_bytes")
+            own = json.loads(read_small(self.root / MARKER)).get("max_bytes")
         except (OSError, ValueError, AttributeError):
             own = None
         return int(own) if isinstance(own, int | float) and own >= 1e6 else DEFAULT_MAX_BYTES
@@ -309,7 +324,7 @@ class StageCache:
             raise RequestError(f"cache folder {self.root} cannot be written")
         marker = self.root / MARKER
         try:
-            data = json.loads(marker.read_text())
+            data = json.loads(read_small(marker))
         except (OSError, ValueError):
             data = {}
         data = {**(data if isinstance(data, dict) else {}), "tool": ENTRY_TOOL, "max_bytes": int(max_bytes)}
@@ -351,7 +366,7 @@ class StageCache:
         not a cache (no marker); leaves anything else in it where it is."""
         if not self.root.exists():
             return 0
-        marked = (self.root / MARKER).is_file()
+        marked = is_regular(self.root / MARKER)
         if not marked:
             self._check_root()  # refuses a folder that is not (even an unmarked) cache
         n = 0
@@ -359,9 +374,12 @@ class StageCache:
             for f in self._entries():
                 f.unlink()
                 n += 1
-            for stage_dir in [p for p in self.root.iterdir() if p.is_dir() and not p.is_symlink()]:
+            for stage_dir in map(Path, _stage_dirs(self.root)):
+                if stage_dir.name in (LIBRARIES_FOLDER, LEGACY_COMPILED_FOLDER):
+                    shutil.rmtree(stage_dir)  # the libraries' own caches: the tool made them
+                    continue
                 for f in stage_dir.iterdir():
-                    if f.is_file() and _TMP.fullmatch(f.name):
+                    if _TMP.fullmatch(f.name) and is_regular(f):
                         f.unlink()
                 with contextlib.suppress(OSError):
                     stage_dir.rmdir()
@@ -390,10 +408,13 @@ def _is_entry(path: Path) -> bool:
     its metadata says so, or it is damaged beyond reading (a corrupt entry). A readable
     array file without the metadata is somebody else's and stays."""
     try:
-        with np.load(path, allow_pickle=False) as z:
-            if "__meta__" not in z.files:
-                return False
-            meta = json.loads(str(z["__meta__"]))
-    except (OSError, ValueError, KeyError, zipfile.BadZipFile, EOFError):
+        arrays = read_entry(path, math.inf, only="__meta__")
+        if "__meta__" not in arrays:
+            return False
+        meta = json.loads(str(arrays["__meta__"]))
+    except (OSError, ValueError, KeyError, TypeError, zipfile.BadZipFile, EOFError):
         return True
     return isinstance(meta, dict) and "key" in meta and "checksum" in meta
+
+
+T = TypeVar("T")

@@ -47,19 +47,23 @@ class StopState:
     it), the time budget the alarm was armed with [s], whether a stop is held back until
     the work under way ends (:func:`uninterrupted`), and whether a result is being or has
     been committed (:func:`committing`: a stop then ends nothing; ``retiring``: an
-    earlier result still being removed)."""
+    earlier result still being removed), and the temporary folders the command made that
+    a stop must remove too (``temporary_folders``: the libraries' files under
+    ``--no-cache``)."""
 
     received: list[int] = field(default_factory=list)
     budget_s: float | None = None
     holding: bool = False
     committed: bool = False
     retiring: bool = False
+    temporary_folders: list[str] = field(default_factory=list)
 
     def reset(self) -> None:
         """A new command in this process (the tests run several)."""
         self.received.clear()
         self.budget_s = None
         self.holding = self.committed = self.retiring = False
+        self.temporary_folders.clear()
 
 
 STATE = StopState()

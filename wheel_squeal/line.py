@@ -294,6 +294,22 @@ def run_line_job(job: LineJob, context: RunContext | None = None) -> dict:
     return {"status": "ok", "reason": "", "curves": states}
 
 
+def check_line_result(result: dict, radii: int) -> None:
+    """A stored line task's ``result`` (:func:`run_line_job`) as the line reads it: one
+    state per radius of its job, each a flag and a pass-by (``ValueError``, ``KeyError``
+    or ``TypeError`` where it is not)."""
+    from acoustics.emission import HeardPassby
+
+    curves = result["curves"]
+    if not isinstance(curves, list) or len(curves) != radii:
+        raise ValueError("a stored line task does not hold one state per radius")
+    for state in curves:
+        if not isinstance(state["squeals"], bool):
+            raise ValueError("a stored line task's flag is not one")
+        if state["heard"] is not None:
+            HeardPassby.from_dict(state["heard"])
+
+
 def line(
     design: Design,
     curves: Sequence[LineCurve],
@@ -358,7 +374,7 @@ def line(
         }
         for j, _ in jobs
     ]
-    results = stored_results(keys, ctx.cache)
+    results = stored_results(keys, ctx.cache, lambda i, r: check_line_result(r, len(jobs[i][0].radii_m)))
     # the tightest curves first (their squeals' balance and sound cost most), so that no
     # worker is left alone with one at the end
     missing = sorted((i for i, r in enumerate(results) if r is None), key=lambda i: min(jobs[i][0].radii_m))

@@ -17,6 +17,7 @@ from geometry import WheelDesign
 from .budget import MAX_FILE_BYTES, Budget
 from .cache import CacheMiss, StageCache
 from .design import Design, as_design
+from .entry_reading import kept_files
 from .errors import RequestError
 from .interrupts import uninterrupted
 from .presets import DEFAULT_FIDELITY, DEFAULT_FMAX_HZ, FIDELITIES, Fidelity, fidelity_for
@@ -310,7 +311,7 @@ def mode_views(
     }
     if cache is not None:
         try:
-            return {name: arr.tobytes() for name, arr in cache.load("views", key).items()}
+            return cache.load("views", key, kept_files)  # plain file names only: written as they are
         except CacheMiss:
             pass
     from fem.render import mode_file_stem, render_mode, write_modes_vtu

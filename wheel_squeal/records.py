@@ -13,6 +13,8 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from geometry.files import printable, stored_array
+
 from .cache import CacheMiss, StageCache
 from .provenance import code_version
 
@@ -86,6 +88,32 @@ def store_record(cache: StageCache, key: dict[str, Any], history: TimeHistory) -
     cache.store(RECORD_STAGE, key, arrays)
 
 
+#: The series over the record's times ``t`` and over its modes' times ``t_modes``
+_OVER_T = ("y", "v", "creepage", "Q", "P", "u_n", "N", "v_body")
+
+
+def _checked_series(arrays: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
+    """A kept record's arrays, checked before use (a cache entry is untrusted input):
+    finite float series of the lengths of their times, and the scalars."""
+    t = stored_array(arrays, "t", "f", ndim=1)
+    t_modes = stored_array(arrays, "t_modes", "f", ndim=1) if "t_modes" in arrays else t
+    for name in ("y", "v", "creepage", "Q", "P", "y_modes", "v_modes"):
+        arrays[name]  # noqa: B018 (a KeyError: the entry lacks a series every record has)
+    for name in SERIES:
+        if name in arrays and name not in ("t", "t_modes"):
+            a = stored_array(arrays, name, "f", ndim=1 if name in _OVER_T else 2)
+            if len(a) != (len(t) if name in _OVER_T else len(t_modes)):  # time along the first axis
+                raise ValueError(f"kept series {name!r} is not over its record's times")
+    if not float(stored_array(arrays, "step_s", "f", ndim=0)) > 0:
+        raise ValueError("a kept record's step is not positive")
+    if not printable(str(stored_array(arrays, "method", "U", ndim=0))):
+        raise ValueError("a kept record's method is not a name")
+    mismatch = arrays["energy_mismatch_j"]  # NaN where the method does not measure it
+    if not (isinstance(mismatch, np.ndarray) and mismatch.dtype.kind == "f" and mismatch.ndim == 0):
+        raise ValueError("a kept record's energy mismatch is not a number")
+    return arrays
+
+
 def load_record(
     cache: StageCache,
     key: dict[str, Any],
@@ -101,7 +129,7 @@ def load_record(
     from reduced.model import coordinates
 
     try:
-        arrays = cache.load(RECORD_STAGE, key)
+        arrays = cache.load(RECORD_STAGE, key, _checked_series)
     except CacheMiss:
         return None
     series: dict[str, Any] = {name: arrays.get(name) for name in SERIES}

@@ -10,12 +10,17 @@ from __future__ import annotations
 
 import hashlib
 import json
+import os
+import stat
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
+from geometry.files import MAX_TEXT_BYTES
+
 from .cache import CacheMiss, StageCache
+from .entry_reading import kept_files
 from .provenance import CODE_PACKAGES, code_version, library_versions
 
 __all__ = ["RESULT_STAGE", "restore_result", "result_key", "store_result"]
@@ -31,16 +36,32 @@ TEXT = "__stdout__"
 
 
 def _value(x: Any) -> Any:
-    """A JSON value for an argument; a file it names by its content's hash too."""
-    if isinstance(x, (bool, int, float, str)) or x is None:
-        if isinstance(x, str) and Path(x).is_file():
-            return {"file": x, "sha256": hashlib.sha256(Path(x).read_bytes()).hexdigest()}
-        return x
+    """A JSON value for an argument; a file argument (the parser's ``type=Path``) by its
+    content's hash too. Only a file argument is read, and only a regular file within the
+    input files' size limit: a larger one, or a pipe or a device, is refused by its own
+    reader, whatever the key says."""
     if isinstance(x, Path):
-        return _value(str(x))
+        digest = _file_digest(x)
+        return str(x) if digest is None else {"file": str(x), "sha256": digest}
+    if isinstance(x, (bool, int, float, str)) or x is None:
+        return x
     if isinstance(x, (list, tuple)):
         return [_value(v) for v in x]
     return repr(x)
+
+
+def _file_digest(path: Path) -> str | None:
+    """The SHA-256 of the regular file ``path`` of at most :data:`MAX_TEXT_BYTES`; None
+    for anything else (no file, a folder, a pipe, a device, too large)."""
+    try:
+        fd = os.open(path, os.O_RDONLY | os.O_NONBLOCK)
+    except OSError:
+        return None
+    with os.fdopen(fd, "rb") as f:
+        st = os.fstat(fd)
+        if not stat.S_ISREG(st.st_mode) or st.st_size > MAX_TEXT_BYTES:
+            return None
+        return hashlib.sha256(f.read(MAX_TEXT_BYTES + 1)).hexdigest()
 
 
 def result_key(command: str, args: dict[str, Any], design_hash: str) -> dict[str, Any]:
@@ -76,17 +97,24 @@ def restore_result(
     """Put the kept result's files into ``folder`` (its summary.json with this request's
     ``timings_s`` and cache use) and return its printed text; None: not kept."""
     try:
-        arrays = cache.load(RESULT_STAGE, key)
+        files = cache.load(RESULT_STAGE, key, _kept_result)
     except CacheMiss:
         return None
-    for name, data in arrays.items():
-        if name == TEXT:
-            continue
-        payload = data.tobytes()
+    text = files.pop(TEXT).decode()
+    for name, payload in files.items():
         if name == "summary.json":
             summary = json.loads(payload)
             summary["timings_s"] = timings_s
             summary["cache"] = {"hits": [RESULT_STAGE], "misses": []}
             payload = (json.dumps(summary, indent=2) + "\n").encode()
         (folder / name).write_bytes(payload)
-    return arrays[TEXT].tobytes().decode()
+    return text
+
+
+def _kept_result(arrays: dict[str, np.ndarray]) -> dict[str, bytes]:
+    """A kept result's files and printed text, checked before any is written or shown
+    (:func:`.cache.kept_files`: plain names within the result, printable text)."""
+    files = kept_files(arrays, text=TEXT)
+    if "summary.json" in files and not isinstance(json.loads(files["summary.json"]), dict):
+        raise ValueError("the kept summary.json is not a summary")
+    return files

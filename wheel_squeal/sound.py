@@ -19,6 +19,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from acoustics.tone import Radiation, Sound
+from geometry.files import stored_array
 
 from .cache import CacheMiss, StageCache
 from .context import memo_get, memo_put
@@ -226,7 +227,7 @@ def _unit_radiation(
             field = None
         if field is not None:
             try:
-                at = cache.load("sound-at", at_key)
+                at = cache.load("sound-at", at_key, _checked_at)
                 return Radiation(
                     field, complex(at["microphone_pressure"][0]), at["ring_pressure"], at["directivity"]
                 )
@@ -252,6 +253,16 @@ def _unit_radiation(
         cache.store("sound", key, field.to_arrays())
         cache.store("sound-at", at_key, _at_arrays(rad))
     return rad
+
+
+def _checked_at(arrays: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
+    """A kept radiation's values at its microphone, checked before use (the cache is
+    untrusted input): finite pressures of the shapes :func:`_at_arrays` stores."""
+    if stored_array(arrays, "microphone_pressure", "fc", ndim=1).shape != (1,):
+        raise ValueError("the kept microphone pressure is not one value")
+    stored_array(arrays, "ring_pressure", "fc", ndim=1)
+    stored_array(arrays, "directivity", "fc", ndim=(1, 2))
+    return arrays
 
 
 def _at_arrays(rad: Radiation) -> dict[str, np.ndarray]:

@@ -9,6 +9,7 @@ Anything else is a bug: its traceback is shown, exit status 1.
 
 from __future__ import annotations
 
+import argparse
 import contextlib
 import errno
 import os
@@ -16,11 +17,14 @@ import re
 import signal
 import sys
 import warnings
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
+from typing import Any
 
 from geometry import DesignError
 
+from ..cache import StageCache
 from ..errors import BudgetExhausted, RequestError
+from ..library_folders import LibraryFolders, keep_library_files
 from ..plotting import plot_workers
 from ..study.pool import keep_freed_memory
 from .parser import DRAWING_COMMANDS, build_parser
@@ -54,6 +58,21 @@ def _one_line_warning(
     print(f"warning: {str(message).splitlines()[0]}", file=sys.stderr)
 
 
+def _warnings_for(cache: StageCache | None) -> Callable[..., None]:
+    """How the command shows a warning: in one line; a cache write of a library (numba's
+    compiled kernels, whose folder is in the cache) that failed goes the cache's one way
+    for failed writes, so that a full cache gives one warning, not one per writer."""
+
+    def show(message: Warning | str, category: type[Warning], *rest: Any, **kw: Any) -> None:
+        error = getattr(message, "error", None)
+        if cache is not None and cache.enabled and category.__name__ == "CompiledCodeNotKept":
+            cache.cannot_store(error if isinstance(error, OSError) else OSError(str(message)))
+            return
+        _one_line_warning(message, category, *rest, **kw)
+
+    return show
+
+
 #: Errors of the file system that end a command in one line (exit status 1): the disk or
 #: the quota is full, or a file would exceed the largest size allowed.
 _FULL = (errno.ENOSPC, errno.EDQUOT, errno.EFBIG)
@@ -83,9 +102,19 @@ def main(
         # go straight to EGL (off-screen) so the terminal stays clean.
         os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkEGLRenderWindow")
     draws = args.command in DRAWING_COMMANDS
+    libraries: LibraryFolders | None = None
     try:  # around the plot process too: a stop may land while it shuts down
-        with warnings.catch_warnings(), plot_workers() if draws else contextlib.nullcontext() as plots:
+        with contextlib.ExitStack() as stack:
+            stack.enter_context(warnings.catch_warnings())
             warnings.showwarning = _one_line_warning
+            # the libraries' own files go into the cache before any library is loaded (the
+            # plot process loads matplotlib and VTK as it starts)
+            cache = _stage_cache(args)
+            warnings.showwarning = _warnings_for(cache)
+            libraries = keep_library_files(cache)
+            if libraries.temporary is not None:
+                STATE.temporary_folders.append(str(libraries.temporary))
+            plots = stack.enter_context(plot_workers()) if draws else None
             from .commands import COMMANDS  # after the plot process started: it imports meanwhile
             from .common import settings_of
 
@@ -101,7 +130,18 @@ def main(
     finally:
         if alarm:
             signal.setitimer(signal.ITIMER_REAL, 0.0)
+        if libraries is not None:
+            libraries.remove()
     return status
+
+
+def _stage_cache(args: argparse.Namespace) -> StageCache | None:
+    """The command's stage cache, made once here so that the libraries' folders can be in
+    it (``cli.common.cache_of`` returns the same one); None for a command without one."""
+    if not hasattr(args, "cache_dir"):
+        return None
+    cache = args._cache = StageCache(args.cache_dir, enabled=not getattr(args, "no_cache", False))
+    return cache
 
 
 #: The settings the application's messages name in the API's words, and the flag a

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import contextlib
 import os
+import shutil
 import signal
 import sys
 import threading
@@ -135,6 +136,8 @@ def install_stop_handlers() -> None:
         from ..folders import ResultFolder
 
         ResultFolder.discard_all()
+        for folder in STATE.temporary_folders:
+            shutil.rmtree(folder, ignore_errors=True)
         if STATE.committed:  # the result is complete: the request ended as asked
             with contextlib.suppress(OSError, ValueError):
                 sys.stdout.flush()

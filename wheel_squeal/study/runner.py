@@ -11,6 +11,7 @@ a dask scheduler reschedules the tasks of a lost worker itself.
 
 from __future__ import annotations
 
+import functools
 import json
 import os
 from collections.abc import Callable, Sequence
@@ -18,10 +19,13 @@ from typing import Any
 
 import numpy as np
 
+from geometry.files import printable, stored_array
+
 from ..api import check_modes_budget
 from ..budget import Budget, usable_cores
 from ..cache import CacheMiss, StageCache
 from ..errors import RequestError
+from ..output_files import FLAG_FIELDS, LABEL_FIELDS, RESULT_FIELDS
 from ..plan import estimate_study, study_plan
 from ..presets import fidelity_for
 from ..progress import Progress
@@ -129,7 +133,8 @@ def case_results(
         check_time(n_local, spec.n_cases)  # nothing stored: refused before its cases are made
     cases = spec.cases()
     keys = [_case_key(base, c.changes) for c in cases]
-    results = stored_results(keys, cache)
+    grid = (len(spec.crabbing_velocities_m_s), len(spec.rpm))
+    results = stored_results(keys, cache, lambda i, r: check_case_result(r, grid))
     todo = [i for i, r in enumerate(results) if r is None]
     if not scheduler:
         check_time(n_local, len(todo))
@@ -191,16 +196,52 @@ def store_result(cache: StageCache | None, key: dict, result: dict) -> None:
         cache.store("study", key, {"result": np.array(json.dumps(result))})
 
 
-def stored_results(keys: list[dict], cache: StageCache | None) -> list[dict | None]:
-    """The results of an earlier run of the same cases (None where there is none)."""
+def stored_results(
+    keys: list[dict], cache: StageCache | None, check: Callable[[int, dict], None] | None = None
+) -> list[dict | None]:
+    """The results of an earlier run of the same tasks (None where there is none).
+
+    A stored result is read as untrusted (the cache is anyone's who can write it): a JSON
+    object with a text ``status`` and ``reason``, and a finished one (``status`` "ok")
+    what ``check(i, result)`` accepts for task ``i`` (it raises ``ValueError``,
+    ``KeyError`` or ``TypeError`` otherwise); one that is not is a corrupt entry,
+    computed again."""
     results: list[dict | None] = [None] * len(keys)
-    if cache is not None:
-        for i, key in enumerate(keys):
-            try:
-                results[i] = json.loads(str(cache.load("study", key)["result"]))
-            except CacheMiss:
-                pass
+    if cache is None:
+        return results
+
+    def read(i: int, arrays: dict[str, np.ndarray]) -> dict:
+        result = json.loads(str(stored_array(arrays, "result", "U", ndim=0)))
+        if not (isinstance(result, dict) and isinstance(result.get("status"), str)):
+            raise ValueError("a stored task result is not one")
+        if not isinstance(result.get("reason"), str):
+            raise ValueError("a stored task result has no reason")
+        if check is not None and result["status"] == "ok":
+            check(i, result)
+        return result
+
+    for i, key in enumerate(keys):
+        try:
+            results[i] = cache.load("study", key, functools.partial(read, i))
+        except CacheMiss:
+            pass
     return results
+
+
+def check_case_result(result: dict, shape: tuple[int, int]) -> None:
+    """A stored study case's ``result`` (:func:`.task.run_case`) as its writers read it:
+    a grid of ``shape`` per field, of numbers, flags and printable labels."""
+    float(result["mass_kg"])
+    int(result["modes"])
+    for fields, kinds in ((RESULT_FIELDS, "f"), (FLAG_FIELDS, "b"), (LABEL_FIELDS, "U")):
+        for name in fields:
+            grid = np.asarray(result[name])
+            if grid.shape != shape or (
+                grid.size and grid.dtype.kind not in (kinds + "i" if kinds == "f" else kinds)
+            ):
+                raise ValueError(f"a stored case's {name!r} is not a {shape} grid of its kind")
+            if kinds == "U" and not all(printable(str(v)) for v in grid.flat):
+                raise ValueError(f"a stored case's {name!r} holds a label that is not printable")
 
 
 def _worker_cache(spec: StudySpec, cache: StageCache | None, scheduler: str | None) -> str | None:
