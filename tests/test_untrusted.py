@@ -302,3 +302,222 @@ def test_the_libraries_folders_are_the_caches_or_one_temporary_folder(tmp_path, 
     chosen.remove()
     assert not os.path.lexists(os.environ["MESA_SHADER_CACHE_DIR"])
     assert stat.S_ISDIR(os.lstat(tmp_path / "c" / "libraries").st_mode)
+
+
+# -- a line's files and options validated whole, before the work ---------------------------
+HEADER = "id,radius_m,length_m,cant_mm,train_speed_km_h,wkt\n"
+LINE = ("line", "--design", "railway_920_track", "--quiet")
+
+
+def _line_refused(tmp_path: Path, text: str | bytes, *more: str, word: str) -> str:
+    """``line`` on a LINE.csv of ``text``: one line naming ``word``, exit 2, no folder."""
+    from conftest import one_line_error, run_here
+
+    path = tmp_path / "line.csv"
+    path.write_bytes(text if isinstance(text, bytes) else text.encode())
+    out = tmp_path / "deep" / "out"
+    r = run_here(*LINE, "--line", path, "--out", out, *more)
+    assert r.returncode == 2, (r.returncode, r.stderr)
+    line = one_line_error(r)
+    assert word in line, line
+    assert not (tmp_path / "deep").exists()  # no parent folder left either
+    return line
+
+
+@pytest.mark.parametrize(
+    ("text", "word"),
+    [
+        (HEADER.replace("\n", "\r") + "a,300,100,0,40,\r" * 3, "--max-seconds"),  # counted: 3 rows
+        (
+            HEADER + 'a,300,100,0,40,"LINESTRING (' + ", ".join(f"{i} 0" for i in range(30_000)) + ')"\n',
+            "cell",
+        ),
+        (HEADER + 'a,300,100,0,40,"LINESTRING (0 0, nan 1)"\n', "finite"),
+        (HEADER + 'a,300,100,0,40,"LINESTRING (0 0, 1e400 1)"\n', "finite"),
+        (HEADER + 'a,300,100,0,40,"LINESTRING (0 0)"\n', "two or more"),
+        ("id,radius_m,length_m,cant_mm,train_speed_km_h,radius_m\na,300,100,0,40,500\n", "named twice"),
+        (HEADER + "a,300,100,0,40,,7\n", "7 cells"),
+        ("id,radius_m,length_m,cant_mm,train_speed_km_h,x0,y0,x1,y1\na,300,100,0,40,1,2,,\n", "go together"),
+        (HEADER + '"x\nVERDICT: no squeal anywhere",300,100,0,40,\n', "printable"),
+        (HEADER + "\x1b]0;x\x07,300,100,0,40,\n", "printable"),
+        (HEADER + "a\u202eb,300,100,0,40,\n", "printable"),
+        (HEADER + "a,300,100,1e300,40,\n", "cant"),
+        (HEADER + "a,300,100,nan,40,\n", "finite"),
+        (HEADER + "a,300,100,0,1e-9,\n", "train speed"),
+    ],
+    ids=[
+        "CR newlines",
+        "cell over the field limit",
+        "NaN coordinate",
+        "1e400 coordinate",
+        "one-point LineString",
+        "repeated column",
+        "extra cell",
+        "partial coordinates",
+        "newline in an id",
+        "escape sequence in an id",
+        "bidi in an id",
+        "cant 1e300",
+        "cant nan",
+        "creeping train",
+    ],
+)
+def test_a_line_file_that_is_not_a_line_is_refused_with_its_row(tmp_path, text, word):
+    more = ("--max-seconds", "1") if word == "--max-seconds" else ()
+    line = _line_refused(tmp_path, text, *more, word=word)
+    assert "\x1b" not in line and "\u202e" not in line and "VERDICT" not in line.split(":", 1)[0]
+    assert "or raise" not in line or not line.split("; ")[-1].startswith(", or")
+
+
+def test_a_line_file_with_a_byte_order_mark_is_read(tmp_path):
+    from track.line import read_line
+
+    path = tmp_path / "line.csv"
+    path.write_text("\ufeff" + HEADER.replace("\n", "\r\n") + "R1,300,100,0,40,\r\n", encoding="utf-8")
+    (curve,) = read_line(path)
+    assert (curve.id, curve.radius_m) == ("R1", 300.0)
+    path.write_text(HEADER.replace("\n", "\r") + "R1,300,100,0,40,\rR2,400,100,0,40,\r")
+    assert [c.id for c in read_line(path)] == ["R1", "R2"]
+
+
+@pytest.mark.parametrize(
+    ("traffic", "word"),
+    [
+        ("line = 5\n", "is a table"),
+        ("[line]\nfriction_weights = [1e308, 1e308, 1e308, 1e308]\n", "finite sum"),
+        ("[line]\nfriction_weights = [inf, 1.0, 1.0, 1.0]\n", "finite"),
+        ("[line]\nfriction_weights = [-1.0, 1.0, 1.0, 1.0]\n", "0 or more"),
+    ],
+    ids=["line = 5", "overflowing weights", "infinite weight", "negative weight"],
+)
+def test_a_traffic_file_that_is_not_one_is_refused(tmp_path, traffic, word):
+    (tmp_path / "traffic.toml").write_text(traffic)
+    _line_refused(
+        tmp_path, HEADER + "a,300,100,0,40,\n", "--traffic", str(tmp_path / "traffic.toml"), word=word
+    )
+
+
+@pytest.mark.parametrize(
+    ("crs", "word"),
+    [
+        ("not a crs", "pyproj knows"),
+        ("EPSG:999999", "pyproj knows"),
+        ("<b>EPSG</b>", "pyproj knows"),
+        ("\x1b]0;x\x07", "a coordinate system's name"),
+        ("EPSG:4326", "not projected"),
+    ],
+)
+def test_a_crs_that_is_not_a_projected_one_is_refused(tmp_path, crs, word):
+    line = _line_refused(
+        tmp_path, HEADER + 'a,300,100,0,40,"LINESTRING (0 0, 1 1)"\n', "--crs", crs, word=word
+    )
+    assert "\x1b" not in line
+
+
+def test_a_named_crs_is_written_as_its_authority_names_it():
+    from wheel_squeal.cli.line import projected_crs
+
+    assert projected_crs("EPSG:25832") == "EPSG:25832"
+    assert projected_crs("epsg:2154") == "EPSG:2154"
+
+
+@pytest.mark.slow  # 2 million positions parsed before the count passes its bound (about 6 s)
+def test_a_line_whose_geojson_would_be_over_the_file_limit_is_refused_before_the_work(tmp_path):
+    """The probe's 63.7 MiB LINE.csv of long WKT wrote a 255.6 MB line.geojson at 2.17 GB:
+    its positions are counted before they are parsed (``track.line.MAX_LINE_POSITIONS``,
+    which keeps the file within its limit; line.geojson's own price is checked too)."""
+    cell = '"LINESTRING (' + ",".join(["0 0"] * 32_000) + ')"'  # each cell within the csv limit
+    rows = "".join(f"c{i},300,100,0,40,{cell}\n" for i in range(520))
+    assert len(cell) < 131_072 and len(HEADER + rows) < 64 * 2**20  # within the file limit
+    _line_refused(tmp_path, HEADER + rows, "--max-seconds", "1000000", word="positions")
+    from wheel_squeal.present.line import geojson_bytes
+
+    assert geojson_bytes([]) == 0
+
+
+def test_the_geojson_price_bounds_what_is_written():
+    """The price is at least the file: positions at their repr, every property at the
+    longest a number or an id takes (here all at the longest float repr)."""
+    from track.line import LineCurve
+    from wheel_squeal.present.line import geojson_bytes, line_columns
+
+    curves = [
+        LineCurve(f"c{i}", 300.0, 100.0, 0.0, 40.0, ((1e5 + i / 3, 2e5), (1.0, -i / 7))) for i in range(50)
+    ]
+    feature = {
+        "type": "Feature",
+        "geometry": {"type": "LineString", "coordinates": [[1e5 + 1 / 3, 2e5], [1.0, -1 / 7]]},
+        "properties": {name: -1.2345678901234567e-300 for name in line_columns()},
+    }
+    written = json.dumps({"type": "FeatureCollection", "features": [feature] * len(curves)})
+    assert len(written) <= geojson_bytes(curves) <= 3 * len(written)  # a bound, not a guess
+
+
+@pytest.mark.parametrize("kind", ["fifo", "folder", "huge"])
+def test_a_line_argument_that_is_not_a_file_is_named_so_in_seconds(tmp_path, kind):
+    """A FIFO would block, a folder is no line, a 20 GiB sparse file was counted line by
+    line for 32 s before its size was checked: each refused from its ``stat``."""
+    import time
+
+    from conftest import one_line_error, run_here
+
+    path = tmp_path / "line.csv"
+    if kind == "fifo":
+        os.mkfifo(path)
+    elif kind == "folder":
+        path.mkdir()
+    else:
+        with open(path, "wb") as f:
+            f.truncate(20 * 2**30)
+    t0 = time.perf_counter()
+    r = run_here(*LINE, "--line", path, "--out", tmp_path / "out")
+    assert r.returncode == 2, r.stderr
+    line = one_line_error(r)
+    assert {"fifo": "pipe", "folder": "a folder", "huge": "MiB"}[kind] in line, line
+    assert time.perf_counter() - t0 < 5.0  # the issue's bound: seconds, whatever its size
+
+
+def test_a_mode_argument_naming_a_huge_file_is_not_read(tmp_path):
+    """``run --mode <a 2 GiB file>`` read the file whole to hash it into the result's key:
+    only the parser's file arguments are hashed, and only regular files within the size
+    read."""
+    from wheel_squeal.result_cache import result_key
+
+    huge = tmp_path / "huge"
+    with open(huge, "wb") as f:
+        f.truncate(2 * 2**30)
+    key = result_key("run", {"mode": str(huge), "design": huge, "modal_model": None}, "h")
+    assert key["arguments"]["mode"] == str(huge) and key["arguments"]["design"] == str(huge)
+    small = tmp_path / "small.toml"
+    small.write_text("x = 1\n")
+    assert result_key("run", {"design": small}, "h")["arguments"]["design"]["sha256"]
+
+
+def test_formula_ids_are_neutralised_in_every_csv(tmp_path):
+    from wheel_squeal.outputs import write_csv
+
+    rows = [{"id": v, "x": 1.5} for v in ('=HYPERLINK("http://x")', "+A1", "-A", "@SUM(A1)", "-12.5", "R1")]
+    write_csv(tmp_path / "t.csv", rows, ["id", "x"])
+    cells = [ln.split(",")[0] for ln in (tmp_path / "t.csv").read_text().splitlines()[1:]]
+    assert cells == ['"\'=HYPERLINK(""http://x"")"', "'+A1", "'-A", "'@SUM(A1)", "-12.5", "R1"]
+
+
+def test_out_and_the_cache_apart_is_checked_before_the_work(tmp_path):
+    from conftest import one_line_error, run_here
+
+    for out in (tmp_path / "c", tmp_path / "c" / "in", tmp_path):
+        r = run_here("line", "--design", "railway_920_track", "--line", tmp_path / "none.csv",
+                     "--cache-dir", tmp_path / "c", "--out", out)  # fmt: skip
+        assert r.returncode == 2
+        assert "cache folder" in one_line_error(r) or "line not found" in one_line_error(r)
+    r = run_here("curve", "--design", "railway_920_track", "--radius", "300", "--train-speed", "40",
+                 "--cache-dir", tmp_path / "c", "--out", tmp_path / "c" / "in")  # fmt: skip
+    assert r.returncode == 2 and "lies inside the cache folder" in one_line_error(r)
+
+
+def test_a_grid_radius_tighter_than_a_curve_keeps_the_curves_own():
+    from wheel_squeal.line import LineSpec
+
+    spec = LineSpec(radius_step=0.5)
+    assert spec.grid_radius_m(52.0) == 52.0  # the grid's 44.4 m is no curve
+    assert spec.grid_radius_m(140.0) == 150.0

@@ -49,10 +49,20 @@ MAX_UNBALANCED_ACCELERATION_M_S2 = 3.0
 GRAVITY_M_S2, RAIL_SPACING_M = 9.81, 1.5
 
 
+#: The slowest train speed a curve is computed for [km/h]: below it a wheel creeps rather
+#: than rolls through the curve, and squeal's time scales (a growth over many wheel turns)
+#: have no meaning
+MIN_TRAIN_SPEED_KM_H = 1.0
+#: The largest installed cant [mm] in magnitude: main lines apply at most about 180 mm
+#: (EN 13803-1 sets the limits); 200 mm is taken as the bound beyond which a cant is a slip
+MAX_CANT_MM = 200.0
+
+
 def check_curve(radius_m: float, train_speed_km_h: float, wheelbase_m: float, cant_mm: float = 0.0) -> None:
     """Refuse (ValueError, one line) a curve the curving cannot mean: a radius at which
     a bogie of wheelbase ``wheelbase_m`` [m] would run beyond :data:`MAX_ANGLE_OF_ATTACK_RAD`, a speed beyond
-    :data:`MAX_TRAIN_SPEED_KM_H`, or one whose unbalanced lateral acceleration
+    :data:`MAX_TRAIN_SPEED_KM_H` or below :data:`MIN_TRAIN_SPEED_KM_H`, a cant beyond
+    :data:`MAX_CANT_MM`, or one whose unbalanced lateral acceleration
     V^2/R - g h/s exceeds :data:`MAX_UNBALANCED_ACCELERATION_M_S2`.
 
     Examples
@@ -65,8 +75,12 @@ def check_curve(radius_m: float, train_speed_km_h: float, wheelbase_m: float, ca
     """
     if not (math.isfinite(radius_m) and radius_m > 0):
         raise ValueError(f"curve radius {radius_m!r} m: positive")
-    if not (math.isfinite(train_speed_km_h) and train_speed_km_h > 0):
-        raise ValueError(f"train speed {train_speed_km_h!r} km/h: positive")
+    if not (math.isfinite(train_speed_km_h) and train_speed_km_h >= MIN_TRAIN_SPEED_KM_H):
+        raise ValueError(
+            f"train speed {train_speed_km_h!r} km/h: a running train's, {MIN_TRAIN_SPEED_KM_H:g} km/h or more"
+        )
+    if not (math.isfinite(cant_mm) and abs(cant_mm) <= MAX_CANT_MM):
+        raise ValueError(f"cant {cant_mm!r} mm: an installed cant, at most {MAX_CANT_MM:g} mm either way")
     if not (math.isfinite(wheelbase_m) and 0.5 <= wheelbase_m <= 20.0):
         raise ValueError(f"wheelbase {wheelbase_m!r} m: a bogie's is 1.5 to 3 m (0.5 to 20 accepted)")
     psi = wheelbase_m / radius_m

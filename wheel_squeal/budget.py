@@ -133,6 +133,12 @@ def _human_bytes(n: float) -> str:
     return f"{n / 1e9:.3g} GB" if n >= 1e9 else f"{n / 1e6:.3g} MB"
 
 
+def or_raise(remedy: str, setting: str, variable: str) -> str:
+    """A refusal's way out: the ``remedy`` (if any), or raising ``setting``."""
+    raise_it = f"raise {setting} ({variable})"
+    return f"{remedy}, or {raise_it}" if remedy.strip() else raise_it
+
+
 @dataclass(frozen=True)
 class Budget:
     """Limits on one request (see the module docstring); ``started_s``: when the request
@@ -186,7 +192,7 @@ class Budget:
         self._check_memory(cost, memory_bytes, remedy)
         if dofs > self.max_dofs:
             raise BudgetError(
-                f"{cost} (limit {self.max_dofs:,.0f} DOFs); {remedy}, or raise max_dofs ({ENV_MAX_DOFS})"
+                f"{cost} (limit {self.max_dofs:,.0f} DOFs); {or_raise(remedy, 'max_dofs', ENV_MAX_DOFS)}"
             )
         self._check_time(cost, seconds, remedy)
 
@@ -241,7 +247,7 @@ class Budget:
             limit = _human_time(self.max_seconds) + (
                 f", {_human_time(max(left, 0.0))} of it left" if spent > 1.0 else ""
             )
-            raise BudgetError(f"{cost} (limit {limit}); {remedy}, or raise max_seconds ({ENV_MAX_SECONDS})")
+            raise BudgetError(f"{cost} (limit {limit}); {or_raise(remedy, 'max_seconds', ENV_MAX_SECONDS)}")
 
 
 @dataclass

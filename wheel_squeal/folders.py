@@ -214,8 +214,11 @@ class ResultFolder:
         if self.out.is_symlink():
             self.out = self.out.resolve()
         parent, name = self.out.parent, self.out.name
+        # staged in the nearest folder that exists: the folders ``out`` needs are made only
+        # when the result is put in place, so that a refused or failed run leaves none
+        while not parent.exists() and parent != parent.parent:
+            parent = parent.parent
         try:
-            parent.mkdir(parents=True, exist_ok=True)
             self._recover(parent, name)
             mode = 0o777 & ~umask()
             while True:
@@ -272,6 +275,7 @@ class ResultFolder:
         marker = {"tool": "wheel-squeal", "command": command, "written": time.strftime("%Y-%m-%dT%H:%M:%S%z")}
         (staging / MARKER).write_text(json.dumps(marker) + "\n")
         out = self.out
+        out.parent.mkdir(parents=True, exist_ok=True)  # the folders it needs, now (:meth:`open`)
         for _ in range(100):  # only another writer racing for the same name repeats this
             try:
                 _rename_new(staging, out)

@@ -81,10 +81,34 @@ def write_json(path: Path, data: dict) -> Path:
     return path
 
 
+#: The first characters a spreadsheet reads as a formula (OWASP's CSV injection list)
+FORMULA_STARTS = ("=", "+", "-", "@", "\t", "\r")
+
+
 def csv_cell(x: Any) -> Any:
-    """A CSV cell: empty for no value (:func:`finite_or_none`), floats in full."""
+    """A CSV cell: empty for no value (:func:`finite_or_none`), floats in full, and text
+    that a spreadsheet would run as a formula (a curve id ``=HYPERLINK(...)``) behind a
+    leading apostrophe, the OWASP rule, which shows it as the text it is.
+
+    >>> csv_cell("=1+2"), csv_cell("-12.5"), csv_cell("R150"), csv_cell(float("nan"))
+    ("'=1+2", '-12.5', 'R150', '')
+    """
     x = finite_or_none(x)
-    return "" if x is None else repr(x) if isinstance(x, float) else x
+    if x is None:
+        return ""
+    if isinstance(x, float):
+        return repr(x)
+    if isinstance(x, str) and x.startswith(FORMULA_STARTS) and not _is_number(x):
+        return "'" + x
+    return x
+
+
+def _is_number(text: str) -> bool:
+    try:
+        float(text)
+    except ValueError:
+        return False
+    return True
 
 
 def write_csv(path: Path, rows: list[dict], columns: Sequence[str] | None = None) -> Path:

@@ -130,7 +130,9 @@ class Contact(Fields):
 
     TABLE: ClassVar[str] = "contact"
 
-    normal_load: float = spec(1000.0, "N", "the normal load W", flat="normal_load")
+    # a twin-disc rig's hundreds of newtons to a heavy-haul wheel's 150 kN, with room for
+    # a curve's load transfer; 1e12 N is a unit slip
+    normal_load: float = spec(1000.0, "N", "the normal load W", flat="normal_load", plausible=(1.0, 5e5))
     c22: float = spec(TABLE1_C22, "", "Kalker's lateral creep coefficient C22 (the paper's 3.14)", flat="c22")
     friction_coefficient: float = spec(
         0.3, "", "the friction coefficient mu_s = mu_0", flat="friction_coefficient", plausible=FRICTION_RANGE

@@ -214,9 +214,28 @@ def out_of(args: argparse.Namespace, name: str) -> Path:
     """The command's result folder: ``--out``, else ``results/COMMAND/NAME`` below the
     working folder (NAME: the design's, the study's, or the compared designs'; a label,
     never a path: ``geometry.files.check_label``)."""
-    if args.out is not None:
-        return Path(args.out)
-    return Path("results") / args.command / check_label(name, "a result's name", RequestError)
+    out = (
+        Path(args.out)
+        if args.out is not None
+        else Path("results") / args.command / check_label(name, "a result's name", RequestError)
+    )
+    cache = vars(args).get("_cache")
+    if cache is not None and cache.enabled:
+        check_apart(out, cache.root)
+    return out
+
+
+def check_apart(out: Path, cache_root: Path) -> None:
+    """Refuse, before any work, a result folder that is the cache, lies inside it or holds
+    it: publishing the result would replace the cache, and clearing the cache or evicting
+    its entries would remove results."""
+    a, b = out.expanduser().resolve(), cache_root.expanduser().resolve()
+    if a == b or b in a.parents or a in b.parents:
+        relation = "is" if a == b else "lies inside" if b in a.parents else "holds"
+        raise RequestError(
+            f"result folder {out} {relation} the cache folder {cache_root}: give --out and --cache-dir "
+            "folders apart"
+        )
 
 
 def write_files(directory: Path, files: dict[str, bytes]) -> None:

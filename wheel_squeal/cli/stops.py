@@ -37,8 +37,8 @@ __all__ = [
 
 
 #: Where Python code runs as a callback of native code, as (a file's path ending, the
-#: function's name or "" for any): numba's LLVM object cache (through ctypes) and logging's
-#: lock around a fork (``os.register_at_fork``, when a library runs a subprocess). An
+#: function's name or "" for any): numba's LLVM object cache (through ctypes), PROJ's log
+#: (pyproj) and logging's lock around a fork (``os.register_at_fork``, when a library runs a subprocess). An
 #: exception raised there is printed as "Exception ignored" with a traceback and swallowed,
 #: so a stop that lands there is sent again a moment later.
 NATIVE_CALLBACKS = (
@@ -48,6 +48,10 @@ NATIVE_CALLBACKS = (
     ("logging/__init__.py", "_after_at_fork_child_reinit_locks"),
     ("logging/__init__.py", "_prepareFork"),  # the same hooks' names from Python 3.13
     ("logging/__init__.py", "_afterFork"),
+    # pyproj's PROJ logs through a Cython callback into logging (``--crs``)
+    ("logging/__init__.py", "debug"),
+    ("logging/__init__.py", "isEnabledFor"),
+    ("pyproj/", ""),
 )
 RESEND_AFTER_S = 0.05
 

@@ -14,9 +14,24 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 if TYPE_CHECKING:
+    from track.line import LineCurve
+
     from ..line import LineResult, LineSpec
 
-__all__ = ["line_columns", "line_rows", "write_line_files"]
+__all__ = [
+    "GEOJSON_PROPERTY_BYTES",
+    "check_geojson_size",
+    "geojson_bytes",
+    "line_columns",
+    "line_rows",
+    "write_line_files",
+]
+
+#: The most one property of line.geojson takes [bytes]: its name, a number's repr (at most
+#: 24 characters) or an id (at most ``track.line.MAX_ID_CHARACTERS``, escaped), punctuation
+GEOJSON_PROPERTY_BYTES = 64
+#: The most one feature takes beyond its properties and positions [bytes]
+GEOJSON_FEATURE_BYTES = 200 + 6 * 100
 
 
 def _band_name(prefix: str, centre: float) -> str:
@@ -81,6 +96,31 @@ def line_rows(results: Sequence[LineResult]) -> list[dict[str, Any]]:
         }
         rows.append(row)
     return rows
+
+
+def geojson_bytes(curves: Sequence[LineCurve]) -> int:
+    """line.geojson's size for ``curves`` [bytes], at most: each position as it is written
+    (``[x, y], ``, the numbers' shortest repr, which ``json`` writes), each property
+    (:data:`GEOJSON_PROPERTY_BYTES`) and feature (:data:`GEOJSON_FEATURE_BYTES`); 0 when
+    no curve has coordinates (no file)."""
+    placed = [c for c in curves if c.coordinates]
+    positions = sum(len(repr(x)) + len(repr(y)) + 6 for c in placed for x, y in c.coordinates)
+    per_feature = GEOJSON_FEATURE_BYTES + GEOJSON_PROPERTY_BYTES * len(line_columns())
+    return positions + per_feature * len(placed) + (1000 if placed else 0)
+
+
+def check_geojson_size(curves: Sequence[LineCurve]) -> None:
+    """Refuse (``RequestError``) a line whose line.geojson would exceed the largest file a
+    command writes (``budget.MAX_FILE_BYTES``), before any work."""
+    from ..budget import MAX_FILE_BYTES
+    from ..errors import RequestError
+
+    size = geojson_bytes(curves)
+    if size > MAX_FILE_BYTES:
+        raise RequestError(
+            f"the line's coordinates would make line.geojson {size / 1e6:,.0f} MB, over the "
+            f"{MAX_FILE_BYTES / 1e6:.0f} MB a file may take: split the line, or give fewer positions"
+        )
 
 
 def _geojson(results: Sequence[LineResult], rows: Sequence[dict], crs: str | None) -> dict[str, Any] | None:
