@@ -521,3 +521,25 @@ def test_a_grid_radius_tighter_than_a_curve_keeps_the_curves_own():
     spec = LineSpec(radius_step=0.5)
     assert spec.grid_radius_m(52.0) == 52.0  # the grid's 44.4 m is no curve
     assert spec.grid_radius_m(140.0) == 150.0
+
+
+@pytest.mark.parametrize(
+    ("cant", "word"), [("nan", "--cant"), ("inf", "--cant"), ("1e300", "200 mm"), ("-400", "200 mm")]
+)
+def test_a_curve_cant_that_is_not_a_track_s_is_refused_in_one_line(tmp_path, cant, word):
+    """``curve --cant nan`` was a traceback in the contact table; 1e300 a 150-digit speed."""
+    from conftest import one_line_error, run_here
+
+    args = ("curve", "--design", "railway_920_track", "--quiet", "--radius", "300", "--train-speed", "40")
+    r = run_here(*args, f"--cant={cant}", "--out", tmp_path / "a" / "out")
+    assert r.returncode == 2, r.stderr
+    line = one_line_error(r)
+    assert word in line and len(line) < 200, line
+    assert not (tmp_path / "a").exists()
+
+
+def test_a_refusal_without_a_remedy_of_its_own_names_only_the_setting():
+    from wheel_squeal.budget import or_raise
+
+    assert or_raise("", "max_seconds", "ENV") == "raise max_seconds (ENV)"
+    assert or_raise("ask for less", "max_seconds", "ENV") == "ask for less, or raise max_seconds (ENV)"

@@ -19,7 +19,7 @@ from ..presets import (
     FIDELITIES,
     MAX_MULTIMODE,
 )
-from .arguments import c22_value, count, grid_axis, non_negative, positive
+from .arguments import c22_value, count, finite, grid_axis, non_negative, positive
 from .options import (
     add_axis,
     add_budget,
@@ -248,7 +248,7 @@ def _add_curve_command(sub: argparse._SubParsersAction) -> None:
         "--wheelbase", type=positive, help="the bogie's wheelbase 2a [m] (default: the design's [vehicle])"
     )
     p.add_argument(
-        "--cant", type=float, default=0.0, help="the curves' installed cant [mm] (default %(default)g)"
+        "--cant", type=finite, default=0.0, help="the curves' installed cant [mm] (default %(default)g)"
     )
     p.add_argument("--bogie", help=argparse.SUPPRESS)  # replaced by the steady curving: refused with why
     add_friction_law(p)
