@@ -29,9 +29,11 @@ __all__ = [
     "LABEL_RULE",
     "MAX_TEXT_BYTES",
     "atomic_file",
+    "check_text_file",
     "check_label",
     "read_text",
     "printable",
+    "quoted",
     "read_toml",
     "stored_array",
     "stored_json",
@@ -55,19 +57,7 @@ def read_text(path: str | Path, what: str, error: type[Exception] = ValueError) 
     ``what`` and the file) when it is missing, not a regular file, larger than
     :data:`MAX_TEXT_BYTES` or not UTF-8."""
     path = Path(path)
-    try:
-        info = os.stat(path)
-    except FileNotFoundError:
-        raise error(f"{what} not found: {path}") from None
-    except OSError as exc:
-        raise error(f"cannot read {what} {path}: {exc.strerror}") from None
-    if not stat.S_ISREG(info.st_mode):
-        kind = "a folder" if stat.S_ISDIR(info.st_mode) else "not a regular file (a pipe or a device)"
-        raise error(f"{what} {path} is {kind}: give a file")
-    if info.st_size > MAX_TEXT_BYTES:
-        raise error(
-            f"{what} {path} is {info.st_size / 2**20:.0f} MiB, more than the {MAX_TEXT_BYTES >> 20} MiB read"
-        )
+    check_text_file(path, what, error)
     try:
         with open(path, "rb") as f:
             data = f.read(MAX_TEXT_BYTES + 1)
@@ -82,6 +72,29 @@ def read_text(path: str | Path, what: str, error: type[Exception] = ValueError) 
         raise error(
             f"{what} {path}, line {line}: not UTF-8 text (byte 0x{data[exc.start]:02x}); save it as UTF-8"
         ) from None
+
+
+def check_text_file(path: Path, what: str, error: type[Exception] = ValueError) -> None:
+    """``error(message)`` unless ``path`` is a regular file within :data:`MAX_TEXT_BYTES`,
+    judged from its ``stat`` alone (a pipe is never opened, a huge file never read)."""
+    try:
+        info = os.stat(path)
+    except FileNotFoundError:
+        raise error(f"{what} not found: {path}") from None
+    except OSError as exc:
+        raise error(f"cannot read {what} {path}: {exc.strerror}") from None
+    if not stat.S_ISREG(info.st_mode):
+        kind = "a folder" if stat.S_ISDIR(info.st_mode) else "not a regular file (a pipe or a device)"
+        raise error(f"{what} {path} is {kind}: give a file")
+    if info.st_size > MAX_TEXT_BYTES:
+        raise error(
+            f"{what} {path} is {info.st_size / 2**20:,.0f} MiB, more than the {MAX_TEXT_BYTES >> 20} MiB read"
+        )
+
+
+def quoted(text: str) -> str:
+    """``text`` quoted for a message, its control and bidirectional characters escaped."""
+    return repr(text) if printable(text) else ascii(text)
 
 
 def read_toml(path: str | Path, what: str, error: type[Exception] = ValueError) -> tuple[str, dict]:

@@ -13,12 +13,12 @@ from pathlib import Path
 # one: else the first test's sandbox cache would take them, cold, and each worker compile the
 # kernels anew (six seconds in its first test of the time domain); and a command run in this
 # process would point them into a sandbox that is removed after its test.
-from wheel_squeal.cache import default_cache_root  # noqa: E402
+from wheel_squeal.cache import LIBRARIES_FOLDER, default_cache_root  # noqa: E402
 from wheel_squeal.library_folders import LIBRARY_FOLDERS  # noqa: E402
 
 for _module, _variable, _name in LIBRARY_FOLDERS.values():
     if not os.environ.get(_variable, "").strip():
-        os.environ[_variable] = str(default_cache_root() / "libraries" / _name)
+        os.environ[_variable] = str(default_cache_root() / LIBRARIES_FOLDER / _name)
 
 if "PYTEST_XDIST_WORKER" in os.environ:  # the workers share the cores: one thread each
     for _var in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS", "NUMBA_NUM_THREADS"):

@@ -8,13 +8,11 @@ from __future__ import annotations
 import csv
 import io
 import math
-import os
-import stat
 from collections.abc import Iterator
 from dataclasses import dataclass
 from pathlib import Path
 
-from geometry.files import MAX_TEXT_BYTES, printable, read_text
+from geometry.files import MAX_TEXT_BYTES, check_text_file, printable, quoted, read_text
 
 __all__ = [
     "LINE_COLUMNS",
@@ -25,7 +23,6 @@ __all__ = [
     "LineFileError",
     "count_rows",
     "read_line",
-    "shown",
 ]
 
 #: The columns a line's CSV must have, and those it may
@@ -61,7 +58,7 @@ def count_rows(path: Path) -> int:
     run is refused before it is read): its line breaks, ``\\n``, ``\\r\\n`` or ``\\r``. The
     file is checked first (a regular file within :data:`MAX_TEXT_BYTES`), so that the
     count takes a time bounded whatever the size of the file named."""
-    _check_file(path)
+    check_text_file(path, "line", LineFileError)
     with open(path, "rb") as f:
         data = f.read(MAX_TEXT_BYTES + 1)
     rows = data.count(b"\n") + data.count(b"\r") - data.count(b"\r\n")
@@ -70,28 +67,11 @@ def count_rows(path: Path) -> int:
     return max(rows - 1, 0)
 
 
-def _check_file(path: Path) -> None:
-    """A line's CSV as a file: regular and within the size read, without opening it."""
-    try:
-        info = os.stat(path)
-    except FileNotFoundError:
-        raise LineFileError(f"line not found: {path}") from None
-    except OSError as exc:
-        raise LineFileError(f"cannot read line {path}: {exc.strerror}") from None
-    if not stat.S_ISREG(info.st_mode):
-        kind = "a folder" if stat.S_ISDIR(info.st_mode) else "not a regular file (a pipe or a device)"
-        raise LineFileError(f"line {path} is {kind}: give a file")
-    if info.st_size > MAX_TEXT_BYTES:
-        raise LineFileError(
-            f"line {path} is {info.st_size / 2**20:,.0f} MiB, more than the {MAX_TEXT_BYTES >> 20} MiB read"
-        )
-
-
 def _number(row: dict[str, str], key: str, where: str) -> float:
     try:
         value = float(row[key])
     except (TypeError, ValueError):
-        raise LineFileError(f"{where}: {key} = {shown(row.get(key) or '')} is not a number") from None
+        raise LineFileError(f"{where}: {key} = {quoted(row.get(key) or '')} is not a number") from None
     if not math.isfinite(value):
         raise LineFileError(f"{where}: {key} must be finite")
     return value
@@ -107,7 +87,7 @@ def _wkt(text: str, where: str) -> tuple[tuple[float, float], ...]:
             raise ValueError
         points = tuple((float(x), float(y)) for x, y in pairs)
     except ValueError:
-        raise LineFileError(f"{where}: wkt {shown(body[:40])}... is not a LINESTRING of x y pairs") from None
+        raise LineFileError(f"{where}: wkt {quoted(body[:40])}... is not a LINESTRING of x y pairs") from None
     if not all(math.isfinite(x) and math.isfinite(y) for x, y in points):
         raise LineFileError(f"{where}: wkt holds a coordinate that is not a finite number")
     if len(points) < 2:  # RFC 7946: a LineString has two or more positions
@@ -125,11 +105,6 @@ def _coordinates(row: dict[str, str], where: str) -> tuple[tuple[float, float], 
     if given:
         raise LineFileError(f"{where}: x0, y0, x1, y1 go together; this row gives only {', '.join(given)}")
     return ()
-
-
-def shown(text: str) -> str:
-    """``text`` quoted as a message may show it (control characters escaped)."""
-    return repr(text) if printable(text) else ascii(text)
 
 
 def _rows(text: str, path: Path) -> Iterator[tuple[int, list[str]]]:
@@ -152,7 +127,7 @@ def read_line(path: Path) -> list[LineCurve]:
     """The curves of a line's CSV (module docstring), each checked, the file as a whole:
     a byte-order mark is read as none, a column named twice, a row with more or fewer
     cells than the header and an id that is not printable text are refused with the row."""
-    _check_file(path)
+    check_text_file(path, "line", LineFileError)
     text = read_text(path, "line", LineFileError)
     rows = _rows(text, path)
     _, columns = next(rows, (1, []))
@@ -165,7 +140,7 @@ def read_line(path: Path) -> list[LineCurve]:
     known = LINE_COLUMNS + LINE_OPTIONAL_COLUMNS
     extra = [c for c in columns if c not in known]
     if extra:
-        raise LineFileError(f"{path}: column {shown(extra[0])} is not one a line has ({', '.join(known)})")
+        raise LineFileError(f"{path}: column {quoted(extra[0])} is not one a line has ({', '.join(known)})")
     twice = sorted({c for c in columns if columns.count(c) > 1})
     if twice:
         raise LineFileError(f"{path}: column {twice[0]!r} is named twice")
@@ -177,10 +152,10 @@ def read_line(path: Path) -> list[LineCurve]:
         row = dict(zip(columns, cells))
         cid = row["id"].strip()
         if not cid or cid in ids:
-            raise LineFileError(f"{where}: id {shown(cid)} is empty or not unique")
+            raise LineFileError(f"{where}: id {quoted(cid)} is empty or not unique")
         if not printable(cid) or len(cid) > MAX_ID_CHARACTERS:
             raise LineFileError(
-                f"{where}: id {shown(cid[:40])}: printable text of at most {MAX_ID_CHARACTERS} characters "
+                f"{where}: id {quoted(cid[:40])}: printable text of at most {MAX_ID_CHARACTERS} characters "
                 "(no control or bidirectional characters)"
             )
         ids.add(cid)

@@ -47,9 +47,9 @@ from typing import Any, TypeVar
 
 import numpy as np
 
-from geometry.files import atomic_file, write_atomic
+from geometry.files import atomic_file, quoted, write_atomic
 
-from .entry_reading import checksum, entry_bytes, is_regular, read_entry, read_small, shown
+from .entry_reading import checksum, entry_bytes, is_regular, read_entry, read_small
 from .errors import RequestError
 
 __all__ = [
@@ -242,7 +242,7 @@ class StageCache:
             value = arrays if read is None else read(arrays)
         except (OSError, ValueError, KeyError, TypeError, IndexError, zipfile.BadZipFile, EOFError) as exc:
             reason = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
-            self.warn(f"cache entry {p} is corrupt or foreign ({shown(reason)}); recomputing {stage}")
+            self.warn(f"cache entry {p} is corrupt or foreign ({quoted(reason)}); recomputing {stage}")
             self.misses.append(stage)
             raise CacheMiss from None
         self.hits.append(stage)

@@ -22,7 +22,7 @@ from typing import BinaryIO
 
 import numpy as np
 
-from geometry.files import printable
+from geometry.files import printable, quoted
 
 __all__ = [
     "ENTRY_KINDS",
@@ -35,7 +35,6 @@ __all__ = [
     "open_regular",
     "read_entry",
     "read_small",
-    "shown",
 ]
 
 
@@ -143,9 +142,9 @@ def kept_files(arrays: dict[str, np.ndarray], text: str | None = None) -> dict[s
     files: dict[str, bytes] = {}
     for name, data in arrays.items():
         if not (isinstance(data, np.ndarray) and data.dtype == np.uint8 and data.ndim == 1):
-            raise ValueError(f"kept file {shown(name[:64])} is not bytes")
+            raise ValueError(f"kept file {quoted(name[:64])} is not bytes")
         if name != text and not is_plain_file_name(name):
-            raise ValueError(f"kept file name {shown(name[:64])} is not a plain file name")
+            raise ValueError(f"kept file name {quoted(name[:64])} is not a plain file name")
         files[name] = data.tobytes()
     if text is not None:
         lines = files[text].decode("utf-8").split("\n")  # UnicodeDecodeError is a ValueError
@@ -164,8 +163,3 @@ def is_plain_file_name(name: str) -> bool:
         and printable(name)
         and len(name.encode()) <= 255
     )
-
-
-def shown(text: str) -> str:
-    """``text`` as a terminal may show it (control and bidirectional characters escaped)."""
-    return text if printable(text) else ascii(text)
