@@ -107,15 +107,6 @@ class Sound:
         w = radiated_power(self.field.sound_power_w, self.field.harmonic, self.travelling)
         return w * self.velocity_amplitude_m_s**2
 
-    def levels_at(self, velocity_amplitude_m_s: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """(SPL [dB re 20 uPa], sound power level [dB re 1 pW]) of this sound's tone at
-        other contact velocity amplitudes [m/s]: pressure scales with the amplitude,
-        power with its square."""
-        scale = np.asarray(velocity_amplitude_m_s, float) / self.velocity_amplitude_m_s
-        return spl_db(self.microphone_pressure_pa * scale), sound_power_level_db(
-            self.sound_power_w * scale**2
-        )
-
     def summary(self) -> dict:
         """JSON-ready levels (None where the amplitude is zero: no sound, no level)."""
 

@@ -18,8 +18,7 @@ import warnings
 
 import numpy as np
 import pytest
-from conftest import DESIGNS
-from conftest import load_wheel as load_design
+from conftest import DESIGNS, load_wheel as load_design
 
 from fem.axisym import solve_axisymmetric
 from fem.cyclic import default_sectors, solve_cyclic

@@ -24,8 +24,7 @@ import warnings
 
 import numpy as np
 import pytest
-from hypothesis import HealthCheck, given, settings
-from hypothesis import strategies as st
+from hypothesis import HealthCheck, given, settings, strategies as st
 from strategies import unit, wheel_designs
 
 from fem.axisym import assemble_harmonic, solve_axisymmetric

@@ -26,6 +26,7 @@ from geometry import (
     DesignError,
     MeshError,
     WheelDesign,
+    gmsh_mesh as gmesh,
     half_profile,
     mesh_profile,
     mesh_size,
@@ -34,7 +35,6 @@ from geometry import (
     revolved_volume,
     wheel_mass,
 )
-from geometry import gmsh_mesh as gmesh
 from geometry.design import OPTIONAL_FIELDS
 from geometry.simplex import EDGES
 

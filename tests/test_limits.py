@@ -822,8 +822,12 @@ def test_cache_info_shows_its_size_and_limit(tmp_path):
 # --------------------------------------------------------------------------------------
 # random outlines and random study specs: a result or a one-line error, and which
 # --------------------------------------------------------------------------------------
-from hypothesis import HealthCheck, given, settings  # noqa: E402
-from hypothesis import strategies as st  # noqa: E402
+from hypothesis import (  # noqa: E402
+    HealthCheck,
+    given,
+    settings,
+    strategies as st,  # noqa: E402
+)
 
 
 def _segments_cross(points: np.ndarray) -> bool:

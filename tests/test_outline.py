@@ -9,10 +9,8 @@ import tomllib
 
 import numpy as np
 import pytest
-from conftest import DESIGNS, one_line_error, run_cli
-from conftest import load_wheel as load_design
-from hypothesis import HealthCheck, example, given, settings
-from hypothesis import strategies as st
+from conftest import DESIGNS, load_wheel as load_design, one_line_error, run_cli
+from hypothesis import HealthCheck, example, given, settings, strategies as st
 
 from fem.axisym import solve_axisymmetric
 from fem.cyclic import solve_cyclic

@@ -9,8 +9,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from conftest import DESIGNS, TABLE1_MODE_ARGS
-from conftest import run_cli as cli
+from conftest import DESIGNS, TABLE1_MODE_ARGS, run_cli as cli
 
 import wheel_squeal as ws
 from geometry import WheelDesign

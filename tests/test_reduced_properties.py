@@ -13,8 +13,7 @@ import math
 import warnings
 
 import numpy as np
-from hypothesis import HealthCheck, assume, given, settings
-from hypothesis import strategies as st
+from hypothesis import HealthCheck, assume, given, settings, strategies as st
 
 import reduced as r
 from reduced import _kernels

@@ -22,16 +22,14 @@ from pathlib import Path
 import numpy as np
 import pytest
 from conftest import DESIGNS, ROOT, TABLE1_MODE_ARGS, one_line_error, run_cli, snapshot
-from hypothesis import HealthCheck, example, given, settings
-from hypothesis import strategies as st
+from hypothesis import HealthCheck, example, given, settings, strategies as st
 
 import wheel_squeal as ws
 import wheel_squeal.folders as folders
 from geometry import WheelDesign
 from geometry.design import SECTIONS
 from wheel_squeal.budget import Budget
-from wheel_squeal.cache import LIBRARIES_FOLDER, StageCache
-from wheel_squeal.cache import MARKER as CACHE_MARKER
+from wheel_squeal.cache import LIBRARIES_FOLDER, MARKER as CACHE_MARKER, StageCache
 from wheel_squeal.design import FIELDS
 from wheel_squeal.errors import BudgetError, RequestError
 from wheel_squeal.folders import MARKER, ResultFolder, result_folder

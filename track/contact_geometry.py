@@ -113,11 +113,6 @@ class ContactPoint:
         radius across rolling (a conformal contact's a long, finite one)."""
         return 1.0 / max(self.wheel_curvature_1_m + self.rail_curvature_1_m, CONFORMAL_CURVATURE_1_M)
 
-    @property
-    def spin_1_m(self) -> float:
-        """The spin creepage of rolling on a tilted contact, sin(gamma) / r [1/m]."""
-        return math.sin(self.contact_angle_rad) / self.rolling_radius_m
-
 
 @dataclass(frozen=True)
 class WheelsetPosition:

@@ -18,18 +18,18 @@ The command line: ``wheel-squeal --help`` (:mod:`wheel_squeal.cli`).
 from fem.modal_model import explicit_modes, load_modal_model
 
 from .api import (
-    build_mesh,
+    build_mesh as build_mesh,
     compute_modes,
-    contact_law,
+    contact_law as contact_law,
     load_design,
-    modal_dof,
-    mode_views,
+    modal_dof as modal_dof,
+    mode_views as mode_views,
     operating_point,
-    pick_mode,
+    pick_mode as pick_mode,
     shipped_designs,
 )
-from .budget import Budget
-from .cache import CacheMiss, StageCache
+from .budget import Budget as Budget
+from .cache import CacheMiss as CacheMiss, StageCache as StageCache
 from .chain import Analysis, ChainOptions, analyse
 from .context import RunContext
 from .curve import curve
@@ -37,16 +37,24 @@ from .decision import Decision, decide
 from .design import Design
 from .envelope import envelope, mitigation
 from .errors import BudgetError, BudgetExhausted, RequestError
-from .listener import Listener
+from .listener import Listener as Listener
 from .present.text import analysis_text, verdict_lines
-from .presets import DEFAULT_DESIGN, DEFAULT_FIDELITY, FIDELITIES, Fidelity, fidelity_for
-from .progress import Progress
-from .simulation import Simulation, simulate
-from .sound import Sound, mode_sound
+from .presets import (
+    DEFAULT_DESIGN as DEFAULT_DESIGN,
+    DEFAULT_FIDELITY as DEFAULT_FIDELITY,
+    FIDELITIES as FIDELITIES,
+    Fidelity as Fidelity,
+    fidelity_for as fidelity_for,
+)
+from .progress import Progress as Progress
+from .simulation import Simulation as Simulation, simulate as simulate
+from .sound import Sound as Sound, mode_sound as mode_sound
 from .stability import StabilityTable, stability_table
 from .sweeps import VerdictGrid, sweep_verdicts
 from .verdict import ModeOutcome, Verdict
 
+#: The notebook API (documented, with examples run by the tests); the stages' own functions
+#: and the settings' types are re-exported too (``import X as X`` above), for scripts and tests.
 __all__ = [
     "Analysis",
     "BudgetError",
@@ -76,26 +84,3 @@ __all__ = [
     "sweep_verdicts",
     "verdict_lines",
 ]
-#: Reachable as ``wheel_squeal.NAME`` too, for scripts and tests (documented where
-#: they live): the stages' own functions and the settings' types.
-_ALSO = (
-    Budget,
-    CacheMiss,
-    Fidelity,
-    Listener,
-    Progress,
-    Simulation,
-    Sound,
-    StageCache,
-    build_mesh,
-    contact_law,
-    fidelity_for,
-    modal_dof,
-    mode_sound,
-    mode_views,
-    pick_mode,
-    simulate,
-    DEFAULT_DESIGN,
-    DEFAULT_FIDELITY,
-    FIDELITIES,
-)

@@ -51,9 +51,6 @@ MEMORY_FRACTION = 0.75
 ENV_MAX_DOFS = "WHEEL_SQUEAL_MAX_DOFS"
 ENV_MAX_SECONDS = "WHEEL_SQUEAL_MAX_SECONDS"
 
-#: Bytes a running sweep case keeps per RK4 step (time, velocity, two power integrals).
-SWEEP_BYTES_PER_STEP = 32
-
 
 def usable_cores() -> int:
     """The cores this process may run on (its affinity where the system says it)."""
@@ -195,30 +192,6 @@ class Budget:
                 f"{cost} (limit {self.max_dofs:,.0f} DOFs); {or_raise(remedy, 'max_dofs', ENV_MAX_DOFS)}"
             )
         self._check_time(cost, seconds, remedy)
-
-    def check_sweep(
-        self,
-        n_cases: int,
-        steps_per_case: float,
-        n_modes: int,
-        threads: int,
-        remedy: str,
-        stored_steps: float | None = None,
-    ) -> float:
-        """Refuse a sweep of ``n_cases`` RK4 runs of ``steps_per_case`` steps each (of
-        which ``stored_steps`` are kept, default all); returns the estimated run time [s]."""
-        from reduced.integration_cost import SWEEP_SECONDS_PER_STEP
-
-        seconds = n_cases * steps_per_case * n_modes * SWEEP_SECONDS_PER_STEP / max(threads, 1)
-        memory = threads * min(steps_per_case, stored_steps or steps_per_case) * SWEEP_BYTES_PER_STEP
-        what = f"the sweep ({n_cases:,} cases of " if n_cases > 1 else "the squeal model ("
-        cost = (
-            f"{what}{steps_per_case:,.0f} RK4 steps) would need about {_human_bytes(memory)} and "
-            f"{_human_time(seconds)}"
-        )
-        self._check_memory(cost, memory, remedy)
-        self._check_time(cost, seconds, remedy)
-        return seconds
 
     def check_work(self, what: str, seconds: float, remedy: str, memory_bytes: float = 0.0) -> float:
         """Refuse ``what`` (a phrase naming the work) estimated at ``seconds`` on a quiet

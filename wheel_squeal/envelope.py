@@ -19,8 +19,7 @@ from .stability import body_of, excitable, mode_dofs
 
 if TYPE_CHECKING:
     from fem.modes import Mode, ModeSet
-    from reduced import ContactLaw, ModalDOF
-    from reduced import Mitigation as MitigationResult
+    from reduced import ContactLaw, Mitigation as MitigationResult, ModalDOF
 
 __all__ = ["Envelope", "Mitigation", "envelope", "envelope_seconds", "mitigation", "mitigation_summary"]
 

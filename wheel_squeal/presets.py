@@ -31,7 +31,6 @@ __all__ = [
     "DEFAULT_RPM",
     "DEFAULT_SPEEDS_RPM",
     "DEFAULT_SWEEP_CRAB_VELOCITIES",
-    "DEFAULT_SWEEP_DURATION_S",
     "FIDELITIES",
     "MAX_MULTIMODE",
     "Fidelity",
@@ -47,10 +46,6 @@ DEFAULT_SPEEDS_RPM = (400.0, 600.0, 800.0)
 #: Crabbing velocities (start, stop, points) [m/s] of a sweep (Fig. 5's range) and of
 #: the stability map and mitigation envelope.
 DEFAULT_SWEEP_CRAB_VELOCITIES = (0.0, 0.5, 26)
-#: Simulated time of each sweep point [s]: the paper's growth saturates within 0.4 s at
-#: 800 RPM; near the stability boundary (0.46-0.5 m/s) even 1.5 s is not enough, and
-#: such points are reported still growing.
-DEFAULT_SWEEP_DURATION_S = 1.5
 DEFAULT_ENVELOPE_CRAB_VELOCITIES = (0.0, 0.6, 50)
 #: Most modes a multi-mode run integrates together.
 MAX_MULTIMODE = 12
