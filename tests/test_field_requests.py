@@ -5,7 +5,6 @@ before any work, and what a run writes outside its result folder."""
 from __future__ import annotations
 
 import os
-import time
 
 import pytest
 from conftest import DESIGNS, TABLE1_MODE_ARGS, one_line_error, run_here
@@ -14,17 +13,14 @@ TRACK = (DESIGNS / "railway_920_track.toml").read_text()
 CURVE = ["curve", "--design", "railway_920_track", "--quiet"]
 
 
-def _refused(args, tmp_path, word: str, seconds: float = 2.0) -> str:
-    """One line naming ``word``, exit 2, within ``seconds`` (the request's whole planning
-    on a quiet machine; the first call in a session imports more), nothing written."""
+def _refused(args, tmp_path, word: str) -> str:
+    """One line naming ``word``, exit 2, nothing written (how fast: benchmarks/bench_safety.py;
+    a refusal that enumerated the 1e12 cases would not come back at all)."""
     out = tmp_path / "out"
-    t0 = time.perf_counter()
     r = run_here(*args, "--out", out)
-    elapsed = time.perf_counter() - t0
     assert r.returncode == 2, (r.returncode, r.stderr)
     line = one_line_error(r)
     assert word.lower() in line.lower(), line
-    assert elapsed < seconds, (elapsed, line)
     assert not out.exists()
     return line
 
@@ -79,7 +75,7 @@ def test_a_damping_key_unknown_lists_the_keys_it_takes(tmp_path):
     design = tmp_path / "d.toml"
     design.write_text('name = "x"\n[squeal.damping]\nbogus = 0.01\n')
     # refused once the modes are known (the keys name them)
-    line = _refused(["run", "--design", design, "--quiet"], tmp_path, "bogus", seconds=20.0)
+    line = _refused(["run", "--design", design, "--quiet"], tmp_path, "bogus")
     assert '"n=N,c=C"' in line and '"n>=2"' in line
 
 

@@ -36,22 +36,19 @@ def _limit_memory(gigabytes: float):
     return apply
 
 
-def refused(r, word: str, seconds: float | None = None, elapsed: float | None = None) -> str:
-    """Assert a refusal: exit 2, one line naming ``word``, within ``seconds`` if given."""
+def refused(r, word: str) -> str:
+    """Assert a refusal: exit 2, one line naming ``word`` (how fast a refusal comes:
+    benchmarks/bench_safety.py; the tests' timeouts only end a hang)."""
     assert r.returncode == 2, (r.returncode, r.stderr)
     line = one_line_error(r)
     assert word.lower() in line.lower(), line
-    if seconds is not None:
-        assert elapsed is not None and elapsed < seconds, elapsed
     return line
 
 
-def timed_cli(*args, here: bool = True, **kw):
-    """The command line's answer and its wall time [s]: in this process (a refusal's
-    path), or with ``here=False`` in a fresh one (what a user's shell starts)."""
-    t0 = time.perf_counter()
-    r = (run_here if here else run_cli)(*args, **kw)
-    return r, time.perf_counter() - t0
+def cli(*args, here: bool = True, **kw):
+    """The command line's answer: in this process (a refusal's path), or with
+    ``here=False`` in a fresh one (what a user's shell starts)."""
+    return (run_here if here else run_cli)(*args, **kw)
 
 
 # --------------------------------------------------------------------------------------
@@ -112,7 +109,7 @@ def test_a_pass_by_microphone_costs_no_more_than_the_default(tmp_path):
 )
 def test_bad_or_runaway_sound_is_refused_up_front(tmp_path, args, word):
     out = tmp_path / "o"
-    r, elapsed = timed_cli(
+    r = cli(
         "sound",
         "--quiet",
         "--fidelity",
@@ -129,10 +126,8 @@ def test_bad_or_runaway_sound_is_refused_up_front(tmp_path, args, word):
 
 
 def test_run_refuses_a_microphone_inside_the_wheel_before_any_work(tmp_path):
-    r, elapsed = timed_cli(
-        "run", "--microphone", "0.2,0,0", "--out", tmp_path / "o", "--cache-dir", tmp_path / "c"
-    )
-    refused(r, "inside the wheel", seconds=5, elapsed=elapsed)
+    r = cli("run", "--microphone", "0.2,0,0", "--out", tmp_path / "o", "--cache-dir", tmp_path / "c")
+    refused(r, "inside the wheel")
     assert not (tmp_path / "c").exists()  # refused before the modes
 
 
@@ -211,11 +206,11 @@ def _split_web_face(pieces: int) -> tuple[list, int]:
 @pytest.mark.parametrize("pieces", [2000, 100_000])
 def test_a_cad_export_with_a_split_face_is_the_same_wheel(tmp_path, pieces):
     """One face in 2,000 or 100,000 collinear pieces (a CAD export) is the Table 1
-    outline: the runs are joined on reading (it took 17.7 s and 3.8 GB at 2,000, and
-    asked for 9.3 GiB at 100,000). Under 600 MB of address space and 10 s."""
+    outline: the runs are joined on reading, within 1.5 GB of address space (the limit the
+    process runs under)."""
     points, tread = _split_web_face(pieces)
     design = _outline_design(tmp_path, f"split{pieces}", points, tread)
-    r, elapsed = timed_cli(
+    r = cli(
         "mesh",
         "--dim",
         "2",
@@ -229,7 +224,6 @@ def test_a_cad_export_with_a_split_face_is_the_same_wheel(tmp_path, pieces):
         here=False,
     )
     assert r.returncode == 0, r.stderr
-    assert elapsed < 10
     ref = run_cli(
         "mesh",
         "--dim",
@@ -248,8 +242,8 @@ def test_a_cad_export_with_a_split_face_is_the_same_wheel(tmp_path, pieces):
 
 @pytest.mark.slow
 def test_a_dense_curved_outline_loads_in_n_log_n_and_its_mesh_is_refused(tmp_path):
-    """12,000 short segments that do not line up (a web of gentle waves): checked in
-    seconds and little memory (all pairs would be 72 million), and the mesh that would
+    """12,000 short segments that do not line up (a web of gentle waves): checked within
+    2 GB of address space (all pairs would be 72 million), and the mesh that would
     follow every segment (1.9M triangles at half as many, measured) refused up front,
     naming the segments."""
     n = 6000
@@ -260,7 +254,7 @@ def test_a_dense_curved_outline_loads_in_n_log_n_and_its_mesh_is_refused(tmp_pat
     rim = [[0.1795, 0.013], [0.21271820098218927, 0.013], [0.21271820098218927, -0.013], [0.1795, -0.013]]
     points = [list(bottom[-1]), *map(list, top), *rim, *map(list, bottom)]
     design = _outline_design(tmp_path, "wavy", points, 2 + len(top))
-    r_, elapsed = timed_cli(
+    r_ = cli(
         "modes",
         "--fidelity",
         "fast",
@@ -275,7 +269,7 @@ def test_a_dense_curved_outline_loads_in_n_log_n_and_its_mesh_is_refused(tmp_pat
         here=False,
     )
     line = refused(r_, "segments shorter than half")
-    assert "would need about" in line and elapsed < 30
+    assert "would need about" in line
 
 
 def test_wall_thickness_of_many_segments_equals_the_direct_count():
@@ -312,11 +306,11 @@ def test_wall_thickness_of_many_segments_equals_the_direct_count():
 )
 def test_design_files_that_are_not_text_files_are_refused(tmp_path, make, word):
     path = make(tmp_path)
-    r, elapsed = timed_cli("modes", "--design", path, "--out", tmp_path / "o", "--quiet", timeout=20)
-    refused(r, word, seconds=10, elapsed=elapsed)
-    r, elapsed = timed_cli("study", path, "--out", tmp_path / "o", "--quiet", timeout=20)
+    r = cli("modes", "--design", path, "--out", tmp_path / "o", "--quiet", timeout=20)
+    refused(r, word)
+    r = cli("study", path, "--out", tmp_path / "o", "--quiet", timeout=20)
     if path.suffix == ".toml" and "csv" not in path.name:
-        refused(r, word, seconds=10, elapsed=elapsed)
+        refused(r, word)
     assert not (tmp_path / "o").exists()
 
 
@@ -378,10 +372,8 @@ def test_an_acute_wedge_is_refused_naming_where_its_thin_wall_is(tmp_path):
         f'name = "wedge"\n[profile]\npoints = {loop}\ncontact = [0.213, 0.0]\n'
         "arcs = [{ segment = 4, centre = [-0.087, 0.0] }]\n"
     )
-    r, elapsed = timed_cli(
-        "modes", "--fidelity", "fast", "--design", design, "--out", tmp_path / "o", "--quiet"
-    )
-    line = refused(r, "thinnest wall", seconds=10, elapsed=elapsed)
+    r = cli("modes", "--fidelity", "fast", "--design", design, "--out", tmp_path / "o", "--quiet")
+    line = refused(r, "thinnest wall")
     assert "r 0.13" in line  # the tip of the wedge
 
 
@@ -395,7 +387,7 @@ def test_a_study_beyond_the_time_budget_is_refused_with_its_estimate(tmp_path):
     """The 200-sample tolerance study, estimated before any case runs, against a 20 s
     limit on one worker (the estimate, 67 s on one worker against 50 s measured, is
     within a factor 2 on every shipped spec: benchmarks/bench_estimates.py)."""
-    r, elapsed = timed_cli(
+    r = cli(
         "study",
         ROOT / "studies" / "tolerance.toml",
         "--workers",
@@ -407,7 +399,7 @@ def test_a_study_beyond_the_time_budget_is_refused_with_its_estimate(tmp_path):
         "--no-cache",
         "--quiet",
     )
-    line = refused(r, "the study (200 designs", seconds=10, elapsed=elapsed)
+    line = refused(r, "the study (200 designs")
     assert "would take about" in line and "--max-seconds" in line
     assert not (tmp_path / "o").exists()
 
@@ -560,10 +552,10 @@ def test_no_worker_outlives_a_killed_study(tmp_path, sig):
     ],
 )
 def test_bad_scheduler_addresses_are_one_line_at_once(tmp_path, address, word):
-    r, elapsed = timed_cli(
+    r = cli(
         "study", SMOKE, "--scheduler", address, "--out", tmp_path / "o", "--no-cache", "--quiet", timeout=60
     )
-    refused(r, word, seconds=10, elapsed=elapsed)
+    refused(r, word)
     assert not (tmp_path / "o").exists()
 
 
@@ -591,7 +583,7 @@ def test_a_server_that_is_not_a_scheduler_is_one_line_within_seconds(tmp_path, s
     else:
         sock.listen(8)
     try:
-        r, elapsed = timed_cli(
+        r = cli(
             "study",
             SMOKE,
             "--scheduler",
@@ -603,7 +595,7 @@ def test_a_server_that_is_not_a_scheduler_is_one_line_within_seconds(tmp_path, s
             timeout=60,
             here=False,
         )
-        refused(r, "scheduler", seconds=20, elapsed=elapsed)
+        refused(r, "scheduler")
     finally:
         if proc is not None:
             proc.kill()
@@ -673,8 +665,8 @@ def test_measured_damping_that_cannot_be_applied_is_refused(tmp_path, text, word
 )
 def test_smaller_refusals_are_one_line_and_write_nothing(tmp_path, args, word):
     out = tmp_path / "o"
-    r, elapsed = timed_cli(*args, "--out", out, "--quiet", timeout=60)
-    refused(r, word, seconds=20, elapsed=elapsed)
+    r = cli(*args, "--out", out, "--quiet", timeout=60)
+    refused(r, word)
     assert not out.exists()
 
 

@@ -6,7 +6,6 @@ from __future__ import annotations
 
 import json
 import math
-import time
 
 import numpy as np
 import pytest
@@ -120,12 +119,14 @@ def test_a_line_keeps_its_coordinates_and_is_counted_unread(tmp_path):
 
 
 def test_a_line_too_long_is_refused_before_it_is_read(tmp_path):
-    """A million curves (16 MB): refused in seconds with the estimate, before parsing."""
+    """A million curves (16 MB): refused with the estimate, before parsing (how fast:
+    benchmarks/bench_safety.py; the timeout only ends a hang)."""
     path = tmp_path / "long.csv"
     path.write_text(HEADER + "\n" + "c,150,100,0,40\n" * 1_000_000)
-    t0 = time.perf_counter()
-    r = run_cli("line", "--design", "railway_920_track", "--line", path, "--out", tmp_path / "out")
-    assert r.returncode == 2 and time.perf_counter() - t0 < 30.0
+    r = run_cli(
+        "line", "--design", "railway_920_track", "--line", path, "--out", tmp_path / "out", timeout=120
+    )
+    assert r.returncode == 2
     line = one_line_error(r)
     assert "1,000,000 curves" in line and "would take" in line
     assert not (tmp_path / "out").exists()

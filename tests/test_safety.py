@@ -243,9 +243,7 @@ def test_a_killed_command_leaves_no_process_behind(tmp_path):
         )
         time.sleep(delay)
         p.send_signal(signal.SIGKILL)
-        t = time.perf_counter()
-        p.communicate(timeout=20)  # EOF: every holder of the pipes has gone
-        assert time.perf_counter() - t < 5
+        p.communicate(timeout=20)  # EOF: every holder of the pipes has gone (else TimeoutExpired)
     # a refused request does not wait for the plot process, which then ends by itself
     refused = [*pipe[:2], "run", "--design", str(tmp_path / "missing.toml"), "--out", str(tmp_path / "r")]
     p = subprocess.Popen(refused, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
