@@ -16,9 +16,10 @@ digits, rather than value by value, so that the record stays small: one value of
 array moved by more than about 1e-6 changes the digest.
 
 Masked, because they are not results: wall times (``[12.3 s]``, ``timings_s``), the date a
-file was written, the folders of the run (the output folder, the cache, the repository), and
-the cache's own hit and miss lists (which stage was computed depends on the cache's layout,
-not on the physics). Standard error is progress and is not compared.
+file was written, the hash of the code that wrote it (a report's ``code``, a dataset's
+``code_version``: new with every commit), the folders of the run (the output folder, the
+cache, the repository), and the cache's own hit and miss lists (which stage was computed
+depends on the cache's layout, not on the physics). Standard error is progress and is not compared.
 """
 
 from __future__ import annotations
@@ -166,10 +167,12 @@ _NUMBER = re.compile(
 _IMAGE = re.compile(r"data:image/(png|gif|jpeg);base64,([A-Za-z0-9+/=]+)")
 _MASKS: tuple[tuple[re.Pattern[str], str], ...] = (
     (re.compile(r"\[\s*\d+(?:\.\d+)?\s*s\]"), "[<WALL TIME>]"),  # stdout's closing wall time
+    # a report's provenance: the hash of the code that wrote it, new with every commit
+    (re.compile(r'(code</td><td class="text">)[0-9a-f]{8,}'), r"\1<CODE>"),
     (re.compile(r"\d{4}-\d{2}-\d{2}[T ]\d{2}:\d{2}(?::\d{2}(?:\.\d+)?)?(?:[+-]\d{2}:?\d{2}|Z)?"), "<DATE>"),
 )
 #: JSON keys whose values are not results (see the module's docstring).
-MASKED_KEYS = frozenset({"timings_s", "cache", "written", "wall_time_s", "elapsed_s"})
+MASKED_KEYS = frozenset({"timings_s", "cache", "written", "wall_time_s", "elapsed_s", "code_version"})
 
 
 def _mask(text: str, folders: dict[str, str]) -> str:
