@@ -27,7 +27,16 @@ from .counter_body import (
     counter_body,
 )
 from .coupling import coupling_stiffness, two_mode_coalesces
-from .creep import FRICTION_LAWS, ContactLaw, adhesion_ratio, adhesion_ratio_slope, falling_friction_factor
+from .creep import (
+    FRICTION_LAWS,
+    ConstantFriction,
+    ContactLaw,
+    FallingFriction,
+    FrictionLaw,
+    adhesion_ratio,
+    adhesion_ratio_slope,
+    falling_friction_factor,
+)
 from .integrate import METHODS, choose_method, simulate
 from .limit_cycle import Cycles, LimitCycle, cycles, limit_cycle
 from .modal_content import ModalContent, modal_content
@@ -83,6 +92,9 @@ __all__ = [
     "two_mode_coalesces",
     "LinearContact",
     "FRICTION_LAWS",
+    "ConstantFriction",
+    "FallingFriction",
+    "FrictionLaw",
     "adhesion_ratio",
     "adhesion_ratio_slope",
     "falling_friction_factor",

@@ -44,6 +44,8 @@ from ._kernels import (
     LAW_V0,
     LAW_VC,
     LAW_W,
+    LAW_W1,
+    LAW_W2,
     adhesion,
 )
 
@@ -76,8 +78,8 @@ def adhesion_slope(v, law):
     if s > 0.0:
         e1 = math.exp(-law[LAW_S1] / s)
         e2 = math.exp(-law[LAW_S2] / s)
-        f = 1.0 - 0.5 * e1 - 0.5 * e2
-        df = -0.5 * e1 * law[LAW_S1] / (s * s) - 0.5 * e2 * law[LAW_S2] / (s * s)
+        f = 1.0 - law[LAW_W1] * e1 - law[LAW_W2] * e2
+        df = -law[LAW_W1] * e1 * law[LAW_S1] / (s * s) - law[LAW_W2] * e2 * law[LAW_S2] / (s * s)
     else:
         f = 1.0
         df = 0.0

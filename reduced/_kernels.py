@@ -37,7 +37,7 @@ import math
 
 import numpy as np
 
-LAW_W, LAW_MUS, LAW_K, LAW_S1, LAW_S2, LAW_V0, LAW_VC, LAW_D0, LAW_TAU, LAW_UN0 = range(10)
+LAW_W, LAW_MUS, LAW_K, LAW_S1, LAW_S2, LAW_V0, LAW_VC, LAW_D0, LAW_TAU, LAW_UN0, LAW_W1, LAW_W2 = range(12)
 
 prange = range
 
@@ -54,7 +54,7 @@ def adhesion(v, law):
         poly = 1.0
     s = a * V0
     if s > 0.0:
-        f = 1.0 - 0.5 * math.exp(-law[LAW_S1] / s) - 0.5 * math.exp(-law[LAW_S2] / s)
+        f = 1.0 - law[LAW_W1] * math.exp(-law[LAW_S1] / s) - law[LAW_W2] * math.exp(-law[LAW_S2] / s)
     else:
         f = 1.0
     mu = law[LAW_MUS] * poly * f

@@ -17,7 +17,9 @@ zero: exp(-0.138/s) -> 0 as s -> 0+.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
+from typing import ClassVar
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -26,24 +28,170 @@ from .contact import HertzContact, kalker_c22
 
 __all__ = [
     "FRICTION_LAWS",
+    "ConstantFriction",
+    "FallingFriction",
+    "FrictionLaw",
     "ContactLaw",
     "adhesion_ratio",
     "adhesion_ratio_slope",
     "falling_friction_factor",
+    "friction_law_named",
 ]
 
 #: Liu & Meehan's C22 (Table 1)
 TABLE1_C22 = 3.14
 
-#: The friction laws by name, as the decay speeds (s1, s2) [m/s] of the falling factor
-#: F(s) of Eq. 3. "falling" is the paper's law. "constant" is Eq. 3 without the falling
-#: factor (F = 1: infinite decay speeds), the creep polynomial saturating at mu_s: its
-#: slope is never negative, so falling friction cannot drive squeal and only the other
-#: mechanism, mode coupling through the normal contact, can.
-FRICTION_LAWS: dict[str, tuple[float, float]] = {
-    "falling": (0.138, 6.9),
-    "constant": (math.inf, math.inf),
+
+@dataclass(frozen=True)
+class FrictionLaw:
+    """A friction law: the falling factor F(s) of Eq. 3 that multiplies the creep
+    polynomial, as a function of the sliding speed s [m/s]::
+
+        F(s) = 1 - w1 exp(-s1 / s) - w2 exp(-s2 / s)      (F(0+) = 1)
+
+    The compiled integrators evaluate this family from the four numbers of
+    :meth:`kernel_parameters`, the linear stability from :meth:`slope`, so one class gives
+    the law everywhere. A new law is a subclass with its own :attr:`name` and defaults,
+    registered in :data:`FRICTION_LAWS` (``FRICTION_LAWS["mine"] = Mine``); a law that is not
+    of this family needs kernels of its own.
+
+    Attributes
+    ----------
+    name : str
+        The law's name in :data:`FRICTION_LAWS`.
+    weight_1, weight_2 : float
+        w1, w2: each term's share of the fall, dimensionless (w1 + w2 <= 1: F >= 0).
+    decay_speed_1_m_s, decay_speed_2_m_s : float
+        s1, s2: the sliding speeds of the two terms [m/s] (infinite: no such term).
+
+    Examples
+    --------
+    >>> law = FallingFriction()
+    >>> round(float(law.factor(1.0)), 4), round(float(law.slope(1.0)), 4)  # F(1 m/s), dF/ds [s/m]
+    (0.5639, -0.0636)
+    >>> float(ConstantFriction().factor(1.0))
+    1.0
+    """
+
+    name: ClassVar[str] = "custom"
+    weight_1: float
+    decay_speed_1_m_s: float
+    weight_2: float
+    decay_speed_2_m_s: float
+
+    def __post_init__(self) -> None:
+        for w in (self.weight_1, self.weight_2):
+            if not 0.0 <= w <= 1.0:
+                raise ValueError(f"{type(self).__name__}: a weight must lie in [0, 1], got {w!r}")
+        if self.weight_1 + self.weight_2 > 1.0:
+            raise ValueError(f"{type(self).__name__}: the weights sum beyond 1 (F would turn negative)")
+        for s in (self.decay_speed_1_m_s, self.decay_speed_2_m_s):
+            if not s > 0.0:  # infinite is allowed: no falling term
+                raise ValueError(
+                    f"{type(self).__name__}: a decay speed must be positive (or infinite), got {s!r}"
+                )
+
+    def kernel_parameters(self) -> tuple[float, float, float, float]:
+        """(w1, s1, w2, s2) [-, m/s, -, m/s], the numbers the compiled kernels take."""
+        return (self.weight_1, self.decay_speed_1_m_s, self.weight_2, self.decay_speed_2_m_s)
+
+    def factor(self, sliding_speed_m_s: ArrayLike) -> np.ndarray:
+        """F(s) for sliding speeds s >= 0 [m/s], dimensionless.
+
+        Finite and equal to 1 at s = 0 (the limit), without warnings: there -s1/s is -inf
+        and its exponential exactly 0, as it is for an infinite decay speed (no falling
+        term); for a subnormal s the quotient overflows to -inf, and below s = s1/746 the
+        exponential underflows to 0.
+        """
+        s = np.abs(np.asarray(sliding_speed_m_s, dtype=float))
+        with np.errstate(divide="ignore", over="ignore", under="ignore"):
+            return (
+                1.0
+                - self.weight_1 * np.exp(-self.decay_speed_1_m_s / s)
+                - self.weight_2 * np.exp(-self.decay_speed_2_m_s / s)
+            )
+
+    def slope(self, sliding_speed_m_s: ArrayLike) -> np.ndarray:
+        """dF/ds [s/m]. Below s = s_k/700 a term's exponential underflows (e^-700) and its
+        slope is exactly 0 in double precision (all derivatives of exp(-c/s) vanish at 0)."""
+        s = np.abs(np.asarray(sliding_speed_m_s, dtype=float))
+        d = np.zeros_like(s)
+        for weight, decay in (
+            (self.weight_1, self.decay_speed_1_m_s),
+            (self.weight_2, self.decay_speed_2_m_s),
+        ):
+            if math.isinf(decay):  # no falling term
+                continue
+            live = s > decay / 700.0
+            inv = np.divide(1.0, s, out=np.zeros_like(s), where=live)
+            with np.errstate(under="ignore"):
+                d = d - np.where(live, weight * decay * inv * inv * np.exp(-decay * inv), 0.0)
+        return d
+
+    def steepness_s_m(self) -> float:
+        """sum_k 2 w_k / s_k [s/m]: the fall's steepness, whose 2 e^-2 multiple bounds |dF/ds|
+        over all s (a term's largest slope, w 4 e^-2 / s_k, is at s = s_k / 2)."""
+        return 2.0 * self.weight_1 / self.decay_speed_1_m_s + 2.0 * self.weight_2 / self.decay_speed_2_m_s
+
+
+@dataclass(frozen=True)
+class FallingFriction(FrictionLaw):
+    """The paper's falling friction (Liu & Meehan, CM2015, Eq. 3): w1 = w2 = 0.5, s1 = 0.138
+    and s2 = 6.9 m/s. See :class:`FrictionLaw`.
+
+    Examples
+    --------
+    >>> FallingFriction().kernel_parameters()
+    (0.5, 0.138, 0.5, 6.9)
+    """
+
+    name: ClassVar[str] = "falling"
+    weight_1: float = 0.5
+    decay_speed_1_m_s: float = 0.138
+    weight_2: float = 0.5
+    decay_speed_2_m_s: float = 6.9
+
+
+@dataclass(frozen=True)
+class ConstantFriction(FallingFriction):
+    """Eq. 3 without the falling factor (F = 1: infinite decay speeds), the creep
+    polynomial saturating at mu_s: its slope is never negative, so falling friction cannot
+    drive squeal and only the other mechanism, mode coupling through the normal contact,
+    can. See :class:`FrictionLaw`.
+
+    Examples
+    --------
+    >>> float(ConstantFriction().slope(0.5))
+    0.0
+    """
+
+    name: ClassVar[str] = "constant"
+    decay_speed_1_m_s: float = math.inf
+    decay_speed_2_m_s: float = math.inf
+
+
+#: The friction laws by name: name -> class (SciPy's ``METHODS``), each instantiated with
+#: its own defaults by :meth:`ContactLaw.from_hertz`.
+FRICTION_LAWS: dict[str, Callable[[], FrictionLaw]] = {
+    law.name: law for law in (FallingFriction, ConstantFriction)
 }
+
+
+def friction_law_named(name: str) -> FrictionLaw:
+    """The law registered as ``name`` in :data:`FRICTION_LAWS`, with its own parameters
+    (the one check of a law's name: the design file and the API report its ValueError).
+
+    Examples
+    --------
+    >>> friction_law_named("constant").name
+    'constant'
+    """
+    try:
+        return FRICTION_LAWS[name]()
+    except KeyError:
+        raise ValueError(
+            f"friction_law must be one of {', '.join(map(repr, FRICTION_LAWS))}, got {name!r}"
+        ) from None
 
 
 @dataclass(frozen=True)
@@ -58,9 +206,8 @@ class ContactLaw:
     shear_modulus_pa : G = E / 2(1 + nu), Pa.
     semi_axis_a_m, semi_axis_b_m : Hertz semi-axes (rolling, lateral), m.
     c22 : Kalker's lateral creep coefficient, dimensionless.
-    decay_speed_1_m_s, decay_speed_2_m_s : the sliding speeds 0.138 and 6.9 m/s of
-        the falling-friction factor F(s) of Eq. 3 (infinite: no falling friction, the
-        "constant" law of :data:`FRICTION_LAWS`).
+    friction : the friction law, whose falling factor F(s) multiplies Eq. 3's polynomial
+        (:class:`FrictionLaw`; default the paper's, :class:`FallingFriction`).
     hertz_approach_m : delta0, the static Hertz approach under W, m: the normal force
         follows N = W (1 + d / delta0)^(3/2) for an extra approach d (linearised: the
         spring k_H = 3 W / (2 delta0)). Infinite: the paper's constant normal load (no
@@ -77,8 +224,7 @@ class ContactLaw:
     semi_axis_a_m: float
     semi_axis_b_m: float
     c22: float = TABLE1_C22
-    decay_speed_1_m_s: float = 0.138
-    decay_speed_2_m_s: float = 6.9
+    friction: FrictionLaw = FallingFriction()
     hertz_approach_m: float = math.inf
     relaxation_length_m: float = 0.0
 
@@ -95,10 +241,8 @@ class ContactLaw:
             value = getattr(self, name)
             if not (math.isfinite(value) and value > 0.0):
                 raise ValueError(f"ContactLaw.{name} must be positive and finite, got {value!r}")
-        for name in ("decay_speed_1_m_s", "decay_speed_2_m_s"):
-            value = getattr(self, name)
-            if not value > 0.0:  # infinite is allowed: no falling friction
-                raise ValueError(f"ContactLaw.{name} must be positive (or infinite), got {value!r}")
+        if not isinstance(self.friction, FrictionLaw):
+            raise TypeError(f"ContactLaw.friction must be a FrictionLaw, got {self.friction!r}")
         if not self.hertz_approach_m > 0.0:
             raise ValueError(
                 f"ContactLaw.hertz_approach_m must be positive (or infinite), got {self.hertz_approach_m!r}"
@@ -128,12 +272,7 @@ class ContactLaw:
         normal load constant (the paper's model). ``relaxation_length_m``: transient
         creep (0: steady).
         """
-        try:
-            s1, s2 = FRICTION_LAWS[friction_law]
-        except KeyError:
-            raise ValueError(
-                f"unknown friction law {friction_law!r}; choose {', '.join(FRICTION_LAWS)}"
-            ) from None
+        friction = friction_law_named(friction_law)
         if isinstance(c22, str):
             if c22.lower() != "kalker":
                 raise ValueError(f"c22 must be a number or 'kalker', got {c22!r}")
@@ -151,8 +290,7 @@ class ContactLaw:
             semi_axis_a_m=hertz.semi_axis_a_m,
             semi_axis_b_m=hertz.semi_axis_b_m,
             c22=float(c22),
-            decay_speed_1_m_s=s1,
-            decay_speed_2_m_s=s2,
+            friction=friction,
             hertz_approach_m=hertz.approach_m if normal else math.inf,
             relaxation_length_m=float(relaxation_length_m),
         )
@@ -168,9 +306,8 @@ class ContactLaw:
 
     @property
     def friction_law(self) -> str:
-        """The name of the law in :data:`FRICTION_LAWS` (or "custom")."""
-        speeds = (self.decay_speed_1_m_s, self.decay_speed_2_m_s)
-        return next((k for k, v in FRICTION_LAWS.items() if v == speeds), "custom")
+        """The name of the law in :data:`FRICTION_LAWS` ("custom" for a bare :class:`FrictionLaw`)."""
+        return self.friction.name
 
     @property
     def normalised_creepage_per_creepage(self) -> float:
@@ -190,30 +327,8 @@ class ContactLaw:
 
 
 def falling_friction_factor(sliding_speed_m_s: ArrayLike, law: ContactLaw) -> np.ndarray:
-    """F(s) = 1 - 0.5 exp(-s1/s) - 0.5 exp(-s2/s) for sliding speed s >= 0 (m/s).
-
-    Finite and equal to 1 at s = 0 (the limit), without warnings: there -s1/s is -inf and
-    its exponential exactly 0, as it is for an infinite decay speed (no falling term);
-    for a subnormal s the quotient overflows to -inf, and below s = s1/746 the exponential
-    underflows to 0.
-    """
-    s = np.abs(np.asarray(sliding_speed_m_s, dtype=float))
-    with np.errstate(divide="ignore", over="ignore", under="ignore"):
-        return 1.0 - 0.5 * np.exp(-law.decay_speed_1_m_s / s) - 0.5 * np.exp(-law.decay_speed_2_m_s / s)
-
-
-def _falling_friction_slope(s: np.ndarray, law: ContactLaw) -> np.ndarray:
-    """dF/ds, 1/(m/s). Below s = s1/700 the exponentials underflow (e^-700) and the
-    slope is exactly 0 in double precision (all derivatives of exp(-c/s) vanish at 0)."""
-    d = np.zeros_like(s)
-    for decay in (law.decay_speed_1_m_s, law.decay_speed_2_m_s):
-        if math.isinf(decay):  # no falling term
-            continue
-        live = s > decay / 700.0
-        inv = np.divide(1.0, s, out=np.zeros_like(s), where=live)
-        with np.errstate(under="ignore"):
-            d = d - np.where(live, 0.5 * decay * inv * inv * np.exp(-decay * inv), 0.0)
-    return d
+    """F(s) of the contact's friction law at sliding speeds s >= 0 [m/s] (:meth:`FrictionLaw.factor`)."""
+    return law.friction.factor(sliding_speed_m_s)
 
 
 def _creep_cubic(zp: np.ndarray) -> np.ndarray:
@@ -260,5 +375,5 @@ def adhesion_ratio_slope(creepage: ArrayLike, law: ContactLaw, rolling_speed_m_s
     poly, dpoly = _creep_polynomial(a * K)
     s = a * rolling_speed_m_s
     f = falling_friction_factor(s, law)
-    df = _falling_friction_slope(s, law)
+    df = law.friction.slope(s)
     return law.friction_coefficient * (dpoly * K * f + poly * df * rolling_speed_m_s)

@@ -472,13 +472,15 @@ def law_vector(contact: ContactLaw, op: OperatingPoint, modes: Modes | None = No
             contact.normal_load_n,
             contact.friction_coefficient,
             contact.normalised_creepage_per_creepage,
-            contact.decay_speed_1_m_s,
-            contact.decay_speed_2_m_s,
+            contact.friction.decay_speed_1_m_s,
+            contact.friction.decay_speed_2_m_s,
             op.rolling_speed_m_s,
             op.crabbing_velocity_m_s,
             math.inf if lateral_only else contact.hertz_approach_m,
             contact.relaxation_time_s(op.rolling_speed_m_s),
             0.0 if modes is None else static_normal_approach_m(modes, contact, op),
+            contact.friction.weight_1,
+            contact.friction.weight_2,
         ],
         dtype=float,
     )
@@ -504,14 +506,11 @@ def mode_arrays(modes: tuple[ModalDOF, ...]) -> tuple[np.ndarray, np.ndarray, np
 
 def max_contact_damping_ns_m(contact: ContactLaw, op: OperatingPoint) -> float:
     """Upper bound of W/V0 |dmu/dzeta|, N s/m: the largest viscous-like coefficient
-    the friction law can add (slope at zeta = 0 plus the falling-friction slope,
-    max_s |dF/ds| <= 2 e^-2 (1/s1 + 1/s2))."""
+    the friction law can add (slope at zeta = 0 plus the falling factor's largest slope,
+    :meth:`FrictionLaw.steepness_s_m`)."""
     dmu = contact.friction_coefficient * (
         contact.normalised_creepage_per_creepage
-        + op.rolling_speed_m_s
-        * 2.0
-        * math.exp(-2.0)
-        * (1.0 / contact.decay_speed_1_m_s + 1.0 / contact.decay_speed_2_m_s)
+        + op.rolling_speed_m_s * 2.0 * math.exp(-2.0) * contact.friction.steepness_s_m()
     )
     return contact.normal_load_n / op.rolling_speed_m_s * dmu
 

@@ -42,8 +42,9 @@ contact_laws = st.builds(
     semi_axis_a_m=_pos(1e-6, 0.1),
     semi_axis_b_m=_pos(1e-6, 0.1),
     c22=_pos(1.0, 20.0),
-    decay_speed_1_m_s=_pos(1e-3, 10.0),
-    decay_speed_2_m_s=_pos(1e-3, 100.0),
+    friction=st.builds(
+        r.FallingFriction, decay_speed_1_m_s=_pos(1e-3, 10.0), decay_speed_2_m_s=_pos(1e-3, 100.0)
+    ),
 )
 
 

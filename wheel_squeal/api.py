@@ -191,7 +191,8 @@ def contact_law(
     ``friction_law``: None for the design's ([contact] friction_law), or a name of
     ``reduced.FRICTION_LAWS``.
     """
-    from reduced import FRICTION_LAWS, ContactLaw
+    from reduced import ContactLaw
+    from reduced.creep import friction_law_named
 
     if isinstance(c22, str):
         if c22.lower() != "kalker":
@@ -206,8 +207,10 @@ def contact_law(
     c = design.contact
     c22 = c.c22 if c22 is None else c22
     law = c.friction_law if friction_law is None else friction_law
-    if law not in FRICTION_LAWS:
-        raise RequestError(f"friction law must be one of {', '.join(FRICTION_LAWS)}, got {law!r}")
+    try:
+        friction_law_named(law)
+    except ValueError as e:
+        raise RequestError(str(e)) from None
     relaxation = (c.relaxation_length or hertz.semi_axis_a_m) if c.transient_creep else 0.0
     return ContactLaw.from_hertz(
         hertz,

@@ -18,7 +18,7 @@ from typing import TYPE_CHECKING, ClassVar
 
 from geometry import DesignError
 from geometry.schema import Fields, spec
-from reduced.creep import FRICTION_LAWS, TABLE1_C22
+from reduced.creep import TABLE1_C22, friction_law_named
 from track.profiles import STANDARD_WHEELS
 from track.sections import (
     COUNTER_BODIES,
@@ -188,11 +188,10 @@ class Contact(Fields):
         if self.flange_friction_coefficient is not None:
             check_positive("contact", "flange_friction_coefficient", self.flange_friction_coefficient)
         self.check_plausible()
-        if self.friction_law not in FRICTION_LAWS:
-            raise DesignError(
-                f"[contact] friction_law must be one of {', '.join(map(repr, FRICTION_LAWS))}, "
-                f"got {self.friction_law!r}"
-            )
+        try:
+            friction_law_named(self.friction_law)
+        except ValueError as e:
+            raise DesignError(f"[contact] {e}") from None
         if self.wheel_profile not in ("outline", *STANDARD_WHEELS):
             raise DesignError(
                 f"[contact] wheel_profile must be 'outline' or one of {', '.join(STANDARD_WHEELS)}, "
