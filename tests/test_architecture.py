@@ -324,3 +324,21 @@ def test_the_models_write_no_files_and_draw_no_figures():
         if (m := writes.search(f.read_text()))
     }
     assert found == {}
+
+
+def test_the_architecture_page_lists_the_packages_in_the_tree():
+    """docs/architecture.md's table of packages is the tree's: every package with code is
+    listed once, nothing listed is missing, and the interfaces it names exist."""
+    import re
+
+    from reduced import FrictionLaw
+    from track.sections import CounterBodySection
+
+    page = (ROOT / "docs" / "architecture.md").read_text()
+    table = page.split("<!-- packages -->")[1].split("<!-- /packages -->")[0]
+    listed = re.findall(r"^\| `(\w+)/` \|", table, flags=re.M)
+    in_tree = {p.parent.name for p in ROOT.glob("*/__init__.py")} - {"designs"}  # package data
+    assert sorted(listed) == sorted(in_tree) == sorted(CODE_PACKAGES)
+    for method in ("contact_radii", "model", "states", "model_seconds"):
+        assert f"`{method}()`" in page and callable(getattr(CounterBodySection, method)), method
+    assert "`reduced.FrictionLaw`" in page and callable(FrictionLaw.kernel_parameters)

@@ -247,3 +247,30 @@ def test_a_curve_case_reads_as_the_api_documents_it():
     ds = curve_dataset([c.to_record() for c in cases])
     assert ds["squeals"].shape == (1, 1, 4)
     assert int(ds["squeals"].sum()) == sum(c.analysis.verdict.squeals for c in cases)
+
+
+@pytest.mark.slow  # the fast preset's modes and the rail's fits, one curve (about 6 s cold)
+def test_a_curve_request_solves_each_contact_s_stability_once(monkeypatch):
+    """The pricing reads the analysis's own table of each sliding contact: one stability
+    solve per contact analysed (a second solve for the price would count twice as many at
+    the sliding ones), and the same verdicts as a request whose analysis solves its own."""
+    import wheel_squeal.chain as chain
+    import wheel_squeal.stability as stability
+
+    solves = []
+    real = stability.stability_table
+
+    def counted(*args, **kwargs):
+        solves.append(args[3])  # the operating point
+        return real(*args, **kwargs)
+
+    monkeypatch.setattr(stability, "stability_table", counted)
+    monkeypatch.setattr(chain, "stability_table", counted)
+    design = ws.load_design("railway_920_track")
+    ctx = ws.RunContext.of("fast")
+    cases = ws.curve(design, [150.0], [40.0], context=ctx)
+    contacts = sum(len(c.contacts) for c in cases)
+    sliding = sum(1 for c in cases for a in c.analyses if a.operating_point.crabbing_velocity_m_s != 0.0)
+    assert sliding > 0 and len(solves) == contacts
+    priced = ws.curve(design, [150.0], [40.0], context=ctx, priced=True)  # a line's: no pricing
+    assert [c.to_record() for c in priced] == [c.to_record() for c in cases]

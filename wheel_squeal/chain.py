@@ -120,7 +120,7 @@ def analyse(
     t0 = time.perf_counter()
     contact = contact_law(design, opts.c22, opts.friction_law)
     seen = excitable(modes, contact)
-    dofs = mode_dofs(seen, design) if seen and table is None else None  # none: stability_table says so
+    dofs = mode_dofs(seen, design) if seen else None  # none: stability_table says so
     if table is None:
         plan = stability_plan(design, modes, contact, opts.rotation, opts.remedy, dofs)
         plan.check(ctx.budget, "the linear stability", NO_REMEDY_HINT)

@@ -45,6 +45,7 @@ if TYPE_CHECKING:
 
     from .context import RunContext
     from .curve_remedy import CurveRemedy
+    from .stability import StabilityTable
 
 __all__ = [
     "AMPLITUDE_METHODS",
@@ -203,7 +204,7 @@ def _cases(
 
     ctx = context or RunContext.of("balanced")
     vehicle = vehicle or design.vehicle.vehicle()
-    modes, _, curvings = _planned(
+    modes, _, curvings, tables = _planned(
         design,
         radii_m,
         train_speeds_km_h,
@@ -223,17 +224,24 @@ def _cases(
         remedy=False,
         amplitude=method,
         counter_body_effect=counter_body_effect,
-        stable_rows=False,
+        stable_rows=False,  # as the pricing's tables are solved (_planned)
     )
     moved = modes_at_contacts(modes, ctx.memo)
     cases: list[CurveCase] = []
     for (radius, speed), wheels in curvings.items():
         ctx.budget.checkpoint(f"the curve of {radius:g} m at {speed:g} km/h")
         group = []
-        for wheel, sites in wheels:
+        for w, (wheel, sites) in enumerate(wheels):
             analyses = tuple(
-                analyse(s.design, op=s.op, options=options, context=ctx, modes=moved(s.design.contact_frame))
-                for s in sites
+                analyse(
+                    s.design,
+                    op=s.op,
+                    options=options,
+                    context=ctx,
+                    modes=moved(s.design.contact_frame),
+                    table=tables.get(((radius, speed), w, k)),
+                )
+                for k, s in enumerate(sites)
             )
             states = tuple(s.state for s in sites)
             case = CurveCase(
@@ -278,6 +286,8 @@ def curve_estimate(
 
 
 Curvings = dict[tuple[float, float], list[tuple["WheelContact", list[ContactSiteAnalysis]]]]
+#: Each sliding contact's linear stability by (curve, wheel, contact) indices
+SolvedTables = dict[tuple[tuple[float, float], int, int], "StabilityTable"]
 
 
 def _planned(
@@ -293,15 +303,17 @@ def _planned(
     check: bool,
     maps: int = 1,
     price: bool = True,
-) -> tuple[ModeSet, CostPlan, Curvings]:
+) -> tuple[ModeSet, CostPlan, Curvings, SolvedTables]:
     """The request checked and priced in its three steps (``plan.curve_plan``), each
     refused beyond the budget before the next where ``check``: (the modes, the plan, each
-    curve's wheels and their contact sites)."""
+    curve's wheels and their contact sites, and the linear stability of each sliding
+    contact where the pricing solved it, by (curve, wheel, contact): the analysis's)."""
     from track.bogie_curving import BogieCurving, contact_table, solve_curving
     from track.curving import check_curve
 
     from .modes import context_modes, modes_cache_key
     from .sound import radiation_cached
+    from .stability import stability_table
 
     if design.counter_body.KIND != "track":
         raise RequestError(
@@ -374,17 +386,24 @@ def _planned(
                     (w, wheel_sites(design, w, float(v), c22)) for w in solved.wheels
                 ]
     if not (check or price):  # priced by the caller as a whole (a line): no pre-pass
-        return modes, plan_of(wheel_dofs=wheel_dofs), curvings
+        return modes, plan_of(wheel_dofs=wheel_dofs), curvings, {}
     moved = modes_at_contacts(modes, ctx.memo)
-    sites = [
-        (s.design, moved(s.design.contact_frame), s.law, s.op)
-        for wheels in curvings.values()
-        for _, mine in wheels
-        for s in mine
+    sliding = [
+        ((curve, w, k), s)
+        for curve, wheels in curvings.items()
+        for w, (_, mine) in enumerate(wheels)
+        for k, s in enumerate(mine)
         if s.op.crabbing_velocity_m_s != 0.0
     ]
-    with ctx.progress.stage(f"linear stability at {len(sites):,} sliding contacts"):
+    with ctx.progress.stage(f"linear stability at {len(sliding):,} sliding contacts"):
+        # the analysis's own tables (what the chain would solve for CURVE_OPTIONS), solved
+        # once here to price the rest and handed to the analysis
+        tables = {
+            at: stability_table(s.design, moved(s.design.contact_frame), s.law, s.op, stable_rows=False)
+            for at, s in sliding
+        }
+        sites = [(s.design, moved(s.design.contact_frame), s.law, s.op, tables[at]) for at, s in sliding]
         squealing = squealing_axles(
             sites, method == "time domain", lambda m, f: radiation_cached(ctx.cache, key, m, f)
         )
-    return modes, checked(plan_of(wheel_dofs=wheel_dofs, squealing=squealing)), curvings
+    return modes, checked(plan_of(wheel_dofs=wheel_dofs, squealing=squealing)), curvings, tables

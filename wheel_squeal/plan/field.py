@@ -13,7 +13,7 @@ from reduced.integration_cost import simulation_bytes, simulation_seconds
 
 from ..budget import CostPlan
 from ..design import Design
-from ..stability import body_of, mode_dofs
+from ..stability import StabilityTable, body_of, mode_dofs
 from .fe import estimated_modes, radiation_seconds
 
 if TYPE_CHECKING:
@@ -141,8 +141,8 @@ def curve_plan(
         size.maps * size.curves * CURVING_SECONDS_PER_CURVE,
         remedy=hint,
     )
-    # every contact's is solved once more first, to price the rest (squealing_axles)
-    solves = size.maps * n_contacts * (verdict + every)
+    # each contact's solved once: the analysis's table prices the rest (squealing_axles)
+    solves = size.maps * n_contacts * verdict
     plan.add(
         f"{n_contacts:,} contacts' stability ({len(wheel_dofs)} modes, {body} states of the "
         f"counter-body){size.times}",
@@ -187,26 +187,24 @@ class SquealingAxles:
 
 
 def squealing_axles(
-    sites: Sequence[tuple[Design, ModeSet, ContactLaw, OperatingPoint]],
+    sites: Sequence[tuple[Design, ModeSet, ContactLaw, OperatingPoint, StabilityTable]],
     time_domain: bool,
     cached: Callable[[Mode, float], bool],
 ) -> SquealingAxles:
-    """The linear stability at each contact of ``sites`` (a wheel's design at that contact,
-    its modes read there, its contact law and operating point: the decision's first step,
-    ``wheel_squeal.stability.stability_table``) priced as :class:`SquealingAxles` says;
+    """Each contact of ``sites`` (a wheel's design at that contact, its modes read there,
+    its contact law, operating point and linear stability, the analysis's own: solved once,
+    read here to price the rest) priced as :class:`SquealingAxles` says;
     ``cached(mode, frequency_hz)`` tells a radiation the cache holds."""
     from acoustics.harmonics import MAX_HARMONIC_HZ, MAX_HARMONICS, radiation_frequency_hz
 
     from ..presets import MAX_MULTIMODE
     from ..sound import sound_cost
-    from ..stability import stability_table
 
     seconds: list[float] = []
     sounds: dict[str, tuple[float, float]] = {}
     record = 0.0  # one record at a time: a map keeps each one's tail only
-    for design, modeset, contact, op in sites:
+    for design, modeset, contact, op, table in sites:
         body = body_of(design)
-        table = stability_table(design, modeset, contact, op)
         if not table.grows:
             continue
         row = table.rows[table.fastest]
