@@ -342,3 +342,28 @@ def test_the_architecture_page_lists_the_packages_in_the_tree():
     for method in ("contact_radii", "model", "states", "model_seconds"):
         assert f"`{method}()`" in page and callable(getattr(CounterBodySection, method)), method
     assert "`reduced.FrictionLaw`" in page and callable(FrictionLaw.kernel_parameters)
+
+
+#: What a presenter must not call: the pass-by's physics, the solvers and the chain (a
+#: presenter writes the records it is given)
+COMPUTES = {
+    "passby",
+    "passby_pressure",
+    "bogie_sources",
+    "loudest_passby_sound",
+    "stability_table",
+    "linear_stability",
+    "analyse",
+    "simulate",
+    "solve_curving",
+    "mode_sound",
+}
+
+
+def test_a_presenter_computes_no_pass_by_and_solves_nothing():
+    modules = _modules()
+    for name, path in modules.items():
+        if not name.startswith("wheel_squeal.present"):
+            continue
+        imported = {n for _, names in _imports(name, path, modules) for n in names}
+        assert not imported & COMPUTES, (name, sorted(imported & COMPUTES))

@@ -31,7 +31,15 @@ from .api import contact_law
 from .budget import CostPlan
 from .chain import AMPLITUDE_METHODS
 from .context import memo_get, memo_put
-from .curve_case import AxleSound, BogiePassby, CurveCase, axle_sound, bogie_sources
+from .curve_case import (
+    AxleSound,
+    BogiePassby,
+    CurveCase,
+    PassbySound,
+    axle_sound,
+    bogie_sources,
+    loudest_passby_sound,
+)
 from .curve_contacts import ContactSiteAnalysis, contact_geometry, modes_at_contacts, wheel_sites
 from .design import Design
 from .errors import RequestError
@@ -73,10 +81,11 @@ KEPT_RECORD_S = 0.05
 class CurveMap:
     """A curve map: its cases (:class:`CurveCase`, radius by radius, speed by speed, the
     four wheels in ``track.curving.WHEELS`` order) and what stops its squeal (None: not
-    asked)."""
+    asked), and the sound of its loudest pass-by (None: nothing squeals audibly)."""
 
     cases: list[CurveCase]
     remedy: CurveRemedy | None = None
+    loudest: PassbySound | None = None
 
 
 def curve_map(
@@ -100,13 +109,14 @@ def curve_map(
     maps = 1 + len(TREATMENTS) if remedy else 1
     run = functools.partial(_cases, cant_mm=cant_mm, vehicle=vehicle, c22=c22, method=method, context=context)
     cases = run(design, radii_m, train_speeds_km_h, ground_reflection=ground_reflection, maps=maps)
+    heard = loudest_passby_sound(cases)
     if not remedy:
-        return CurveMap(cases)
+        return CurveMap(cases, loudest=heard)
 
     def again(treated: Design, speeds: list[float]) -> list[CurveCase]:
         return run(treated, radii_m, speeds, ground_reflection=None, check=False)
 
-    return CurveMap(cases, map_remedy(design, cases, again, (radii_m, train_speeds_km_h)))
+    return CurveMap(cases, map_remedy(design, cases, again, (radii_m, train_speeds_km_h)), heard)
 
 
 def curve(
@@ -254,7 +264,7 @@ def _cases(
             ground = None
             if ground_reflection is not None:
                 ground = passby(sources, speed / 3.6, reflection=ground_reflection)
-            bp = BogiePassby(free, ground, tuple(owners))
+            bp = BogiePassby(free, ground, tuple(owners), tuple(sources))
             group = [replace(c, passby=bp) for c in group]
         cases += group
     return cases

@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -44,11 +44,12 @@ class AxleSound:
 @dataclass(frozen=True)
 class BogiePassby:
     """The bogie's pass-by at one radius and train speed: free field, and over the ground
-    (None: not asked), with which source is whose wheel."""
+    (None: not asked), with which source is whose wheel, and the sources."""
 
     free: PassbyResult
     ground: PassbyResult | None
     owners: tuple[int, ...]
+    sources: tuple[PassbySource, ...] = ()
 
     def wheel_levels(self, wheel: int) -> tuple[float, float, float, float] | None:
         """(L_pmax, L_pAmax, SEL, SEL_A) [dB] of one wheel (its index in
@@ -244,3 +245,44 @@ def bogie_sources(
             sources += mine
             owners += [c.index] * len(mine)
     return sources, owners
+
+
+@dataclass(frozen=True, eq=False)
+class PassbySound:
+    """The sound of a curve map's loudest bogie pass-by at the ISO 3095 position (free
+    field): the radius and speed it was heard at, the wheels of that curve, its length [s]
+    and the pressure at the microphone [Pa], sampled at ``sample_rate_hz``."""
+
+    radius_m: float
+    train_speed_km_h: float
+    cases: tuple[CurveCase, ...] = field(repr=False)
+    duration_s: float
+    sample_rate_hz: int
+    pressure_pa: np.ndarray = field(repr=False)
+
+
+def loudest(cases: Sequence[CurveCase]) -> list[CurveCase]:
+    """The four wheels of the radius and speed whose bogie pass-by is loudest in dB(A)
+    (empty: nothing squeals audibly)."""
+    heard = [c for c in cases if c.passby is not None]
+    if not heard:
+        return []
+    top = max(heard, key=lambda c: c.passby.free.lpamax_dba)  # type: ignore[union-attr]
+    return [c for c in cases if (c.radius_m, c.train_speed_km_h) == (top.radius_m, top.train_speed_km_h)]
+
+
+def loudest_passby_sound(cases: Sequence[CurveCase]) -> PassbySound | None:
+    """The loudest pass-by of a map as heard (:class:`PassbySound`): its sources' pressure
+    at the microphone with the Doppler shift, over ten times the microphone's distance each
+    side (at most 12 s); None where nothing squeals audibly."""
+    from acoustics.passby import MICROPHONE_DISTANCE_M, passby_pressure
+    from acoustics.signal import WAV_RATE_HZ
+
+    group = loudest(cases)
+    if not group:
+        return None
+    assert group[0].passby is not None  # the loudest group has a pass-by
+    speed = group[0].train_speed_km_h / 3.6
+    duration = min(12.0, 2 * 10.0 * MICROPHONE_DISTANCE_M / speed)
+    _, p = passby_pressure(list(group[0].passby.sources), speed, duration, WAV_RATE_HZ)
+    return PassbySound(group[0].radius_m, group[0].train_speed_km_h, tuple(group), duration, WAV_RATE_HZ, p)

@@ -77,7 +77,7 @@ def cmd_curve(args: argparse.Namespace) -> int:
                 remedy=not args.no_remedy,
             )
         rows, summary = write_curve_files(
-            tmp, design, vehicle, args.cant, result.cases, method, q, result.remedy
+            tmp, design, vehicle, args.cant, result.cases, method, q, result.remedy, result.loudest
         )
     if result.remedy is not None:
         print(result.remedy.words())

@@ -20,6 +20,7 @@ if TYPE_CHECKING:
     from track.bogie_curving import Vehicle
 
     from ..curve import CurveCase
+    from ..curve_case import PassbySound
     from ..curve_remedy import CurveRemedy
     from ..design import Design
     from ..types import AmplitudeMethod
@@ -342,8 +343,10 @@ def write_curve_files(
     method: AmplitudeMethod,
     ground_reflection: float | None,
     remedy: CurveRemedy | None = None,
+    heard: PassbySound | None = None,
 ) -> tuple[list[dict], dict[str, Any]]:
-    """Every file of the curve command in ``folder``; returns curve.csv's rows and
+    """Every file of the curve command in ``folder`` (``heard``: the loudest pass-by's
+    sound, written as passby.wav and passby.png); returns curve.csv's rows and
     summary.json without its cases."""
     from acoustics.passby import GROUND_DEPTH_M, MICROPHONE_DISTANCE_M, MICROPHONE_HEIGHT_M
 
@@ -351,7 +354,7 @@ def write_curve_files(
     from ..output_files import columns_of
     from ..outputs import write_csv, write_json
     from .curve_remedy import write_curve_remedy
-    from .passby import band_rows, loudest, write_passby_files
+    from .passby import band_rows, write_passby_files
 
     rows = [c.to_record() for c in cases]
     q = ground_reflection
@@ -367,10 +370,8 @@ def write_curve_files(
     }
     if remedy is not None:
         summary["remedy"] = write_curve_remedy(folder, remedy)
-    group = loudest(cases)
-    if group:
-        wav = write_passby_files(folder, group, vehicle.wheelbase_m, design.rolling_radius)
-        summary["loudest"] = {**wav, "bands": band_rows(group[0])}
+    if heard is not None:
+        summary["loudest"] = {**write_passby_files(folder, heard), "bands": band_rows(heard.cases[0])}
     write_csv(folder / "curve.csv", rows, columns_of("curve.csv"))
     attrs = {
         "title": f"{design.name} in curves",

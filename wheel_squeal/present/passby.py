@@ -11,24 +11,14 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 if TYPE_CHECKING:
-    from ..curve_case import CurveCase
+    from ..curve_case import CurveCase, PassbySound
 
-__all__ = ["PASSBY_PNG", "PASSBY_WAV", "band_rows", "loudest", "write_passby_files"]
+__all__ = ["PASSBY_PNG", "PASSBY_WAV", "band_rows", "write_passby_files"]
 
 #: The loudest pass-by's sound
 PASSBY_WAV = "passby.wav"
 #: Its level-time history and spectrogram
 PASSBY_PNG = "passby.png"
-
-
-def loudest(cases: Sequence[CurveCase]) -> list[CurveCase]:
-    """The four wheels of the radius and speed whose bogie pass-by is loudest in dB(A)
-    (empty: nothing squeals audibly)."""
-    heard = [c for c in cases if c.passby is not None]
-    if not heard:
-        return []
-    top = max(heard, key=lambda c: c.passby.free.lpamax_dba)  # type: ignore[union-attr]
-    return [c for c in cases if (c.radius_m, c.train_speed_km_h) == (top.radius_m, top.train_speed_km_h)]
 
 
 def band_rows(case: CurveCase) -> list[dict]:
@@ -48,33 +38,25 @@ def band_rows(case: CurveCase) -> list[dict]:
     ]
 
 
-def write_passby_files(
-    folder: Path, group: Sequence[CurveCase], wheelbase_m: float, rolling_radius_m: float
-) -> dict[str, Any]:
-    """The pass-by of one radius and speed's wheels as heard at the microphone: passby.wav
-    (level and Doppler shift; 16-bit, normalised to its peak pressure [Pa], which is
-    returned with the duration) and passby.png (its A-weighted level over time, fast, and
-    the spectrogram of the sound)."""
-    from acoustics.passby import MICROPHONE_DISTANCE_M, passby_pressure
-    from acoustics.signal import WAV_RATE_HZ, faded
+def write_passby_files(folder: Path, heard: PassbySound) -> dict[str, Any]:
+    """The loudest pass-by as heard at the microphone: passby.wav (16-bit, normalised to
+    its peak pressure [Pa], which is returned with the duration) and passby.png (its
+    A-weighted level over time, fast, and the spectrogram of the sound)."""
+    from acoustics.signal import faded
 
-    from ..curve_case import bogie_sources
     from .files import write_wav
 
-    speed = group[0].train_speed_km_h / 3.6
-    sources, _ = bogie_sources(group, wheelbase_m, rolling_radius_m)
-    duration = min(12.0, 2 * 10.0 * MICROPHONE_DISTANCE_M / speed)
-    _, p = passby_pressure(sources, speed, duration, WAV_RATE_HZ)
-    peak = write_wav(folder / PASSBY_WAV, faded(p, WAV_RATE_HZ, 0.5))
-    _passby_figure(folder / PASSBY_PNG, group, p, WAV_RATE_HZ)
+    rate = heard.sample_rate_hz
+    peak = write_wav(folder / PASSBY_WAV, faded(heard.pressure_pa, rate, 0.5))
+    _passby_figure(folder / PASSBY_PNG, heard.cases, heard.pressure_pa, rate)
     return {
         "file": PASSBY_WAV,
         "figure": PASSBY_PNG,
-        "radius_m": group[0].radius_m,
-        "train_speed_km_h": group[0].train_speed_km_h,
-        "duration_s": duration,
+        "radius_m": heard.radius_m,
+        "train_speed_km_h": heard.train_speed_km_h,
+        "duration_s": heard.duration_s,
         "peak_pa": peak,
-        "sample_rate_hz": WAV_RATE_HZ,
+        "sample_rate_hz": rate,
     }
 
 
