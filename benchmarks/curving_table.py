@@ -16,8 +16,8 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
+from contact.wheel_rail import ContactGeometry  # noqa: E402
 from track.bogie_curving import Vehicle, steady_curving  # noqa: E402
-from track.contact_geometry import ContactGeometry  # noqa: E402
 
 RADII_M = (150.0, 200.0, 300.0, 600.0, 1000.0)
 

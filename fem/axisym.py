@@ -66,7 +66,7 @@ import scipy.sparse as sp
 import skfem as fe
 from skfem.helpers import dot
 
-from geometry.contact import ContactFrame
+from contact.frames import ContactFrame
 from geometry.design import WheelDesign
 
 from .eigen import blas_threads, small_problem_factorization, solve_band, solve_eigen
@@ -328,7 +328,7 @@ def solve_axisymmetric(
     factorization: passed to :func:`fem.eigen.solve_eigen`; default
         :func:`small_problem_factorization` (cholmod if installed, else splu).
     contact: the contact point and frame the modes' contact components are given in
-        (``geometry.contact``; default: the design's, the tread apex for a parametric
+        (``contact.frames``; default: the design's, the tread apex for a parametric
         wheel).
 
     Returns a :class:`fem.modes.ModeSet` sorted by frequency with ``solver="axisym"``;

@@ -41,7 +41,7 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.spatial import cKDTree
 
-from geometry.contact import ContactFrame
+from contact.frames import ContactFrame
 
 from .axisym import assemble_harmonic
 from .eigen import blas_threads, small_problem_factorization, solve_band
@@ -200,7 +200,7 @@ def solve_cyclic(
         at p = 0, two pairs at p = 1).
     factorization: of each harmonic problem (:func:`fem.eigen.solve_eigen`); default
         :func:`fem.eigen.small_problem_factorization`.
-    contact: the contact frame of the modes' contact components (``geometry.contact``;
+    contact: the contact frame of the modes' contact components (``contact.frames``;
         default the design's).
 
     Returns a :class:`~fem.modes.ModeSet` (``solver="3d-cyclic-p2"``), points and

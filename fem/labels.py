@@ -12,7 +12,7 @@ the rules themselves live in :mod:`fem.rules`.
   web, a hub and the rim), sampled at :data:`CIRCLE_SAMPLES` points
   (:func:`fem.rules.count_sign_changes`).
 - contact: the displacement (U, V) = (u_r, u_z) of the cos member at the contact
-  point of the frame (``geometry.contact``: the tread apex (R1, 0) by default;
+  point of the frame (``contact.frames``: the tread apex (R1, 0) by default;
   interpolated, no node needed there), as its components along the lateral tangent t
   and the normal n. On a mirror-symmetric wheel with the contact in the mirror plane
   (z = 0) parity forbids one of them: an in-plane mode (:func:`fem.rules.in_plane_fraction`
@@ -28,7 +28,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from geometry.contact import ContactFrame, contact_frame
+from contact.frames import ContactFrame, contact_frame
 from geometry.design import WheelDesign
 from geometry.profile import half_profile
 

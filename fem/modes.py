@@ -79,7 +79,7 @@ class Mode:
     family: "axial" (out-of-plane), "radial" or "circumferential" (in-plane).
     contact_lateral: displacement at the contact point along the lateral tangent t of
         each mass-normalised member [m / sqrt(kg)] (axial for a contact at the tread
-        apex, ``geometry.contact``); its squares sum to 1 / modal mass.
+        apex, ``contact.frames``); its squares sum to 1 / modal mass.
     contact_normal: displacement there along the contact normal n (radial at the
         apex), member by member [m / sqrt(kg)] (empty: not computed).
     name: a label of its own (a measured mode's), instead of "(n,c) family".
@@ -294,7 +294,7 @@ class ModeSet:
     ``contact_point``: (r, 0, z), the contact point [m] ((R1, 0, 0) at the tread apex;
     None: the mesh's largest radius at z = 0, right for a wheel whose tread apex is its
     largest radius); ``contact_angle_rad``: the contact angle of the frame the modes'
-    contact components are given in (``geometry.contact``).
+    contact components are given in (``contact.frames``).
     """
 
     modes: list[Mode]

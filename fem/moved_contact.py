@@ -6,7 +6,7 @@ frame the contact reads them. A mode set carries every mode's mass-normalised sh
 revolved visualisation mesh, whose first slice lies in the meridian half-plane at angle 0
 (y = 0, x > 0), where the modes' contact values are read (``fem.labels``). The shape there is
 interpolated linearly on that slice's triangles at the new point P = (r, z), and its (u_r,
-u_z) projected on the new frame's tangent and normal (``geometry.contact.ContactFrame``).
+u_z) projected on the new frame's tangent and normal (``contact.frames.ContactFrame``).
 
 At a mesh node the value is the solver's own; between nodes the linear interpolation's error
 is second order in the element size (a few mm on the default meshes: under 1 % of a
@@ -19,7 +19,7 @@ import dataclasses
 
 import numpy as np
 
-from geometry.contact import ContactFrame
+from contact.frames import ContactFrame
 
 from .modes import ModeSet, clean_contact
 
@@ -87,7 +87,7 @@ def modes_at_contact(modes: ModeSet, frame: ContactFrame) -> ModeSet:
     Examples
     --------
     >>> import wheel_squeal as ws
-    >>> from geometry.contact import contact_frame
+    >>> from contact.frames import contact_frame
     >>> d = ws.load_design("table1")
     >>> modes = ws.compute_modes(d, "fast")
     >>> moved = modes_at_contact(modes, contact_frame(d.wheel, 0.0))

@@ -61,7 +61,7 @@ from skfem import Basis, BilinearForm, ElementTetP1, ElementTetP2, ElementVector
 from skfem.helpers import dot
 from skfem.models.elasticity import linear_elasticity
 
-from geometry.contact import ContactFrame, contact_frame
+from contact.frames import ContactFrame, contact_frame
 from geometry.profile import half_profile
 
 from .eigen import blas_threads, solve_eigen
@@ -340,7 +340,7 @@ def solve_solid(
     boundary: ``"clamped"`` (bore fixed) or ``"free"`` (six rigid modes dropped).
     factorization: passed to :func:`fem.eigen.solve_eigen` (``"auto"`` picks the
         fastest available).
-    contact: the contact frame of the modes' contact components (``geometry.contact``;
+    contact: the contact frame of the modes' contact components (``contact.frames``;
         default the design's).
 
     Returns a :class:`~fem.modes.ModeSet` whose ``points``/``cells`` are the corner

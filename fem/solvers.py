@@ -25,7 +25,7 @@ from typing import TYPE_CHECKING
 from .modes import DEFAULT_FMAX_HZ, ModeSet
 
 if TYPE_CHECKING:
-    from geometry.contact import ContactFrame
+    from contact.frames import ContactFrame
 
 __all__ = ["SOLVERS", "Solver", "get_solver", "method_label", "parse_method", "solve_modes"]
 
@@ -96,7 +96,7 @@ def solve_modes(
     ``ProfileMesh`` for "axisym" (curved elements if it is second order) and "3d"
     (revolved in ``n_sectors``, default :func:`fem.cyclic.default_sectors`), a
     ``SolidMesh`` for "3d-tet"; ``contact``: the contact frame of the modes' contact
-    components (``geometry.contact``; default the design's)."""
+    components (``contact.frames``; default the design's)."""
     get_solver(solver)
     if solver == "axisym":
         from .axisym import solve_axisymmetric

@@ -14,8 +14,19 @@ as (mass, stiffness, damping, nodal diameters) at the contact.
 All quantities are SI (m, s, kg, N, Pa, W, Hz).
 """
 
+from contact.creep import (
+    FRICTION_LAWS,
+    ConstantFriction,
+    ContactLaw,
+    FallingFriction,
+    FrictionLaw,
+    adhesion_ratio,
+    adhesion_ratio_slope,
+    falling_friction_factor,
+)
+from contact.hertz import HertzContact, hertz_contact, kalker_c22
+
 from ._engine import CompiledCodeNotKept, load_compiled_kernels
-from .contact import HertzContact, hertz_contact, kalker_c22
 from .counter_body import (
     LATERAL,
     NORMAL,
@@ -27,16 +38,6 @@ from .counter_body import (
     counter_body,
 )
 from .coupling import coupling_stiffness, two_mode_coalesces
-from .creep import (
-    FRICTION_LAWS,
-    ConstantFriction,
-    ContactLaw,
-    FallingFriction,
-    FrictionLaw,
-    adhesion_ratio,
-    adhesion_ratio_slope,
-    falling_friction_factor,
-)
 from .integrate import METHODS, choose_method, simulate
 from .limit_cycle import Cycles, LimitCycle, cycles, limit_cycle
 from .modal_content import ModalContent, modal_content

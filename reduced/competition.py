@@ -31,7 +31,8 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from .creep import ContactLaw, adhesion_ratio_slope
+from contact.creep import ContactLaw, adhesion_ratio_slope
+
 from .model import ModalDOF, OperatingPoint
 from .predictor import equivalent_mode, harmonic_distortion, initial_amplitude, predict_limit_cycle
 from .stability import LinearContact, growth_rates

@@ -11,8 +11,9 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike
 
+from contact.creep import ContactLaw
+
 from .counter_body import BodyModel
-from .creep import ContactLaw
 from .model import Integration, Modes, OperatingPoint, TimeHistory, as_modes, simulate_rk4
 from .stepping import ExponentialRun
 

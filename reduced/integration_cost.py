@@ -6,8 +6,9 @@ from __future__ import annotations
 
 import math
 
+from contact.creep import ContactLaw
+
 from .counter_body import BodyModel
-from .creep import ContactLaw
 from .integrate import choose_method
 from .model import MAX_STORED_SAMPLES, Modes, OperatingPoint
 from .saturate import FIRST_DURATION_S, MAX_DURATION_S, RECORD_SAMPLES_PER_PERIOD

@@ -19,8 +19,9 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike
 
+from contact.creep import ContactLaw, adhesion_ratio
+
 from . import _engine, _kernels
-from .creep import ContactLaw, adhesion_ratio
 
 __all__ = [
     "ModalDOF",

@@ -32,8 +32,9 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ._numerics import find_root
-from .creep import ContactLaw, adhesion_ratio, adhesion_ratio_slope
+from contact.creep import ContactLaw, adhesion_ratio, adhesion_ratio_slope
+from contact.numerics import find_root
+
 from .model import ModalDOF, OperatingPoint
 from .stability import largest_growth_rate
 

@@ -25,8 +25,9 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
+from contact.creep import ContactLaw
+
 from .counter_body import BodyModel
-from .creep import ContactLaw
 from .model import ModalDOF, Modes, OperatingPoint, as_modes
 from .stability import MAX_DAMPING_RATIO, PARTNER_SHARE, LinearContact, eigen_shares, largest_growth_rate
 

@@ -6,7 +6,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from .creep import ContactLaw
+from contact.creep import ContactLaw
+
 from .limit_cycle import LimitCycle
 from .model import OperatingPoint, TimeHistory
 

@@ -18,8 +18,9 @@ from collections.abc import Callable
 
 import numpy as np
 
+from contact.creep import ContactLaw
+
 from .counter_body import BodyModel
-from .creep import ContactLaw
 from .integrate import choose_method, simulate
 from .limit_cycle import LimitCycle, limit_cycle
 from .model import (

@@ -43,9 +43,11 @@ from typing import Literal
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ._numerics import find_root, one_blas_thread
+from contact.creep import ContactLaw, adhesion_ratio, adhesion_ratio_slope
+from contact.numerics import find_root
+
+from ._numerics import one_blas_thread
 from .counter_body import NORMAL, BodyModel
-from .creep import ContactLaw, adhesion_ratio, adhesion_ratio_slope
 from .model import ModalDOF, Modes, OperatingPoint, as_modes
 
 __all__ = [

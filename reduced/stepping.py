@@ -26,9 +26,10 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from contact.creep import ContactLaw, adhesion_ratio
+
 from . import _engine, _exponential
 from .counter_body import LATERAL, NORMAL, BodyModel
-from .creep import ContactLaw, adhesion_ratio
 from .model import (
     Coordinates,
     IntegrationError,

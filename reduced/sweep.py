@@ -17,8 +17,9 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike
 
+from contact.creep import ContactLaw
+
 from . import _engine
-from .creep import ContactLaw
 from .limit_cycle import Cycles, limit_cycle, metrics_from_cycles
 from .model import (
     STEPS_PER_PERIOD,

@@ -258,8 +258,8 @@ def test_a_mode_read_at_two_contacts_is_one_solve_scaled_to_each(wheel_field, tm
     memo the first one filled, hears what it hears solved alone (to 1e-9: the same solve,
     scaled), which is the first one's pressure times the ratio of their contact
     displacements."""
+    from contact.frames import ContactFrame
     from fem.moved_contact import MeridianSlice
-    from geometry.contact import ContactFrame
     from wheel_squeal.cache import StageCache
     from wheel_squeal.listener import default_microphone
     from wheel_squeal.modes import modes_cache_key

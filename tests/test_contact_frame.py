@@ -13,8 +13,8 @@ import pytest
 
 import reduced as r
 import wheel_squeal as ws
+from contact.frames import ContactPointError, contact_frame, largest_contact_angle_rad
 from geometry import DesignError
-from geometry.contact import ContactPointError, contact_frame, largest_contact_angle_rad
 from geometry.outline import MAX_CONTACT_ANGLE_DEG
 
 TABLE1 = ws.load_design("table1")
@@ -147,7 +147,7 @@ def test_the_in_plane_displacement_at_the_point_is_the_frames_rotation():
     """(phi_t, phi_n) of a mode at the moved point is the rotation by the contact angle
     of its (u_z, u_r) there: with the same point and a frame of angle 0, the modal
     components come out rotated back."""
-    from geometry.contact import ContactFrame
+    from contact.frames import ContactFrame
 
     frame = contact_frame(TABLE1.wheel, math.radians(-1.5))
     flat = ContactFrame(frame.r_m, frame.z_m, 0.0, frame.crown_radius_m)

@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 import wheel_squeal as ws
-from geometry.contact import frame_on_running_surface
+from contact.frames import frame_on_running_surface
 from track.bogie_curving import Vehicle, steady_curving
 
 RAILWAY = ws.load_design("railway_920_track")  # S1002 in a curve ([contact] wheel_profile)
@@ -24,7 +24,7 @@ def test_the_running_surface_is_the_outline_s_largest_radius():
     z = np.array([-0.02, 0.0, 0.03, 0.06])
     assert OUTLINE is not None
     assert np.allclose(OUTLINE.outer_radius(z), 0.46 - z / 20.0, rtol=0, atol=1e-12)
-    from track.profiles import running_surface
+    from contact.profiles import running_surface
 
     p = running_surface(OUTLINE, 0.46)
     assert 1e3 * p.height_m.max() == pytest.approx(28.0, abs=0.05)  # its description: 28 mm high
@@ -134,8 +134,8 @@ def test_modes_read_at_a_moved_contact_match_a_solve_at_that_contact():
     modal masses within 0.5 %, normal ones within 2 % (the visualisation mesh's linear
     interpolation between nodes a few mm apart; the solver reads its own element's shape
     functions). At its own contact the mode set is returned as it is."""
+    from contact.frames import largest_contact_angle_rad
     from fem.moved_contact import modes_at_contact
-    from geometry.contact import largest_contact_angle_rad
 
     d = ws.load_design("table1")
     own = ws.compute_modes(d, "fast")

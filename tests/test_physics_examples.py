@@ -10,7 +10,7 @@ import pkgutil
 
 import pytest
 
-PHYSICS = ("geometry", "fem", "reduced", "acoustics", "track")
+PHYSICS = ("geometry", "contact", "fem", "reduced", "acoustics", "track")
 
 
 def _modules() -> list[str]:

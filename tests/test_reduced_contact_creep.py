@@ -165,13 +165,13 @@ def test_hertz_near_a_circle_is_continuous(delta):
 
 
 def test_own_numerical_kernels_match_scipy():
-    """reduced._numerics replaces two SciPy imports (half a second of start-up): the
+    """contact.numerics replaces two SciPy imports (half a second of start-up): the
     AGM elliptic integrals and Brent's root agree with scipy.special / scipy.optimize
     to round-off."""
     from scipy.optimize import brentq
     from scipy.special import ellipe, ellipk
 
-    from reduced._numerics import elliptic_ke, find_root
+    from contact.numerics import elliptic_ke, find_root
 
     ms = np.concatenate(
         [[0.0, 1e-300, 1e-16, 1e-8], np.linspace(0, 1, 201)[1:-1], 1 - np.logspace(-3, -12, 10)]

@@ -9,10 +9,10 @@ import math
 import numpy as np
 import pytest
 
-from reduced.contact import kalker_c22, kalker_coefficients
+from contact.hertz import kalker_c22, kalker_coefficients
+from contact.profiles import _S1002_BOUNDS_MM, _s1002_rise_mm, cone_wheel, profile_from_points, s1002, uic60
+from contact.wheel_rail import ContactGeometry
 from track.bogie_curving import Vehicle, steady_curving
-from track.contact_geometry import ContactGeometry
-from track.profiles import _S1002_BOUNDS_MM, _s1002_rise_mm, cone_wheel, profile_from_points, s1002, uic60
 
 WHEEL_LOAD_N = 50e3
 

@@ -7,9 +7,9 @@ contact, the rig's roller, profiles and curving (the physics layer).
   continuous support) and its point receptance; the closed forms it must meet.
 - :mod:`track.fit`: a receptance as a sum of passive modal terms (mass, spring and damper
   each), the form the squeal model's counter-body takes.
-- :mod:`track.profiles`: the S1002 wheel and UIC60 rail heads from their standards, a cone,
+- :mod:`contact.profiles`: the S1002 wheel and UIC60 rail heads from their standards, a cone,
   any profile from points.
-- :mod:`track.contact_geometry`: where a wheelset's wheels touch their rails at each lateral
+- :mod:`contact.wheel_rail`: where a wheelset's wheels touch their rails at each lateral
   shift (rolling radii, contact angles, curvatures, the flange's contact).
 - :mod:`track.curving`: a curve's kinematics and the curves it refuses;
   :mod:`track.bogie_curving`: a bogie's steady curving, each wheel at its own contact.

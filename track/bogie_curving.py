@@ -13,7 +13,7 @@ lateral stiffness k_y and a yaw stiffness k_psi to the frame (the secondary susp
 is left out: the frame is free to yaw under the car body). The same acceleration moves load
 to the outer wheels: dW = m_w (V^2/R - g h/s) h_cg / s for the mass m_w on a wheelset.
 
-Each wheel touches its rail where :class:`track.contact_geometry.ContactGeometry` puts it
+Each wheel touches its rail where :class:`contact.wheel_rail.ContactGeometry` puts it
 for the wheelset's shift: its rolling radius r, contact angle gamma and curvatures, hence its
 Hertz ellipse under its normal force N and Kalker's coefficients. Its creepages, in the
 contact plane:
@@ -45,9 +45,9 @@ from typing import Any
 import numpy as np
 from scipy.optimize import OptimizeResult, brentq, least_squares
 
-from reduced.contact import hertz_contact, kalker_coefficients
+from contact.hertz import hertz_contact, kalker_coefficients
+from contact.wheel_rail import SHIFT_STEP_M, ContactGeometry, ContactPoint, is_flange_angle
 
-from .contact_geometry import SHIFT_STEP_M, ContactGeometry, ContactPoint, is_flange_angle
 from .curving import GRAVITY_M_S2, MAX_ANGLE_OF_ATTACK_RAD, RAIL_SPACING_M, WHEELS, Axle, Rail
 
 __all__ = [

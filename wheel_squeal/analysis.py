@@ -51,7 +51,7 @@ class ChainOptions:
     c22 : float, "kalker" or None
         The creep coefficient (None: the design's).
     friction_law : str or None
-        A name of ``reduced.FRICTION_LAWS`` (None: the design's).
+        A name of ``contact.creep.FRICTION_LAWS`` (None: the design's).
     remedy : bool
         What would stop the squeal (or, with none, how far it is from growing): some 20
         eigen-solves; False leaves it out (studies).

@@ -160,7 +160,7 @@ def _modal_dof(mode: Mode, damping: Damping) -> ModalDOF:
 def hertz_of(design: Design) -> HertzContact:
     """The Hertz contact (``reduced.HertzContact``) of the design's wheel on its
     counter-body at its contact point: the wheel's radius of curvature along rolling is
-    r / cos(angle) there (``geometry.contact.ContactFrame``), across it the tread's crown;
+    r / cos(angle) there (``contact.frames.ContactFrame``), across it the tread's crown;
     the counter-body's are its section's ``contact_radii`` (where a curving put the
     contact, its :class:`~wheel_squeal.design.ContactSite` gives the relative curvature
     across)."""
@@ -189,10 +189,10 @@ def contact_law(
 
     ``c22``: None for the design's value (Table 1: 3.14), a number, or ``"kalker"``.
     ``friction_law``: None for the design's ([contact] friction_law), or a name of
-    ``reduced.FRICTION_LAWS``.
+    ``contact.creep.FRICTION_LAWS``.
     """
+    from contact.creep import friction_law_named
     from reduced import ContactLaw
-    from reduced.creep import friction_law_named
 
     if isinstance(c22, str):
         if c22.lower() != "kalker":

@@ -17,11 +17,11 @@ from .errors import RequestError
 if TYPE_CHECKING:
     from collections.abc import Callable
 
+    from contact.frames import ContactFrame
+    from contact.wheel_rail import ContactGeometry
     from fem.modes import ModeSet
-    from geometry.contact import ContactFrame
     from reduced import ContactLaw, OperatingPoint
     from track.bogie_curving import ContactState, WheelContact
-    from track.contact_geometry import ContactGeometry
 
 __all__ = [
     "LEAST_LOAD_SHARE",
@@ -56,9 +56,9 @@ class ContactSiteAnalysis:
 def contact_geometry(design: Design) -> ContactGeometry:
     """The design's wheel (its outline's running surface, or the standard profile of
     ``[contact] wheel_profile``) on its rail (UIC60 at 1:40): where each wheel of a wheelset
-    touches for each lateral shift (``track.contact_geometry``)."""
-    from track.contact_geometry import ContactGeometry
-    from track.profiles import running_surface, standard_wheel
+    touches for each lateral shift (``contact.wheel_rail``)."""
+    from contact.profiles import running_surface, standard_wheel
+    from contact.wheel_rail import ContactGeometry
 
     outline = design.wheel.profile
     if outline is None:
@@ -80,7 +80,7 @@ def wheel_sites(
     each contact's own Kalker coefficient (None: its ellipse's)."""
     from dataclasses import replace
 
-    from geometry.contact import frame_on_running_surface
+    from contact.frames import frame_on_running_surface
     from reduced import OperatingPoint
 
     from .design import ContactSite

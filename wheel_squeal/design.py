@@ -29,8 +29,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
+from contact.frames import ContactFrame, ContactPointError, contact_frame
 from geometry import SECTIONS, DesignError, WheelDesign
-from geometry.contact import ContactFrame, ContactPointError, contact_frame
 from geometry.files import LABEL_PATTERN, LABEL_RULE, read_toml
 from geometry.schema import Fields, toml_value
 
@@ -106,7 +106,7 @@ _WORDS = {
 @dataclass(frozen=True)
 class ContactSite:
     """Where a curving puts a wheel's contact, instead of the design's own contact point:
-    the frame on the running surface (``geometry.contact.frame_on_running_surface``) and
+    the frame on the running surface (``contact.frames.frame_on_running_surface``) and
     the transverse radius of the wheel's and the rail's relative curvature there [m] (the
     Hertz ellipse's across the rolling direction; the rail's own radius is in it)."""
 
@@ -164,7 +164,7 @@ class Design:
     @functools.cached_property
     def contact_frame(self) -> ContactFrame:
         """Where the wheel touches its counter-body and the contact's frame there
-        (``geometry.contact``: the tread apex unless [contact] contact_angle moves it;
+        (``contact.frames``: the tread apex unless [contact] contact_angle moves it;
         an outline's contact point sets its own; a curving's :class:`ContactSite`
         replaces it)."""
         if self.contact_site is not None:

@@ -14,7 +14,7 @@ __all__ = ["CODE_PACKAGES", "code_version", "library_versions"]
 
 #: The packages whose code computes a result (a study case's cache key, a report's
 #: provenance): every package of the tool but its designs
-CODE_PACKAGES = ("geometry", "fem", "reduced", "acoustics", "track", "wheel_squeal")
+CODE_PACKAGES = ("geometry", "contact", "fem", "reduced", "acoustics", "track", "wheel_squeal")
 
 
 @functools.cache

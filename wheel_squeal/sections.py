@@ -16,10 +16,10 @@ import math
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, ClassVar
 
+from contact.creep import TABLE1_C22, friction_law_named
+from contact.profiles import STANDARD_WHEELS
 from geometry import DesignError
 from geometry.schema import Fields, spec
-from reduced.creep import TABLE1_C22, friction_law_named
-from track.profiles import STANDARD_WHEELS
 from track.sections import (
     COUNTER_BODIES,
     ROLLER_MODAL,
@@ -149,7 +149,7 @@ class Contact(Fields):
     friction_law: str = spec(
         DEFAULT_FRICTION_LAW,
         "-",
-        "a name of reduced.FRICTION_LAWS: falling (the paper's) or constant",
+        "a name of contact.creep.FRICTION_LAWS: falling (the paper's) or constant",
         when_set=True,
     )
     wheel_profile: str = spec(

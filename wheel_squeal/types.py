@@ -25,7 +25,7 @@ __all__ = [
 #: How a mode is seen from the (fixed) contact: standing (the paper's model), or on a
 #: turning wheel the backward or forward travelling wave of a pair.
 Wave = Literal["standing", "backward", "forward"]
-#: The friction laws of ``reduced.FRICTION_LAWS``: the paper's falling one, or constant
+#: The friction laws of ``contact.creep.FRICTION_LAWS``: the paper's falling one, or constant
 #: (no falling friction: only mode coupling can then drive squeal).
 FrictionLawName = Literal["falling", "constant"]
 #: How the normal force follows the contact's normal motion.

@@ -8,8 +8,8 @@ from pathlib import Path
 from typing import Any
 
 from acoustics.medium import AIR
+from contact.creep import FRICTION_LAWS
 from fem.solvers import SOLVERS
-from reduced.creep import FRICTION_LAWS
 
 from ..budget import DEFAULT_MAX_DOFS, DEFAULT_MAX_SECONDS, ENV_MAX_DOFS, ENV_MAX_SECONDS
 from ..cache import ENV_VAR as CACHE_ENV_VAR

@@ -18,7 +18,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ._numerics import elliptic_ke, find_root
+from .numerics import elliptic_ke, find_root
 
 __all__ = ["HertzContact", "KalkerCoefficients", "hertz_contact", "kalker_c22", "kalker_coefficients"]
 
@@ -138,7 +138,7 @@ def hertz_contact(
 
     Method (Johnson 1985, sec. 4.2, eqs 4.39-4.40): with the major semi-axis
     ``c1``, minor ``c2``, ``e^2 = 1 - (c2/c1)^2`` and complete elliptic integrals
-    K(m), E(m) of the parameter m = e^2 (arithmetic-geometric mean, reduced._numerics)::
+    K(m), E(m) of the parameter m = e^2 (arithmetic-geometric mean, contact.numerics)::
 
         B'/A' = [(c1/c2)^2 E - K] / (K - E)      (A' <= B' the two curvature sums)
         c1^3  = 3 W (K - E) / (2 pi E* e^2 A')   E* = E / 2(1 - nu^2)

@@ -21,11 +21,11 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from .outline import MAX_CONTACT_ANGLE_DEG
+from geometry.outline import MAX_CONTACT_ANGLE_DEG
 
 if TYPE_CHECKING:
-    from .design import WheelDesign
-    from .outline import Outline
+    from geometry.design import WheelDesign
+    from geometry.outline import Outline
 
 __all__ = [
     "ContactFrame",

@@ -24,7 +24,7 @@ from typing import ClassVar
 import numpy as np
 from numpy.typing import ArrayLike
 
-from .contact import HertzContact, kalker_c22
+from .hertz import HertzContact, kalker_c22
 
 __all__ = [
     "FRICTION_LAWS",
