@@ -7,6 +7,7 @@ nothing of the modal or squeal models. Checked against the exact radiation of a 
 (:mod:`acoustics.exact`). SI units throughout.
 """
 
+from .air_mesh import AirMesh, air_mesh
 from .exact import sphere_pressure, sphere_sound_power, sphere_surface
 from .helmholtz import (
     BodyTraces,
@@ -19,7 +20,6 @@ from .helmholtz import (
     radiation_cost,
 )
 from .medium import AIR, P_REF_PA, W_REF_W, Air, sound_power_level_db, spl_db
-from .mesh import AirMesh, air_mesh
 from .surface import Surface
 
 __all__ = [

@@ -35,8 +35,8 @@ import numpy as np
 
 from geometry.files import stored_array, stored_json
 
+from .air_mesh import AirMesh, air_mesh
 from .medium import AIR, Air
-from .mesh import AirMesh, air_mesh
 from .surface import Surface
 
 __all__ = [
@@ -503,7 +503,7 @@ def _interior_parts(skm, elements: np.ndarray) -> tuple[Any, Any, Any]:
 
 
 #: Each kept air's body quadrature points located on its outline (``Surface.locate``), with
-#: the outline's bytes: an air is meshed for one outline (``acoustics.mesh.air_mesh``), so
+#: the outline's bytes: an air is meshed for one outline (``acoustics.air_mesh.air_mesh``), so
 #: every mode of a body radiated on it shares them; an entry goes with its air
 _LOCATED: weakref.WeakKeyDictionary[_Discretised, tuple[bytes, Any]] = weakref.WeakKeyDictionary()
 
@@ -520,9 +520,9 @@ def _body_location(air_fe: _Discretised, surface: Surface) -> tuple[np.ndarray, 
 
 def forget_air_meshes() -> None:
     """Drop the air meshes and their bases this process keeps (:data:`DISCRETISED_KEPT`,
-    ``acoustics.mesh.MESHES_KEPT``): the next radiation meshes its air anew, as a cost
+    ``acoustics.air_mesh.MESHES_KEPT``): the next radiation meshes its air anew, as a cost
     estimate assumes."""
-    from .mesh import forget_meshes
+    from .air_mesh import forget_meshes
 
     _discretised.cache_clear()
     forget_meshes()

@@ -24,7 +24,7 @@ import numpy as np  # noqa: E402
 
 import reduced as r  # noqa: E402
 import wheel_squeal as ws  # noqa: E402
-from wheel_squeal.stability import body_of, excitable, mode_dofs  # noqa: E402
+from wheel_squeal.mode_stability import body_of, excitable, mode_dofs  # noqa: E402
 
 #: the modes the benchmark takes (the issue's size)
 MODES = 30

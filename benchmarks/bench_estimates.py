@@ -56,8 +56,8 @@ def row(kind: str, what: str, estimate: float, measured: float, unit: str = "s")
 def designs(fidelity: str, quick: bool) -> list[bool]:
     from acoustics import forget_air_meshes, radiate, radiation_cost
     from wheel_squeal.envelope import envelope, envelope_seconds, mitigation
+    from wheel_squeal.mode_stability import excitable, stability_seconds, stability_table
     from wheel_squeal.sound import mode_surface
-    from wheel_squeal.stability import excitable, stability_seconds, stability_table
 
     start, stop, num = DEFAULT_ENVELOPE_CRAB_VELOCITIES
     vcs, rpms = np.linspace(start, stop, num), list(DEFAULT_SPEEDS_RPM)
@@ -145,10 +145,10 @@ def field(fidelity: str, quick: bool) -> list[bool]:
     wheel by the harmonic balance and in the time domain, each priced by its whole plan
     (``wheel_squeal.curve.curve_estimate``: the modes cached, every sliding axle's
     stability solved) before it runs."""
-    from track.sections import TRACK_FIT_SECONDS
+    from track.design_sections import TRACK_FIT_SECONDS
     from wheel_squeal.curve import curve, curve_estimate
     from wheel_squeal.plan import track_plan
-    from wheel_squeal.track import track_receptances
+    from wheel_squeal.rail_receptances import track_receptances
 
     d = ws.load_design("railway_920_track")
     oks = []

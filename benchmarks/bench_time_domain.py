@@ -128,8 +128,8 @@ def reductions() -> None:
     import reduced as r
     import wheel_squeal as ws
     from reduced.stepping import STEPS_PER_PERIOD, ExponentialRun
+    from wheel_squeal.mode_stability import body_of, excitable, mode_dofs
     from wheel_squeal.simulation import simulate
-    from wheel_squeal.stability import body_of, excitable, mode_dofs
 
     design = ws.load_design("railway_920_track")
     op = r.OperatingPoint(11.109568, 0.185177)

@@ -17,7 +17,7 @@ from pathlib import Path
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 import wheel_squeal as ws  # noqa: E402
-from wheel_squeal.stability import eigenvalue_list, stability_table  # noqa: E402
+from wheel_squeal.mode_stability import eigenvalue_list, stability_table  # noqa: E402
 
 ANGLES_DEG = {"table1": [0.0, 1.0, 2.0, 2.4, -2.4], "table1_crowned": [0.0, 5.0, 10.0, 15.0, 20.0, 25.0]}
 

@@ -18,8 +18,8 @@ from pathlib import Path
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 import wheel_squeal as ws  # noqa: E402
+from wheel_squeal.mode_stability import stability_table  # noqa: E402
 from wheel_squeal.presets import DEFAULT_FMAX_HZ  # noqa: E402
-from wheel_squeal.stability import stability_table  # noqa: E402
 
 CASES = (("table1", 0.0), ("table1", 2.0), ("table1_crowned", 15.0))
 CUTOFFS_HZ = (10_000.0, 20_000.0, 40_000.0)

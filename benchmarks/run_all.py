@@ -519,7 +519,7 @@ def bench_stability(design, table: Table, quick: bool) -> None:
     import dataclasses
 
     from wheel_squeal.envelope import envelope, mitigation
-    from wheel_squeal.stability import excitable, mode_dofs, stability_table
+    from wheel_squeal.mode_stability import excitable, mode_dofs, stability_table
 
     ms = ws.compute_modes(design, "balanced", fmax_hz=8000.0)
     contact, op = ws.contact_law(design), ws.operating_point(design)

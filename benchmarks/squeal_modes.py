@@ -24,8 +24,8 @@ sys.path.insert(0, str(ROOT))
 
 import wheel_squeal as ws  # noqa: E402
 from reduced import ModalDOF  # noqa: E402
+from wheel_squeal.mode_stability import stability_table, wheel_speed_rad_s  # noqa: E402
 from wheel_squeal.presets import designs_folder  # noqa: E402
-from wheel_squeal.stability import stability_table, wheel_speed_rad_s  # noqa: E402
 
 TABLE1_MODE = ModalDOF(3.1, 1.6e8, 42.0, nodal_diameters=3)
 RPMS = (400.0, 600.0, 800.0)

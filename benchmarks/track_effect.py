@@ -14,7 +14,7 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
 import wheel_squeal as ws  # noqa: E402
-from track.sections import Track  # noqa: E402
+from track.design_sections import Track  # noqa: E402
 
 #: (design, operating point): the rig wheel at the paper's Fig. 6 point, the railway
 #: wheel at 11.1 m/s and 10 mrad

@@ -129,7 +129,7 @@ class FrictionLaw:
         return d
 
     def steepness_s_m(self) -> float:
-        """sum_k 2 w_k / s_k [s/m]: the fall's steepness, whose 2 e^-2 multiple bounds |dF/ds|
+        """sum_k 2 w_k / s_k [s/m]: the fall's steepness, whose 2 e^-2 multiple bounds the magnitude of dF/ds
         over all s (a term's largest slope, w 4 e^-2 / s_k, is at s = s_k / 2)."""
         return 2.0 * self.weight_1 / self.decay_speed_1_m_s + 2.0 * self.weight_2 / self.decay_speed_2_m_s
 

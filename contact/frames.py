@@ -24,8 +24,8 @@ import numpy as np
 from geometry.outline import MAX_CONTACT_ANGLE_DEG
 
 if TYPE_CHECKING:
-    from geometry.design import WheelDesign
     from geometry.outline import Outline
+    from geometry.wheel_design import WheelDesign
 
 __all__ = [
     "ContactFrame",

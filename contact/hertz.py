@@ -136,6 +136,13 @@ def hertz_contact(
     poissons_ratio : nu of both bodies, dimensionless (0 <= nu < 0.5).
     normal_load : W, N.
 
+    Returns
+    -------
+    HertzContact
+        The ellipse, its pressure and approach.
+
+    Notes
+    -----
     Method (Johnson 1985, sec. 4.2, eqs 4.39-4.40): with the major semi-axis
     ``c1``, minor ``c2``, ``e^2 = 1 - (c2/c1)^2`` and complete elliptic integrals
     K(m), E(m) of the parameter m = e^2 (arithmetic-geometric mean, contact.numerics)::

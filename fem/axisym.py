@@ -67,7 +67,7 @@ import skfem as fe
 from skfem.helpers import dot
 
 from contact.frames import ContactFrame
-from geometry.design import WheelDesign
+from geometry.wheel_design import WheelDesign
 
 from .eigen import blas_threads, small_problem_factorization, solve_band, solve_eigen
 from .fidelity import fidelity_warnings, mesh_element_size

@@ -14,8 +14,8 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from geometry.design import WheelDesign
 from geometry.mesh import estimate_element_count
+from geometry.wheel_design import WheelDesign
 
 from .solvers import get_solver
 

@@ -192,7 +192,7 @@ def solve_cyclic(
 
     Parameters
     ----------
-    design: a :class:`~geometry.design.WheelDesign`.
+    design: a :class:`~geometry.wheel_design.WheelDesign`.
     mesh: a cyclic ``SolidMesh``: a second-order profile mesh revolved in sectors
         (:func:`geometry.revolve.revolve_profile`, :func:`default_sectors` of them).
     fmax_hz / k: all modes up to ``fmax_hz``, or the ``k`` lowest (a pair counts once).

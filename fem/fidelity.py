@@ -17,7 +17,7 @@ from typing import Any
 import numpy as np
 import skfem as fe
 
-from geometry.design import WheelDesign
+from geometry.wheel_design import WheelDesign
 
 from .meshes import to_skfem_mesh
 from .modes import LockingWarning, ResolutionWarning

@@ -29,8 +29,8 @@ from __future__ import annotations
 import numpy as np
 
 from contact.frames import ContactFrame, contact_frame
-from geometry.design import WheelDesign
 from geometry.profile import half_profile
+from geometry.wheel_design import WheelDesign
 
 from .meshes import corner_mesh
 from .modes import clean_contact

@@ -2,7 +2,7 @@
 
 Typical use, from a script, a notebook or CI::
 
-    from fem.render import render_mode, render_modes, write_modes_vtu
+    from .render import render_mode, render_modes, write_modes_vtu
     img = render_mode(modeset, 3, "mode3.png")  # image array; shows inline in Jupyter
     paths = render_modes(modeset, "results/table1", gif=True)
     write_modes_vtu(modeset, "results/table1/modes.vtu")

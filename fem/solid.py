@@ -331,7 +331,7 @@ def solve_solid(
 
     Parameters
     ----------
-    design: a :class:`~geometry.design.WheelDesign`.
+    design: a :class:`~geometry.wheel_design.WheelDesign`.
     mesh: a ``SolidMesh`` (``points``, ``tetra`` in meshio order, ``order``), from
         ``geometry.gmsh_mesh.mesh_wheel`` (``MESH_ORDER`` gives the mesh order to use).
     order: element order, 1 (P1, locks in bending: diagnostic only) or 2 (P2).

@@ -5,7 +5,6 @@ Knows nothing of finite elements: meshes leave this package as numpy arrays
 profile mesh in identical sectors (:mod:`geometry.revolve`).
 """
 
-from .design import SECTIONS, STRUCTURAL_FIELDS, DesignError, WheelDesign, tread_radius
 from .gmsh_mesh import mesh_profile, mesh_wheel
 from .mesh import (
     DEFAULT_ELEMENTS_THROUGH_WEB,
@@ -20,6 +19,7 @@ from .mesh import (
 from .outline import Outline, OutlineError
 from .profile import half_profile, profile_area, revolved_volume, wheel_mass
 from .revolve import revolve_profile
+from .wheel_design import SECTIONS, STRUCTURAL_FIELDS, DesignError, WheelDesign, tread_radius
 
 __all__ = [
     "DEFAULT_ELEMENTS_THROUGH_WEB",

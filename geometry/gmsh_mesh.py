@@ -7,8 +7,8 @@ contact point is split there so that the contact is a mesh node).
 Every call initialises gmsh, builds one model, meshes it, copies the result into numpy
 arrays and finalises gmsh again (also on errors): no gmsh state survives a call. gmsh
 failures become :class:`~geometry.mesh.MeshError`. Invalid designs never reach gmsh: a
-:class:`~geometry.design.WheelDesign` validates on construction and raises
-:class:`~geometry.design.DesignError`. Sizes: :func:`geometry.mesh.mesh_size`.
+:class:`~geometry.wheel_design.WheelDesign` validates on construction and raises
+:class:`~geometry.wheel_design.DesignError`. Sizes: :func:`geometry.mesh.mesh_size`.
 """
 
 from __future__ import annotations
@@ -23,7 +23,6 @@ from typing import Any
 
 import numpy as np
 
-from .design import WheelDesign, validate
 from .mesh import (
     MAX_ELEMENTS,
     PHYSICAL_TAGS,
@@ -37,6 +36,7 @@ from .mesh import (
 )
 from .profile import half_profile
 from .simplex import inverted, jacobians, orient, straighten
+from .wheel_design import WheelDesign, validate
 
 __all__ = ["gmsh_session", "mesh_profile", "mesh_wheel"]
 

@@ -38,10 +38,10 @@ from typing import TYPE_CHECKING, Any, cast
 
 import numpy as np
 
-from .design import WheelDesign
 from .files import stored_array
 from .profile import half_profile
 from .simplex import jacobians
+from .wheel_design import WheelDesign
 
 __all__ = [
     "DEFAULT_ELEMENTS_THROUGH_WEB",

@@ -1,7 +1,7 @@
 """The outline of a parametric wheel: web (straight, tapered, conical), optional hub,
 rim with a crowned tread, optional fillets where the web meets rim and hub.
 
-Kept apart from :mod:`geometry.design` (which calls it to validate a design) and
+Kept apart from :mod:`geometry.wheel_design` (which calls it to validate a design) and
 :mod:`geometry.profile` (which serves it) so that neither imports the other's caller.
 """
 
@@ -18,7 +18,7 @@ __all__ = ["parametric_outline"]
 
 @lru_cache(maxsize=256)
 def parametric_outline(d: Any) -> Outline:
-    """The outline the [wheel] parameters of ``d`` (a :class:`geometry.design.WheelDesign`,
+    """The outline the [wheel] parameters of ``d`` (a :class:`geometry.wheel_design.WheelDesign`,
     which imports this module) make:
     clockwise in (r, z) from the bore, the bore segment first. Raises OutlineError when
     the parameters make an impossible shape (a fillet that does not fit)."""

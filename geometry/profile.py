@@ -9,9 +9,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from .design import WheelDesign
 from .outline import Outline
 from .parametric import parametric_outline
+from .wheel_design import WheelDesign
 
 __all__ = ["boundary_samples", "half_profile", "profile_area", "revolved_volume", "wheel_mass"]
 

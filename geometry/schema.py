@@ -2,8 +2,8 @@
 default, unit and meaning (:func:`spec`), checked when it is made; :class:`Fields` gives
 every such section the same mapping in and out, TOML lines, content hash, copy with
 changes and scaling, so that a design file's sections (the wheel's own in
-``geometry.design``, the squeal model's in ``wheel_squeal.sections``) read, write and hash
-one way, with one error type (:class:`~geometry.design.DesignError`).
+``geometry.wheel_design``, the squeal model's in ``wheel_squeal.model_sections``) read, write and hash
+one way, with one error type (:class:`~geometry.wheel_design.DesignError`).
 
     @dataclass(frozen=True)
     class Contact(Fields):

@@ -58,7 +58,6 @@ from .predictor import (
     mean_power_per_cycle,
     predict_limit_cycle,
 )
-from .report import summary_dicts, timeseries_table
 from .saturate import longest_record_s, simulate_to_limit_cycle
 from .stability import (
     LinearContact,
@@ -74,6 +73,7 @@ from .stability import (
     mitigation,
     stability_map,
 )
+from .summaries import summary_dicts, timeseries_table
 from .sweep import SweepResult, sweep
 
 __all__ = [

@@ -333,7 +333,7 @@ def test_the_architecture_page_lists_the_packages_in_the_tree():
     import re
 
     from reduced import FrictionLaw
-    from track.sections import CounterBodySection
+    from track.design_sections import CounterBodySection
 
     page = (ROOT / "docs" / "architecture.md").read_text()
     table = page.split("<!-- packages -->")[1].split("<!-- /packages -->")[0]
@@ -368,3 +368,14 @@ def test_a_presenter_computes_no_pass_by_and_solves_nothing():
             continue
         imported = {n for _, names in _imports(name, path, modules) for n in names}
         assert not imported & COMPUTES, (name, sorted(imported & COMPUTES))
+
+
+def test_no_file_name_is_in_two_packages():
+    """A module's file name says which one it is, wherever it is read from (a traceback, a
+    search, an editor's tab): no two modules of the tool share one (packages' __init__ aside)."""
+    seen: dict[str, list[str]] = {}
+    for pkg in CODE_PACKAGES:
+        for f in (ROOT / pkg).rglob("*.py"):
+            if f.name != "__init__.py":
+                seen.setdefault(f.name, []).append(str(f.relative_to(ROOT)))
+    assert {n: p for n, p in seen.items() if len(p) > 1} == {}

@@ -200,7 +200,7 @@ def test_the_roller_takes_part_in_the_eigenvalues():
     d = TABLE1.replace(lateral_frequency_hz=1100.0, lateral_damping_ratio=0.01, lateral_modal_mass_kg=5.0)
     modes = ws.compute_modes(d, "fast")
     op = ws.operating_point(d)
-    from wheel_squeal.stability import eigenvalue_list, excitable, stability_table
+    from wheel_squeal.mode_stability import eigenvalue_list, excitable, stability_table
 
     table = stability_table(d, modes, ws.contact_law(d), op)
     assert len(table.rows) == len(excitable(modes, ws.contact_law(d)))

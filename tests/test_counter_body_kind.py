@@ -24,7 +24,7 @@ import wheel_squeal as ws
 from geometry import DesignError
 from geometry.schema import spec
 from reduced import NORMAL, BodyModel
-from wheel_squeal import sections
+from track import design_sections as sections
 from wheel_squeal.chain import ChainOptions
 
 

@@ -272,7 +272,7 @@ def test_the_rig_wheel_squeals_by_falling_friction_only_at_contact_angle_zero():
     at the tread apex no mode couples through the normal direction (the wheel is
     symmetric), so mode coupling needs a contact angle."""
     import wheel_squeal as ws
-    from wheel_squeal.stability import eigenvalue_list, stability_table
+    from wheel_squeal.mode_stability import eigenvalue_list, stability_table
 
     design = ws.load_design("table1")
     modes = ws.compute_modes(design, "fast")

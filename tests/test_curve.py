@@ -233,7 +233,7 @@ def test_the_leading_outer_wheel_flanges_and_is_not_the_leading_inner_one():
 def test_a_curve_case_reads_as_the_api_documents_it():
     """A case's repr is a line, not its meshes; its analysis's verdict carries the amplitude
     the case reports; its record makes curve.nc's dataset without further attributes."""
-    from wheel_squeal.present.curve import curve_dataset
+    from wheel_squeal.present.curve_files import curve_dataset
 
     cases = ws.curve(ws.load_design("railway_920_track"), [150.0], [40.0], context=ws.RunContext.of("fast"))
     lead = cases[0]
@@ -255,7 +255,7 @@ def test_a_curve_request_solves_each_contact_s_stability_once(monkeypatch):
     solve per contact analysed (a second solve for the price would count twice as many at
     the sliding ones), and the same verdicts as a request whose analysis solves its own."""
     import wheel_squeal.chain as chain
-    import wheel_squeal.stability as stability
+    import wheel_squeal.mode_stability as stability
 
     solves = []
     real = stability.stability_table

@@ -12,7 +12,7 @@ import pytest
 
 import wheel_squeal as ws
 from geometry import SECTIONS, DesignError, WheelDesign
-from geometry.design import OPTIONAL_FIELDS
+from geometry.wheel_design import OPTIONAL_FIELDS
 from wheel_squeal.design import FIELDS, Design
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -133,7 +133,7 @@ def test_damping_by_family_falls_back_from_the_mode_to_its_family_to_the_common_
     import dataclasses
     from types import SimpleNamespace
 
-    from wheel_squeal.sections import Damping, mode_key
+    from wheel_squeal.model_sections import Damping, mode_key
 
     assert mode_key("n >= 2, axial") == "n>=2,axial" and mode_key("n = 0") == "n=0"
     damping = Damping(

@@ -32,9 +32,9 @@ from fem.eigen import solve_eigen
 from fem.meshes import to_skfem_mesh
 from fem.modes import contact_modal_mass
 from fem.rules import count_sign_changes
-from geometry.design import WheelDesign
 from geometry.gmsh_mesh import mesh_profile
 from geometry.profile import wheel_mass
+from geometry.wheel_design import WheelDesign
 
 
 # ---------------------------------------------------------------------------------

@@ -24,12 +24,12 @@ from fem.axisym import solve_axisymmetric
 from fem.cyclic import default_sectors, solve_cyclic
 from fem.modes import ResolutionWarning
 from fem.solid import solve_solid
-from geometry.design import WheelDesign
 from geometry.gmsh_mesh import mesh_profile
 from geometry.mesh import DEFAULT_ELEMENTS_THROUGH_WEB
 from geometry.profile import revolved_volume
 from geometry.revolve import revolve_profile
 from geometry.simplex import inverted as _inverted
+from geometry.wheel_design import WheelDesign
 
 TABLE1 = load_design(DESIGNS / "table1.toml")
 

@@ -37,8 +37,8 @@ from fem.modes import (
     select_mode,
 )
 from fem.rules import RIGID_TOL
-from geometry.design import DesignError, WheelDesign
 from geometry.gmsh_mesh import mesh_profile
+from geometry.wheel_design import DesignError, WheelDesign
 
 #: the Table 1 wheel with the 0.030 m starting rim depth: the values below were measured on it
 T1 = WheelDesign(rim_depth=0.030)

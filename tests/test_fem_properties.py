@@ -30,8 +30,8 @@ from strategies import unit, wheel_designs
 from fem.axisym import assemble_harmonic, solve_axisymmetric
 from fem.meshes import to_skfem_mesh
 from fem.modes import FidelityWarning, contact_modal_mass
-from geometry.design import WheelDesign
 from geometry.gmsh_mesh import mesh_profile
+from geometry.wheel_design import WheelDesign
 
 SETTINGS = dict(
     max_examples=10,

@@ -19,8 +19,8 @@ from fem.eigen import available_factorizations, solve_eigen
 from fem.modes import EmptyBandWarning, contact_modal_mass
 from fem.rules import FREE_SHIFT_REL, RIGID_TOL, count_sign_changes, reference_frequency
 from fem.solid import assemble, solve_model, solve_solid
-from geometry.design import WheelDesign
 from geometry.gmsh_mesh import mesh_profile, mesh_wheel
+from geometry.wheel_design import WheelDesign
 
 TABLE1 = WheelDesign()
 CI_SIZE = 0.015  # m: one element through the web, P2: ~41k DOFs

@@ -35,8 +35,8 @@ from geometry import (
     revolved_volume,
     wheel_mass,
 )
-from geometry.design import OPTIONAL_FIELDS
 from geometry.simplex import EDGES
+from geometry.wheel_design import OPTIONAL_FIELDS
 
 ROOT = Path(__file__).resolve().parents[1]
 DESIGN_FILES = sorted((ROOT / "designs").glob("*.toml"))

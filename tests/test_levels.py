@@ -187,7 +187,7 @@ def test_the_squeals_levels_agree_with_each_other(table1_run):
 
 
 def test_the_microphone_signals_tone_is_the_verdicts(table1_run, tmp_path):
-    from wheel_squeal.present.files import write_squeal_wav
+    from wheel_squeal.present.vtu_and_wav import write_squeal_wav
 
     o = table1_run.verdict.outcome
     peak = write_squeal_wav(tmp_path / "squeal.wav", o.sound)

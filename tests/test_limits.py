@@ -685,7 +685,7 @@ def test_cache_clear_on_a_read_only_cache_is_one_line(tmp_path, monkeypatch):
     import os
 
     from wheel_squeal.cache import StageCache
-    from wheel_squeal.errors import RequestError
+    from wheel_squeal.request_errors import RequestError
 
     cache = StageCache(tmp_path / "c")
     cache.store("modes", {"k": 1}, {"a": np.zeros(3)})
@@ -933,8 +933,8 @@ _AXES = {
 def test_random_study_specs_are_a_study_or_one_line_that_says_why(
     tmp_path_factory, axis, n, points, base, fidelity
 ):
-    from wheel_squeal.errors import RequestError
     from wheel_squeal.plan import estimate_study
+    from wheel_squeal.request_errors import RequestError
     from wheel_squeal.study import load_spec
 
     grid, problem = _AXES[axis]

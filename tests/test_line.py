@@ -20,9 +20,9 @@ from acoustics.emission import (
 )
 from acoustics.medium import AIR
 from acoustics.passby import PassbySource, passby
-from track.line import count_rows
-from wheel_squeal.errors import RequestError
+from track.alignment import count_rows
 from wheel_squeal.line import LineSpec, load_line, load_line_spec
+from wheel_squeal.request_errors import RequestError
 
 ANGLES = np.linspace(0.0, math.pi, 361)
 HEADER = "id,radius_m,length_m,cant_mm,train_speed_km_h"

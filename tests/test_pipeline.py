@@ -14,8 +14,8 @@ from conftest import DESIGNS, TABLE1_MODE_ARGS, run_cli as cli
 import wheel_squeal as ws
 from geometry import WheelDesign
 from wheel_squeal.cli import main
+from wheel_squeal.fe_stages import modes_cache_key
 from wheel_squeal.folders import MARKER
-from wheel_squeal.modes import modes_cache_key
 
 
 # ---------------------------------------------------------------------------------------

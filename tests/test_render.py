@@ -268,8 +268,8 @@ def test_real_table1_mode(tmp_path):
     """The axisymmetric solver's Table 1 mode set renders (if that solver is present)."""
     import fem.axisym as axisym
     from fem.render import contact_point_index, mode_shape, render_mode
-    from geometry.design import WheelDesign
     from geometry.gmsh_mesh import mesh_profile
+    from geometry.wheel_design import WheelDesign
 
     ms = axisym.solve_axisymmetric(WheelDesign(), mesh_profile(WheelDesign(), order=1), fmax_hz=1500.0)
     i = next(j for j, m in enumerate(ms.modes) if m.nodal_diameters == 3 and m.family == "axial")

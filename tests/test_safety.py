@@ -27,13 +27,13 @@ from hypothesis import HealthCheck, example, given, settings, strategies as st
 import wheel_squeal as ws
 import wheel_squeal.folders as folders
 from geometry import WheelDesign
-from geometry.design import SECTIONS
+from geometry.wheel_design import SECTIONS
 from wheel_squeal.budget import Budget
 from wheel_squeal.cache import LIBRARIES_FOLDER, MARKER as CACHE_MARKER, StageCache
 from wheel_squeal.design import FIELDS
-from wheel_squeal.errors import BudgetError, RequestError
+from wheel_squeal.fe_stages import check_modes_budget
 from wheel_squeal.folders import MARKER, ResultFolder, result_folder
-from wheel_squeal.modes import check_modes_budget
+from wheel_squeal.request_errors import BudgetError, RequestError
 
 FORK = mp.get_context("fork")
 
@@ -712,7 +712,7 @@ def test_a_stop_at_the_wav_write_is_one_line_and_keeps_the_earlier_result(tmp_pa
     with result_folder(out, "test") as tmp:
         (tmp / "old.txt").write_text("old")
     status, err = _run_stopped_at(
-        "wheel_squeal.present.files:write_wav", ["run", "--design", "table1", "--quiet", "--out", out]
+        "wheel_squeal.present.vtu_and_wav:write_wav", ["run", "--design", "table1", "--quiet", "--out", out]
     )
     lines = [ln for ln in err.splitlines() if ln.strip() and not ln.startswith("warning:")]
     assert status == 143 and lines == ["terminated"], err

@@ -23,7 +23,7 @@ import wheel_squeal as ws
 from reduced.stability import friction_damping_ns_m, growth_rates
 from wheel_squeal.decision import decide
 from wheel_squeal.envelope import envelope, mitigation
-from wheel_squeal.stability import mode_dofs, named_mode, stability_table
+from wheel_squeal.mode_stability import mode_dofs, named_mode, stability_table
 
 TABLE1 = r.ModalDOF(3.1, 1.6e8, 42.0, nodal_diameters=3)
 KICK_M_S = 1e-8

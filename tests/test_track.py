@@ -190,7 +190,7 @@ def test_every_root_the_contact_reaches_matches_the_rail_models_own():
     the fit has no lightly damped term below the band the contact destabilises (no growing
     root below 20 Hz)."""
     import wheel_squeal as ws
-    from wheel_squeal.stability import body_of, excitable, mode_dofs
+    from wheel_squeal.mode_stability import body_of, excitable, mode_dofs
 
     design = ws.load_design("railway_920_track").replace(normal_contact="constant")
     modes = ws.compute_modes(design, "balanced")

@@ -370,7 +370,7 @@ def test_a_line_file_that_is_not_a_line_is_refused_with_its_row(tmp_path, text, 
 
 
 def test_a_line_file_with_a_byte_order_mark_is_read(tmp_path):
-    from track.line import read_line
+    from track.alignment import read_line
 
     path = tmp_path / "line.csv"
     path.write_text("\ufeff" + HEADER.replace("\n", "\r\n") + "R1,300,100,0,40,\r\n", encoding="utf-8")
@@ -415,7 +415,7 @@ def test_a_crs_that_is_not_a_projected_one_is_refused(tmp_path, crs, word):
 
 
 def test_a_named_crs_is_written_as_its_authority_names_it():
-    from wheel_squeal.cli.line import projected_crs
+    from wheel_squeal.cli.line_command import projected_crs
 
     assert projected_crs("EPSG:25832") == "EPSG:25832"
     assert projected_crs("epsg:2154") == "EPSG:2154"
@@ -424,13 +424,13 @@ def test_a_named_crs_is_written_as_its_authority_names_it():
 @pytest.mark.slow  # 2 million positions parsed before the count passes its bound (about 6 s)
 def test_a_line_whose_geojson_would_be_over_the_file_limit_is_refused_before_the_work(tmp_path):
     """The probe's 63.7 MiB LINE.csv of long WKT wrote a 255.6 MB line.geojson at 2.17 GB:
-    its positions are counted before they are parsed (``track.line.MAX_LINE_POSITIONS``,
+    its positions are counted before they are parsed (``track.alignment.MAX_LINE_POSITIONS``,
     which keeps the file within its limit; line.geojson's own price is checked too)."""
     cell = '"LINESTRING (' + ",".join(["0 0"] * 32_000) + ')"'  # each cell within the csv limit
     rows = "".join(f"c{i},300,100,0,40,{cell}\n" for i in range(520))
     assert len(cell) < 131_072 and len(HEADER + rows) < 64 * 2**20  # within the file limit
     _line_refused(tmp_path, HEADER + rows, "--max-seconds", "1000000", word="positions")
-    from wheel_squeal.present.line import geojson_bytes
+    from wheel_squeal.present.line_files import geojson_bytes
 
     assert geojson_bytes([]) == 0
 
@@ -438,8 +438,8 @@ def test_a_line_whose_geojson_would_be_over_the_file_limit_is_refused_before_the
 def test_the_geojson_price_bounds_what_is_written():
     """The price is at least the file: positions at their repr, every property at the
     longest a number or an id takes (here all at the longest float repr)."""
-    from track.line import LineCurve
-    from wheel_squeal.present.line import geojson_bytes, line_columns
+    from track.alignment import LineCurve
+    from wheel_squeal.present.line_files import geojson_bytes, line_columns
 
     curves = [
         LineCurve(f"c{i}", 300.0, 100.0, 0.0, 40.0, ((1e5 + i / 3, 2e5), (1.0, -i / 7))) for i in range(50)

@@ -1,7 +1,7 @@
 """What the wheel runs on: a rail on discrete, periodic supports and its receptances at the
 contact, the rig's roller, profiles and curving (the physics layer).
 
-- :mod:`track.sections`: the design file's sections of what the wheel rolls on
+- :mod:`track.design_sections`: the design file's sections of what the wheel rolls on
   (``[counter_body]``: the roller or a track) and of the bogie in curves (``[vehicle]``).
 - :mod:`track.beam`: the rail as a Timoshenko beam on pads, sleepers and ballast (or a
   continuous support) and its point receptance; the closed forms it must meet.

@@ -10,7 +10,7 @@ from typing import Any
 import numpy as np
 
 from .beam import pinned_pinned_frequency_hz, receptance
-from .sections import Track
+from .design_sections import Track
 
 __all__ = ["CONVENTION", "TrackReceptances", "track_receptances"]
 
@@ -81,7 +81,7 @@ def track_receptances(
 
     Examples
     --------
-    >>> from track.sections import Track
+    >>> from track.design_sections import Track
     >>> t = track_receptances(Track(), 100.0, 1000.0, 5)
     >>> round(t.pinned_pinned_hz["vertical"])
     1068

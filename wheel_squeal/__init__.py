@@ -36,8 +36,8 @@ from .curve import curve
 from .decision import Decision, decide
 from .design import Design
 from .envelope import envelope, mitigation
-from .errors import BudgetError, BudgetExhausted, RequestError
 from .listener import Listener as Listener
+from .mode_stability import StabilityTable, stability_table
 from .present.text import analysis_text, verdict_lines
 from .presets import (
     DEFAULT_DESIGN as DEFAULT_DESIGN,
@@ -47,9 +47,9 @@ from .presets import (
     fidelity_for as fidelity_for,
 )
 from .progress import Progress as Progress
+from .request_errors import BudgetError, BudgetExhausted, RequestError
 from .simulation import Simulation as Simulation, simulate as simulate
 from .sound import Sound as Sound, mode_sound as mode_sound
-from .stability import StabilityTable, stability_table
 from .sweeps import VerdictGrid, sweep_verdicts
 from .verdict import ModeOutcome, Verdict
 

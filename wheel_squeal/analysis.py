@@ -11,8 +11,8 @@ from .api import modal_dof
 from .decision import Decision
 from .design import Design
 from .listener import Listener
+from .mode_stability import StabilityTable
 from .presets import MAX_MULTIMODE, Fidelity
-from .stability import StabilityTable
 from .types import AmplitudeMethod, Stage
 from .verdict import LEVELS, ModeOutcome, Verdict
 
@@ -20,7 +20,7 @@ if TYPE_CHECKING:
     from fem.modes import ModeSet
     from reduced import ContactLaw, OperatingPoint, StabilityResult
 
-    from .stability import ModeStabilityRow
+    from .mode_stability import ModeStabilityRow
 
 __all__ = ["STAGES", "Analysis", "ChainOptions"]
 

@@ -5,7 +5,7 @@ operating point -> simulation or sweep. Every function takes and returns plain o
 of the packages below and :class:`~wheel_squeal.design.Design`: its ``wheel`` a
 ``geometry.WheelDesign``, meshes, ``fem.ModeSet`` and ``Mode``, ``reduced.ModalDOF``,
 ``ContactLaw``, ``OperatingPoint``, ``SweepResult``.
-Bad input raises :class:`~wheel_squeal.errors.RequestError` in the API's own words;
+Bad input raises :class:`~wheel_squeal.request_errors.RequestError` in the API's own words;
 expensive stages go through a :class:`~wheel_squeal.cache.StageCache` when one is given
 and are estimated against a :class:`~wheel_squeal.budget.Budget` before they start.
 """
@@ -18,8 +18,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from .design import Design
-from .errors import RequestError
-from .modes import (
+from .fe_stages import (
     build_mesh,
     check_modes_budget,
     check_named_modes,
@@ -28,6 +27,7 @@ from .modes import (
     modes_cache_key,
     pick_mode,
 )
+from .model_sections import C22_RANGE, Damping
 from .presets import (
     DEFAULT_CRAB_VELOCITY_M_S,
     DEFAULT_DESIGN,
@@ -35,7 +35,7 @@ from .presets import (
     designs_folder,
     rpm_to_speed,
 )
-from .sections import C22_RANGE, Damping
+from .request_errors import RequestError
 
 if TYPE_CHECKING:
     from fem.modes import Mode

@@ -50,7 +50,7 @@ import numpy as np
 from geometry.files import atomic_file, quoted, write_atomic
 
 from .entry_reading import checksum, entry_bytes, is_regular, read_entry, read_small
-from .errors import RequestError
+from .request_errors import RequestError
 
 __all__ = [
     "DEFAULT_MAX_BYTES",

@@ -15,9 +15,9 @@ from geometry import DesignError
 
 from .api import compute_modes, load_design, pick_mode
 from .design import FIELDS, Design
-from .errors import RequestError
 from .presets import fidelity_for
 from .progress import Progress
+from .request_errors import RequestError
 
 __all__ = ["CALIBRATED_MARK", "Calibration", "calibrate", "calibrated_design_path"]
 

@@ -23,22 +23,16 @@ from .api import contact_law, operating_point
 from .context import RunContext
 from .decision import modes_of_eigenvalue
 from .design import Design
-from .errors import RequestError
-from .modes import context_modes
+from .fe_stages import context_modes
+from .mode_stability import StabilityTable, body_of, excitable, mode_dofs, stability_table
 from .outcomes import Outcomes
 from .plan import NO_REMEDY_HINT, stability_plan, verdict_plan
 from .presets import Fidelity, fidelity_for
-from .remedy import margin_of, remedy_design, remedy_of
+from .request_errors import RequestError
 from .simulation import simulate
-from .stability import (
-    StabilityTable,
-    body_of,
-    excitable,
-    mode_dofs,
-    stability_table,
-)
 from .types import AmplitudeMethod
 from .verdict import LOWEST_SQUEAL_HZ, ModeOutcome, Verdict
+from .verdict_remedy import margin_of, remedy_design, remedy_of
 
 if TYPE_CHECKING:
     from fem.modes import ModeSet

@@ -42,9 +42,9 @@ from .curve_case import (
 )
 from .curve_contacts import ContactSiteAnalysis, contact_geometry, modes_at_contacts, wheel_sites
 from .design import Design
-from .errors import RequestError
+from .mode_stability import excitable, mode_dofs
 from .plan import CurveSize, check_curve_files, curve_plan, squealing_axles
-from .stability import excitable, mode_dofs
+from .request_errors import RequestError
 from .types import AmplitudeMethod
 
 if TYPE_CHECKING:
@@ -53,7 +53,7 @@ if TYPE_CHECKING:
 
     from .context import RunContext
     from .curve_remedy import CurveRemedy
-    from .stability import StabilityTable
+    from .mode_stability import StabilityTable
 
 __all__ = [
     "AMPLITUDE_METHODS",
@@ -321,9 +321,9 @@ def _planned(
     from track.bogie_curving import BogieCurving, contact_table, solve_curving
     from track.curving import check_curve
 
-    from .modes import context_modes, modes_cache_key
+    from .fe_stages import context_modes, modes_cache_key
+    from .mode_stability import stability_table
     from .sound import radiation_cached
-    from .stability import stability_table
 
     if design.counter_body.KIND != "track":
         raise RequestError(

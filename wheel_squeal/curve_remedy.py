@@ -89,7 +89,7 @@ def _modifier_and_lubrication(
 
 
 def _dampers(design: Design, cases: Sequence[CurveCase]) -> tuple[Design, dict[str, dict[str, Any]]]:
-    from .sections import family_keys
+    from .model_sections import family_keys
 
     keys = sorted({family_keys(*_mode_of(c))[0] for c in cases if c.analysis.verdict.squeals})
     table = dict(design.damping.by_mode) | {k: DAMPER_DAMPING_RATIO for k in keys}

@@ -29,7 +29,7 @@ from .presets import MAX_MULTIMODE
 if TYPE_CHECKING:
     from fem.modes import Mode
 
-    from .stability import NamedMode, StabilityTable
+    from .mode_stability import NamedMode, StabilityTable
 
 __all__ = ["Decision", "decide", "eigenvalue_of", "fastest_mode", "group_label", "modes_of_eigenvalue"]
 
@@ -122,7 +122,7 @@ def decide(table: StabilityTable, named: NamedMode, max_modes: int = MAX_MULTIMO
     Examples
     --------
     >>> import wheel_squeal as ws
-    >>> from wheel_squeal.stability import named_mode
+    >>> from wheel_squeal.mode_stability import named_mode
     >>> d = ws.load_design()
     >>> modes = ws.explicit_modes(3.1, 1.6e8, 42)
     >>> t = ws.stability_table(d, modes, ws.contact_law(d), ws.operating_point(d))

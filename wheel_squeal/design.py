@@ -1,5 +1,5 @@
 """A design file: the wheel (``geometry.WheelDesign``, which owns the wheel's shape and
-material) and the squeal model's sections (:mod:`wheel_squeal.sections`), each a
+material) and the squeal model's sections (:mod:`wheel_squeal.model_sections`), each a
 section of the one schema (``geometry.schema``):
 
     name = "table1"
@@ -34,7 +34,7 @@ from geometry import SECTIONS, DesignError, WheelDesign
 from geometry.files import LABEL_PATTERN, LABEL_RULE, read_toml
 from geometry.schema import Fields, toml_value
 
-from .sections import (
+from .model_sections import (
     COUNTER_BODIES,
     DAMPING_KEYS,
     Contact,

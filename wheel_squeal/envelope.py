@@ -13,9 +13,9 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from .design import Design
+from .mode_stability import body_of, excitable, mode_dofs
 from .outputs import bound_or_none, needed_or_none
 from .presets import rpm_to_speed
-from .stability import body_of, excitable, mode_dofs
 
 if TYPE_CHECKING:
     from fem.modes import Mode, ModeSet
@@ -29,7 +29,7 @@ def _map_inputs(
 ) -> tuple[list[Mode], list[ModalDOF], np.ndarray, float | None]:
     """What ``reduced``'s maps take: the excitable modes, their degrees of freedom at the
     contact, the rolling speeds [m/s] of ``rpms``, and the rolling radius when rotation
-    is modelled (the counter-body: :func:`~wheel_squeal.stability.body_of`)."""
+    is modelled (the counter-body: :func:`~wheel_squeal.mode_stability.body_of`)."""
     modes = excitable(modeset, contact)
     speeds = np.array([rpm_to_speed(float(r), design.rolling_radius) for r in rpms])
     return modes, mode_dofs(modes, design), speeds, design.rolling_radius if rotation else None

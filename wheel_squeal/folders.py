@@ -46,8 +46,8 @@ from typing import Any, ClassVar
 
 from geometry.files import umask
 
-from .errors import RequestError
 from .interrupts import committing
+from .request_errors import RequestError
 
 __all__ = ["MARKER", "ResultFolder", "is_result", "result_folder"]
 
@@ -131,7 +131,7 @@ class ResultFolder:
     """One result folder being written (see the module docstring for the protocol).
 
     ``ResultFolder(out).open()`` checks ``out`` and creates the staging folder (raising
-    :class:`~wheel_squeal.errors.RequestError` with the reason if it cannot); write
+    :class:`~wheel_squeal.request_errors.RequestError` with the reason if it cannot); write
     into ``.staging``; then ``publish(command)`` or ``discard()``.
     """
 

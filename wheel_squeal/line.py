@@ -24,9 +24,9 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from acoustics.emission import PERIODS
-from track.line import LineCurve
+from track.alignment import LineCurve
 
-from .errors import RequestError
+from .request_errors import RequestError
 from .traffic import (
     LineSpec,
     load_line_spec,
@@ -55,8 +55,8 @@ __all__ = [
 
 
 def load_line(path: Path) -> list[LineCurve]:
-    """The curves of a line's CSV (``track.line.read_line``), with one-line errors."""
-    from track.line import LineFileError, read_line
+    """The curves of a line's CSV (``track.alignment.read_line``), with one-line errors."""
+    from track.alignment import LineFileError, read_line
 
     try:
         return read_line(path)
@@ -126,7 +126,7 @@ def _failures() -> tuple[type[Exception], ...]:
 def _failure_type(name: str | None) -> type[Exception]:
     """The exception a task's failure named ``name`` is raised as in the caller's process:
     its own (:func:`_failures`, a budget's refusal), or, unnamed, an exhausted budget."""
-    from .errors import BudgetError, BudgetExhausted
+    from .request_errors import BudgetError, BudgetExhausted
 
     named = {e.__name__: e for e in (*_failures(), BudgetError)}
     return named.get(name or "", BudgetExhausted)
@@ -142,7 +142,7 @@ def run_line_job(job: LineJob, context: RunContext | None = None) -> dict:
     from .cache import StageCache
     from .context import RunContext
     from .curve import curve as curve_map
-    from .errors import BudgetError
+    from .request_errors import BudgetError
     from .study.runner import transient
 
     if context is None:

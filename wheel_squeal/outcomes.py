@@ -19,11 +19,18 @@ from .analysis import ChainOptions
 from .context import RunContext
 from .decision import decide, eigenvalue_of, group_label, modes_of_eigenvalue
 from .design import Design
-from .errors import RequestError
-from .levels import squeal_sound
+from .mode_stability import (
+    StabilityTable,
+    body_of,
+    dof_labels,
+    mode_dofs,
+    named_mode,
+    wheel_speed_rad_s,
+)
 from .outputs import finite_or_none
+from .request_errors import RequestError
 from .simulation import simulate
-from .stability import StabilityTable, body_of, dof_labels, mode_dofs, named_mode, wheel_speed_rad_s
+from .squeal_sound import squeal_sound
 from .verdict import COUPLING_ONLY, Balance, ModeOutcome, wave_of
 
 if TYPE_CHECKING:
@@ -250,8 +257,8 @@ class Outcomes:
         from acoustics.harmonics import kept_harmonics, max_harmonic_order
         from reduced import harmonic_contact_velocities
 
-        from .levels import SquealSound
         from .sound import mode_sound
+        from .squeal_sound import SquealSound
 
         assert o.amplitude_m_s is not None
         f_rad = radiation_frequency_hz(o.tone_hz, o.mode.frequency_hz)

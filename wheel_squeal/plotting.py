@@ -33,7 +33,7 @@ PLOT_MODULES = (
     "matplotlib.figure",
     "matplotlib.backends.backend_agg",
     "matplotlib.tri",
-    "reduced.report",
+    "reduced.summaries",
     "wheel_squeal.present.figures",
     "wheel_squeal.present.sound_figures",
 )

@@ -20,7 +20,7 @@ from fem.modes import DEFAULT_FMAX_HZ
 from fem.solvers import SOLVERS, method_label
 from reduced.model import rpm_to_speed
 
-from .errors import RequestError
+from .request_errors import RequestError
 
 __all__ = [
     "DEFAULT_CRAB_VELOCITY_M_S",

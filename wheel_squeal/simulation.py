@@ -10,7 +10,7 @@ from typing import TYPE_CHECKING, Any
 
 from .budget import Budget
 from .cache import StageCache
-from .errors import RequestError
+from .request_errors import RequestError
 
 if TYPE_CHECKING:
     from reduced import BodyModel, ContactLaw, ModalDOF, OperatingPoint

@@ -24,10 +24,10 @@ from geometry.files import stored_array
 from .cache import CacheMiss, StageCache
 from .context import memo_get, memo_put
 from .design import Design
-from .errors import RequestError
 from .listener import Listener, default_microphone
 from .presets import DEFAULT_FIDELITY, DEFAULT_FMAX_HZ, fidelity_for
 from .provenance import code_version
+from .request_errors import RequestError
 
 if TYPE_CHECKING:
     from acoustics import Air, RadiationCost, Surface
@@ -329,7 +329,7 @@ def mode_sound(
     """
     from acoustics import AIR
 
-    from .modes import compute_modes, modes_cache_key, pick_mode
+    from .fe_stages import compute_modes, modes_cache_key, pick_mode
 
     listener = listener or Listener(default_microphone(design), AIR)
     fid = fidelity_for(fidelity)

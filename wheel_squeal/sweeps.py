@@ -15,8 +15,8 @@ import numpy as np
 from .chain import ChainOptions, analyse
 from .context import RunContext
 from .design import Design
-from .errors import RequestError
 from .presets import rpm_to_speed
+from .request_errors import RequestError
 
 if TYPE_CHECKING:
     from fem.modes import ModeSet

@@ -34,7 +34,7 @@ NormalContact = Literal["hertz", "constant"]
 SolverName = Literal["axisym", "3d", "3d-tet"]
 #: The FE presets of ``wheel_squeal.presets.FIDELITIES``.
 FidelityName = Literal["fast", "balanced", "accurate"]
-#: What the wheel rolls on (``wheel_squeal.sections.COUNTER_BODIES``).
+#: What the wheel rolls on (``wheel_squeal.model_sections.COUNTER_BODIES``).
 CounterBodyKind = Literal["roller", "track"]
 #: What a record shows at its end (``reduced.limit_cycle``).
 LimitCycleState = State

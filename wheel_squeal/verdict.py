@@ -31,8 +31,8 @@ from .types import Mechanism, Wave
 if TYPE_CHECKING:
     from fem.modes import Mode
 
-    from .levels import SquealSound
     from .simulation import Simulation
+    from .squeal_sound import SquealSound
 
 __all__ = ["COUPLING_ONLY", "LEVELS", "LOWEST_SQUEAL_HZ", "Balance", "ModeOutcome", "Verdict", "wave_of"]
 

@@ -23,9 +23,9 @@ from typing import Any
 from geometry import DesignError
 
 from ..cache import StageCache
-from ..errors import BudgetExhausted, RequestError
 from ..library_folders import LibraryFolders, keep_library_files
 from ..plotting import plot_workers
+from ..request_errors import BudgetExhausted, RequestError
 from ..study.pool import keep_freed_memory
 from .parser import DRAWING_COMMANDS, build_parser
 from .stops import STATE, STOPS, Terminated, install_stop_handlers, stop_line, uninterrupted

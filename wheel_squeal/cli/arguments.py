@@ -55,7 +55,7 @@ def finite(text: str) -> float:
 
 def friction_value(text: str) -> float:
     """A friction coefficient within what a wheel on a rail can have (``sections.FRICTION_RANGE``)."""
-    from ..sections import FRICTION_RANGE
+    from ..model_sections import FRICTION_RANGE
 
     v = positive(text)
     low, high = FRICTION_RANGE

@@ -1,38 +1,53 @@
-"""The commands by name: each reads its arguments, calls the stages
-(:mod:`wheel_squeal.api`), writes its result folder (:mod:`wheel_squeal.outputs`) and
-prints a short report."""
+"""The commands by name: one module each (``cli/NAME_command.py``), with its flags
+(``add_parser``) and its run (``run``: reads its arguments, calls the stages, writes its
+result folder and prints a short report)."""
 
 from __future__ import annotations
 
 from collections.abc import Callable
+from types import ModuleType
 
-from .fe import cmd_mesh, cmd_modes, cmd_render
-from .line import cmd_line
-from .sound import cmd_sound
-from .squeal import cmd_compare, cmd_run, cmd_simulate, cmd_stability, cmd_sweep
-from .study import cmd_study
-from .tools import cmd_cache, cmd_calibrate, cmd_converge, cmd_designs
-from .track import cmd_curve, cmd_track
+from . import (
+    cache_command,
+    calibrate_command,
+    compare_command,
+    converge_command,
+    curve_command,
+    designs_command,
+    line_command,
+    mesh_command,
+    modes_command,
+    render_command,
+    run_command,
+    simulate_command,
+    sound_command,
+    stability_command,
+    study_command,
+    sweep_command,
+    track_command,
+)
 
-__all__ = ["COMMANDS"]
+__all__ = ["COMMANDS", "COMMAND_MODULES"]
 
-#: name -> command(args) or, for the commands that draw, command(args, plots): exit status
-COMMANDS: dict[str, Callable[..., int]] = {
-    "run": cmd_run,
-    "mesh": cmd_mesh,
-    "modes": cmd_modes,
-    "stability": cmd_stability,
-    "sound": cmd_sound,
-    "track": cmd_track,
-    "curve": cmd_curve,
-    "line": cmd_line,
-    "simulate": cmd_simulate,
-    "sweep": cmd_sweep,
-    "compare": cmd_compare,
-    "study": cmd_study,
-    "render": cmd_render,
-    "calibrate": cmd_calibrate,
-    "converge": cmd_converge,
-    "designs": cmd_designs,
-    "cache": cmd_cache,
+#: name -> the command's module, in the order of ``--help``
+COMMAND_MODULES: dict[str, ModuleType] = {
+    "run": run_command,
+    "mesh": mesh_command,
+    "modes": modes_command,
+    "simulate": simulate_command,
+    "sweep": sweep_command,
+    "compare": compare_command,
+    "stability": stability_command,
+    "sound": sound_command,
+    "track": track_command,
+    "curve": curve_command,
+    "line": line_command,
+    "study": study_command,
+    "render": render_command,
+    "calibrate": calibrate_command,
+    "converge": converge_command,
+    "designs": designs_command,
+    "cache": cache_command,
 }
+#: name -> run(args) or, for the commands that draw, run(args, plots): exit status
+COMMANDS: dict[str, Callable[..., int]] = {name: module.run for name, module in COMMAND_MODULES.items()}

@@ -17,11 +17,11 @@ from ..cache import StageCache
 from ..chain import Analysis, ChainOptions, analyse
 from ..context import RunContext
 from ..design import Design
-from ..errors import RequestError
+from ..fe_stages import context_modes
 from ..listener import Listener, air_for, microphone_for
-from ..modes import context_modes
 from ..presets import DEFAULT_SPEEDS_RPM, MAX_MULTIMODE, fidelity_for, rpm_to_speed
 from ..progress import Progress
+from ..request_errors import RequestError
 from ..types import Stage
 
 __all__ = [
@@ -253,3 +253,10 @@ def speeds_or_rpm(args: argparse.Namespace, design: Design) -> list[float]:
             raise RequestError("--speed: rolling speeds must be positive")
         return [v / rpm_to_speed(1.0, design.rolling_radius) for v in args.speed]
     return list(args.rpm) if args.rpm is not None else list(DEFAULT_SPEEDS_RPM)
+
+
+def files_in(folder: Path) -> str:
+    """The result folder's files, the PNGs as one pattern."""
+    names = sorted(p.name for p in folder.iterdir() if p.is_file() and not p.name.startswith("."))
+    pngs = [n for n in names if n.endswith(".png")]
+    return ", ".join([n for n in names if not n.endswith(".png")] + (["*.png"] if pngs else []))

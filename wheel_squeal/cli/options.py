@@ -13,6 +13,7 @@ from fem.solvers import SOLVERS
 
 from ..budget import DEFAULT_MAX_DOFS, DEFAULT_MAX_SECONDS, ENV_MAX_DOFS, ENV_MAX_SECONDS
 from ..cache import ENV_VAR as CACHE_ENV_VAR
+from ..model_sections import NORMAL_CONTACTS
 from ..presets import (
     DEFAULT_CRAB_VELOCITY_M_S,
     DEFAULT_FIDELITY,
@@ -20,10 +21,10 @@ from ..presets import (
     DEFAULT_RPM,
     FIDELITIES,
 )
-from ..sections import NORMAL_CONTACTS
 from .arguments import (
     angle_deg,
     c22_value,
+    count,
     finite,
     friction_value,
     grid_axis,
@@ -264,4 +265,12 @@ def add_remedy(p: argparse.ArgumentParser) -> None:
         action="store_true",
         help="leave out what would stop the squeal (or, with none, start it): its bounds cost "
         "some 20 eigen-solves of all the modes",
+    )
+
+
+def add_workers(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--workers", type=count, help="local worker processes (default: the machine's cores)")
+    p.add_argument(
+        "--scheduler",
+        help="dask.distributed scheduler address, e.g. tcp://host:8786 (default $DASK_SCHEDULER_ADDRESS)",
     )

@@ -4,10 +4,10 @@
 :mod:`.measure` for timing and memory in a child process."""
 
 from .choice import choose_presets, fill_errors, mark_pareto, pareto_front, presets_table, presets_verdict
+from .ladder_study import ConvergenceError, run_convergence
 from .ladders import COLUMNS, FERung, fe_ladder, integrator_ladder
 from .measure import fork_available, measure, measure_repeated
-from .report import read_csv, write_csv, write_plots
-from .study import ConvergenceError, run_convergence
+from .preset_report import read_csv, write_csv, write_plots
 
 __all__ = [
     "COLUMNS",

@@ -26,8 +26,8 @@ curves), :mod:`.study`.
 
 from __future__ import annotations
 
-from .fe import MESH_BYTES_PER_ELEMENT, MESH_SECONDS_PER_ELEMENT, mesh_plan
-from .field import (
+from .fe_cost import MESH_BYTES_PER_ELEMENT, MESH_SECONDS_PER_ELEMENT, mesh_plan
+from .field_cost import (
     CurveSize,
     SquealingAxles,
     check_curve_files,
@@ -36,8 +36,13 @@ from .field import (
     squealing_axles,
     track_plan,
 )
-from .study import StudyCost, estimate_study, study_plan
-from .verdict import NO_REMEDY_HINT, stability_plan, stability_request_plan, verdict_plan
+from .study_cost import StudyCost, estimate_study, study_plan
+from .verdict_cost import (
+    NO_REMEDY_HINT,
+    stability_plan,
+    stability_request_plan,
+    verdict_plan,
+)
 
 __all__ = [
     "MESH_BYTES_PER_ELEMENT",

@@ -316,7 +316,7 @@ def write_sweep_plot(path: Path, grid: VerdictGrid, measured: Measured | None = 
     as crosses in their speed's colour."""
     from matplotlib.figure import Figure
 
-    from reduced.report import VELOCITY_REFERENCE_M_S
+    from reduced.summaries import VELOCITY_REFERENCE_M_S
 
     fig = Figure(figsize=(7.5, 7))
     top, bottom = fig.subplots(2, 1, sharex=True)

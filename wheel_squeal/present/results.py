@@ -10,14 +10,14 @@ from typing import TYPE_CHECKING
 
 from ..plotting import PlotWorkers
 from .figures import plot_times, write_mode_growth_plot, write_shares_plot
-from .files import write_pressure_vtu, write_squeal_wav
 from .sound_figures import write_sound_plot, write_spectrum_plot
 from .time_history import TIMESERIES_BYTES
+from .vtu_and_wav import write_pressure_vtu, write_squeal_wav
 
 if TYPE_CHECKING:
     from ..chain import Analysis
-    from ..levels import SquealSound
     from ..simulation import Simulation
+    from ..squeal_sound import SquealSound
 
 __all__ = ["write_remedy_toml", "write_run_files", "write_simulation_files", "write_sound_files"]
 
@@ -28,7 +28,7 @@ def write_remedy_toml(directory: Path, a: Analysis) -> None:
     from geometry.files import write_atomic
 
     from ..presets import rpm_to_speed
-    from ..remedy import remedy_toml
+    from ..verdict_remedy import remedy_toml
 
     remedy = a.verdict.remedy
     if remedy is None or not remedy["paste"]:

@@ -12,8 +12,8 @@ import numpy as np
 from .canvas import PLOT_DPI
 
 if TYPE_CHECKING:
-    from ..levels import SquealSound
     from ..simulation import Simulation
+    from ..squeal_sound import SquealSound
 
 __all__ = [
     "DIRECTIVITY_RANGE_DB",

@@ -88,7 +88,7 @@ def analysis_summary(a: Analysis, record_bytes: float = TIMESERIES_BYTES) -> dic
     the decision, the limit cycle and its sound, and what timeseries.csv holds when it
     is written within ``record_bytes``)."""
     from ..api import modal_dof
-    from ..stability import eigenvalue_list
+    from ..mode_stability import eigenvalue_list
 
     o = a.outcome
     rows = [r.to_dict(a.design) for r in a.rows]
@@ -114,11 +114,11 @@ def analysis_summary(a: Analysis, record_bytes: float = TIMESERIES_BYTES) -> dic
     if o is not None and o.simulation is not None:
         sim = o.simulation.summary()
         out["limit_cycle"] = sim["limit_cycle"]
-        from reduced.report import TIMESERIES_COLUMNS
+        from reduced.summaries import TIMESERIES_COLUMNS
 
         body = o.simulation.history.body
         if body is not None:
-            from reduced.report import counter_body_motion
+            from reduced.summaries import counter_body_motion
 
             out["counter_body_motion"] = {
                 **counter_body_motion(o.simulation.history),

@@ -100,5 +100,5 @@ def write_sweep_spl(path: Path, grid: VerdictGrid) -> Path:
 
 def write_measured_csv(path: Path, comparison: list[dict]) -> Path:
     """measured.csv: per measured point its values, the prediction there and the
-    prediction minus the measurement (``wheel_squeal.measured.compare_measured``)."""
+    prediction minus the measurement (``wheel_squeal.measured_comparison.compare_measured``)."""
     return write_csv(path, comparison, columns_of("measured.csv"))

@@ -386,7 +386,7 @@ def analysis_text(a: Analysis) -> str:
             lines.append(shares_text(outcome))
             break
     if o is not None and o.simulation is not None and o.simulation.history.v_body is not None:
-        from reduced.report import counter_body_motion
+        from reduced.summaries import counter_body_motion
 
         m = counter_body_motion(o.simulation.history)
         body = a.design.counter_body.model().name

@@ -12,7 +12,7 @@ from pathlib import Path
 import numpy as np
 
 from reduced import TimeHistory, adhesion_ratio
-from reduced.report import TIMESERIES_COLUMNS, timeseries_table
+from reduced.summaries import TIMESERIES_COLUMNS, timeseries_table
 
 from .canvas import decimate, figure, save
 
@@ -41,7 +41,7 @@ def timeseries_stride(history: TimeHistory, max_bytes: float = math.inf) -> int:
 def write_timeseries_csv(
     history: TimeHistory, directory: Path, name: str = "timeseries.csv", max_bytes: float = math.inf
 ) -> Path:
-    """Write ``reduced.report.TIMESERIES_COLUMNS`` (contact-point totals) as a plain CSV
+    """Write ``reduced.summaries.TIMESERIES_COLUMNS`` (contact-point totals) as a plain CSV
     (one header line, then numbers: any CSV reader takes it as it is), every sample, or
     every k-th where all of them would exceed ``max_bytes`` (:func:`timeseries_stride`;
     summary.json says k)."""

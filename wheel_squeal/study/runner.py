@@ -24,12 +24,12 @@ from geometry.files import printable, stored_array
 from ..api import check_modes_budget
 from ..budget import Budget, usable_cores
 from ..cache import CacheMiss, StageCache
-from ..errors import RequestError
 from ..output_files import FLAG_FIELDS, LABEL_FIELDS, RESULT_FIELDS
 from ..plan import estimate_study, study_plan
 from ..presets import fidelity_for
 from ..progress import Progress
 from ..provenance import CODE_PACKAGES, code_version, library_versions
+from ..request_errors import RequestError
 from .pool import KEPT_FREE_BYTES, Death, run_on_pool
 from .spec import StudySpec
 from .task import CaseJob, run_case

@@ -45,8 +45,8 @@ from geometry import SECTIONS, DesignError
 from geometry.files import check_label, read_toml
 
 from ..design import FIELDS, Design
-from ..errors import RequestError
 from ..presets import DEFAULT_CRAB_VELOCITY_M_S, DEFAULT_DESIGN, DEFAULT_RPM, FIDELITIES
+from ..request_errors import RequestError
 from .task import RESULT_FIELDS
 
 __all__ = ["COMPUTE", "Case", "Dimension", "StudySpec", "load_spec"]

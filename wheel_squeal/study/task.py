@@ -16,8 +16,8 @@ import numpy as np
 from geometry import DesignError, MeshError
 
 from ..design import Design
-from ..errors import BudgetError, RequestError
 from ..output_files import FLAG_FIELDS, LABEL_FIELDS, RESULT_FIELDS
+from ..request_errors import BudgetError, RequestError
 from ..types import Stage
 
 __all__ = ["FLAG_FIELDS", "LABEL_FIELDS", "CaseJob", "RESULT_FIELDS", "run_case"]

@@ -18,8 +18,8 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any, ClassVar
 
 from geometry import DesignError
-from geometry.design import MAX_LENGTH_M
 from geometry.schema import Fields, spec
+from geometry.wheel_design import MAX_LENGTH_M
 
 if TYPE_CHECKING:
     from reduced import BodyModel

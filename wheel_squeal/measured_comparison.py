@@ -17,7 +17,7 @@ import numpy as np
 
 from acoustics.measured import Measured
 
-from .errors import RequestError
+from .request_errors import RequestError
 
 if TYPE_CHECKING:
     from .sweeps import VerdictGrid

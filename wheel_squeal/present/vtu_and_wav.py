@@ -8,7 +8,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 if TYPE_CHECKING:
-    from ..levels import SquealSound
+    from ..squeal_sound import SquealSound
 
 __all__ = ["write_pressure_vtu", "write_squeal_wav", "write_wav"]
 

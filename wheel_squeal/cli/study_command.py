@@ -1,18 +1,33 @@
-"""The study command: many designs over an operating grid, locally or on a dask cluster."""
+"""The ``study`` command: many designs (grid or samples) over an operating grid, locally or on dask."""
 
 from __future__ import annotations
 
 import argparse
+from pathlib import Path
 
-from ..errors import RequestError
 from ..folders import result_folder
 from ..progress import Progress
+from ..request_errors import RequestError
 from .common import budget_of, cache_of, out_of
+from .options import add_budget, add_cache, add_out, add_workers
 
-__all__ = ["cmd_study"]
+__all__ = ["add_parser", "run"]
 
 
-def cmd_study(args: argparse.Namespace) -> int:
+def add_parser(sub: argparse._SubParsersAction) -> None:
+    """The command\'s flags."""
+    p = sub.add_parser(
+        "study", help="many designs (grid or samples) over an operating grid, locally or on dask"
+    )
+    p.add_argument("spec", type=Path, help="study specification TOML (see studies/)")
+    add_out(p)
+    add_workers(p)
+    p.add_argument("--quiet", action="store_true", help="no progress on stderr")
+    add_cache(p)
+    add_budget(p)
+
+
+def run(args: argparse.Namespace) -> int:
     from ..study.runner import missing_dependencies
 
     missing = missing_dependencies()

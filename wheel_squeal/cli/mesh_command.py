@@ -1,4 +1,4 @@
-"""Commands about the FE model: mesh, modes, render."""
+"""The ``mesh`` command: mesh a design (2-D profile or 3-D revolved)."""
 
 from __future__ import annotations
 
@@ -6,20 +6,29 @@ import argparse
 import time
 
 from .. import api
-from ..errors import RequestError
 from ..folders import result_folder
 from ..outputs import write_json
 from ..plan import MESH_BYTES_PER_ELEMENT, MESH_SECONDS_PER_ELEMENT
-from ..present.summary import modes_summary
-from ..present.text import modes_table
 from ..progress import Progress
-from .common import analysis_of, budget_of, context_of, design_of, modes_of, out_of, write_files
-from .stops import uninterrupted
+from ..request_errors import RequestError
+from .arguments import positive
+from .common import budget_of, design_of, out_of
+from .options import add_common
 
-__all__ = ["cmd_mesh", "cmd_modes", "cmd_render"]
+__all__ = ["add_parser", "run"]
 
 
-def cmd_mesh(args: argparse.Namespace) -> int:
+def add_parser(sub: argparse._SubParsersAction) -> None:
+    """The command\'s flags."""
+    p = sub.add_parser("mesh", help="mesh a design (2-D profile or 3-D revolved)")
+    add_common(p, cache=False)
+    p.add_argument("--size", type=positive, help="characteristic element length [m]")
+    p.add_argument("--elements-through-web", type=int, help="elements across the web thickness")
+    p.add_argument("--order", type=int, choices=[1, 2], default=2, help="geometry order")
+    p.add_argument("--dim", type=int, choices=[2, 3], default=3, help="2-D profile or 3-D solid")
+
+
+def run(args: argparse.Namespace) -> int:
     from geometry import estimate_element_count, profile_area, revolved_volume
     from geometry.mesh import mesh_size
 
@@ -78,55 +87,4 @@ def cmd_mesh(args: argparse.Namespace) -> int:
         f"volume {summary['mesh_volume_m3']:.6e} m^3 ({rel:+.3%} vs exact), "
         f"{seconds:.2f} s -> {out}"
     )
-    return 0
-
-
-def cmd_modes(args: argparse.Namespace) -> int:
-    design = design_of(args)
-    out = out_of(args, design.name)
-    ctx = context_of(args)
-    with result_folder(out, "modes") as tmp:
-        ms = modes_of(args, design)
-        if not ms.modes:
-            raise RequestError(f"no modes below {ctx.fmax_hz:g} Hz for {design.name}")
-        a = analysis_of(args, design, stop_after="stability", remedy=False, modes=ms)
-        chosen = a.verdict.outcome or a.verdict.named or a.verdict.pick
-        selected, why = (chosen.mode, a.verdict.reason) if chosen is not None else (None, a.verdict.reason)
-        with uninterrupted():
-            views = api.mode_views(
-                design, ctx.fidelity, ctx.fmax_hz, ms, [], ctx.cache, ctx.budget.max_file_bytes
-            )
-        write_files(tmp, views)
-        write_json(tmp / "summary.json", modes_summary(design, ms, selected, ctx.fidelity, why))
-    print(modes_table(ms.modes, design, selected))
-    if selected is not None:
-        print(
-            f"selected: mode {selected.index} ({why}), {selected.frequency_hz:.1f} Hz, "
-            f"m = {selected.modal_mass:.3f} kg"
-        )
-    print(f"{ms.solver}, {ms.dofs} DOFs, {ctx.fidelity.name} -> {out}")
-    return 0
-
-
-def cmd_render(args: argparse.Namespace) -> int:
-    from fem.render import render_modes
-
-    design = design_of(args)
-    out = out_of(args, design.name)
-    progress = context_of(args).progress
-    with result_folder(out, "render") as tmp:
-        ms = modes_of(args, design)
-        indices = None
-        if args.modes:
-            try:
-                indices = [int(i) for i in args.modes.split(",")]
-            except ValueError:
-                raise RequestError(f"--modes takes indices like 0,3,4, got {args.modes!r}") from None
-            bad = [i for i in indices if not 0 <= i < len(ms.modes)]
-            if bad:
-                raise RequestError(f"mode index {bad[0]} out of range 0..{len(ms.modes) - 1}")
-        with progress.stage("render"):
-            with uninterrupted():
-                paths = render_modes(ms, tmp, indices=indices, gif=args.gif)
-    print(f"{len(paths)} files -> {out}")
     return 0

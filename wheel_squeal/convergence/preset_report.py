@@ -7,7 +7,8 @@ import csv
 from pathlib import Path
 from typing import Any
 
-from .. import outputs
+from wheel_squeal import outputs
+
 from ..present.canvas import PLOT_DPI
 from .choice import ACCURATE_MAX_ERROR, FAST_MAX_ERROR, as_number, pareto_front
 from .ladders import COLUMNS, IVP_METHOD, REFERENCE_RTOL

@@ -6,8 +6,8 @@ from __future__ import annotations
 from track.receptances import TrackReceptances
 
 from .design import Design
-from .errors import RequestError
-from .sections import Track
+from .model_sections import Track
+from .request_errors import RequestError
 
 __all__ = ["TrackReceptances", "track_receptances"]
 

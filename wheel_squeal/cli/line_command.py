@@ -1,5 +1,8 @@
-"""The ``line`` command: every curve of a railway line, its squeal's probability over the
-friction's distribution and its emission for the noise-mapping tools."""
+"""The ``line`` command: every curve of a railway line: squeal probability and emission.
+
+line.csv, line.geojson (with coordinates), line.nc, line.png, summary.json and
+report.html of every curve of ``--line``.
+"""
 
 from __future__ import annotations
 
@@ -8,21 +11,37 @@ from pathlib import Path
 
 from geometry.files import printable
 
-from ..errors import RequestError
 from ..folders import result_folder
+from ..request_errors import RequestError
 from .common import context_of, design_of, out_of
+from .options import add_common, add_fe, add_workers
 
-__all__ = ["cmd_line"]
+__all__ = ["add_parser", "run"]
 
 
-def cmd_line(args: argparse.Namespace) -> int:
+def add_parser(sub: argparse._SubParsersAction) -> None:
+    """The command\'s flags."""
+    p = sub.add_parser("line", help="every curve of a railway line: squeal probability and emission")
+    add_common(p)
+    add_fe(p, mode=False)
+    p.add_argument(
+        "--line",
+        required=True,
+        help="LINE.csv: id, radius_m, length_m, cant_mm, train_speed_km_h (x0, y0, x1, y1 or wkt optional)",
+    )
+    p.add_argument("--traffic", help="a TOML file with a [line] table: traffic per period and friction")
+    p.add_argument("--crs", help="the coordinates' projected system, as line.geojson names it (EPSG:25832)")
+    add_workers(p)
+
+
+def run(args: argparse.Namespace) -> int:
     """line.csv, line.geojson (with coordinates), line.nc, line.png, summary.json and
     report.html of every curve of ``--line``."""
-    from track.line import LineFileError, count_rows
+    from track.alignment import LineFileError, count_rows
 
     from ..line import line, load_line, read_line_spec
     from ..plan import line_plan
-    from ..present.line import check_geojson_size, write_line_files
+    from ..present.line_files import check_geojson_size, write_line_files
     from ..study.runner import local_workers, scheduler_of
 
     path = Path(args.line)

@@ -23,8 +23,8 @@ from typing import TYPE_CHECKING, Any, NamedTuple
 import numpy as np
 
 from .design import Design
-from .errors import RequestError
 from .outputs import bound_or_none
+from .request_errors import RequestError
 
 if TYPE_CHECKING:
     from fem.modes import Mode, ModeSet

@@ -29,8 +29,8 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from reduced.model import STEPS_PER_PERIOD as PRODUCTION_STEPS_PER_PERIOD
+from wheel_squeal import api
 
-from .. import api
 from ..design import Design, as_design
 from ..outputs import write_json
 from ..presets import DEFAULT_CRAB_VELOCITY_M_S, DEFAULT_FMAX_HZ, DEFAULT_RPM
@@ -54,7 +54,7 @@ from .ladders import (
     fe_ladder,
     integrator_ladder,
 )
-from .report import write_csv, write_plots
+from .preset_report import write_csv, write_plots
 
 if TYPE_CHECKING:
     from reduced import ModalDOF

@@ -1,24 +1,39 @@
-"""The sound of a mode at a given contact velocity: the ``sound`` command (the mode the
-chain's decision names at the operating point, unless ``--mode`` names one), and the
-listener every command with a microphone reads."""
+"""The ``sound`` command: sound of one mode at a given contact velocity (no time domain)."""
 
 from __future__ import annotations
 
 import argparse
 
-from ..errors import RequestError
 from ..folders import result_folder
-from ..levels import tone_sound
 from ..outputs import write_json
 from ..present.results import write_sound_files
 from ..present.text import sound_text
+from ..request_errors import RequestError
 from ..sound import check_velocity_amplitude, mode_sound
+from ..squeal_sound import tone_sound
+from .arguments import non_negative, positive
 from .common import analysis_of, context_of, design_of, listener_of, out_of
+from .options import add_common, add_fe, add_microphone
 
-__all__ = ["cmd_sound"]
+__all__ = ["add_parser", "run"]
 
 
-def cmd_sound(args: argparse.Namespace) -> int:
+def add_parser(sub: argparse._SubParsersAction) -> None:
+    """The command\'s flags."""
+    p = sub.add_parser("sound", help="sound of one mode at a given contact velocity (no time domain)")
+    add_common(p)
+    add_fe(p)
+    p.add_argument(
+        "--velocity-amplitude",
+        type=non_negative,
+        default=1.0,
+        help="contact velocity amplitude [m/s] (peak; default 1)",
+    )
+    p.add_argument("--frequency", type=positive, help="frequency [Hz] (default: the mode's)")
+    add_microphone(p)
+
+
+def run(args: argparse.Namespace) -> int:
     design = design_of(args)
     listener = listener_of(args, design)
     check_velocity_amplitude(args.velocity_amplitude)

@@ -7,7 +7,7 @@ out, TOML lines and hash): [counter_body] (what the wheel rolls on, one class pe
 ``geometry.DesignError`` naming it.
 
 The sections of what the wheel runs on, [counter_body] and [vehicle], are the track
-package's (``track.sections``), re-exported here.
+package's (``track.design_sections``), re-exported here.
 """
 
 from __future__ import annotations
@@ -20,7 +20,7 @@ from contact.creep import TABLE1_C22, friction_law_named
 from contact.profiles import STANDARD_WHEELS
 from geometry import DesignError
 from geometry.schema import Fields, spec
-from track.sections import (
+from track.design_sections import (
     COUNTER_BODIES,
     ROLLER_MODAL,
     ROLLER_RANGES,

@@ -44,7 +44,7 @@ def write_passby_files(folder: Path, heard: PassbySound) -> dict[str, Any]:
     A-weighted level over time, fast, and the spectrogram of the sound)."""
     from acoustics.signal import faded
 
-    from .files import write_wav
+    from .vtu_and_wav import write_wav
 
     rate = heard.sample_rate_hz
     peak = write_wav(folder / PASSBY_WAV, faded(heard.pressure_pa, rate, 0.5))

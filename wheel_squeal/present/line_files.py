@@ -14,7 +14,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 if TYPE_CHECKING:
-    from track.line import LineCurve
+    from track.alignment import LineCurve
 
     from ..line import LineResult, LineSpec
 
@@ -28,7 +28,7 @@ __all__ = [
 ]
 
 #: The most one property of line.geojson takes [bytes]: its name, a number's repr (at most
-#: 24 characters) or an id (at most ``track.line.MAX_ID_CHARACTERS``, escaped), punctuation
+#: 24 characters) or an id (at most ``track.alignment.MAX_ID_CHARACTERS``, escaped), punctuation
 GEOJSON_PROPERTY_BYTES = 64
 #: The most one feature takes beyond its properties and positions [bytes]
 GEOJSON_FEATURE_BYTES = 200 + 6 * 100
@@ -113,7 +113,7 @@ def check_geojson_size(curves: Sequence[LineCurve]) -> None:
     """Refuse (``RequestError``) a line whose line.geojson would exceed the largest file a
     command writes (``budget.MAX_FILE_BYTES``), before any work."""
     from ..budget import MAX_FILE_BYTES
-    from ..errors import RequestError
+    from ..request_errors import RequestError
 
     size = geojson_bytes(curves)
     if size > MAX_FILE_BYTES:

@@ -20,9 +20,9 @@ from typing import TYPE_CHECKING, Any
 from geometry.schema import toml_value
 
 from .design import Design
+from .mode_stability import ModeStabilityRow, body_of, mode_dofs, wheel_speed_rad_s
+from .model_sections import mode_key
 from .outputs import bound_or_none, needed_or_none
-from .sections import mode_key
-from .stability import ModeStabilityRow, body_of, mode_dofs, wheel_speed_rad_s
 
 if TYPE_CHECKING:
     from fem.modes import Mode

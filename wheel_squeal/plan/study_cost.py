@@ -8,7 +8,7 @@ from typing import Protocol
 
 from ..budget import CostPlan
 from ..design import Design
-from .fe import radiation_seconds
+from .fe_cost import radiation_seconds
 
 __all__ = ["StudyCost", "StudyShape", "estimate_study", "study_plan"]
 

@@ -13,8 +13,8 @@ from reduced.integration_cost import simulation_bytes, simulation_seconds
 
 from ..budget import CostPlan
 from ..design import Design
-from ..stability import StabilityTable, body_of, mode_dofs
-from .fe import estimated_modes, radiation_seconds
+from ..mode_stability import StabilityTable, body_of, mode_dofs
+from .fe_cost import estimated_modes, radiation_seconds
 
 if TYPE_CHECKING:
     from fem.modes import Mode, ModeSet
@@ -230,7 +230,7 @@ def squealing_axles(
 
 def check_curve_files(size: CurveSize, max_file_bytes: float) -> None:
     """Refuse a curve map whose files would exceed ``max_file_bytes`` each."""
-    from ..errors import RequestError
+    from ..request_errors import RequestError
 
     rows = size.curves * WHEELS_PER_BOGIE
     if rows * CURVE_FILE_BYTES_PER_ROW > max_file_bytes:

@@ -18,11 +18,11 @@ from .budget import MAX_FILE_BYTES, Budget
 from .cache import CacheMiss, StageCache
 from .design import Design, as_design
 from .entry_reading import kept_files
-from .errors import RequestError
 from .interrupts import uninterrupted
 from .presets import DEFAULT_FIDELITY, DEFAULT_FMAX_HZ, FIDELITIES, Fidelity, fidelity_for
 from .progress import Progress
 from .provenance import code_version, library_versions
+from .request_errors import RequestError
 
 if TYPE_CHECKING:
     from fem.cost import SolveCost
@@ -169,7 +169,7 @@ def compute_modes(
 
     With a ``cache`` the mesh and the modes are re-used whenever geometry, material,
     fidelity, code and libraries are unchanged. A solve that is not cached is estimated
-    first and refused (:class:`~wheel_squeal.errors.BudgetError`) beyond the ``budget``.
+    first and refused (:class:`~wheel_squeal.request_errors.BudgetError`) beyond the ``budget``.
 
     Parameters
     ----------
@@ -254,7 +254,7 @@ def check_named_modes(design: Design, modeset: ModeSet, fmax_hz: float) -> None:
     that is not among ``modeset``'s: its damping would be silently unused."""
     labels = {f"n={m.nodal_diameters},c={m.nodal_circles}" for m in modeset.modes}
     labels |= {m.name for m in modeset.modes if m.name}
-    from .sections import DAMPING_KEYS, FAMILY_KEYS
+    from .model_sections import DAMPING_KEYS, FAMILY_KEYS
 
     missing = [k for k, _ in design.damping.by_mode if k not in labels and k not in FAMILY_KEYS]
     if missing:

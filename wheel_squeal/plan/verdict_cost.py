@@ -12,10 +12,10 @@ from reduced.integration_cost import simulation_seconds, simulation_steps
 
 from ..budget import CostPlan
 from ..design import Design
-from ..remedy import bounds_seconds, remedy_seconds
+from ..mode_stability import body_of, excitable, mode_dofs, stability_seconds
 from ..simulation import SIMULATION_HINT
 from ..sound import sound_cost
-from ..stability import body_of, excitable, mode_dofs, stability_seconds
+from ..verdict_remedy import bounds_seconds, remedy_seconds
 
 if TYPE_CHECKING:
     from fem.modes import Mode, ModeSet

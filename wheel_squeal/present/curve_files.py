@@ -273,7 +273,7 @@ def curve_report(
     spectra, the treatments checked, the loudest pass-by's bands and sound, the maps, the
     inputs."""
     from .html import audio, listing_report, table
-    from .passby import PASSBY_WAV
+    from .passby_files import PASSBY_WAV
 
     labels = [b.label_hz for b in spectrum_bands()]
 
@@ -353,8 +353,8 @@ def write_curve_files(
     from ..curve_findings import findings
     from ..output_files import columns_of
     from ..outputs import write_csv, write_json
-    from .curve_remedy import write_curve_remedy
-    from .passby import band_rows, write_passby_files
+    from .passby_files import band_rows, write_passby_files
+    from .remedy_files import write_curve_remedy
 
     rows = [c.to_record() for c in cases]
     q = ground_reflection
