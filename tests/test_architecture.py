@@ -5,6 +5,7 @@ needs no FE imports none of the FE libraries."""
 from __future__ import annotations
 
 import ast
+import re
 import subprocess
 import sys
 from pathlib import Path
@@ -379,3 +380,24 @@ def test_no_file_name_is_in_two_packages():
             if f.name != "__init__.py":
                 seen.setdefault(f.name, []).append(str(f.relative_to(ROOT)))
     assert {n: p for n, p in seen.items() if len(p) > 1} == {}
+
+
+def test_every_vocabulary_is_used_in_a_signature_and_names_its_registry():
+    """Each Literal alias of wheel_squeal.types is used outside its own module (an alias no
+    signature takes is a word the code does not keep), and a closed vocabulary spells its
+    registry's names (the presets', the solvers', the normal contacts')."""
+    import typing
+
+    import wheel_squeal.types as types
+    from fem.solvers import SOLVERS
+    from wheel_squeal.model_sections import NORMAL_CONTACTS
+    from wheel_squeal.presets import FIDELITIES
+
+    sources = "\n".join(
+        f.read_text() for pkg in CODE_PACKAGES for f in (ROOT / pkg).rglob("*.py") if f.name != "types.py"
+    )
+    for name in types.__all__:
+        assert re.search(rf"\b{name}\b", sources), f"{name} is used nowhere"
+    assert set(typing.get_args(types.FidelityName)) == set(FIDELITIES)
+    assert set(typing.get_args(types.SolverName)) == set(SOLVERS)
+    assert set(typing.get_args(types.NormalContact)) == set(NORMAL_CONTACTS)

@@ -18,6 +18,7 @@ from .design import FIELDS, Design
 from .presets import fidelity_for
 from .progress import Progress
 from .request_errors import RequestError
+from .types import FidelityName
 
 __all__ = ["CALIBRATED_MARK", "Calibration", "calibrate", "calibrated_design_path"]
 
@@ -44,7 +45,7 @@ def calibrate(
     free: Sequence[str],
     target_frequency_hz: float | None,
     target_modal_mass_kg: float | None,
-    fidelity: str = "fast",
+    fidelity: FidelityName = "fast",
     mode: str | None = None,
     frequency_uncertainty: float = 0.01,
     modal_mass_uncertainty: float = 0.10,

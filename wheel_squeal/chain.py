@@ -134,7 +134,7 @@ def analyse(
 def _context(context: RunContext | None, settings: dict[str, Any]) -> RunContext:
     if context is not None:
         return replace(context, **{k: v for k, v in settings.items() if k in ("cache", "budget", "progress")})
-    fidelity = settings.get("fidelity") or "balanced"
+    fidelity: Any = settings.get("fidelity") or "balanced"
     fid = fidelity if isinstance(fidelity, Fidelity) else fidelity_for(fidelity, settings.get("solver"))
     ctx = RunContext.of(
         fid, cache=settings.get("cache"), budget=settings.get("budget"), progress=settings.get("progress")

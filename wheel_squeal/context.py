@@ -11,6 +11,7 @@ from .budget import Budget
 from .cache import StageCache
 from .presets import DEFAULT_FIDELITY, DEFAULT_FMAX_HZ, Fidelity, fidelity_for
 from .progress import Progress
+from .types import FidelityName, SolverName
 
 __all__ = ["MEMO_MODE_SETS_KEPT", "RunContext", "memo_get", "memo_put"]
 
@@ -53,9 +54,9 @@ class RunContext:
     @classmethod
     def of(
         cls,
-        fidelity: str | Fidelity = DEFAULT_FIDELITY,
+        fidelity: FidelityName | Fidelity = DEFAULT_FIDELITY,
         *,
-        solver: str | None = None,
+        solver: SolverName | None = None,
         fmax_hz: float = DEFAULT_FMAX_HZ,
         cache: StageCache | None = None,
         budget: Budget | None = None,

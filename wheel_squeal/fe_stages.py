@@ -23,6 +23,7 @@ from .presets import DEFAULT_FIDELITY, DEFAULT_FMAX_HZ, FIDELITIES, Fidelity, fi
 from .progress import Progress
 from .provenance import code_version, library_versions
 from .request_errors import RequestError
+from .types import FidelityName, SolverName
 
 if TYPE_CHECKING:
     from fem.cost import SolveCost
@@ -158,8 +159,8 @@ def check_modes_budget(
 
 def compute_modes(
     design: Design | WheelDesign,
-    fidelity: str | Fidelity = DEFAULT_FIDELITY,
-    solver: str | None = None,
+    fidelity: FidelityName | Fidelity = DEFAULT_FIDELITY,
+    solver: SolverName | None = None,
     fmax_hz: float = DEFAULT_FMAX_HZ,
     cache: StageCache | None = None,
     progress: Progress | None = None,

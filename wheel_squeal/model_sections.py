@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, ClassVar
+from typing import TYPE_CHECKING, ClassVar, get_args
 
 from contact.creep import TABLE1_C22, friction_law_named
 from contact.profiles import STANDARD_WHEELS
@@ -31,6 +31,8 @@ from track.design_sections import (
     check_positive,
     counter_body_from_file,
 )
+
+from .types import NormalContact
 
 if TYPE_CHECKING:
     from fem.modes import Mode
@@ -116,7 +118,7 @@ def mode_key(label: str, source: str = "design") -> str:
 DEFAULT_FRICTION_LAW = "falling"
 #: How the normal force follows the contact's normal motion: "hertz" (the nonlinear
 #: Hertz spring, the default) or "constant" (the paper's fixed normal load)
-NORMAL_CONTACTS = ("hertz", "constant")
+NORMAL_CONTACTS: tuple[str, ...] = get_args(NormalContact)
 #: The plausible range of the creep coefficient C22 (Kalker's table spans about 2 to 10
 #: for ellipses of axis ratio 0.1 to 10) and the longest relaxation length [m].
 C22_RANGE = (0.1, 100.0)
@@ -162,7 +164,7 @@ class Contact(Fields):
     contact_angle: float = spec(
         0.0, "rad", "where on the tread the contact lies (0: the apex)", flat="contact_angle", when_set=True
     )
-    normal_contact: str = spec(
+    normal_contact: NormalContact = spec(
         "hertz",
         "-",
         "hertz (the normal force follows the normal motion) or constant (fixed load)",

@@ -21,6 +21,7 @@ from fem.solvers import SOLVERS, method_label
 from reduced.model import rpm_to_speed
 
 from .request_errors import RequestError
+from .types import FidelityName, SolverName
 
 __all__ = [
     "DEFAULT_CRAB_VELOCITY_M_S",
@@ -64,8 +65,8 @@ class Fidelity:
     """A solver (a name of ``fem.solvers.SOLVERS``), element order and mesh, chosen
     together (README "Fidelity presets")."""
 
-    name: str
-    solver: str
+    name: FidelityName
+    solver: SolverName
     order: int  # element order (2 = quadratic)
     elements_through_web: int
     mesh_order: int = 1  # geometry order of the mesh (1: straight P2 elements on it)
@@ -81,10 +82,10 @@ FIDELITIES: dict[str, Fidelity] = {
     "balanced": Fidelity("balanced", "axisym", 2, 2),
     "accurate": Fidelity("accurate", "axisym", 2, 4),
 }
-DEFAULT_FIDELITY = "balanced"
+DEFAULT_FIDELITY: FidelityName = "balanced"
 
 
-def fidelity_for(name: str, solver: str | None = None) -> Fidelity:
+def fidelity_for(name: FidelityName, solver: SolverName | None = None) -> Fidelity:
     """The preset ``name``, optionally with another solver (a name of
     ``fem.solvers.SOLVERS``) at the same element order and mesh density, on the mesh
     order that solver uses for P2 (the 3-D solvers: curved, which converges from above;

@@ -28,6 +28,7 @@ from .listener import Listener, default_microphone
 from .presets import DEFAULT_FIDELITY, DEFAULT_FMAX_HZ, fidelity_for
 from .provenance import code_version
 from .request_errors import RequestError
+from .types import FidelityName
 
 if TYPE_CHECKING:
     from acoustics import Air, RadiationCost, Surface
@@ -310,7 +311,7 @@ def mode_sound(
     *,
     listener: Listener | None = None,
     travelling: bool = False,
-    fidelity: str = DEFAULT_FIDELITY,
+    fidelity: FidelityName = DEFAULT_FIDELITY,
     fmax_hz: float = DEFAULT_FMAX_HZ,
     cache: StageCache | None = None,
     budget: Budget | None = None,

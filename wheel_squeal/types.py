@@ -6,15 +6,11 @@ from __future__ import annotations
 
 from typing import Literal
 
-from reduced.limit_cycle import State
 from reduced.stability import Mechanism
 
 __all__ = [
     "AmplitudeMethod",
-    "CounterBodyKind",
     "FidelityName",
-    "FrictionLawName",
-    "LimitCycleState",
     "Mechanism",
     "NormalContact",
     "SolverName",
@@ -25,19 +21,12 @@ __all__ = [
 #: How a mode is seen from the (fixed) contact: standing (the paper's model), or on a
 #: turning wheel the backward or forward travelling wave of a pair.
 Wave = Literal["standing", "backward", "forward"]
-#: The friction laws of ``contact.creep.FRICTION_LAWS``: the paper's falling one, or constant
-#: (no falling friction: only mode coupling can then drive squeal).
-FrictionLawName = Literal["falling", "constant"]
 #: How the normal force follows the contact's normal motion.
 NormalContact = Literal["hertz", "constant"]
 #: The modal solvers of ``fem.solvers.SOLVERS``.
 SolverName = Literal["axisym", "3d", "3d-tet"]
 #: The FE presets of ``wheel_squeal.presets.FIDELITIES``.
 FidelityName = Literal["fast", "balanced", "accurate"]
-#: What the wheel rolls on (``wheel_squeal.model_sections.COUNTER_BODIES``).
-CounterBodyKind = Literal["roller", "track"]
-#: What a record shows at its end (``reduced.limit_cycle``).
-LimitCycleState = State
 #: The stages of the chain, in order; a request stops after one of them.
 Stage = Literal["stability", "limit_cycle", "sound"]
 #: How the chain finds a squeal's amplitude: the harmonic balance of its squeal mode

@@ -8,6 +8,7 @@ from typing import Protocol
 
 from ..budget import CostPlan
 from ..design import Design
+from ..types import FidelityName
 from .fe_cost import radiation_seconds
 
 __all__ = ["StudyCost", "StudyShape", "estimate_study", "study_plan"]
@@ -20,7 +21,7 @@ class StudyShape(Protocol):
     def base(self) -> Design: ...
 
     @property
-    def fidelity(self) -> str: ...
+    def fidelity(self) -> FidelityName: ...
 
     @property
     def fmax_hz(self) -> float: ...

@@ -37,7 +37,7 @@ import math
 import re
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import Any, cast
 
 import numpy as np
 
@@ -47,6 +47,7 @@ from geometry.files import check_label, read_toml
 from ..design import FIELDS, Design
 from ..presets import DEFAULT_CRAB_VELOCITY_M_S, DEFAULT_DESIGN, DEFAULT_RPM, FIDELITIES
 from ..request_errors import RequestError
+from ..types import FidelityName
 from .task import RESULT_FIELDS
 
 __all__ = ["COMPUTE", "Case", "Dimension", "StudySpec", "load_spec"]
@@ -95,7 +96,7 @@ class StudySpec:
     name: str
     description: str
     base: Design
-    fidelity: str
+    fidelity: FidelityName
     fmax_hz: float
     compute: tuple[str, ...]
     dimensions: tuple[Dimension, ...]
@@ -353,7 +354,7 @@ def load_spec(path: str | Path) -> StudySpec:
         name=name,
         description=str(data.get("description", "")),
         base=base,
-        fidelity=fidelity,
+        fidelity=cast(FidelityName, fidelity),  # one of FIDELITIES: checked above
         fmax_hz=fmax,
         compute=compute,
         dimensions=dims,

@@ -18,7 +18,7 @@ from geometry import DesignError, MeshError
 from ..design import Design
 from ..output_files import FLAG_FIELDS, LABEL_FIELDS, RESULT_FIELDS
 from ..request_errors import BudgetError, RequestError
-from ..types import Stage
+from ..types import FidelityName, Stage
 
 __all__ = ["FLAG_FIELDS", "LABEL_FIELDS", "CaseJob", "RESULT_FIELDS", "run_case"]
 
@@ -32,7 +32,7 @@ class CaseJob:
 
     base: Design
     changes: tuple[tuple[str, float], ...]
-    fidelity: str
+    fidelity: FidelityName
     fmax_hz: float
     compute: tuple[str, ...]
     crabbing_velocities_m_s: tuple[float, ...]
