@@ -304,10 +304,9 @@ DOFS_PER_AREA = 4.6
 DOFS_NEAR = 60.0
 #: Seconds and bytes per unknown of a radiation solve (gmsh, assembly and the sparse LU
 #: of the 2-D problem), both growing beyond :data:`LU_FILL_DOFS` unknowns as the LU's
-#: fill does: measured 0.17 s / 5.4k, 1.5 s / 41k, 4.3 s / 92k, 16 s and 1.3 GB / 183k
-#: unknowns on the Table 1 wheel's modes (260 Hz to 17 kHz), then 1.2-2.4x less with the
-#: far field in blocks and the bases kept per mesh (``benchmarks/bench_estimates.py``:
-#: the shipped designs' squeal modes, a median of 1.6x).
+#: fill does: fitted from 5k to 180k unknowns on the Table 1 wheel's modes (260 Hz to
+#: 17 kHz), with the far field in blocks and the bases kept per mesh
+#: (``benchmarks/bench_estimates.py`` checks it on the shipped designs' squeal modes).
 SECONDS_PER_DOF = 2.5e-5
 BYTES_PER_DOF = 7000.0
 LU_FILL_DOFS = 1e5

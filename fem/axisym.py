@@ -337,8 +337,7 @@ def solve_axisymmetric(
     "eigen", "expand" and "total" [s].
     """
     # The harmonic problems are small (1e3-1e4 DOFs): multi-threaded BLAS only adds
-    # synchronisation cost there, several times the work on a loaded 2-core machine
-    # (measured: 0.12 s vs 0.85 s for Table 1).
+    # synchronisation cost there, several times the work on a loaded machine
     with blas_threads(1):
         return _solve_axisymmetric(
             design,

@@ -33,13 +33,13 @@ _SHAPE_BYTES_PER_NODE = 3e3
 _P2_NODES_PER_TRIANGLE = 2.2
 _CORNERS_PER_TRIANGLE = 0.6
 #: One harmonic problem of N DOFs: 0.01 s + 2.2e-9 N^2 s (SuperLU factorisation and
-#: shift-invert Lanczos; measured from 4k to 70k DOFs).
+#: shift-invert Lanczos; a fit from 4k to 70k DOFs).
 _HARMONIC_SECONDS = (0.01, 2.2e-9)
 #: Cyclic 3-D solver: bytes per DOF of the equivalent full problem.
 _CYCLIC_BYTES_PER_DOF = 145.0
 #: gmsh tetrahedra: P2 nodes per tet; one sparse factorisation of the whole wheel costs
 #: about 16 kB per DOF at 41k DOFs, growing like N^1.5 (fill of a 3-D problem); the
-#: eigen-solve 6 s at 41k DOFs, growing like N^2.
+#: eigen-solve takes _TET_SECONDS [s] at _TET_REFERENCE_DOFS, growing like N^2.
 _TET_NODES_PER_TET = 1.9
 _TET_BYTES_PER_DOF = 16e3
 _TET_SECONDS = 6.0

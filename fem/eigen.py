@@ -52,18 +52,11 @@ class EigenResult:
 
 #: Preference of ``factorization="auto"``, first available wins (CHOLMOD only for a
 #: definite matrix); without either, SciPy's SuperLU (:data:`SCIPY_AUTO_DEFINITE`).
-#: Measured on the Table 1 wheel, curved P2, all modes <= 5.1 kHz (25 eigenpairs), one
-#: BLAS thread, loaded 2-core machine, interleaved medians:
-#: 41k DOFs: cholmod 2.4 s, pardiso 5.3 s, superlu-sym 5.3 s (another run: 3.8 s);
-#: 85k DOFs: cholmod 6.7 s, pardiso 11.4 s, superlu-sym 20.2 s; plain eigsh +
-#: SuperLU/COLAMD with default threads 16.5 s at 41k (8.8 s on one thread). Under
-#: heavier load (benchmarks/bench_modes.py --full): 41k: cholmod 4.1-4.5 s,
-#: pardiso 4.3 s, superlu-sym 4.5 s, splu 6.6 s, superlu-colamd 9.2 s; 85k: cholmod
-#: 11.9-14.7 s, pardiso 12.8 s, superlu-sym 17.9 s, superlu-colamd 34 s, splu 69 s.
-#: CHOLMOD (scikit-sparse, needs libsuitesparse-dev and a compiler: installed by hand)
-#: comes first; PARDISO (pypardiso, the ``fast3d`` extra, MKL wheels) factorises fast
-#: (0.85 s at 41k vs SuperLU-sym 1.55 s) but each single-vector solve in the Lanczos
-#: loop costs more (ARPACK loop 3.7 s vs 2.3 s for SuperLU-sym, 75 solves).
+#: CHOLMOD (scikit-sparse, needs libsuitesparse-dev and a compiler) is the fastest on
+#: the wheels' 3-D P2 matrices; PARDISO (pypardiso, the ``fast3d`` extra) factorises
+#: fastest but each single-vector solve of the Lanczos loop costs more; SuperLU in
+#: symmetric mode is the fastest of SciPy's (``benchmarks/bench_modes.py`` compares them
+#: on the same mesh, interleaved).
 AUTO_ORDER: tuple[str, ...] = ("cholmod", "pardiso", "splu")
 #: Without pypardiso (the ``fast3d`` extra) and scikit-sparse, ``auto`` uses SciPy's
 #: SuperLU; with a definite matrix (shift below the spectrum) in symmetric mode
@@ -71,11 +64,10 @@ AUTO_ORDER: tuple[str, ...] = ("cholmod", "pardiso", "splu")
 #: is kept). See :func:`auto_factorization` for the measurements.
 SCIPY_AUTO_DEFINITE = "superlu-sym"
 
-#: BLAS/OpenMP threads while factorising and iterating. On these 2-core shared
-#: machines one thread is several times faster than two (measured: CHOLMOD band solve
-#: of the 41k-DOF wheel 3.9 s with one thread, 17 s with the default two; PARDISO 8.9 s
-#: vs 39 s; interleaved, same load): ARPACK's small BLAS calls, OpenBLAS and MKL/OpenMP threads otherwise spin
-#: against each other and against other processes. ``None`` leaves the defaults.
+#: BLAS/OpenMP threads while factorising and iterating: one, since ARPACK's many small
+#: BLAS calls gain nothing from threads, and OpenBLAS and MKL/OpenMP threads otherwise
+#: spin against each other and against other processes on a shared machine
+#: (``benchmarks/bench_modes.py`` measures both). ``None`` leaves the defaults.
 BLAS_THREADS: int | None = 1
 
 FACTORIZATIONS: tuple[str, ...] = ("auto", "pardiso", "cholmod", "splu", "superlu-sym", "superlu-colamd")
@@ -97,14 +89,9 @@ def auto_factorization(n: int, definite: bool) -> str:
     """The factorisation ``"auto"`` uses for an ``n``-DOF matrix.
 
     The first installed of :data:`AUTO_ORDER` (CHOLMOD only for a definite matrix),
-    else SciPy's SuperLU: ``"superlu-sym"`` for a definite matrix, ``"splu"``
-    otherwise. Measured on the Table 1 wheel's 3-D P2 stiffness, one BLAS thread,
-    factorisation / one solve, best of 2 (benchmarks/bench_modes.py interleaves them):
-    41k DOFs: superlu-sym 1.7 s / 26 ms (fill 2.1e7), splu (MMD_AT_PLUS_A) 2.4 s /
-    32 ms (2.1e7), superlu-colamd 5.0 s / 44 ms (4.3e7); 85k DOFs: superlu-sym
-    10.0 s / 79 ms (5.7e7), splu 50.8 s / 141 ms (5.7e7: same fill, but SuperLU's
-    off-diagonal pivoting makes it slow, hence the earlier "MMD 2x slower than COLAMD"),
-    superlu-colamd 24.6 s / 140 ms (1.3e8). The 2-D harmonic problems of
+    else SciPy's SuperLU: ``"superlu-sym"`` for a definite matrix (MMD on A^T + A with
+    diagonal pivots: the fill of COLAMD's half, and no off-diagonal pivoting to slow it),
+    ``"splu"`` otherwise (``benchmarks/bench_modes.py`` times them). The 2-D harmonic problems of
     :mod:`fem.axisym` pick their own (``small_problem_factorization``) and never see
     this choice. ``n`` is accepted for a size-dependent rule (none is needed so far).
     """
@@ -281,17 +268,15 @@ def blas_threads(limit: int | None = None):
 def small_problem_factorization() -> str:
     """Factorisation for the harmonic problems (1e3-1e4 DOFs, 2-D fill pattern).
 
-    Measured on Table 1, n = 3, one BLAS thread, 4 modes, median of 5 (1170 / 3930
-    DOFs): cholmod 11 / 65 ms, splu (MMD) 23 / 89 ms, pypardiso 300 / 410 ms (its
-    set-up cost dominates at this size). So: cholmod if installed, else splu, never
-    the 3-D solver's "auto" choice."""
+    CHOLMOD if installed, else SciPy's splu; never PARDISO, whose set-up cost dominates
+    at this size, nor the 3-D solver's "auto" choice (``benchmarks/bench_axisym.py``)."""
     return _small_problem_factorization()
 
 
 @functools.lru_cache(maxsize=1)
 def _small_problem_factorization() -> str:
     # only probe cholmod: asking fem.eigen for all back-ends would load MKL (pardiso),
-    # about 0.3 s, more than the whole solve.
+    # which takes longer than the whole solve
     try:
         import sksparse.cholmod  # noqa: F401, PLC0415 (optional)
     except ImportError:

@@ -367,8 +367,8 @@ def eigen_guess(fmax_hz: float, n_rigid: int = 0) -> int:
     """Expected number of 3-D eigenpairs below ``fmax_hz`` (first Lanczos run).
 
     The Table 1 wheel has 25 below 5 kHz (plate-like: the count grows about linearly
-    with f). A first run just above the count halves the eigen time (measured 4.4 s
-    with 30 vs 8.6 s starting at 20 and growing); an underestimate only costs a rerun.
+    with f). A first run just above the count takes half the time of one that starts
+    low and grows; an underestimate only costs a rerun.
     """
     return int(5.0 * fmax_hz / 1000.0) + 4 + n_rigid
 
@@ -410,9 +410,8 @@ def solve_model(
     lam = res.eigenvalues
     X = np.zeros((A.basis.N, res.vectors.shape[1]))
     X[A.free] = res.vectors
-    # Labelling is many small BLAS calls (dots and matvecs on 1e4-1e5 entries): on these
-    # shared 2-core machines the default two BLAS threads spin against each other and
-    # make it 4x slower (41k DOFs, 25 vectors: 2.7 s vs 0.66 s on one thread, measured).
+    # Labelling is many small BLAS calls (dots and matvecs on 1e4-1e5 entries): on a
+    # shared machine several BLAS threads spin against each other and make it slower
     with blas_threads():
         if free_free:
             X, lam = _drop_rigid(A, X, lam, rigid_frequency(design))

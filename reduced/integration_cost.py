@@ -24,12 +24,11 @@ __all__ = [
 ]
 
 #: One RK4 step of one mode in a sweep, per thread, with the per-case reduction [s]
-#: (measured: 200 x 3 cases of 1.5 s at the Table 1 mode, 49 million steps, 4.2 s on
-#: 2 threads).
+#: (``benchmarks/bench_estimates.py`` checks it).
 SWEEP_SECONDS_PER_STEP = 1.7e-7
 #: One step of the exponential integrator (:mod:`reduced.stepping`), compiled: per block (a
-#: mode's coordinate, a counter-body's term) and for the contact's forces [s] (measured on
-#: railway_920_track with the rail's 32 terms, ``benchmarks/bench_stepping.py``)
+#: mode's coordinate, a counter-body's term) and for the contact's forces [s] (fitted on
+#: railway_920_track with the rail's 32 terms, ``benchmarks/bench_time_domain.py``)
 EXPONENTIAL_SECONDS_PER_STEP = (2.5e-8, 2e-7)
 
 

@@ -895,8 +895,7 @@ def bound_solves(n_modes: int) -> float:
 #: One eigen-solve of the n-state system with its eigenvectors, the energy shares and the
 #: assignment of its eigenvalues to the modes, on one BLAS thread, costs about
 #: EIGEN_SECONDS[0] + EIGEN_SECONDS[1] n^2 + EIGEN_SECONDS[2] n^3 [s] (LAPACK geev:
-#: Python's overhead, the shares, then the cubic work; measured 0.15 ms at n = 10,
-#: 0.29 ms at 26, 1.1 ms at 62, 16 ms at 200, 74 ms at 400 and 0.44 s at 800;
+#: Python's overhead, the shares, then the cubic work, fitted from n = 10 to 800;
 #: ``benchmarks/bench_estimates.py`` checks it).
 #: Eigenvalues alone (the mechanisms' limits) take :data:`EIGENVALUES_ONLY` of it.
 EIGEN_SECONDS = (1.2e-4, 2.5e-7, 6e-10)

@@ -46,7 +46,7 @@ __all__ = ["STEPS_PER_PERIOD", "TAIL_S", "ExponentialRun", "exponential_step_s"]
 
 #: Steps per period of the highest wheel frequency integrated (measured: the limit cycle's
 #: amplitude within 2e-3 of the converged one, its frequency within 1e-5; the convergence
-#: study's rungs, ``benchmarks/bench_stepping.py``)
+#: study's rungs, ``benchmarks/bench_time_domain.py``)
 STEPS_PER_PERIOD = 64
 #: Samples the record keeps per period of the highest wheel frequency (cycles, plots)
 SAMPLES_PER_PERIOD = 16

@@ -182,7 +182,7 @@ RAIL_POSITIONS = {"support": 0.0, "midspan": 0.5}
 #: and beyond the modes' band) and its frequencies per decade
 TRACK_FIT_BAND_HZ, TRACK_FIT_POINTS_PER_DECADE = (2.0, 8000.0), 100
 #: The receptances on that grid and the rational fits of both directions, once per track
-#: in a process [s]: measured 0.7-1.4 s
+#: in a process [s]
 TRACK_FIT_SECONDS = 1.0
 
 

@@ -108,7 +108,7 @@ def sound_cost(
 
 #: What :meth:`Radiation.of` adds to a solve: the pressure at the microphone and on the
 #: plot's circle, and the far field's directivity (Kirchhoff-Helmholtz integrals over the
-#: wheel): measured 0.19 s on railway_920's (2,0) mode at 300 Hz
+#: wheel) [s], on railway_920's (2,0) mode at 300 Hz
 VIEW_SECONDS = 0.2
 
 

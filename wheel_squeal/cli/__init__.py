@@ -205,8 +205,8 @@ def run(prog: str | None = None, started_s: float | None = None) -> None:
 
     Once the result is written and the report printed there is nothing left to do, but
     the interpreter's own shutdown (tearing down numba's compiler and a few thousand
-    modules) takes about 0.3 s, a fifth of a typical command; the streams are flushed
-    and the process ends without it.
+    modules) takes a noticeable share of a short command; the streams are flushed and
+    the process ends without it.
     """
     try:  # a stop may land as soon as its handler is in place, before the handlers are all set
         install_stop_handlers()

@@ -29,9 +29,9 @@ FAST_MAX_ERROR = 0.01
 ACCURATE_MAX_ERROR = 1e-3
 ACCURATE_SAFETY = 3.0
 #: run times within this fraction, or this many seconds, of the quickest count as a
-#: tie (then fewer DOFs wins): the repeat spread of sub-second runs measured here on a
-#: shared 2-core machine is about 0.05-0.1 s, larger than the differences between the
-#: coarse axisymmetric rungs, whose cost is mostly fixed (meshing, harmonics, shapes)
+#: tie (then fewer DOFs wins): the repeat spread of sub-second runs on a shared machine
+#: is larger than the differences between the coarse axisymmetric rungs, whose cost is
+#: mostly fixed (meshing, harmonics, shapes)
 TIME_TIE = 0.15
 TIME_TIE_S = 0.1
 ERROR_KEYS = ("frequency", "modal_mass", "amplitude", "time_to_saturation")

@@ -35,7 +35,7 @@ REFERENCE_ETW = 10
 #: 3-D ladders (elements across the web); a 3-D P2 run at 2 per web is ~180k DOFs
 SOLID_P1_LADDER = (1, 2, 3, 4)
 SOLID_P2_LADDER = (1, 2)
-#: cyclic 3-D P2 (fem.cyclic; default sector count): 4 per web is 1.3M DOFs in ~5 s
+#: cyclic 3-D P2 (fem.cyclic; default sector count): 4 per web is 1.3M DOFs
 CYCLIC_LADDER = (1, 2, 4)
 #: RK4 steps per period and solve_ivp rtol ladders; their reference
 RK4_LADDER = (12, 16, 24, 32, 48, 64, 96, 128)

@@ -19,7 +19,7 @@ __all__ = [
     "radiation_seconds",
 ]
 
-#: gmsh per element: about 7e-5 s and 3 kB (measured on these wheels up to 2e5 elements).
+#: gmsh per element [s, bytes] (a fit on the shipped wheels up to 2e5 elements).
 MESH_SECONDS_PER_ELEMENT = 7e-5
 MESH_BYTES_PER_ELEMENT = 3e3
 

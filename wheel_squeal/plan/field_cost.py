@@ -33,7 +33,7 @@ __all__ = [
 ]
 
 #: One receptance of the rail at one frequency (a banded solve of the finite rail, 160
-#: bays of 10 elements) [s]: measured 0.53 ms
+#: bays of 10 elements) [s]
 RECEPTANCE_SECONDS = 5e-4
 #: Bytes per frequency the track command keeps and writes (four complex receptances, the
 #: CSV row, the figure's points)
@@ -57,14 +57,13 @@ def track_plan(points: int, fits_seconds: float) -> CostPlan:
 
 #: One radius and speed's wheels beyond their eigen-solves: the harmonic balance of each
 #: squealing axle, the sources and the bogie's pass-by over its duration, and the record
-#: [s] (measured 25 ms on railway_920_track)
+#: [s] (on railway_920_track; ``benchmarks/bench_estimates.py`` checks the curve's plan)
 CURVE_SECONDS_PER_CURVE = 0.025
-#: One radius and speed's steady curving of the bogie (``track.bogie_curving``) [s]:
-#: measured 0.07-0.1 s on railway_920_track (benchmarks/curving_table.py), the table of
-#: contact positions once per process besides (0.6 s)
+#: One radius and speed's steady curving of the bogie (``track.bogie_curving``) [s], the
+#: table of contact positions once per process besides (``benchmarks/curving_table.py``)
 CURVING_SECONDS_PER_CURVE = 0.1
 #: Memory a curve keeps per radius and speed until its files are written (the wheels'
-#: analyses and pass-by) [bytes]: measured 0.9 MB
+#: analyses and pass-by) [bytes]
 CURVE_BYTES_PER_CURVE = 1.0e6
 #: Bytes of curve.csv and of curve.nc per row (one wheel at one radius and speed)
 CURVE_FILE_BYTES_PER_ROW = 500
@@ -76,7 +75,7 @@ RADIATED_MODES = 2
 RADIATED_FRACTION = 0.1
 #: A sliding axle's time domain over its first run's estimate: the run is continued
 #: (doubled) until its outcome is known, and the record's setup and analysis come on top
-#: (measured 7.3 over a map of 100 curves of railway_920_track, 100-300 m and 20-60 km/h;
+#: (over a map of 100 curves of railway_920_track, 100-300 m and 20-60 km/h;
 #: benchmarks/bench_estimates.py checks it)
 RECORD_EXTENSION = 7.0
 #: The curve's record per wheel: that many (the WHEELS of ``track.curving``)
@@ -243,13 +242,11 @@ def check_curve_files(size: CurveSize, max_file_bytes: float) -> None:
 
 #: One curve of a line in one friction state, on one process [s]: the steady curving and
 #: its wheels' contacts' stability, balance and sound (railway_920_track, the first line of
-#: ``benchmarks/bench_line.py``: 2,000 curve states in 93-128 CPU-s as the shared machine
-#: ran, 20 of them radiating 179 new tones)
+#: ``benchmarks/bench_line.py``, which checks it)
 LINE_SECONDS_PER_CURVE_STATE = 0.045
-#: A tone the cache does not hold yet, radiated with its views [s] (that line's 20 CPU-s
-#: over 179 tones), and how many a line may radiate: at most this many per curve state (a
-#: line of 100 curves radiated 114 tones in 400 states), and a wheel's squealing modes on
-#: their tone grid at most :data:`LINE_TONES_MOST`
+#: A tone the cache does not hold yet, radiated with its views [s], and how many a line
+#: may radiate: at most this many per curve state, and a wheel's squealing modes on their
+#: tone grid at most :data:`LINE_TONES_MOST` (``benchmarks/bench_line.py``)
 LINE_TONE_SECONDS = 0.12
 LINE_TONES_PER_CURVE_STATE = 0.3
 LINE_TONES_MOST = 300

@@ -37,15 +37,14 @@ class StudyShape(Protocol):
 
 
 #: One operating point's limit cycle (a compiled RK4 run to saturation and its analysis)
-#: [s]: measured 12 ms per point on rim_web_grid (48 designs x 15 points).
+#: [s] (studies/rim_web_grid.toml; ``benchmarks/bench_study.py``)
 SIMULATION_SECONDS_PER_POINT = 0.012
 #: The same where the base design names its squeal mode: that mode is simulated as asked
 #: wherever it grows, and a named mode that grows slowly runs long (to 4.8 s) before its
-#: outcome is known: measured 72 ms per point on rim_web_grid and 94 ms on smoke (Table 1
-#: names (3,0)).
+#: outcome is known (Table 1 names (3,0); studies/smoke.toml and rim_web_grid.toml).
 NAMED_SIMULATION_SECONDS_PER_POINT = 0.08
 #: With sound, a squealing point's microphone signal, harmonics and levels beyond the
-#: radiation solves: measured 18 ms per point on smoke.
+#: radiation solves (studies/smoke.toml).
 SIGNAL_SECONDS_PER_POINT = 0.02
 #: Bytes the results hold per case and operating point (the per-point fields, the mode
 #: label, and their copies in the Dataset, the CSV and NetCDF writers).

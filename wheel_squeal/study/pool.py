@@ -55,7 +55,7 @@ def blas_threads_per_worker(workers: int) -> int:
 #: hands freed memory at the heap's top back beyond its trim threshold: numpy's temporaries
 #: of a megabyte or so (a harmonic balance's grid, a radiation's assembly) then pay a page
 #: fault per page on every use, as much as their arithmetic or more (a limit-cycle
-#: prediction 7.2 ms against 2.3 ms with them kept). A process keeps arrays below
+#: prediction several times slower than with them kept). A process keeps arrays below
 #: MMAP_THRESHOLD_BYTES on its heap and up to KEPT_FREE_BYTES of freed memory for reuse.
 MMAP_THRESHOLD_BYTES = 32 * 2**20
 KEPT_FREE_BYTES = 128 * 2**20
