@@ -253,3 +253,31 @@ def test_the_docs_render_math_without_the_network():
     assert '"sphinx-mathjax-offline"' in conf and "mathjax_path" not in conf
     assert "sphinx-mathjax-offline" in (ROOT / "pyproject.toml").read_text()
     assert 'src="(https?:)?//' in (ROOT / ".ci" / "run").read_text()
+
+
+def test_the_benchmark_results_are_tables_the_scripts_wrote():
+    """benchmarks/RESULTS.md is headings, each section's command and the tables it printed
+    (benchmarks/record.py writes them): no prose, whose history belongs to git; and the
+    recorder puts a script's output in its own section and nowhere else."""
+    import sys
+
+    sys.path.insert(0, str(ROOT / "benchmarks"))
+    from record import replaced_section
+
+    text = (ROOT / "benchmarks" / "RESULTS.md").read_text()
+    fenced = False
+    for number, line in enumerate(text.splitlines()[7:], start=8):  # past the page's opening
+        if line.startswith("```"):
+            fenced = not fenced
+        elif not fenced:
+            assert line == "" or line.startswith(("#", "Run: `", "|")), (number, line)
+    page = (
+        "# R\n\n## A (`benchmarks/a.py`)\n\nRun: `x`\n\n```\nold\n```\n\n## B (`benchmarks/b.py`)\n\nkept\n"
+    )
+    new = replaced_section(page, "a.py", "python benchmarks/a.py", "new table\n")
+    assert (
+        "new table" in new
+        and "old" not in new
+        and "in a block" not in new
+        and new.endswith("## B (`benchmarks/b.py`)\n\nkept\n")
+    )
