@@ -23,7 +23,7 @@ from __future__ import annotations
 
 import functools
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import replace
 from typing import TYPE_CHECKING
 
 from .analysis import ChainOptions
@@ -35,7 +35,8 @@ from .curve_case import (
     AxleSound,
     BogiePassby,
     CurveCase,
-    PassbySound,
+    CurveMap,
+    CurveRequest,
     axle_sound,
     bogie_sources,
     loudest_passby_sound,
@@ -52,7 +53,6 @@ if TYPE_CHECKING:
     from track.bogie_curving import Vehicle, WheelContact
 
     from .context import RunContext
-    from .curve_remedy import CurveRemedy
     from .mode_stability import StabilityTable
 
 __all__ = [
@@ -77,17 +77,6 @@ __all__ = [
 KEPT_RECORD_S = 0.05
 
 
-@dataclass(frozen=True)
-class CurveMap:
-    """A curve map: its cases (:class:`CurveCase`, radius by radius, speed by speed, the
-    four wheels in ``track.curving.WHEELS`` order) and what stops its squeal (None: not
-    asked), and the sound of its loudest pass-by (None: nothing squeals audibly)."""
-
-    cases: list[CurveCase]
-    remedy: CurveRemedy | None = None
-    loudest: PassbySound | None = None
-
-
 def curve_map(
     design: Design,
     radii_m: Sequence[float],
@@ -107,14 +96,26 @@ def curve_map(
     from .curve_remedy import TREATMENTS, map_remedy
 
     maps = 1 + len(TREATMENTS) if remedy else 1
-    run = functools.partial(_cases, cant_mm=cant_mm, vehicle=vehicle, c22=c22, method=method, context=context)
-    cases = run(design, radii_m, train_speeds_km_h, ground_reflection=ground_reflection, maps=maps)
+    request = CurveRequest.of(
+        design,
+        radii_m,
+        train_speeds_km_h,
+        cant_mm=cant_mm,
+        vehicle=vehicle,
+        c22=c22,
+        method=method,
+        ground_reflection=ground_reflection,
+    )
+    ctx = context or _default_context()
+    cases = _cases(design, request, ctx, maps=maps)
     heard = loudest_passby_sound(cases)
     if not remedy:
         return CurveMap(cases, loudest=heard)
 
     def again(treated: Design, speeds: list[float]) -> list[CurveCase]:
-        return run(treated, radii_m, speeds, ground_reflection=None, check=False)
+        # a treatment's map: free field only, priced with the map above
+        asked = replace(request, train_speeds_km_h=tuple(speeds), ground_reflection=None)
+        return _cases(treated, asked, ctx, check=False)
 
     return CurveMap(cases, map_remedy(design, cases, again, (radii_m, train_speeds_km_h)), heard)
 
@@ -174,7 +175,7 @@ def curve(
     >>> [(c.wheel.axle, c.wheel.rail, c.wheel.flange_contact) for c in cases][:2]
     [('leading', 'inner', False), ('leading', 'outer', True)]
     """
-    return _cases(
+    request = CurveRequest.of(
         design,
         radii_m,
         train_speeds_km_h,
@@ -182,57 +183,43 @@ def curve(
         vehicle=vehicle,
         c22=c22,
         method=method,
-        context=context,
         ground_reflection=ground_reflection,
+    )
+    return _cases(
+        design,
+        request,
+        context or _default_context(),
         check=not priced,
         counter_body_effect=counter_body_effect,
     )
 
 
+def _default_context() -> RunContext:
+    from .context import RunContext
+
+    return RunContext.of("balanced")
+
+
 def _cases(
     design: Design,
-    radii_m: Sequence[float],
-    train_speeds_km_h: Sequence[float],
+    request: CurveRequest,
+    ctx: RunContext,
     *,
-    cant_mm: float,
-    vehicle: Vehicle | None,
-    c22: float | None,
-    method: AmplitudeMethod,
-    context: RunContext | None,
-    ground_reflection: float | None,
     maps: int = 1,
     check: bool = True,
     counter_body_effect: bool = True,
 ) -> list[CurveCase]:
     """:func:`curve`, its plan counting ``maps`` runs of the map (refused where ``check``)."""
-    from dataclasses import replace
-
     from acoustics.passby import passby
 
     from .chain import analyse
-    from .context import RunContext
 
-    ctx = context or RunContext.of("balanced")
-    vehicle = vehicle or design.vehicle.vehicle()
-    modes, _, curvings, tables = _planned(
-        design,
-        radii_m,
-        train_speeds_km_h,
-        vehicle,
-        cant_mm,
-        c22,
-        method,
-        ctx,
-        ground_reflection,
-        check,
-        maps,
-        check,
-    )
+    modes, _, curvings, tables = _planned(design, request, ctx, check, maps, check)
     options = ChainOptions(
         mode="model",
         stop_after="sound",
         remedy=False,
-        amplitude=method,
+        amplitude=request.method,
         counter_body_effect=counter_body_effect,
         stable_rows=False,  # as the pricing's tables are solved (_planned)
     )
@@ -258,12 +245,12 @@ def _cases(
                 radius, speed, wheel, tuple(a.tail(KEPT_RECORD_S) for a in analyses), states=states
             )
             group.append(replace(case, sound=axle_sound(analyses[case.deciding])))
-        sources, owners = bogie_sources(group, vehicle.wheelbase_m, design.rolling_radius)
+        sources, owners = bogie_sources(group, request.bogie(design).wheelbase_m, design.rolling_radius)
         if sources:
             free = passby(sources, speed / 3.6)
             ground = None
-            if ground_reflection is not None:
-                ground = passby(sources, speed / 3.6, reflection=ground_reflection)
+            if request.ground_reflection is not None:
+                ground = passby(sources, speed / 3.6, reflection=request.ground_reflection)
             bp = BogiePassby(free, ground, tuple(owners), tuple(sources))
             group = [replace(c, passby=bp) for c in group]
         cases += group
@@ -286,13 +273,17 @@ def curve_estimate(
     bytes), from the wheel's modes, the curving and every contact's linear stability,
     without refusing anything (``benchmarks/bench_estimates.py`` sets it beside the time
     taken)."""
-    from .context import RunContext
-
-    ctx = context or RunContext.of("balanced")
-    vehicle = vehicle or design.vehicle.vehicle()
-    return _planned(
-        design, radii_m, train_speeds_km_h, vehicle, cant_mm, c22, method, ctx, ground_reflection, False
-    )[1]
+    request = CurveRequest.of(
+        design,
+        radii_m,
+        train_speeds_km_h,
+        cant_mm=cant_mm,
+        vehicle=vehicle,
+        c22=c22,
+        method=method,
+        ground_reflection=ground_reflection,
+    )
+    return _planned(design, request, context or _default_context(), False)[1]
 
 
 Curvings = dict[tuple[float, float], list[tuple["WheelContact", list[ContactSiteAnalysis]]]]
@@ -302,14 +293,8 @@ SolvedTables = dict[tuple[tuple[float, float], int, int], "StabilityTable"]
 
 def _planned(
     design: Design,
-    radii_m: Sequence[float],
-    train_speeds_km_h: Sequence[float],
-    vehicle: Vehicle,
-    cant_mm: float,
-    c22: float | None,
-    method: AmplitudeMethod,
+    request: CurveRequest,
     ctx: RunContext,
-    ground_reflection: float | None,
     check: bool,
     maps: int = 1,
     price: bool = True,
@@ -329,12 +314,17 @@ def _planned(
         raise RequestError(
             f"{design.name} rolls on a {design.counter_body.KIND}: a curve needs a design on a track"
         )
-    if ground_reflection is not None and not 0.0 <= ground_reflection <= 1.0:
-        raise RequestError(
-            f"ground reflection {ground_reflection:g}: a reflection factor from 0 (absorbing) to 1 (rigid)"
-        )
+    q, method, vehicle, cant_mm = (
+        request.ground_reflection,
+        request.method,
+        request.bogie(design),
+        request.cant_mm,
+    )
+    if q is not None and not 0.0 <= q <= 1.0:
+        raise RequestError(f"ground reflection {q:g}: a reflection factor from 0 (absorbing) to 1 (rigid)")
     if method not in AMPLITUDE_METHODS:
         raise RequestError(f"amplitude method {method!r}: one of {', '.join(AMPLITUDE_METHODS)}")
+    radii_m, train_speeds_km_h = request.radii_m, request.train_speeds_km_h
     size = CurveSize(len(radii_m), len(train_speeds_km_h), maps=maps)
     plan_of = functools.partial(
         curve_plan,
@@ -343,7 +333,7 @@ def _planned(
         method == "time domain",
         ctx.fidelity,
         ctx.fmax_hz,
-        passbys=1 if ground_reflection is None else 2,
+        passbys=1 if q is None else 2,
     )
 
     def checked(plan: CostPlan) -> CostPlan:
@@ -393,7 +383,7 @@ def _planned(
                 )
                 last[float(v)] = solved
                 curvings[(float(r), float(v))] = [
-                    (w, wheel_sites(design, w, float(v), c22)) for w in solved.wheels
+                    (w, wheel_sites(design, w, float(v), request.c22)) for w in solved.wheels
                 ]
     if not (check or price):  # priced by the caller as a whole (a line): no pre-pass
         return modes, plan_of(wheel_dofs=wheel_dofs), curvings, {}

@@ -17,9 +17,24 @@ from .types import AmplitudeMethod
 
 if TYPE_CHECKING:
     from acoustics.passby import PassbyResult, PassbySource
-    from track.bogie_curving import ContactState, WheelContact
+    from track.bogie_curving import ContactState, Vehicle, WheelContact
 
-__all__ = ["FLANGING_NOTE", "AxleSound", "BogiePassby", "CurveCase", "axle_sound", "bogie_sources"]
+    from .curve_remedy import CurveRemedy
+    from .design import Design
+
+__all__ = [
+    "FLANGING_NOTE",
+    "AxleSound",
+    "BogiePassby",
+    "CurveCase",
+    "CurveMap",
+    "CurveRequest",
+    "PassbySound",
+    "axle_sound",
+    "bogie_sources",
+    "loudest",
+    "loudest_passby_sound",
+]
 
 #: What the rows of a flanging wheel say of the noise the model leaves out
 FLANGING_NOTE = "flange contact: flanging noise (broad-band rubbing) is not modelled"
@@ -286,3 +301,81 @@ def loudest_passby_sound(cases: Sequence[CurveCase]) -> PassbySound | None:
     duration = min(12.0, 2 * 10.0 * MICROPHONE_DISTANCE_M / speed)
     _, p = passby_pressure(list(group[0].passby.sources), speed, duration, WAV_RATE_HZ)
     return PassbySound(group[0].radius_m, group[0].train_speed_km_h, tuple(group), duration, WAV_RATE_HZ, p)
+
+
+@dataclass(frozen=True)
+class CurveRequest:
+    """What a curve map asks, the one record its stages take.
+
+    Attributes
+    ----------
+    radii_m, train_speeds_km_h : tuple of float
+        Curve radii [m] and train speeds [km/h].
+    cant_mm : float
+        The curves' installed cant [mm].
+    vehicle : track.bogie_curving.Vehicle or None
+        The bogie (None: the design's own, so that a treatment of the bogie is read from
+        the treated design).
+    c22 : float or None
+        Kalker's C22 for every contact (None: each contact's own ellipse's).
+    method : {"harmonic balance", "time domain"}
+        How a squealing wheel's amplitude is found.
+    ground_reflection : float or None
+        The ground's reflection factor (0 to 1) of a second pass-by level; None: free
+        field only.
+
+    Examples
+    --------
+    >>> import wheel_squeal as ws
+    >>> from wheel_squeal.curve import CurveRequest
+    >>> d = ws.load_design("railway_920_track")
+    >>> CurveRequest.of(d, [150, 300], [40]).radii_m
+    (150.0, 300.0)
+    """
+
+    radii_m: tuple[float, ...]
+    train_speeds_km_h: tuple[float, ...]
+    vehicle: Vehicle | None = None
+    cant_mm: float = 0.0
+    c22: float | None = None
+    method: AmplitudeMethod = "harmonic balance"
+    ground_reflection: float | None = None
+
+    @classmethod
+    def of(
+        cls,
+        design: Design,
+        radii_m: Sequence[float],
+        train_speeds_km_h: Sequence[float],
+        *,
+        cant_mm: float = 0.0,
+        vehicle: Vehicle | None = None,
+        c22: float | None = None,
+        method: AmplitudeMethod = "harmonic balance",
+        ground_reflection: float | None = None,
+    ) -> CurveRequest:
+        """The request of :func:`curve`'s keywords."""
+        return cls(
+            tuple(float(r) for r in radii_m),
+            tuple(float(v) for v in train_speeds_km_h),
+            vehicle,
+            float(cant_mm),
+            c22,
+            method,
+            ground_reflection,
+        )
+
+    def bogie(self, design: Design) -> Vehicle:
+        """The bogie this request runs ``design``'s wheels in."""
+        return self.vehicle or design.vehicle.vehicle()
+
+
+@dataclass(frozen=True)
+class CurveMap:
+    """A curve map: its cases (:class:`CurveCase`, radius by radius, speed by speed, the
+    four wheels in ``track.curving.WHEELS`` order) and what stops its squeal (None: not
+    asked), and the sound of its loudest pass-by (None: nothing squeals audibly)."""
+
+    cases: list[CurveCase]
+    remedy: CurveRemedy | None = None
+    loudest: PassbySound | None = None

@@ -141,7 +141,7 @@ def run_line_job(job: LineJob, context: RunContext | None = None) -> dict:
     from .budget import Budget
     from .cache import StageCache
     from .context import RunContext
-    from .curve import curve as curve_map
+    from .curve import curve
     from .request_errors import BudgetError
     from .study.runner import transient
 
@@ -149,7 +149,7 @@ def run_line_job(job: LineJob, context: RunContext | None = None) -> dict:
         cache = None if job.cache_dir is None else StageCache(job.cache_dir or None)
         context = RunContext(job.fidelity, job.fmax_hz, cache, Budget.from_environment(job.max_dofs))
     try:
-        cases = curve_map(
+        cases = curve(
             job.design,
             list(job.radii_m),
             [job.train_speed_km_h],
