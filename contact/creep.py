@@ -137,7 +137,12 @@ class FrictionLaw:
 @dataclass(frozen=True)
 class FallingFriction(FrictionLaw):
     """The paper's falling friction (Liu & Meehan, CM2015, Eq. 3): w1 = w2 = 0.5, s1 = 0.138
-    and s2 = 6.9 m/s. See :class:`FrictionLaw`.
+    and s2 = 6.9 m/s.
+
+    Attributes
+    ----------
+    weight_1, decay_speed_1_m_s, weight_2, decay_speed_2_m_s : float
+        As :class:`FrictionLaw`'s, with the paper's values [-, m/s, -, m/s].
 
     Examples
     --------
@@ -157,7 +162,12 @@ class ConstantFriction(FallingFriction):
     """Eq. 3 without the falling factor (F = 1: infinite decay speeds), the creep
     polynomial saturating at mu_s: its slope is never negative, so falling friction cannot
     drive squeal and only the other mechanism, mode coupling through the normal contact,
-    can. See :class:`FrictionLaw`.
+    can.
+
+    Attributes
+    ----------
+    decay_speed_1_m_s, decay_speed_2_m_s : float
+        Infinite [m/s]: no falling term (the weights as :class:`FallingFriction`'s).
 
     Examples
     --------
@@ -180,6 +190,21 @@ FRICTION_LAWS: dict[str, Callable[[], FrictionLaw]] = {
 def friction_law_named(name: str) -> FrictionLaw:
     """The law registered as ``name`` in :data:`FRICTION_LAWS`, with its own parameters
     (the one check of a law's name: the design file and the API report its ValueError).
+
+    Parameters
+    ----------
+    name : str
+        A key of :data:`FRICTION_LAWS`.
+
+    Returns
+    -------
+    FrictionLaw
+        The law with its class's parameters.
+
+    Raises
+    ------
+    ValueError
+        For a name no law is registered under (the message lists the names).
 
     Examples
     --------
@@ -215,6 +240,14 @@ class ContactLaw:
     relaxation_length_m : L, the rolling distance over which the creep force builds up
         (transient creep: a first-order lag of time constant L / V0), m; 0: the paper's
         steady creep law.
+
+    Examples
+    --------
+    >>> from contact.hertz import hertz_contact
+    >>> h = hertz_contact(0.213, 0.3, 0.085, 0.04, 175e9, 0.28, 1000.0)  # Table 1's rig
+    >>> law = ContactLaw.from_hertz(h, friction_coefficient=0.3)
+    >>> round(law.saturation_creepage, 4), law.friction_law
+    (0.0083, 'falling')
     """
 
     normal_load_n: float
@@ -327,7 +360,27 @@ class ContactLaw:
 
 
 def falling_friction_factor(sliding_speed_m_s: ArrayLike, law: ContactLaw) -> np.ndarray:
-    """F(s) of the contact's friction law at sliding speeds s >= 0 [m/s] (:meth:`FrictionLaw.factor`)."""
+    """F(s) of the contact's friction law at sliding speeds s >= 0 [m/s] (:meth:`FrictionLaw.factor`).
+
+    Parameters
+    ----------
+    sliding_speed_m_s : array_like
+        Sliding speeds s [m/s].
+    law : ContactLaw
+        The contact whose friction law is read.
+
+    Returns
+    -------
+    numpy.ndarray
+        F(s), dimensionless, 1 at s = 0.
+
+    Examples
+    --------
+    >>> from contact.hertz import hertz_contact
+    >>> law = ContactLaw.from_hertz(hertz_contact(0.213, 0.3, 0.085, 0.04, 175e9, 0.28, 1000.0))
+    >>> float(falling_friction_factor(0.0, law))
+    1.0
+    """
     return law.friction.factor(sliding_speed_m_s)
 
 
@@ -353,7 +406,18 @@ def adhesion_ratio(creepage: ArrayLike, law: ContactLaw, rolling_speed_m_s: floa
     law : creep-law parameters.
     rolling_speed_m_s : V0, m/s (> 0).
 
-    Returns an array (or 0-d array for scalar input) of mu, |mu| <= mu_s.
+    Returns
+    -------
+    numpy.ndarray
+        mu, |mu| <= mu_s (0-d for a scalar creepage).
+
+    Examples
+    --------
+    >>> from contact.hertz import hertz_contact
+    >>> h = hertz_contact(0.213, 0.3, 0.085, 0.04, 175e9, 0.28, 1000.0)  # Table 1's rig
+    >>> law = ContactLaw.from_hertz(h, friction_coefficient=0.3)
+    >>> float(adhesion_ratio(0.1, law, 17.84)) < 0.3  # saturated, and falling with the sliding speed
+    True
     """
     zeta = np.asarray(creepage, dtype=float)
     a = np.abs(zeta)
@@ -368,6 +432,27 @@ def adhesion_ratio_slope(creepage: ArrayLike, law: ContactLaw, rolling_speed_m_s
     d mu/d zeta = mu_s [ P'(z') K F(s) + P(z') F'(s) V0 ] with K = dz'/d|zeta|,
     P the cubic (P = 1, P' = 0 beyond z' = 3). Used for the linear growth rate
     sigma = -(c + W/V0 dmu/dzeta) / (2 m).
+
+    Parameters
+    ----------
+    creepage : array_like
+        Lateral creepage zeta, dimensionless.
+    law : ContactLaw
+        The creep law.
+    rolling_speed_m_s : float
+        V0 [m/s].
+
+    Returns
+    -------
+    numpy.ndarray
+        d mu / d zeta, dimensionless (negative on the falling branch).
+
+    Examples
+    --------
+    >>> from contact.hertz import hertz_contact
+    >>> law = ContactLaw.from_hertz(hertz_contact(0.213, 0.3, 0.085, 0.04, 175e9, 0.28, 1000.0))
+    >>> round(float(adhesion_ratio_slope(0.02186, law, 17.84)), 2)  # Fig. 6: falling
+    -1.7
     """
     zeta = np.asarray(creepage, dtype=float)
     a = np.abs(zeta)

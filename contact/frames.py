@@ -54,16 +54,33 @@ FRAMES_KEPT = 1024
 
 
 class ContactPointError(ValueError):
-    """A contact angle the wheel's tread cannot take; the message names the limit."""
+    """A contact angle the wheel's tread cannot take; the message names the limit.
+
+    Examples
+    --------
+    >>> issubclass(ContactPointError, ValueError)
+    True
+    """
 
 
 @dataclass(frozen=True)
 class ContactFrame:
     """The contact point and its frame (see the module docstring).
 
-    r_m, z_m : the point P in the meridian plane, m. angle_rad : the contact angle g,
-    rad (positive: the normal leans towards +z). crown_radius_m : the tread's transverse
-    radius at P, m (inf on a straight tread).
+    Attributes
+    ----------
+    r_m, z_m : float
+        The point P in the meridian plane [m].
+    angle_rad : float
+        The contact angle g [rad] (positive: the normal leans towards +z).
+    crown_radius_m : float
+        The tread's transverse radius at P [m] (inf on a straight tread).
+
+    Examples
+    --------
+    >>> f = ContactFrame(0.213, 0.0)
+    >>> f.angle_rad, f.crown_radius_m
+    (0.0, inf)
     """
 
     r_m: float
@@ -110,7 +127,23 @@ class ContactFrame:
 
 def largest_contact_angle_rad(wheel: WheelDesign) -> float:
     """The largest contact angle [rad] a parametric wheel's crown arc reaches on its
-    tread (inside its edge), and no more than the model's limit."""
+    tread (inside its edge), and no more than the model's limit.
+
+    Parameters
+    ----------
+    wheel : geometry.wheel_design.WheelDesign
+        A parametric wheel.
+
+    Returns
+    -------
+    float
+        The angle [rad] (0 on a straight tread).
+
+    Examples
+    --------
+    >>> import wheel_squeal as ws
+    >>> largest_contact_angle_rad(ws.load_design("table1").wheel) > 0
+    True"""
     reach = math.asin(min(1.0, wheel.rim_width / 2 / wheel.crown_radius)) * EDGE_MARGIN
     return min(reach, math.radians(MAX_CONTACT_ANGLE_DEG))
 

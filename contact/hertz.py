@@ -38,6 +38,12 @@ class HertzContact:
     orientation_angle_rad : angle of the major axis from the rolling direction, rad
         (0 or pi/2; the principal curvature planes are assumed aligned).
     normal_load_n, youngs_modulus_pa, poissons_ratio : the inputs, N, Pa, -.
+
+    Examples
+    --------
+    >>> h = hertz_contact(0.213, 0.3, 0.085, 0.04, 175e9, 0.28, 1000.0)
+    >>> round(1e3 * h.semi_axis_a_m, 3), round(1e3 * h.semi_axis_b_m, 3)  # Table 1: 0.853, 0.594 mm
+    (0.853, 0.594)
     """
 
     semi_axis_a_m: float
@@ -152,6 +158,12 @@ def hertz_contact(
 
     e is found with Brent's method. Table 1 of Liu & Meehan gives a = 0.853 mm (rolling),
     b = 0.594 mm; this returns 0.8534 mm and 0.5945 mm.
+
+    Examples
+    --------
+    >>> h = hertz_contact(0.213, 0.3, 0.085, 0.04, 175e9, 0.28, 1000.0)
+    >>> round(1e3 * h.semi_axis_a_m, 4), round(1e3 * h.semi_axis_b_m, 4)
+    (0.8534, 0.5945)
     """
     E = _check_positive("youngs_modulus", youngs_modulus)
     W = _check_positive("normal_load", normal_load)
@@ -257,6 +269,11 @@ def kalker_c22(a_over_b: float, poissons_ratio: float) -> float:
     linear in g within each side and linear in nu (bilinear). For Table 1
     (a/b = 1.436, i.e. b/a = 0.696, nu = 0.28) this gives 4.27 (Liu & Meehan use
     3.14); reading the table on the wrong side (a/b = 0.696) would give 3.30.
+
+    Examples
+    --------
+    >>> kalker_c22(1.0, 0.25)
+    3.67
     """
     g = float(a_over_b)
     nu = float(poissons_ratio)
@@ -323,7 +340,17 @@ _KALKER_C23 = np.array(
 @dataclass(frozen=True)
 class KalkerCoefficients:
     """Kalker's linear creep coefficients of one ellipse [-]: the longitudinal force is
-    G a b C11 xi_x, the lateral G a b C22 xi_y + G (a b)^(3/2) C23 phi (spin phi [1/m])."""
+    G a b C11 xi_x, the lateral G a b C22 xi_y + G (a b)^(3/2) C23 phi (spin phi [1/m]).
+
+    Attributes
+    ----------
+    c11, c22, c23 : float
+        The longitudinal, lateral and lateral-spin coefficients, dimensionless.
+
+    Examples
+    --------
+    >>> KalkerCoefficients(4.12, 3.67, 1.47).c22
+    3.67"""
 
     c11: float
     c22: float
@@ -333,6 +360,18 @@ class KalkerCoefficients:
 def kalker_coefficients(a_over_b: float, poissons_ratio: float) -> KalkerCoefficients:
     """C11, C22 and C23 for an ellipse of aspect ``a_over_b`` (rolling over lateral),
     clamped to Kalker's table (0.1 to 10), interpolated as :func:`kalker_c22`.
+
+    Parameters
+    ----------
+    a_over_b : float
+        The ellipse's semi-axis along rolling over the lateral one, dimensionless.
+    poissons_ratio : float
+        nu, dimensionless.
+
+    Returns
+    -------
+    KalkerCoefficients
+        C11, C22, C23, dimensionless.
 
     Examples
     --------

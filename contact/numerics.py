@@ -22,7 +22,24 @@ __all__ = ["elliptic_ke", "find_root"]
 
 
 def elliptic_ke(m: float) -> tuple[float, float]:
-    """Complete elliptic integrals (K(m), E(m)) of parameter 0 <= m < 1."""
+    """Complete elliptic integrals (K(m), E(m)) of parameter 0 <= m < 1.
+
+    Parameters
+    ----------
+    m : float
+        The parameter m = k^2, dimensionless.
+
+    Returns
+    -------
+    tuple of float
+        K(m) and E(m), dimensionless.
+
+    Examples
+    --------
+    >>> k, e = elliptic_ke(0.0)
+    >>> round(k, 12) == round(e, 12) == round(math.pi / 2, 12)
+    True
+    """
     if not 0.0 <= m < 1.0:
         raise ValueError(f"elliptic parameter must lie in [0, 1), got {m!r}")
     a, b = 1.0, math.sqrt(1.0 - m)
@@ -50,7 +67,29 @@ def find_root(
     maxiter: int = 200,
 ) -> float:
     """A root of ``f`` in [a, b], where ``f(a)`` and ``f(b)`` differ in sign, to within
-    ``xtol + rtol |x|`` (Brent's method)."""
+    ``xtol + rtol |x|`` (Brent's method).
+
+    Parameters
+    ----------
+    f : callable
+        A continuous function of one float.
+    a, b : float
+        The bracket.
+    xtol, rtol : float
+        Absolute and relative tolerance on the root.
+    maxiter : int
+        The most iterations.
+
+    Returns
+    -------
+    float
+        The root.
+
+    Examples
+    --------
+    >>> round(find_root(lambda x: x * x - 2.0, 0.0, 2.0), 12)
+    1.414213562373
+    """
     fa, fb = f(a), f(b)
     if fa == 0.0:
         return a

@@ -51,6 +51,12 @@ class Profile:
     lateral_m, height_m : ndarray
         For a wheel: ``s`` and the radius' rise over the taping line; for a rail: ``v`` and
         the head's height (module docstring).
+
+    Examples
+    --------
+    >>> p = s1002()
+    >>> p.name, len(p.lateral_m) == len(p.height_m)
+    ('S1002', True)
     """
 
     name: str
@@ -89,7 +95,25 @@ class Profile:
 
 def profile_from_points(name: str, lateral_m: np.ndarray, height_m: np.ndarray) -> Profile:
     """A profile from measured or drawn points, resampled at :data:`SAMPLES` even points
-    (points in any order along the lateral coordinate; duplicates refused)."""
+    (points in any order along the lateral coordinate; duplicates refused).
+
+    Parameters
+    ----------
+    name : str
+        The profile's name.
+    lateral_m, height_m : numpy.ndarray
+        The points' lateral coordinate and height [m].
+
+    Returns
+    -------
+    Profile
+        The profile on its even grid.
+
+    Examples
+    --------
+    >>> p = profile_from_points("flat", np.array([-0.05, 0.05]), np.array([0.0, 0.0]))
+    >>> float(p.height_m.max())
+    0.0"""
     y, z = np.asarray(lateral_m, float), np.asarray(height_m, float)
     order = np.argsort(y)
     y, z = y[order], z[order]
@@ -158,6 +182,16 @@ def _s1002_rise_mm(s: np.ndarray) -> np.ndarray:
 def s1002(samples: int = SAMPLES) -> Profile:
     """The S1002 wheel profile (EN 13715), from the flange back (-70 mm) to 60 mm.
 
+    Parameters
+    ----------
+    samples : int
+        The profile's points.
+
+    Returns
+    -------
+    Profile
+        Height [m] over the lateral coordinate [m].
+
     Examples
     --------
     >>> p = s1002()
@@ -176,7 +210,23 @@ STANDARD_WHEELS = tuple(_STANDARD_WHEEL_PROFILES)
 
 
 def standard_wheel(name: str) -> Profile:
-    """The standard wheel profile called ``name`` (one of :data:`STANDARD_WHEELS`)."""
+    """The standard wheel profile called ``name`` (one of :data:`STANDARD_WHEELS`).
+
+    Parameters
+    ----------
+    name : str
+        The profile's name.
+
+    Returns
+    -------
+    Profile
+        Height [m] over the lateral coordinate [m].
+
+    Examples
+    --------
+    >>> standard_wheel("S1002").name
+    'S1002'
+    """
     if name not in _STANDARD_WHEEL_PROFILES:
         raise ValueError(f"wheel profile {name!r}: one of {', '.join(STANDARD_WHEELS)}")
     return _STANDARD_WHEEL_PROFILES[name]()
@@ -206,6 +256,18 @@ def uic60(samples: int = SAMPLES, depth_m: float = 0.03) -> Profile:
     """The UIC60 (60E1) rail head (EN 13674-1), symmetric, from its crown down ``depth_m``
     on the flanks.
 
+    Parameters
+    ----------
+    samples : int
+        The profile's points.
+    depth_m : float
+        How far down the flanks it reaches [m].
+
+    Returns
+    -------
+    Profile
+        Height [m] over the lateral coordinate [m].
+
     Examples
     --------
     >>> p = uic60()
@@ -233,7 +295,27 @@ def uic60(samples: int = SAMPLES, depth_m: float = 0.03) -> Profile:
 def cone_wheel(half_angle_rad: float, half_width_m: float = 0.06, samples: int = SAMPLES) -> Profile:
     """A cone of ``half_angle_rad`` (its radius falling toward the field side) without a
     flange: the closed forms' check (rolling radius r0 - s tan(lambda), contact angle
-    lambda)."""
+    lambda).
+
+    Parameters
+    ----------
+    half_angle_rad : float
+        lambda, the cone's angle [rad].
+    half_width_m : float
+        How far it reaches each side of the taping line [m].
+    samples : int
+        Its points.
+
+    Returns
+    -------
+    Profile
+        Its height [m] over the lateral coordinate [m].
+
+    Examples
+    --------
+    >>> p = cone_wheel(0.05)
+    >>> round(float(-p.slope()[0]), 4)  # tan(lambda)
+    0.05"""
     s = np.linspace(-half_width_m, half_width_m, samples)
     return Profile(f"cone {half_angle_rad:g} rad", s, -s * math.tan(half_angle_rad))
 
@@ -249,6 +331,20 @@ def running_surface(outline: Outline, rolling_radius_m: float, samples: int = SA
     """A wheel profile from a design's outline: its largest radius across the rim
     (``Outline.outer_radius``) over the taping line's, with z (the outline's axial
     coordinate, 0 at the taping line, the flange toward -z) as the lateral coordinate s.
+
+    Parameters
+    ----------
+    outline : geometry.outline.Outline
+        The wheel's outline.
+    rolling_radius_m : float
+        The radius at the taping line [m].
+    samples : int
+        The profile's points.
+
+    Returns
+    -------
+    Profile
+        Height [m] over the lateral coordinate [m].
 
     Examples
     --------

@@ -64,7 +64,22 @@ MAX_ROLL_RAD = 0.05
 
 def is_flange_angle(contact_angle_rad: float) -> bool:
     """Whether a contact at this angle [rad] is on the flange: steeper than
-    :data:`MAX_CONTACT_ANGLE_DEG`, the tread's regime."""
+    :data:`MAX_CONTACT_ANGLE_DEG`, the tread's regime.
+
+    Parameters
+    ----------
+    contact_angle_rad : float
+        The contact angle [rad].
+
+    Returns
+    -------
+    bool
+        True on the flange.
+
+    Examples
+    --------
+    >>> is_flange_angle(math.radians(70.0)), is_flange_angle(0.0)
+    (True, False)"""
     return abs(contact_angle_rad) > math.radians(MAX_CONTACT_ANGLE_DEG)
 
 
@@ -93,6 +108,12 @@ class ContactPoint:
         Transverse curvatures at the contact, positive when convex [1/m].
     gap_m : float
         0 for the first contact, at most ``touch_m`` for a further one.
+
+    Examples
+    --------
+    >>> c = ContactGeometry().position(0.0).outer[0]
+    >>> c.on_flange, c.gap_m
+    (False, 0.0)
     """
 
     wheel_lateral_m: float
@@ -117,7 +138,22 @@ class ContactPoint:
 @dataclass(frozen=True)
 class WheelsetPosition:
     """The wheelset at one lateral shift: its roll and each wheel's contacts, the first of
-    each side the lowest (on the tread unless the flange alone carries)."""
+    each side the lowest (on the tread unless the flange alone carries).
+
+    Attributes
+    ----------
+    lateral_shift_m : float
+        The wheelset's lateral shift [m].
+    roll_rad : float
+        Its roll [rad].
+    outer, inner : tuple of ContactPoint
+        Each wheel's contacts.
+
+    Examples
+    --------
+    >>> p = ContactGeometry().position(0.0)
+    >>> len(p.outer) >= 1 and len(p.inner) >= 1
+    True"""
 
     lateral_shift_m: float
     roll_rad: float
@@ -135,7 +171,20 @@ class WheelsetPosition:
 
 @dataclass(frozen=True, eq=False)
 class ContactGeometry:
-    """A wheel profile on a rail profile (module docstring). Lengths in m.
+    """A wheel profile on a rail profile (module docstring).
+
+    Attributes
+    ----------
+    wheel, rail : Profile
+        The wheel's and the rail's profiles.
+    rolling_radius_m : float
+        The wheel's radius at its taping line [m].
+    inclination : float
+        The rail's inclination, dimensionless (1:40).
+    gauge_m, flange_back_m : float
+        The track's gauge and the wheelset's back-to-back spacing [m].
+    touch_m : float
+        The gap within which a second point counts as touching [m].
 
     Examples
     --------
