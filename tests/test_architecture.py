@@ -401,3 +401,21 @@ def test_every_vocabulary_is_used_in_a_signature_and_names_its_registry():
     assert set(typing.get_args(types.FidelityName)) == set(FIDELITIES)
     assert set(typing.get_args(types.SolverName)) == set(SOLVERS)
     assert set(typing.get_args(types.NormalContact)) == set(NORMAL_CONTACTS)
+
+
+def test_making_the_run_s_objects_changes_no_process_setting(tmp_path):
+    """A cache, a context, a budget and a progress made, the environment is as before:
+    where the libraries keep their files is chosen by the command that runs
+    (wheel_squeal.library_folders), not by an object's constructor."""
+    import os
+
+    import wheel_squeal as ws
+    from wheel_squeal.budget import Budget
+    from wheel_squeal.progress import Progress
+
+    before = dict(os.environ)
+    cache = ws.StageCache(tmp_path / "cache")
+    ws.RunContext.of("fast", cache=cache)
+    Budget.from_environment()
+    Progress(quiet=True)
+    assert dict(os.environ) == before
