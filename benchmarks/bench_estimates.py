@@ -146,7 +146,7 @@ def field(fidelity: str, quick: bool) -> list[bool]:
     (``wheel_squeal.curve.curve_estimate``: the modes cached, every sliding axle's
     stability solved) before it runs."""
     from track.design_sections import TRACK_FIT_SECONDS
-    from wheel_squeal.curve import curve, curve_estimate
+    from wheel_squeal.curve import CurveRequest, curve, curve_estimate
     from wheel_squeal.plan import track_plan
     from wheel_squeal.rail_receptances import track_receptances
 
@@ -163,7 +163,7 @@ def field(fidelity: str, quick: bool) -> list[bool]:
     if not quick:
         maps.append(("time domain", [100.0, 150.0, 200.0, 300.0], [20.0, 40.0, 60.0]))
     for method, radii, speeds in maps:
-        plan = curve_estimate(d, radii, speeds, method=method, context=ctx)  # type: ignore[arg-type]
+        plan = curve_estimate(d, CurveRequest(radii, speeds, method=method), context=ctx)  # type: ignore[arg-type]
         t, _ = timed(partial(curve, d, radii, speeds, method=method, context=ctx))
         what = f"railway_920_track, {len(radii)} radii x {len(speeds)} speeds, {method}"
         oks.append(row("curve map", what, plan.seconds, t))

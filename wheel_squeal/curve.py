@@ -78,34 +78,14 @@ KEPT_RECORD_S = 0.05
 
 
 def curve_map(
-    design: Design,
-    radii_m: Sequence[float],
-    train_speeds_km_h: Sequence[float],
-    *,
-    cant_mm: float = 0.0,
-    vehicle: Vehicle | None = None,
-    c22: float | None = None,
-    method: AmplitudeMethod = "harmonic balance",
-    context: RunContext | None = None,
-    ground_reflection: float | None = None,
-    remedy: bool = True,
+    design: Design, request: CurveRequest, *, context: RunContext | None = None, remedy: bool = True
 ) -> CurveMap:
-    """:func:`curve`'s cases and, with ``remedy``, every treatment of
+    """:func:`curve`'s cases of ``request`` and, with ``remedy``, every treatment of
     :data:`wheel_squeal.curve_remedy.TREATMENTS` checked by running the map again with it
     (priced with the map before anything runs)."""
     from .curve_remedy import TREATMENTS, map_remedy
 
     maps = 1 + len(TREATMENTS) if remedy else 1
-    request = CurveRequest.of(
-        design,
-        radii_m,
-        train_speeds_km_h,
-        cant_mm=cant_mm,
-        vehicle=vehicle,
-        c22=c22,
-        method=method,
-        ground_reflection=ground_reflection,
-    )
     ctx = context or _default_context()
     cases = _cases(design, request, ctx, maps=maps)
     heard = loudest_passby_sound(cases)
@@ -117,7 +97,8 @@ def curve_map(
         asked = replace(request, train_speeds_km_h=tuple(speeds), ground_reflection=None)
         return _cases(treated, asked, ctx, check=False)
 
-    return CurveMap(cases, map_remedy(design, cases, again, (radii_m, train_speeds_km_h)), heard)
+    asked = (list(request.radii_m), list(request.train_speeds_km_h))
+    return CurveMap(cases, map_remedy(design, cases, again, asked), heard)
 
 
 def curve(
@@ -175,16 +156,7 @@ def curve(
     >>> [(c.wheel.axle, c.wheel.rail, c.wheel.flange_contact) for c in cases][:2]
     [('leading', 'inner', False), ('leading', 'outer', True)]
     """
-    request = CurveRequest.of(
-        design,
-        radii_m,
-        train_speeds_km_h,
-        cant_mm=cant_mm,
-        vehicle=vehicle,
-        c22=c22,
-        method=method,
-        ground_reflection=ground_reflection,
-    )
+    request = CurveRequest(radii_m, train_speeds_km_h, vehicle, cant_mm, c22, method, ground_reflection)
     return _cases(
         design,
         request,
@@ -257,32 +229,11 @@ def _cases(
     return cases
 
 
-def curve_estimate(
-    design: Design,
-    radii_m: Sequence[float],
-    train_speeds_km_h: Sequence[float],
-    *,
-    cant_mm: float = 0.0,
-    vehicle: Vehicle | None = None,
-    c22: float | None = None,
-    method: AmplitudeMethod = "harmonic balance",
-    context: RunContext | None = None,
-    ground_reflection: float | None = None,
-) -> CostPlan:
-    """What :func:`curve` would take (``budget.CostPlan``: its parts' seconds and
-    bytes), from the wheel's modes, the curving and every contact's linear stability,
-    without refusing anything (``benchmarks/bench_estimates.py`` sets it beside the time
-    taken)."""
-    request = CurveRequest.of(
-        design,
-        radii_m,
-        train_speeds_km_h,
-        cant_mm=cant_mm,
-        vehicle=vehicle,
-        c22=c22,
-        method=method,
-        ground_reflection=ground_reflection,
-    )
+def curve_estimate(design: Design, request: CurveRequest, *, context: RunContext | None = None) -> CostPlan:
+    """What :func:`curve` would take for ``request`` (``budget.CostPlan``: its parts'
+    seconds and bytes), from the wheel's modes, the curving and every contact's linear
+    stability, without refusing anything (``benchmarks/bench_estimates.py`` sets it beside
+    the time taken)."""
     return _planned(design, request, context or _default_context(), False)[1]
 
 

@@ -309,8 +309,8 @@ class CurveRequest:
 
     Attributes
     ----------
-    radii_m, train_speeds_km_h : tuple of float
-        Curve radii [m] and train speeds [km/h].
+    radii_m, train_speeds_km_h : sequence of float
+        Curve radii [m] and train speeds [km/h] (kept as tuples).
     cant_mm : float
         The curves' installed cant [mm].
     vehicle : track.bogie_curving.Vehicle or None
@@ -329,41 +329,23 @@ class CurveRequest:
     >>> import wheel_squeal as ws
     >>> from wheel_squeal.curve import CurveRequest
     >>> d = ws.load_design("railway_920_track")
-    >>> CurveRequest.of(d, [150, 300], [40]).radii_m
-    (150.0, 300.0)
+    >>> r = CurveRequest([150, 300], [40])
+    >>> r.radii_m, r.bogie(d).wheelbase_m
+    ((150.0, 300.0), 2.5)
     """
 
-    radii_m: tuple[float, ...]
-    train_speeds_km_h: tuple[float, ...]
+    radii_m: Sequence[float]
+    train_speeds_km_h: Sequence[float]
     vehicle: Vehicle | None = None
     cant_mm: float = 0.0
     c22: float | None = None
     method: AmplitudeMethod = "harmonic balance"
     ground_reflection: float | None = None
 
-    @classmethod
-    def of(
-        cls,
-        design: Design,
-        radii_m: Sequence[float],
-        train_speeds_km_h: Sequence[float],
-        *,
-        cant_mm: float = 0.0,
-        vehicle: Vehicle | None = None,
-        c22: float | None = None,
-        method: AmplitudeMethod = "harmonic balance",
-        ground_reflection: float | None = None,
-    ) -> CurveRequest:
-        """The request of :func:`curve`'s keywords."""
-        return cls(
-            tuple(float(r) for r in radii_m),
-            tuple(float(v) for v in train_speeds_km_h),
-            vehicle,
-            float(cant_mm),
-            c22,
-            method,
-            ground_reflection,
-        )
+    def __post_init__(self) -> None:  # any sequences of numbers, kept as tuples of floats
+        object.__setattr__(self, "radii_m", tuple(float(r) for r in self.radii_m))
+        object.__setattr__(self, "train_speeds_km_h", tuple(float(v) for v in self.train_speeds_km_h))
+        object.__setattr__(self, "cant_mm", float(self.cant_mm))
 
     def bogie(self, design: Design) -> Vehicle:
         """The bogie this request runs ``design``'s wheels in."""

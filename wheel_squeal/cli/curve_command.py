@@ -70,7 +70,7 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
 def run(args: argparse.Namespace) -> int:
     """curve.csv, curve.nc, summary.json, the maps, the loudest pass-by's WAV and
     report.html: each wheel of the bogie at each radius and speed."""
-    from ..curve import curve_map
+    from ..curve import CurveRequest, curve_map
     from ..present.curve_files import curve_table, write_curve_files
 
     design = design_of(args)
@@ -93,17 +93,8 @@ def run(args: argparse.Namespace) -> int:
         n = len(args.radius) * len(args.train_speed)
         remedies = "" if args.no_remedy else ", then again under each treatment of the remedy"
         with ctx.progress.stage(f"{n} curves x 4 wheels ({method}){remedies}"):
-            result = curve_map(
-                design,
-                args.radius,
-                args.train_speed,
-                cant_mm=args.cant,
-                c22=c22,
-                method=method,
-                context=ctx,
-                ground_reflection=q,
-                remedy=not args.no_remedy,
-            )
+            request = CurveRequest(args.radius, args.train_speed, None, args.cant, c22, method, q)
+            result = curve_map(design, request, context=ctx, remedy=not args.no_remedy)
         rows, summary = write_curve_files(
             tmp, design, vehicle, args.cant, result.cases, method, q, result.remedy, result.loudest
         )
