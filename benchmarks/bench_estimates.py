@@ -38,8 +38,8 @@ def timed(fn):
 
 def row(kind: str, what: str, estimate: float, measured: float, unit: str = "s") -> bool:
     """One estimate beside its measurement; a time's estimate as the budget takes it, times
-    the machine's load now (``wheel_squeal.budget.machine_slowdown``)."""
-    from wheel_squeal.budget import machine_slowdown
+    the machine's load now (``wheel_squeal.runtime.budget.machine_slowdown``)."""
+    from wheel_squeal.runtime.budget import machine_slowdown
 
     if unit == "s":
         estimate *= machine_slowdown()

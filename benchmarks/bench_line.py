@@ -26,9 +26,9 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
 import wheel_squeal as ws  # noqa: E402
-from wheel_squeal.cache import StageCache  # noqa: E402
 from wheel_squeal.line import LineSpec, line, load_line  # noqa: E402
 from wheel_squeal.plan import line_plan  # noqa: E402
+from wheel_squeal.runtime.stage_cache import StageCache  # noqa: E402
 
 
 def _line(count: int, seed: int, folder: Path) -> list:

@@ -19,7 +19,7 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
-from wheel_squeal.provenance import CODE_PACKAGES  # noqa: E402
+from wheel_squeal.runtime.provenance import CODE_PACKAGES  # noqa: E402
 
 #: The last commit before the acoustician's outputs
 BASELINE = "6bd0612"

@@ -69,7 +69,7 @@ sys.path.insert(0, str(ROOT / "benchmarks"))  # bench_modes: the shared 3-D base
 import numpy as np  # noqa: E402
 
 import wheel_squeal as ws  # noqa: E402
-from wheel_squeal.provenance import CODE_PACKAGES  # noqa: E402
+from wheel_squeal.runtime.provenance import CODE_PACKAGES  # noqa: E402
 
 
 # --------------------------------------------------------------------------------------

@@ -8,13 +8,14 @@ import subprocess
 import sys
 from pathlib import Path
 
+from wheel_squeal.runtime.library_folders import LIBRARY_FOLDERS  # noqa: E402
+
 # The libraries' own files (numba's machine code, matplotlib's font list, Mesa's shaders) in
 # one folder for the whole session, the tool's default stage cache's, unless the user set
 # one: else the first test's sandbox cache would take them, cold, and each worker compile the
 # kernels anew (six seconds in its first test of the time domain); and a command run in this
 # process would point them into a sandbox that is removed after its test.
-from wheel_squeal.cache import LIBRARIES_FOLDER, default_cache_root  # noqa: E402
-from wheel_squeal.library_folders import LIBRARY_FOLDERS  # noqa: E402
+from wheel_squeal.runtime.stage_cache import LIBRARIES_FOLDER, default_cache_root  # noqa: E402
 
 for _module, _variable, _name in LIBRARY_FOLDERS.values():
     if not os.environ.get(_variable, "").strip():

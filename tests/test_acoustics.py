@@ -260,10 +260,10 @@ def test_a_mode_read_at_two_contacts_is_one_solve_scaled_to_each(wheel_field, tm
     displacements."""
     from contact.frames import ContactFrame
     from fem.moved_contact import MeridianSlice
-    from wheel_squeal.cache import StageCache
     from wheel_squeal.fe_stages import modes_cache_key
     from wheel_squeal.listener import default_microphone
     from wheel_squeal.presets import fidelity_for
+    from wheel_squeal.runtime.stage_cache import StageCache
     from wheel_squeal.sound import mode_radiation
 
     design, mode, _, ms = wheel_field

@@ -12,7 +12,7 @@ from pathlib import Path
 
 from conftest import PIPELINE, ROOT, TABLE1_MODE_ARGS
 
-from wheel_squeal.provenance import CODE_PACKAGES
+from wheel_squeal.runtime.provenance import CODE_PACKAGES
 
 #: What each top-level package may import of the project (anything else is "upward").
 ALLOWED = {
@@ -406,12 +406,12 @@ def test_every_vocabulary_is_used_in_a_signature_and_names_its_registry():
 def test_making_the_run_s_objects_changes_no_process_setting(tmp_path):
     """A cache, a context, a budget and a progress made, the environment is as before:
     where the libraries keep their files is chosen by the command that runs
-    (wheel_squeal.library_folders), not by an object's constructor."""
+    (wheel_squeal.runtime.library_folders), not by an object's constructor."""
     import os
 
     import wheel_squeal as ws
-    from wheel_squeal.budget import Budget
-    from wheel_squeal.progress import Progress
+    from wheel_squeal.runtime.budget import Budget
+    from wheel_squeal.runtime.progress import Progress
 
     before = dict(os.environ)
     cache = ws.StageCache(tmp_path / "cache")
@@ -419,3 +419,20 @@ def test_making_the_run_s_objects_changes_no_process_setting(tmp_path):
     Budget.from_environment()
     Progress(quiet=True)
     assert dict(os.environ) == before
+
+
+#: What the runtime may import of the physics: the one home of atomic files and of quoting
+#: untrusted text, which the design file's reader needs below it
+RUNTIME_MAY_IMPORT = {"geometry.files"}
+
+
+def test_the_runtime_imports_no_domain_module():
+    """wheel_squeal.runtime (cache, budget, progress, folders, stops, pools) runs any
+    request: it imports nothing of the application outside itself and nothing of the
+    physics but :data:`RUNTIME_MAY_IMPORT`."""
+    modules = _modules()
+    for name, path in modules.items():
+        if not name.startswith("wheel_squeal.runtime"):
+            continue
+        for target, _ in _imports(name, path, modules):
+            assert target.startswith("wheel_squeal.runtime") or target in RUNTIME_MAY_IMPORT, (name, target)

@@ -33,7 +33,7 @@ def _write(path: Path, text: str) -> Path:
 # --------------------------------------------------------------------------------------
 @pytest.mark.parametrize("name", ["", "..", "../../etc/x", "/tmp/abs", "a/b", ".hidden", "-x", "é"])
 def test_a_study_name_that_is_not_a_label_is_refused(tmp_path, name):
-    from wheel_squeal.request_errors import RequestError
+    from wheel_squeal.runtime.request_errors import RequestError
     from wheel_squeal.study.spec import load_spec
 
     spec = (ROOT / "studies" / "smoke.toml").read_text()
@@ -44,8 +44,8 @@ def test_a_study_name_that_is_not_a_label_is_refused(tmp_path, name):
 
 
 def test_no_result_folder_is_made_inside_another(tmp_path):
-    from wheel_squeal.folders import ResultFolder, result_folder
-    from wheel_squeal.request_errors import RequestError
+    from wheel_squeal.runtime.request_errors import RequestError
+    from wheel_squeal.runtime.result_folders import ResultFolder, result_folder
 
     with result_folder(tmp_path / "outer", "run") as staging:
         (staging / "a.txt").write_text("x")
@@ -63,8 +63,8 @@ def test_no_result_folder_is_made_inside_another(tmp_path):
 # the time budget: the whole request, estimated first, enforced while running
 # --------------------------------------------------------------------------------------
 def test_the_budget_counts_the_whole_request_and_stops_it_past_its_time():
-    from wheel_squeal.budget import Budget
-    from wheel_squeal.request_errors import BudgetError, BudgetExhausted
+    from wheel_squeal.runtime.budget import Budget
+    from wheel_squeal.runtime.request_errors import BudgetError, BudgetExhausted
 
     spent = Budget(max_seconds=10.0, started_s=time.monotonic() - 8.0)
     spent.checkpoint("nothing")  # 2 s left: goes on
@@ -101,9 +101,9 @@ def test_a_modal_model_too_large_for_the_budget_is_refused_before_any_eigen_solv
     model = _write(tmp_path / "mm.toml", text)
     import wheel_squeal as ws
     from fem.modal_model import load_modal_model
-    from wheel_squeal.budget import Budget
     from wheel_squeal.plan import stability_plan
-    from wheel_squeal.request_errors import BudgetError
+    from wheel_squeal.runtime.budget import Budget
+    from wheel_squeal.runtime.request_errors import BudgetError
 
     design = ws.load_design()
     modes = load_modal_model(model)
@@ -138,9 +138,9 @@ def test_a_modal_model_keeps_the_band(tmp_path):
 
 
 def test_a_never_started_study_over_budget_is_refused_before_its_cases_are_made(tmp_path, monkeypatch):
-    from wheel_squeal.budget import Budget
-    from wheel_squeal.cache import StageCache
-    from wheel_squeal.request_errors import BudgetError
+    from wheel_squeal.runtime.budget import Budget
+    from wheel_squeal.runtime.request_errors import BudgetError
+    from wheel_squeal.runtime.stage_cache import StageCache
     from wheel_squeal.study import runner
     from wheel_squeal.study.spec import StudySpec, load_spec
 
@@ -213,7 +213,7 @@ def test_a_stop_inside_a_long_native_computation_ends_within_the_grace(tmp_path)
 import signal, sys, numpy as np
 sys.path.insert(0, {str(ROOT)!r})
 from wheel_squeal.cli.stops import install_stop_handlers, STATE, stop_line
-from wheel_squeal.folders import ResultFolder
+from wheel_squeal.runtime.result_folders import ResultFolder
 install_stop_handlers()
 a = np.random.default_rng(0).standard_normal((3000, 3000))  # made before the clock starts
 STATE.budget_s = 0.5
@@ -395,7 +395,7 @@ def test_absurd_modal_models_are_refused_on_reading(tmp_path, mode, word):
 def test_absurd_design_values_are_refused_on_reading(table, word):
     from geometry import DesignError
     from wheel_squeal.design import Design
-    from wheel_squeal.request_errors import RequestError
+    from wheel_squeal.runtime.request_errors import RequestError
 
     with pytest.raises((RequestError, DesignError), match=word):
         Design.from_mapping({"name": "x", **table})
@@ -406,7 +406,7 @@ def test_cli_angles_are_degrees_and_f_hz_must_be_near_a_mode(capsys):
         main(["run", "--contact-angle", "100", "--quiet"])
     assert stop.value.code == 2 and "angle in degrees from -90 to 90" in capsys.readouterr().err
     import wheel_squeal as ws
-    from wheel_squeal.request_errors import RequestError
+    from wheel_squeal.runtime.request_errors import RequestError
 
     modes = ws.compute_modes(ws.load_design(), ws.fidelity_for("fast"), fmax_hz=3000.0)
     with pytest.raises(RequestError, match="no mode near 1e\\+09 Hz"):
@@ -426,7 +426,7 @@ def test_cli_angles_are_degrees_and_f_hz_must_be_near_a_mode(capsys):
 )
 def test_measured_files_are_checked_on_reading(tmp_path, text, word):
     from wheel_squeal.measured_comparison import load_measured
-    from wheel_squeal.request_errors import RequestError
+    from wheel_squeal.runtime.request_errors import RequestError
 
     with pytest.raises(RequestError, match=word):
         load_measured(_write(tmp_path / "m.csv", text))
@@ -434,7 +434,7 @@ def test_measured_files_are_checked_on_reading(tmp_path, text, word):
 
 def test_a_measured_file_with_a_byte_order_mark_reads_and_its_speeds_are_checked_first(tmp_path):
     from wheel_squeal.measured_comparison import check_speeds, load_measured
-    from wheel_squeal.request_errors import RequestError
+    from wheel_squeal.runtime.request_errors import RequestError
 
     path = tmp_path / "m.csv"
     path.write_bytes("\ufeffcrab_velocity,rpm,spl_db\n0.3,800,120\n0.3,500,110\n".encode())

@@ -104,8 +104,8 @@ def test_numba_keeps_its_compiled_code_in_the_cache(tmp_path, monkeypatch):
 
     code = (
         f"import sys, os; sys.path.insert(0, {str(ROOT)!r})\n"
-        "from wheel_squeal.cache import StageCache\n"
-        "from wheel_squeal.library_folders import keep_library_files\n"
+        "from wheel_squeal.runtime.stage_cache import StageCache\n"
+        "from wheel_squeal.runtime.library_folders import keep_library_files\n"
         f"keep_library_files(StageCache({str(tmp_path / 'cache')!r}))\n"
         "import numba; print(os.environ.get('NUMBA_CACHE_DIR'), numba.config.CACHE_DIR)\n"
     )

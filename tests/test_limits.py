@@ -407,7 +407,7 @@ def test_a_study_beyond_the_time_budget_is_refused_with_its_estimate(tmp_path):
 def test_more_workers_than_cores_are_not_started(tmp_path):
     import os
 
-    from wheel_squeal.progress import Progress
+    from wheel_squeal.runtime.progress import Progress
     from wheel_squeal.study.runner import local_workers
 
     cores = len(os.sched_getaffinity(0))
@@ -428,7 +428,7 @@ def _kill_self_on(job):
 
 
 def test_a_dead_worker_is_charged_only_with_its_own_case():
-    from wheel_squeal.study.pool import run_on_pool
+    from wheel_squeal.runtime.pools import run_on_pool
 
     jobs = {0: "a", 1: "die", 2: "b", 3: "c", 4: "d", 5: "e"}
     done, deaths = {}, []
@@ -451,12 +451,12 @@ def _blas_threads(job):
 def test_each_worker_runs_blas_on_its_share_of_the_cores(monkeypatch):
     """Four workers on a machine of (say) four cores run BLAS on one thread each, not on
     the library's default of every core (two here): that oversubscribes the machine (the
-    radiation's factorisation 4x slower, ``wheel_squeal.study.pool``)."""
+    radiation's factorisation 4x slower, ``wheel_squeal.runtime.pools``)."""
     import os
 
     from threadpoolctl import threadpool_info
 
-    from wheel_squeal.study.pool import blas_threads_per_worker, run_on_pool
+    from wheel_squeal.runtime.pools import blas_threads_per_worker, run_on_pool
 
     if not any(p["user_api"] == "blas" for p in threadpool_info()):
         pytest.fail("numpy loads no BLAS threadpoolctl can see")
@@ -684,8 +684,8 @@ def test_cache_clear_on_a_read_only_cache_is_one_line(tmp_path, monkeypatch):
     import errno
     import os
 
-    from wheel_squeal.cache import StageCache
-    from wheel_squeal.request_errors import RequestError
+    from wheel_squeal.runtime.request_errors import RequestError
+    from wheel_squeal.runtime.stage_cache import StageCache
 
     cache = StageCache(tmp_path / "c")
     cache.store("modes", {"k": 1}, {"a": np.zeros(3)})
@@ -767,7 +767,7 @@ def test_the_cache_keeps_under_its_limit_evicting_the_least_recently_used(tmp_pa
     import os
 
     from wheel_squeal import cache as cache_module
-    from wheel_squeal.cache import StageCache
+    from wheel_squeal.runtime.stage_cache import StageCache
 
     cache = StageCache(tmp_path / "c")
     cache.set_limit(2_000_000)
@@ -787,7 +787,7 @@ def test_the_cache_keeps_under_its_limit_evicting_the_least_recently_used(tmp_pa
 
 
 def test_an_entry_larger_than_half_the_cache_is_not_stored_and_evicts_nothing(tmp_path, capsys):
-    from wheel_squeal.cache import StageCache
+    from wheel_squeal.runtime.stage_cache import StageCache
 
     cache = StageCache(tmp_path / "c")
     cache.set_limit(2_000_000)
@@ -934,7 +934,7 @@ def test_random_study_specs_are_a_study_or_one_line_that_says_why(
     tmp_path_factory, axis, n, points, base, fidelity
 ):
     from wheel_squeal.plan import estimate_study
-    from wheel_squeal.request_errors import RequestError
+    from wheel_squeal.runtime.request_errors import RequestError
     from wheel_squeal.study import load_spec
 
     grid, problem = _AXES[axis]
@@ -974,7 +974,7 @@ import resource, sys
 import reduced as r
 import reduced.predictor as p
 if sys.argv[1] == "kept":
-    from wheel_squeal.study.pool import keep_freed_memory
+    from wheel_squeal.runtime.pools import keep_freed_memory
     assert keep_freed_memory()
 p.PHASE_BLOCK = 10**9  # the whole grid at once: megabyte temporaries
 hertz = r.hertz_contact(0.46, 0.3, 0.085, 0.04, 210e9, 0.3, 5e4)

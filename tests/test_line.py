@@ -22,7 +22,7 @@ from acoustics.medium import AIR
 from acoustics.passby import PassbySource, passby
 from track.alignment import count_rows
 from wheel_squeal.line import LineSpec, load_line, load_line_spec
-from wheel_squeal.request_errors import RequestError
+from wheel_squeal.runtime.request_errors import RequestError
 
 ANGLES = np.linspace(0.0, math.pi, 361)
 HEADER = "id,radius_m,length_m,cant_mm,train_speed_km_h"
@@ -137,8 +137,8 @@ def test_the_issue_s_line_is_priced_within_the_default_budget_on_this_machine():
     default half hour (measured: 500 curves in about a minute, ``benchmarks/bench_line.py``,
     which prints the estimate beside the time), at half the one process's time; on a
     cluster only its results' memory is priced, as a study's."""
-    from wheel_squeal.budget import Budget
     from wheel_squeal.plan import line_plan
+    from wheel_squeal.runtime.budget import Budget
 
     two, one = line_plan(2000, 4, 2), line_plan(2000, 4, 1)
     assert two.seconds < Budget().max_seconds
@@ -201,8 +201,8 @@ def test_a_line_on_local_processes_gives_the_same_numbers_and_resumes(tmp_path, 
     (every task from the earlier run: a task that ran again would fail here)."""
     import wheel_squeal as ws
     import wheel_squeal.line as line_module
-    from wheel_squeal.cache import StageCache
     from wheel_squeal.line import LineSpec, line, load_line
+    from wheel_squeal.runtime.stage_cache import StageCache
 
     path = tmp_path / "line.csv"
     path.write_text(f"{HEADER}\ntight,150,200,0,40\nwide,2000,500,0,40\n")

@@ -15,7 +15,7 @@ import wheel_squeal as ws
 from geometry import WheelDesign
 from wheel_squeal.cli import main
 from wheel_squeal.fe_stages import modes_cache_key
-from wheel_squeal.folders import MARKER
+from wheel_squeal.runtime.result_folders import MARKER
 
 
 # ---------------------------------------------------------------------------------------

@@ -25,15 +25,15 @@ from conftest import DESIGNS, ROOT, TABLE1_MODE_ARGS, one_line_error, run_cli, s
 from hypothesis import HealthCheck, example, given, settings, strategies as st
 
 import wheel_squeal as ws
-import wheel_squeal.folders as folders
+import wheel_squeal.runtime.result_folders as folders
 from geometry import WheelDesign
 from geometry.wheel_design import SECTIONS
-from wheel_squeal.budget import Budget
-from wheel_squeal.cache import LIBRARIES_FOLDER, MARKER as CACHE_MARKER, StageCache
 from wheel_squeal.design import FIELDS
 from wheel_squeal.fe_stages import check_modes_budget
-from wheel_squeal.folders import MARKER, ResultFolder, result_folder
-from wheel_squeal.request_errors import BudgetError, RequestError
+from wheel_squeal.runtime.budget import Budget
+from wheel_squeal.runtime.request_errors import BudgetError, RequestError
+from wheel_squeal.runtime.result_folders import MARKER, ResultFolder, result_folder
+from wheel_squeal.runtime.stage_cache import LIBRARIES_FOLDER, MARKER as CACHE_MARKER, StageCache
 
 FORK = mp.get_context("fork")
 
@@ -699,7 +699,9 @@ def test_a_stop_at_the_commit_ends_nothing(tmp_path):
     first = run_cli(*args, "--quiet", "--out", out)
     assert first.returncode == 0, first.stderr
     before = json.loads((out / "summary.json").read_text())
-    status, err = _run_stopped_at("wheel_squeal.folders:_remove", [*args, "--quiet", "--out", out])
+    status, err = _run_stopped_at(
+        "wheel_squeal.runtime.result_folders:_remove", [*args, "--quiet", "--out", out]
+    )
     assert status == 0 and "Traceback" not in err, err
     after = json.loads((out / "summary.json").read_text())
     assert after.keys() == before.keys() and (out / "timeseries.csv").stat().st_size > 0

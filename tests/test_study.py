@@ -19,7 +19,7 @@ from conftest import ROOT, one_line_error, run_cli
 #: every test here starts a worker pool, a cluster or the command line
 pytestmark = pytest.mark.slow
 
-from wheel_squeal.request_errors import RequestError  # noqa: E402
+from wheel_squeal.runtime.request_errors import RequestError  # noqa: E402
 from wheel_squeal.study import load_spec  # noqa: E402
 
 SMOKE = ROOT / "studies" / "smoke.toml"

@@ -15,8 +15,8 @@ import numpy as np
 import pytest
 from conftest import COUPLED_PAIR_TOML, ROOT, run_cli
 
-from wheel_squeal.cache import StageCache
 from wheel_squeal.result_cache import TEXT, restore_result
+from wheel_squeal.runtime.stage_cache import StageCache
 
 
 def _bytes(text: str) -> np.ndarray:
@@ -142,7 +142,7 @@ def test_a_corrupt_mesh_entry_is_recomputed_with_one_warning(tmp_path, capsys):
     arrays = _mesh_arrays()
     arrays["triangles"] = arrays["triangles"] + 10**6
     cache.store("mesh2d", {"k": 1}, arrays)
-    from wheel_squeal.cache import CacheMiss
+    from wheel_squeal.runtime.stage_cache import CacheMiss
 
     with pytest.raises(CacheMiss):
         cache.load("mesh2d", {"k": 1}, ProfileMesh.from_arrays)
@@ -169,7 +169,7 @@ def test_an_entry_that_is_not_a_regular_file_is_never_opened(tmp_path, kind):
     else:
         with open(path, "wb") as f:
             f.truncate(100 * 2**30)
-    from wheel_squeal.cache import CacheMiss
+    from wheel_squeal.runtime.stage_cache import CacheMiss
 
     with pytest.raises(CacheMiss):
         cache.load("modes", {"k": 1})
@@ -287,7 +287,7 @@ def test_a_run_without_cache_keeps_the_compiled_kernels_in_a_removed_temporary_f
 
 
 def test_the_libraries_folders_are_the_caches_or_one_temporary_folder(tmp_path, monkeypatch):
-    from wheel_squeal.library_folders import LIBRARY_FOLDERS, keep_library_files
+    from wheel_squeal.runtime.library_folders import LIBRARY_FOLDERS, keep_library_files
 
     for _module, variable, _name in LIBRARY_FOLDERS.values():
         monkeypatch.delenv(variable, raising=False)
@@ -539,7 +539,7 @@ def test_a_curve_cant_that_is_not_a_track_s_is_refused_in_one_line(tmp_path, can
 
 
 def test_a_refusal_without_a_remedy_of_its_own_names_only_the_setting():
-    from wheel_squeal.budget import or_raise
+    from wheel_squeal.runtime.budget import or_raise
 
     assert or_raise("", "max_seconds", "ENV") == "raise max_seconds (ENV)"
     assert or_raise("ask for less", "max_seconds", "ENV") == "ask for less, or raise max_seconds (ENV)"

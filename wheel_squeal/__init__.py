@@ -28,8 +28,6 @@ from .api import (
     pick_mode as pick_mode,
     shipped_designs,
 )
-from .budget import Budget as Budget
-from .cache import CacheMiss as CacheMiss, StageCache as StageCache
 from .chain import Analysis, ChainOptions, analyse
 from .context import RunContext
 from .curve import curve
@@ -46,8 +44,10 @@ from .presets import (
     Fidelity as Fidelity,
     fidelity_for as fidelity_for,
 )
-from .progress import Progress as Progress
-from .request_errors import BudgetError, BudgetExhausted, RequestError
+from .runtime.budget import Budget as Budget
+from .runtime.progress import Progress as Progress
+from .runtime.request_errors import BudgetError, BudgetExhausted, RequestError
+from .runtime.stage_cache import CacheMiss as CacheMiss, StageCache as StageCache
 from .simulation import Simulation as Simulation, simulate as simulate
 from .sound import Sound as Sound, mode_sound as mode_sound
 from .sweeps import VerdictGrid, sweep_verdicts

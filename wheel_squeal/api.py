@@ -5,9 +5,9 @@ operating point -> simulation or sweep. Every function takes and returns plain o
 of the packages below and :class:`~wheel_squeal.design.Design`: its ``wheel`` a
 ``geometry.WheelDesign``, meshes, ``fem.ModeSet`` and ``Mode``, ``reduced.ModalDOF``,
 ``ContactLaw``, ``OperatingPoint``, ``SweepResult``.
-Bad input raises :class:`~wheel_squeal.request_errors.RequestError` in the API's own words;
-expensive stages go through a :class:`~wheel_squeal.cache.StageCache` when one is given
-and are estimated against a :class:`~wheel_squeal.budget.Budget` before they start.
+Bad input raises :class:`~wheel_squeal.runtime.request_errors.RequestError` in the API's own words;
+expensive stages go through a :class:`~wheel_squeal.runtime.stage_cache.StageCache` when one is given
+and are estimated against a :class:`~wheel_squeal.runtime.budget.Budget` before they start.
 """
 
 from __future__ import annotations
@@ -35,7 +35,7 @@ from .presets import (
     designs_folder,
     rpm_to_speed,
 )
-from .request_errors import RequestError
+from .runtime.request_errors import RequestError
 
 if TYPE_CHECKING:
     from fem.modes import Mode

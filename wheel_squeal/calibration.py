@@ -16,8 +16,8 @@ from geometry import DesignError
 from .api import compute_modes, load_design, pick_mode
 from .design import FIELDS, Design
 from .presets import fidelity_for
-from .progress import Progress
-from .request_errors import RequestError
+from .runtime.progress import Progress
+from .runtime.request_errors import RequestError
 from .types import FidelityName
 
 __all__ = ["CALIBRATED_MARK", "Calibration", "calibrate", "calibrated_design_path"]

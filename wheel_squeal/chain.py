@@ -28,7 +28,7 @@ from .mode_stability import StabilityTable, body_of, excitable, mode_dofs, stabi
 from .outcomes import Outcomes
 from .plan import NO_REMEDY_HINT, stability_plan, verdict_plan
 from .presets import Fidelity, fidelity_for
-from .request_errors import RequestError
+from .runtime.request_errors import RequestError
 from .simulation import simulate
 from .types import AmplitudeMethod
 from .verdict import LOWEST_SQUEAL_HZ, ModeOutcome, Verdict

@@ -7,10 +7,10 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Any
 
-from .budget import Budget
-from .cache import StageCache
 from .presets import DEFAULT_FIDELITY, DEFAULT_FMAX_HZ, Fidelity, fidelity_for
-from .progress import Progress
+from .runtime.budget import Budget
+from .runtime.progress import Progress
+from .runtime.stage_cache import StageCache
 from .types import FidelityName, SolverName
 
 __all__ = ["MEMO_MODE_SETS_KEPT", "RunContext", "memo_get", "memo_put"]

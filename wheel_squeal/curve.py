@@ -23,20 +23,19 @@ from __future__ import annotations
 
 import functools
 from collections.abc import Sequence
-from dataclasses import replace
+from dataclasses import dataclass, replace
 from typing import TYPE_CHECKING
 
 from .analysis import ChainOptions
 from .api import contact_law
-from .budget import CostPlan
 from .chain import AMPLITUDE_METHODS
 from .context import memo_get, memo_put
 from .curve_case import (
     AxleSound,
     BogiePassby,
     CurveCase,
-    CurveMap,
     CurveRequest,
+    PassbySound,
     axle_sound,
     bogie_sources,
     loudest_passby_sound,
@@ -45,7 +44,8 @@ from .curve_contacts import ContactSiteAnalysis, contact_geometry, modes_at_cont
 from .design import Design
 from .mode_stability import excitable, mode_dofs
 from .plan import CurveSize, check_curve_files, curve_plan, squealing_axles
-from .request_errors import RequestError
+from .runtime.budget import CostPlan
+from .runtime.request_errors import RequestError
 from .types import AmplitudeMethod
 
 if TYPE_CHECKING:
@@ -53,6 +53,7 @@ if TYPE_CHECKING:
     from track.bogie_curving import Vehicle, WheelContact
 
     from .context import RunContext
+    from .curve_remedy import CurveRemedy
     from .mode_stability import StabilityTable
 
 __all__ = [
@@ -75,6 +76,17 @@ __all__ = [
 #: of the rail's and the modes' states at the integrator's step, is tens of MB: a map of
 #: hundreds would not fit)
 KEPT_RECORD_S = 0.05
+
+
+@dataclass(frozen=True)
+class CurveMap:
+    """A curve map: its cases (:class:`CurveCase`, radius by radius, speed by speed, the
+    four wheels in ``track.curving.WHEELS`` order) and what stops its squeal (None: not
+    asked), and the sound of its loudest pass-by (None: nothing squeals audibly)."""
+
+    cases: list[CurveCase]
+    remedy: CurveRemedy | None = None
+    loudest: PassbySound | None = None
 
 
 def curve_map(

@@ -19,7 +19,6 @@ if TYPE_CHECKING:
     from acoustics.passby import PassbyResult, PassbySource
     from track.bogie_curving import ContactState, Vehicle, WheelContact
 
-    from .curve_remedy import CurveRemedy
     from .design import Design
 
 __all__ = [
@@ -27,7 +26,6 @@ __all__ = [
     "AxleSound",
     "BogiePassby",
     "CurveCase",
-    "CurveMap",
     "CurveRequest",
     "PassbySound",
     "axle_sound",
@@ -350,14 +348,3 @@ class CurveRequest:
     def bogie(self, design: Design) -> Vehicle:
         """The bogie this request runs ``design``'s wheels in."""
         return self.vehicle or design.vehicle.vehicle()
-
-
-@dataclass(frozen=True)
-class CurveMap:
-    """A curve map: its cases (:class:`CurveCase`, radius by radius, speed by speed, the
-    four wheels in ``track.curving.WHEELS`` order) and what stops its squeal (None: not
-    asked), and the sound of its loudest pass-by (None: nothing squeals audibly)."""
-
-    cases: list[CurveCase]
-    remedy: CurveRemedy | None = None
-    loudest: PassbySound | None = None

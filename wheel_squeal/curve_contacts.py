@@ -12,7 +12,7 @@ from typing import TYPE_CHECKING, Any
 from .api import contact_law
 from .context import memo_get, memo_put
 from .design import Design
-from .request_errors import RequestError
+from .runtime.request_errors import RequestError
 
 if TYPE_CHECKING:
     from collections.abc import Callable

@@ -14,15 +14,15 @@ import numpy as np
 
 from geometry import WheelDesign
 
-from .budget import MAX_FILE_BYTES, Budget
-from .cache import CacheMiss, StageCache
 from .design import Design, as_design
-from .entry_reading import kept_files
-from .interrupts import uninterrupted
 from .presets import DEFAULT_FIDELITY, DEFAULT_FMAX_HZ, FIDELITIES, Fidelity, fidelity_for
-from .progress import Progress
-from .provenance import code_version, library_versions
-from .request_errors import RequestError
+from .runtime.budget import MAX_FILE_BYTES, Budget
+from .runtime.entry_reading import kept_files
+from .runtime.interrupts import uninterrupted
+from .runtime.progress import Progress
+from .runtime.provenance import code_version, library_versions
+from .runtime.request_errors import RequestError
+from .runtime.stage_cache import CacheMiss, StageCache
 from .types import FidelityName, SolverName
 
 if TYPE_CHECKING:
@@ -170,7 +170,7 @@ def compute_modes(
 
     With a ``cache`` the mesh and the modes are re-used whenever geometry, material,
     fidelity, code and libraries are unchanged. A solve that is not cached is estimated
-    first and refused (:class:`~wheel_squeal.request_errors.BudgetError`) beyond the ``budget``.
+    first and refused (:class:`~wheel_squeal.runtime.request_errors.BudgetError`) beyond the ``budget``.
 
     Parameters
     ----------

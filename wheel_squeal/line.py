@@ -26,7 +26,7 @@ from typing import TYPE_CHECKING
 from acoustics.emission import PERIODS
 from track.alignment import LineCurve
 
-from .request_errors import RequestError
+from .runtime.request_errors import RequestError
 from .traffic import (
     LineSpec,
     load_line_spec,
@@ -126,7 +126,7 @@ def _failures() -> tuple[type[Exception], ...]:
 def _failure_type(name: str | None) -> type[Exception]:
     """The exception a task's failure named ``name`` is raised as in the caller's process:
     its own (:func:`_failures`, a budget's refusal), or, unnamed, an exhausted budget."""
-    from .request_errors import BudgetError, BudgetExhausted
+    from .runtime.request_errors import BudgetError, BudgetExhausted
 
     named = {e.__name__: e for e in (*_failures(), BudgetError)}
     return named.get(name or "", BudgetExhausted)
@@ -138,11 +138,11 @@ def run_line_job(job: LineJob, context: RunContext | None = None) -> dict:
     in ``context`` (this process's) or in a context of the job's own."""
     from acoustics.emission import HeardPassby
 
-    from .budget import Budget
-    from .cache import StageCache
     from .context import RunContext
     from .curve import curve
-    from .request_errors import BudgetError
+    from .runtime.budget import Budget
+    from .runtime.request_errors import BudgetError
+    from .runtime.stage_cache import StageCache
     from .study.runner import transient
 
     if context is None:
@@ -210,7 +210,7 @@ def line(
     from track.curving import check_curve
 
     from .context import RunContext
-    from .progress import Progress
+    from .runtime.progress import Progress
     from .study.runner import code_key, local_workers, run_tasks, scheduler_of, store_result, stored_results
 
     ctx = context or RunContext.of("balanced")

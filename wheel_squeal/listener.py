@@ -10,7 +10,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from .design import Design
-from .request_errors import RequestError
+from .runtime.request_errors import RequestError
 
 if TYPE_CHECKING:
     from acoustics import Air

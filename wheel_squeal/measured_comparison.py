@@ -17,7 +17,7 @@ import numpy as np
 
 from acoustics.measured import Measured
 
-from .request_errors import RequestError
+from .runtime.request_errors import RequestError
 
 if TYPE_CHECKING:
     from .sweeps import VerdictGrid

@@ -24,7 +24,7 @@ import numpy as np
 
 from .design import Design
 from .outputs import bound_or_none
-from .request_errors import RequestError
+from .runtime.request_errors import RequestError
 
 if TYPE_CHECKING:
     from fem.modes import Mode, ModeSet

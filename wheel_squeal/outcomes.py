@@ -28,7 +28,7 @@ from .mode_stability import (
     wheel_speed_rad_s,
 )
 from .outputs import finite_or_none
-from .request_errors import RequestError
+from .runtime.request_errors import RequestError
 from .simulation import simulate
 from .squeal_sound import squeal_sound
 from .verdict import COUPLING_ONLY, Balance, ModeOutcome, wave_of

@@ -1,7 +1,7 @@
 """Values and files as every result writes them: the one word for a value that does not
 exist (``none``: null in JSON, an empty CSV cell, NaN in a VTU), the rule for what counts
 as a value (:func:`finite_or_none`), and the JSON and CSV writers (result folders
-themselves: :mod:`wheel_squeal.folders`)."""
+themselves: :mod:`wheel_squeal.runtime.result_folders`)."""
 
 from __future__ import annotations
 

@@ -23,7 +23,7 @@ from collections.abc import Callable, Iterator, Sequence
 from concurrent.futures import Future, ProcessPoolExecutor
 from typing import Any
 
-from .budget import usable_cores
+from .runtime.budget import usable_cores
 
 __all__ = ["PLOT_MODULES", "PlotWorkers", "plot_workers"]
 

@@ -20,7 +20,7 @@ from fem.modes import DEFAULT_FMAX_HZ
 from fem.solvers import SOLVERS, method_label
 from reduced.model import rpm_to_speed
 
-from .request_errors import RequestError
+from .runtime.request_errors import RequestError
 from .types import FidelityName, SolverName
 
 __all__ = [

@@ -7,7 +7,7 @@ from track.receptances import TrackReceptances
 
 from .design import Design
 from .model_sections import Track
-from .request_errors import RequestError
+from .runtime.request_errors import RequestError
 
 __all__ = ["TrackReceptances", "track_receptances"]
 

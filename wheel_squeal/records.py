@@ -15,8 +15,8 @@ import numpy as np
 
 from geometry.files import printable, stored_array
 
-from .cache import CacheMiss, StageCache
-from .provenance import code_version
+from .runtime.provenance import code_version
+from .runtime.stage_cache import CacheMiss, StageCache
 
 if TYPE_CHECKING:
     from reduced import BodyModel, ContactLaw, ModalDOF, OperatingPoint, TimeHistory

@@ -19,9 +19,9 @@ import numpy as np
 
 from geometry.files import MAX_TEXT_BYTES
 
-from .cache import CacheMiss, StageCache
-from .entry_reading import kept_files
-from .provenance import CODE_PACKAGES, code_version, library_versions
+from .runtime.entry_reading import kept_files
+from .runtime.provenance import CODE_PACKAGES, code_version, library_versions
+from .runtime.stage_cache import CacheMiss, StageCache
 
 __all__ = ["RESULT_STAGE", "restore_result", "result_key", "store_result"]
 

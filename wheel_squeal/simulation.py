@@ -8,9 +8,9 @@ import math
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
-from .budget import Budget
-from .cache import StageCache
-from .request_errors import RequestError
+from .runtime.budget import Budget
+from .runtime.request_errors import RequestError
+from .runtime.stage_cache import StageCache
 
 if TYPE_CHECKING:
     from reduced import BodyModel, ContactLaw, ModalDOF, OperatingPoint

@@ -21,20 +21,20 @@ import numpy as np
 from acoustics.tone import Radiation, Sound
 from geometry.files import stored_array
 
-from .cache import CacheMiss, StageCache
 from .context import memo_get, memo_put
 from .design import Design
 from .listener import Listener, default_microphone
 from .presets import DEFAULT_FIDELITY, DEFAULT_FMAX_HZ, fidelity_for
-from .provenance import code_version
-from .request_errors import RequestError
+from .runtime.provenance import code_version
+from .runtime.request_errors import RequestError
+from .runtime.stage_cache import CacheMiss, StageCache
 from .types import FidelityName
 
 if TYPE_CHECKING:
     from acoustics import Air, RadiationCost, Surface
     from fem.modes import Mode, ModeSet
 
-    from .budget import Budget
+    from .runtime.budget import Budget
 
 __all__ = [
     "mode_sound",
@@ -176,7 +176,7 @@ def mode_radiation(
     finite elements), and kept in ``memo`` (a dict) for later calls of the same process,
     with each contact's scaled copy (the contacts of a map repeat: their records share it);
     ``air``: ``acoustics.Air`` (default: 1.21 kg/m^3, 343 m/s); ``budget``: a
-    :class:`~wheel_squeal.budget.Budget` the solve is estimated against first."""
+    :class:`~wheel_squeal.runtime.budget.Budget` the solve is estimated against first."""
     from acoustics import AIR
 
     air = air or AIR

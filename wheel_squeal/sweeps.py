@@ -16,7 +16,7 @@ from .chain import ChainOptions, analyse
 from .context import RunContext
 from .design import Design
 from .presets import rpm_to_speed
-from .request_errors import RequestError
+from .runtime.request_errors import RequestError
 
 if TYPE_CHECKING:
     from fem.modes import ModeSet

@@ -11,7 +11,7 @@ from typing import Any
 from acoustics.emission import PERIODS
 from geometry.files import read_toml
 
-from .request_errors import RequestError
+from .runtime.request_errors import RequestError
 
 __all__ = [
     "DEFAULT_TRAINS_PER_HOUR",

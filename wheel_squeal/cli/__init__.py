@@ -22,11 +22,11 @@ from typing import Any
 
 from geometry import DesignError
 
-from ..cache import StageCache
-from ..library_folders import LibraryFolders, keep_library_files
 from ..plotting import plot_workers
-from ..request_errors import BudgetExhausted, RequestError
-from ..study.pool import keep_freed_memory
+from ..runtime.library_folders import LibraryFolders, keep_library_files
+from ..runtime.pools import keep_freed_memory
+from ..runtime.request_errors import BudgetExhausted, RequestError
+from ..runtime.stage_cache import StageCache
 from .parser import DRAWING_COMMANDS, build_parser
 from .stops import STATE, STOPS, Terminated, install_stop_handlers, stop_line, uninterrupted
 

@@ -6,8 +6,8 @@ import argparse
 import os
 from pathlib import Path
 
-from ..cache import ENV_SIZE, StageCache, parse_size
-from ..request_errors import RequestError
+from ..runtime.request_errors import RequestError
+from ..runtime.stage_cache import ENV_SIZE, StageCache, parse_size
 
 __all__ = ["add_parser", "run"]
 

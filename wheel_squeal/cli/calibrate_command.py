@@ -8,7 +8,7 @@ from pathlib import Path
 from geometry.files import write_atomic
 
 from ..presets import FIDELITIES
-from ..progress import Progress
+from ..runtime.progress import Progress
 from .arguments import positive
 from .common import design_of
 

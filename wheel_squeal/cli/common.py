@@ -12,16 +12,16 @@ from typing import Any
 from geometry.files import check_label
 
 from .. import api
-from ..budget import Budget
-from ..cache import StageCache
 from ..chain import Analysis, ChainOptions, analyse
 from ..context import RunContext
 from ..design import Design
 from ..fe_stages import context_modes
 from ..listener import Listener, air_for, microphone_for
 from ..presets import DEFAULT_SPEEDS_RPM, MAX_MULTIMODE, fidelity_for, rpm_to_speed
-from ..progress import Progress
-from ..request_errors import RequestError
+from ..runtime.budget import Budget
+from ..runtime.progress import Progress
+from ..runtime.request_errors import RequestError
+from ..runtime.stage_cache import StageCache
 from ..types import Stage
 
 __all__ = [

@@ -5,7 +5,6 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from ..folders import result_folder
 from ..output_files import columns_of
 from ..outputs import write_csv, write_json
 from ..present.figures import write_compare_plot
@@ -13,7 +12,8 @@ from ..present.run_report import compare_report
 from ..present.summary import operating_point_summary
 from ..present.tables import by_loudness
 from ..present.text import compare_table, verdict_lines
-from ..request_errors import RequestError
+from ..runtime.request_errors import RequestError
+from ..runtime.result_folders import result_folder
 from .common import analysis_of, context_of, design_of, out_of
 from .options import add_budget, add_cache, add_fe, add_operating, add_out, add_remedy, add_rotation
 

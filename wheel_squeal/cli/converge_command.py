@@ -5,8 +5,8 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from ..folders import result_folder
-from ..progress import Progress
+from ..runtime.progress import Progress
+from ..runtime.result_folders import result_folder
 from .common import design_of, out_of
 from .options import add_out
 

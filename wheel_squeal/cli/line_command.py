@@ -11,8 +11,8 @@ from pathlib import Path
 
 from geometry.files import printable
 
-from ..folders import result_folder
-from ..request_errors import RequestError
+from ..runtime.request_errors import RequestError
+from ..runtime.result_folders import result_folder
 from .common import context_of, design_of, out_of
 from .options import add_common, add_fe, add_workers
 

@@ -6,11 +6,11 @@ import argparse
 import time
 
 from .. import api
-from ..folders import result_folder
 from ..outputs import write_json
 from ..plan import MESH_BYTES_PER_ELEMENT, MESH_SECONDS_PER_ELEMENT
-from ..progress import Progress
-from ..request_errors import RequestError
+from ..runtime.progress import Progress
+from ..runtime.request_errors import RequestError
+from ..runtime.result_folders import result_folder
 from .arguments import positive
 from .common import budget_of, design_of, out_of
 from .options import add_common

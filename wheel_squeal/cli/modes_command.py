@@ -5,11 +5,11 @@ from __future__ import annotations
 import argparse
 
 from .. import api
-from ..folders import result_folder
 from ..outputs import write_json
 from ..present.summary import modes_summary
 from ..present.text import modes_table
-from ..request_errors import RequestError
+from ..runtime.request_errors import RequestError
+from ..runtime.result_folders import result_folder
 from .common import analysis_of, context_of, design_of, modes_of, out_of, write_files
 from .options import add_common, add_fe
 from .stops import uninterrupted

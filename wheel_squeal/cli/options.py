@@ -11,8 +11,6 @@ from acoustics.medium import AIR
 from contact.creep import FRICTION_LAWS
 from fem.solvers import SOLVERS
 
-from ..budget import DEFAULT_MAX_DOFS, DEFAULT_MAX_SECONDS, ENV_MAX_DOFS, ENV_MAX_SECONDS
-from ..cache import ENV_VAR as CACHE_ENV_VAR
 from ..model_sections import NORMAL_CONTACTS
 from ..presets import (
     DEFAULT_CRAB_VELOCITY_M_S,
@@ -21,6 +19,8 @@ from ..presets import (
     DEFAULT_RPM,
     FIDELITIES,
 )
+from ..runtime.budget import DEFAULT_MAX_DOFS, DEFAULT_MAX_SECONDS, ENV_MAX_DOFS, ENV_MAX_SECONDS
+from ..runtime.stage_cache import ENV_VAR as CACHE_ENV_VAR
 from .arguments import (
     angle_deg,
     c22_value,

@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import argparse
 
-from ..folders import result_folder
-from ..request_errors import RequestError
+from ..runtime.request_errors import RequestError
+from ..runtime.result_folders import result_folder
 from .common import context_of, design_of, modes_of, out_of
 from .options import add_common, add_fe
 from .stops import uninterrupted

@@ -10,7 +10,6 @@ from fem.modal_model import MODAL_MODEL_SOLVER
 
 from .. import api
 from ..design import Design
-from ..folders import result_folder
 from ..outputs import write_json
 from ..plotting import PlotWorkers
 from ..present.results import write_run_files
@@ -19,6 +18,7 @@ from ..present.summary import analysis_summary
 from ..present.text import analysis_text
 from ..presets import MAX_MULTIMODE
 from ..result_cache import restore_result, result_key, store_result
+from ..runtime.result_folders import result_folder
 from .arguments import count
 from .common import (
     analysis_of,

@@ -4,12 +4,12 @@ from __future__ import annotations
 
 import argparse
 
-from ..folders import result_folder
 from ..outputs import write_json
 from ..plotting import PlotWorkers
 from ..present.results import write_simulation_files
 from ..present.summary import analysis_summary
 from ..present.text import analysis_text
+from ..runtime.result_folders import result_folder
 from .common import analysis_of, context_of, design_of, out_of, record_bytes_of
 from .options import add_common, add_fe, add_modal, add_modal_model, add_operating, add_record, add_rotation
 

@@ -4,11 +4,11 @@ from __future__ import annotations
 
 import argparse
 
-from ..folders import result_folder
 from ..outputs import write_json
 from ..present.results import write_sound_files
 from ..present.text import sound_text
-from ..request_errors import RequestError
+from ..runtime.request_errors import RequestError
+from ..runtime.result_folders import result_folder
 from ..sound import check_velocity_amplitude, mode_sound
 from ..squeal_sound import tone_sound
 from .arguments import non_negative, positive

@@ -8,7 +8,6 @@ import numpy as np
 
 from .. import api
 from ..envelope import envelope, mitigation_summary
-from ..folders import result_folder
 from ..mode_stability import eigenvalue_list, excitable, stability_table
 from ..outputs import write_json
 from ..plan import stability_request_plan
@@ -18,7 +17,8 @@ from ..present.summary import contact_summary, operating_point_summary
 from ..present.tables import write_envelope_csv
 from ..present.text import eigenvalues_text, mitigation_text, stability_text, verdict_lines
 from ..presets import DEFAULT_ENVELOPE_CRAB_VELOCITIES, DEFAULT_SPEEDS_RPM
-from ..request_errors import RequestError
+from ..runtime.request_errors import RequestError
+from ..runtime.result_folders import result_folder
 from .arguments import grid_axis
 from .common import analysis_of, context_of, design_of, modes_of, operating_point_of, out_of
 from .options import add_axis, add_common, add_fe, add_modal_model, add_operating, add_remedy, add_rotation

@@ -18,7 +18,7 @@ import threading
 import time
 from types import FrameType
 
-from ..interrupts import STATE, STOPS, OutOfTime, StopState, Terminated, uninterrupted
+from ..runtime.interrupts import STATE, STOPS, OutOfTime, StopState, Terminated, uninterrupted
 
 __all__ = [
     "NATIVE_CALLBACKS",
@@ -137,7 +137,7 @@ def install_stop_handlers() -> None:
         while STATE.retiring and waited < COMMIT_WAIT_S:  # let the earlier result go whole
             time.sleep(0.05)
             waited += 0.05
-        from ..folders import ResultFolder
+        from ..runtime.result_folders import ResultFolder
 
         ResultFolder.discard_all()
         for folder in STATE.temporary_folders:

@@ -5,9 +5,9 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from ..folders import result_folder
-from ..progress import Progress
-from ..request_errors import RequestError
+from ..runtime.progress import Progress
+from ..runtime.request_errors import RequestError
+from ..runtime.result_folders import result_folder
 from .common import budget_of, cache_of, out_of
 from .options import add_budget, add_cache, add_out, add_workers
 

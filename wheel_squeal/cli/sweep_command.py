@@ -5,13 +5,13 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from ..folders import result_folder
 from ..outputs import write_json
 from ..present.figures import write_sweep_plot
 from ..present.tables import write_measured_csv, write_sweep_csv, write_sweep_spl
 from ..present.text import measured_table, sweep_table
 from ..presets import DEFAULT_SPEEDS_RPM, DEFAULT_SWEEP_CRAB_VELOCITIES
-from ..request_errors import RequestError
+from ..runtime.request_errors import RequestError
+from ..runtime.result_folders import result_folder
 from ..sweeps import sweep_verdicts
 from .arguments import c22_value, grid_axis, positive
 from .common import context_of, design_of, files_in, modes_of, options_of, out_of, speeds_or_rpm

@@ -8,9 +8,9 @@ from __future__ import annotations
 import argparse
 from typing import TYPE_CHECKING
 
-from ..folders import result_folder
 from ..outputs import write_json
 from ..plan import track_plan
+from ..runtime.result_folders import result_folder
 from .common import context_of, design_of, out_of
 
 if TYPE_CHECKING:

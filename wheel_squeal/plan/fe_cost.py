@@ -5,8 +5,8 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING
 
-from ..budget import CostPlan
 from ..design import Design
+from ..runtime.budget import CostPlan
 
 if TYPE_CHECKING:
     from ..presets import Fidelity

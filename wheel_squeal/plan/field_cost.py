@@ -11,9 +11,9 @@ from typing import TYPE_CHECKING
 
 from reduced.integration_cost import simulation_bytes, simulation_seconds
 
-from ..budget import CostPlan
 from ..design import Design
 from ..mode_stability import StabilityTable, body_of, mode_dofs
+from ..runtime.budget import CostPlan
 from .fe_cost import estimated_modes, radiation_seconds
 
 if TYPE_CHECKING:
@@ -229,7 +229,7 @@ def squealing_axles(
 
 def check_curve_files(size: CurveSize, max_file_bytes: float) -> None:
     """Refuse a curve map whose files would exceed ``max_file_bytes`` each."""
-    from ..request_errors import RequestError
+    from ..runtime.request_errors import RequestError
 
     rows = size.curves * WHEELS_PER_BOGIE
     if rows * CURVE_FILE_BYTES_PER_ROW > max_file_bytes:

@@ -6,8 +6,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Protocol
 
-from ..budget import CostPlan
 from ..design import Design
+from ..runtime.budget import CostPlan
 from ..types import FidelityName
 from .fe_cost import radiation_seconds
 

@@ -10,9 +10,9 @@ from typing import TYPE_CHECKING, Any
 
 from reduced.integration_cost import simulation_seconds, simulation_steps
 
-from ..budget import CostPlan
 from ..design import Design
 from ..mode_stability import body_of, excitable, mode_dofs, stability_seconds
+from ..runtime.budget import CostPlan
 from ..simulation import SIMULATION_HINT
 from ..sound import sound_cost
 from ..verdict_remedy import bounds_seconds, remedy_seconds

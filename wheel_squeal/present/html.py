@@ -21,7 +21,7 @@ from typing import TYPE_CHECKING
 
 from geometry.files import write_atomic
 
-from ..provenance import CODE_PACKAGES, code_version
+from ..runtime.provenance import CODE_PACKAGES, code_version
 
 if TYPE_CHECKING:
     pass

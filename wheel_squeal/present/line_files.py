@@ -112,8 +112,8 @@ def geojson_bytes(curves: Sequence[LineCurve]) -> int:
 def check_geojson_size(curves: Sequence[LineCurve]) -> None:
     """Refuse (``RequestError``) a line whose line.geojson would exceed the largest file a
     command writes (``budget.MAX_FILE_BYTES``), before any work."""
-    from ..budget import MAX_FILE_BYTES
-    from ..request_errors import RequestError
+    from ..runtime.budget import MAX_FILE_BYTES
+    from ..runtime.request_errors import RequestError
 
     size = geojson_bytes(curves)
     if size > MAX_FILE_BYTES:

@@ -24,7 +24,7 @@ import numpy as np
 
 from ..fields import unit_of
 from ..present.canvas import PLOT_DPI
-from ..provenance import CODE_PACKAGES, code_version
+from ..runtime.provenance import CODE_PACKAGES, code_version
 from .spec import StudySpec
 from .task import FLAG_FIELDS, LABEL_FIELDS, RESULT_FIELDS
 

@@ -22,15 +22,15 @@ import numpy as np
 from geometry.files import printable, stored_array
 
 from ..api import check_modes_budget
-from ..budget import Budget, usable_cores
-from ..cache import CacheMiss, StageCache
 from ..output_files import FLAG_FIELDS, LABEL_FIELDS, RESULT_FIELDS
 from ..plan import estimate_study, study_plan
 from ..presets import fidelity_for
-from ..progress import Progress
-from ..provenance import CODE_PACKAGES, code_version, library_versions
-from ..request_errors import RequestError
-from .pool import KEPT_FREE_BYTES, Death, run_on_pool
+from ..runtime.budget import Budget, usable_cores
+from ..runtime.pools import KEPT_FREE_BYTES, Death, run_on_pool
+from ..runtime.progress import Progress
+from ..runtime.provenance import CODE_PACKAGES, code_version, library_versions
+from ..runtime.request_errors import RequestError
+from ..runtime.stage_cache import CacheMiss, StageCache
 from .spec import StudySpec
 from .task import CaseJob, run_case
 
@@ -55,7 +55,7 @@ MAX_WORKER_DEATHS = 3
 SCHEDULER_ENV = "DASK_SCHEDULER_ADDRESS"
 #: Memory one local worker takes besides its case's modal solve [bytes]: the imports of
 #: the chain and a case's arrays (measured about 300 MB, allowed 400 MB) and the freed
-#: memory it keeps (``wheel_squeal.study.pool.KEPT_FREE_BYTES``).
+#: memory it keeps (``wheel_squeal.runtime.pools.KEPT_FREE_BYTES``).
 WORKER_BYTES = 400e6 + KEPT_FREE_BYTES
 #: Seconds to wait for a dask scheduler's handshake.
 SCHEDULER_TIMEOUT_S = 5.0
@@ -288,7 +288,7 @@ def local_workers(requested: int | None, progress: Progress | None = None) -> in
     """The local worker processes to use: ``requested`` (default: the cores), at most the
     cores this process may run on and what the free memory holds (:data:`WORKER_BYTES`
     each); a smaller number than requested is said on ``progress``."""
-    from ..budget import MEMORY_FRACTION, available_memory
+    from ..runtime.budget import MEMORY_FRACTION, available_memory
 
     if requested is not None and requested < 1:
         raise RequestError(f"workers must be at least 1, got {requested}")

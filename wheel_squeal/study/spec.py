@@ -46,7 +46,7 @@ from geometry.files import check_label, read_toml
 
 from ..design import FIELDS, Design
 from ..presets import DEFAULT_CRAB_VELOCITY_M_S, DEFAULT_DESIGN, DEFAULT_RPM, FIDELITIES
-from ..request_errors import RequestError
+from ..runtime.request_errors import RequestError
 from ..types import FidelityName
 from .task import RESULT_FIELDS
 

@@ -17,7 +17,7 @@ from geometry import DesignError, MeshError
 
 from ..design import Design
 from ..output_files import FLAG_FIELDS, LABEL_FIELDS, RESULT_FIELDS
-from ..request_errors import BudgetError, RequestError
+from ..runtime.request_errors import BudgetError, RequestError
 from ..types import FidelityName, Stage
 
 __all__ = ["FLAG_FIELDS", "LABEL_FIELDS", "CaseJob", "RESULT_FIELDS", "run_case"]
@@ -27,7 +27,7 @@ __all__ = ["FLAG_FIELDS", "LABEL_FIELDS", "CaseJob", "RESULT_FIELDS", "run_case"
 class CaseJob:
     """What one task needs: the base design and its changes, the FE preset and band, what
     to compute, the operating grid, the worker's cache folder (None: no cache; "": the
-    worker's default one, :func:`wheel_squeal.cache.default_cache_root`) and the limit
+    worker's default one, :func:`wheel_squeal.runtime.stage_cache.default_cache_root`) and the limit
     of its modal solve (None: the worker's environment's)."""
 
     base: Design
@@ -74,11 +74,11 @@ def _run(design: Design, job: CaseJob) -> dict:
     from reduced import OperatingPoint, load_compiled_kernels
 
     from .. import api
-    from ..budget import Budget
-    from ..cache import StageCache
     from ..chain import ChainOptions, analyse
     from ..context import RunContext
     from ..presets import fidelity_for
+    from ..runtime.budget import Budget
+    from ..runtime.stage_cache import StageCache
 
     cache = None if job.cache_dir is None else StageCache(job.cache_dir or None)
     simulate = "limit_cycle" in job.compute

@@ -87,7 +87,7 @@ _LEGACY_STAGES = {"mesh2d", "mesh3d", "modes", "views"}
 
 
 #: The folder of the libraries' own caches (numba's compiled kernels, matplotlib's font
-#: list, Mesa's shaders: ``wheel_squeal.library_folders``), and the folder an earlier
+#: list, Mesa's shaders: ``wheel_squeal.runtime.library_folders``), and the folder an earlier
 #: version kept numba's kernels in (a cache that holds it is still a cache)
 LIBRARIES_FOLDER, LEGACY_COMPILED_FOLDER = "libraries", "compiled"
 

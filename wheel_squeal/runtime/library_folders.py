@@ -27,7 +27,7 @@ import tempfile
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from .cache import StageCache
+from .stage_cache import StageCache
 
 __all__ = ["LIBRARY_FOLDERS", "LibraryFolders", "keep_library_files"]
 

@@ -24,7 +24,7 @@ from dataclasses import dataclass
 from multiprocessing.connection import Connection, wait
 from typing import Any
 
-from ..budget import usable_cores
+from .budget import usable_cores
 
 __all__ = ["Death", "blas_threads_per_worker", "keep_freed_memory", "run_on_pool"]
 
@@ -44,7 +44,7 @@ def die_with_parent(parent_pid: int) -> None:
 
 def blas_threads_per_worker(workers: int) -> int:
     """The BLAS and OpenMP threads each of ``workers`` processes may run: the cores this
-    process may use (``wheel_squeal.budget.usable_cores``) shared out, at least one. The
+    process may use (``wheel_squeal.runtime.budget.usable_cores``) shared out, at least one. The
     native libraries' own default (every core in each process) oversubscribes the machine:
     two workers each factorising a radiation's air on two threads of a 2-core machine took
     3.6-4.0 s a solve against 0.9 s on one thread each."""

@@ -131,7 +131,7 @@ class ResultFolder:
     """One result folder being written (see the module docstring for the protocol).
 
     ``ResultFolder(out).open()`` checks ``out`` and creates the staging folder (raising
-    :class:`~wheel_squeal.request_errors.RequestError` with the reason if it cannot); write
+    :class:`~wheel_squeal.runtime.request_errors.RequestError` with the reason if it cannot); write
     into ``.staging``; then ``publish(command)`` or ``discard()``.
     """
 

@@ -3,7 +3,7 @@
 Every kind of work is estimated before it starts (``fem.cost`` for the FE, the RK4 step
 count for sweeps, the eigen-solve count for the stability analyses, the air mesh for
 sound, the case count for studies); a request beyond the budget is refused with a
-:class:`~wheel_squeal.request_errors.BudgetError` that states the estimate and how to proceed.
+:class:`~wheel_squeal.runtime.request_errors.BudgetError` that states the estimate and how to proceed.
 
 Limits, each from the API argument / CLI flag, else the environment, else the default:
 
