@@ -766,7 +766,7 @@ def test_a_run_contexts_memo_lets_go_of_all_but_its_last_mode_sets():
 def test_the_cache_keeps_under_its_limit_evicting_the_least_recently_used(tmp_path, monkeypatch):
     import os
 
-    from wheel_squeal import cache as cache_module
+    from wheel_squeal.runtime import stage_cache as cache_module
     from wheel_squeal.runtime.stage_cache import StageCache
 
     cache = StageCache(tmp_path / "c")
