@@ -180,10 +180,8 @@ def shares_text(o: ModeOutcome) -> str:
     assert o.shares is not None and o.simulation is not None
     wheel = {m.label() for m in o.group}
     parts = [f"{label} {s:.1%}" for label, s in o.shares.items() if label in wheel]
-    others = {label: s for label, s in o.shares.items() if label not in wheel}
-    if others:  # the counter-body's terms together (a rail has some fifty)
-        name = next(iter(others)).split()[0]
-        parts.append(f"the {name} ({len(others)} terms) {sum(others.values()):.1%}")
+    # the counter-body's share, its terms together under its name ("the rail")
+    parts += [f"{label} {s:.1%}" for label, s in o.shares.items() if label not in wheel]
     share = ", ".join(parts)
     return (
         f"the {len(o.group)} modes that grow together: {o.label} carries the limit cycle at "
